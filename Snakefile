@@ -1,0 +1,29 @@
+# qsm-design: generative design of quasi-serial manipulators (Lee, Yang, Kang).
+# The logic lives in the `qsm` package (src/qsm); rules are in workflow/rules, one file per stage.
+import sys
+from pathlib import Path
+
+from snakemake.utils import min_version
+
+min_version("9.0")
+
+# The Snakefile imports qsm from this checkout; jobs find it through the installed package or,
+# in a bare conda environment, through the link workflow/scripts/qsm (the scripts' directory is on
+# their sys.path).
+sys.path.insert(0, str(Path(workflow.basedir) / "src"))
+
+from qsm.config import validate_config  # noqa: E402
+
+configfile: "config/config.yaml"
+
+validate_config(config)
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/mechanisms.smk"
+
+
+rule all:
+    input:
+        STAGE1_OUTPUTS,
+    default_target: True

@@ -1,0 +1,7 @@
+"""``python -m qsm``."""
+
+import sys
+
+from qsm.cli import main
+
+sys.exit(main())

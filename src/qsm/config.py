@@ -1,0 +1,103 @@
+"""Configuration: JSON-schema validation with defaults, and a hash of the settings a stage uses."""
+
+from __future__ import annotations
+
+import copy
+import hashlib
+import json
+from collections.abc import Iterator, Mapping
+from functools import cache
+from importlib import resources
+from pathlib import Path
+from typing import Any
+
+import jsonschema
+import yaml
+
+SCHEMA_FILE = "config.schema.yaml"
+
+
+class ConfigError(ValueError):
+    """A configuration value is missing, unknown, of the wrong type or out of range."""
+
+
+@cache
+def schema() -> dict[str, Any]:
+    """The configuration schema shipped with the package."""
+    text = resources.files("qsm").joinpath("schemas").joinpath(SCHEMA_FILE).read_text()
+    return yaml.safe_load(text)
+
+
+def _with_defaults(cls: type) -> type:
+    """A jsonschema validator class that fills in ``default`` values while it validates."""
+    validate_properties = cls.VALIDATORS["properties"]
+
+    def properties(validator, props, instance, sub_schema) -> Iterator:
+        if isinstance(instance, dict):
+            for name, prop in props.items():
+                if "default" in prop:
+                    instance.setdefault(name, copy.deepcopy(prop["default"]))
+        yield from validate_properties(validator, props, instance, sub_schema)
+
+    return jsonschema.validators.extend(cls, {"properties": properties})
+
+
+_Validator = _with_defaults(jsonschema.Draft202012Validator)
+
+
+def _key(path: Any) -> str:
+    return ".".join(str(p) for p in path) or "<top level>"
+
+
+def validate_config(config: dict[str, Any]) -> dict[str, Any]:
+    """Validate ``config`` in place, fill in defaults and return it.
+
+    Raises ``ConfigError`` naming the offending key (dotted path) for the first problem found.
+    """
+    errors = sorted(_Validator(schema()).iter_errors(config), key=lambda e: list(e.absolute_path))
+    if errors:
+        err = errors[0]
+        if err.validator == "additionalProperties":
+            known = set(err.schema.get("properties", {}))
+            unknown = sorted(set(err.instance) - known)
+            path = [*err.absolute_path, unknown[0]]
+            raise ConfigError(
+                f"config key '{_key(path)}' is unknown; known keys here: {', '.join(sorted(known))}"
+            )
+        raise ConfigError(f"config key '{_key(err.absolute_path)}': {err.message}")
+    for name, (lo, hi) in config["sampling"]["bounds"].items():
+        if not lo < hi:
+            raise ConfigError(
+                f"config key 'sampling.bounds.{name}': min {lo} is not below max {hi}"
+            )
+    lo, hi = config["operating_range"]["theta1_deg"]
+    if not lo < hi:
+        raise ConfigError(
+            f"config key 'operating_range.theta1_deg': min {lo} is not below max {hi}"
+        )
+    sampling = config["sampling"]
+    if sampling["n_mechanisms"] > sampling["n_samples"]:
+        raise ConfigError(
+            f"config key 'sampling.n_mechanisms': {sampling['n_mechanisms']} exceeds "
+            f"sampling.n_samples = {sampling['n_samples']}"
+        )
+    return config
+
+
+def load_config(path: str | Path | None = None) -> dict[str, Any]:
+    """Read a YAML config file (or none: all defaults), validate it and fill in defaults."""
+    data: dict[str, Any] = {}
+    if path is not None:
+        try:
+            data = yaml.safe_load(Path(path).read_text()) or {}
+        except (OSError, yaml.YAMLError) as exc:
+            raise ConfigError(f"cannot read config file '{path}': {exc}") from exc
+        if not isinstance(data, dict):
+            raise ConfigError(f"config file '{path}' must hold a mapping of keys")
+    return validate_config(data)
+
+
+def settings_hash(settings: Mapping[str, Any]) -> str:
+    """Short SHA-256 of the canonical JSON of ``settings`` (what a stage's output depends on)."""
+    text = json.dumps(settings, sort_keys=True, separators=(",", ":"), default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]

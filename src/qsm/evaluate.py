@@ -1,0 +1,50 @@
+"""Evaluate one design the way the workflow does (for the command line and notebooks)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+
+from qsm.filters import crank_rocker, transmission_ok
+from qsm.kinematics import DESIGN_NAMES, RATIO_NAMES, loop_closes_everywhere
+from qsm.mechanisms import FitSettings, fit_design
+
+
+def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[str, Any]:
+    """Stage 1 for one unit design ``(l2, l3, l4, ee_x, ee_y)`` under a validated ``config``.
+
+    Returns the filter outcomes, ``feasible``, ``scale`` (m), ``workspace_area_m2``, ``eta`` and the
+    scaled lengths (m); values that do not exist for an infeasible design are None.
+    """
+    r = np.asarray(ratios, dtype=float)
+    if r.shape != (len(RATIO_NAMES),):
+        raise ValueError(f"give the 5 ratios {', '.join(RATIO_NAMES)}; got {r.size} values")
+    settings = FitSettings.from_sections(
+        config["operating_range"], config["task"], config["scale"], config["workspace"]
+    )
+    checks = {
+        "crank_rocker": bool(crank_rocker(r[None])[0]),
+        "loop_closes": bool(loop_closes_everywhere(r, settings.op.delta_max)),
+        "transmission_angle_ok": bool(
+            transmission_ok(r[None], settings.op, config["filters"]["min_transmission_angle_deg"])[
+                0
+            ]
+        ),
+    }
+    out: dict[str, Any] = {"ratios": dict(zip(RATIO_NAMES, r.tolist(), strict=True)), **checks}
+    out["task_disk"] = {"centre_m": list(settings.disk.centre), "radius_m": settings.disk.radius}
+    fit = fit_design(r, settings) if all(checks.values()) else None
+    out["feasible"] = bool(fit and fit["feasible"])
+    out["reason"] = (
+        fit["reason"] if fit else ", ".join(k for k, ok in checks.items() if not ok) + " failed"
+    )
+    scale = fit["scale_m"] if out["feasible"] else None
+    out["scale"] = scale
+    out["workspace_area_m2"] = fit["workspace_area_m2"] if out["feasible"] else None
+    out["eta"] = fit["eta"] if out["feasible"] else None
+    out["design_m"] = (
+        dict(zip(DESIGN_NAMES, [scale, *(r * scale).tolist()], strict=True)) if scale else None
+    )
+    return out

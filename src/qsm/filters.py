@@ -1,0 +1,42 @@
+"""Stage 1 kinematic filters of the sampled unit mechanisms, each step counted."""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+
+from qsm.kinematics import RATIO_NAMES, loop_closes_everywhere, transmission_angle_range
+from qsm.workspace import OperatingRange
+
+
+def crank_rocker(ratios: np.ndarray) -> np.ndarray:
+    """The paper's crank-rocker condition l3 + l2 < l1 + l4 (Eq. 1), with l1 = 1."""
+    return ratios[:, 1] + ratios[:, 0] < 1.0 + ratios[:, 2]
+
+
+def transmission_ok(ratios: np.ndarray, op: OperatingRange, min_angle_deg: float) -> np.ndarray:
+    """Transmission angle within [m, 180 - m] deg at every pose of ``op`` (all True for m = 0)."""
+    if min_angle_deg <= 0:
+        return np.ones(len(ratios), dtype=bool)
+    mu_a, mu_b = transmission_angle_range(ratios, op.delta_max)
+    m = np.radians(min_angle_deg)
+    lo, hi = np.minimum(mu_a, mu_b), np.maximum(mu_a, mu_b)
+    return (lo >= m) & (hi <= np.pi - m)
+
+
+def kinematic_filters(
+    samples: pd.DataFrame, op: OperatingRange, min_transmission_angle_deg: float
+) -> tuple[pd.DataFrame, dict[str, int]]:
+    """Rows of ``samples`` that pass every kinematic filter, and how many pass each step.
+
+    Steps, in order: the crank-rocker condition; the loop closes at every pose of the operating
+    range (|l3 - l4| <= |BC| <= l3 + l4); the optional transmission-angle limit.
+    """
+    ratios = samples[list(RATIO_NAMES)].to_numpy()
+    keep = crank_rocker(ratios)
+    counts = {"samples": len(samples), "crank_rocker": int(keep.sum())}
+    keep &= loop_closes_everywhere(ratios, op.delta_max)
+    counts["loop_closes"] = int(keep.sum())
+    keep &= transmission_ok(ratios, op, min_transmission_angle_deg)
+    counts["transmission_angle"] = int(keep.sum())
+    return samples.loc[keep].reset_index(drop=True), counts

@@ -1,0 +1,143 @@
+"""Stage 1 scale-up: workspace, minimal scale factor and eta of each design; the final selection."""
+
+from __future__ import annotations
+
+import logging
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from qsm.kinematics import DESIGN_NAMES, RATIO_NAMES
+from qsm.task import Disk, min_enclosing_circle
+from qsm.workspace import OperatingRange, Resolution, minimal_scale, slice_workspace
+
+log = logging.getLogger(__name__)
+
+#: Columns of results/mechanisms/mechanisms.parquet and their units.
+MECHANISM_COLUMNS: dict[str, str] = {
+    "mechanism_id": "stable id: the row of the design in the LHS sample (-)",
+    **{name: "ratio to l1 (-)" for name in RATIO_NAMES},
+    "scale_m": "scale factor = l1 (m)",
+    **{f"{name}_m": "scaled length (m)" for name in DESIGN_NAMES},
+    "workspace_area_m2": "workspace area at the scale (m^2)",
+    "eta": "task-disk area / workspace area (-)",
+}
+
+
+@dataclass(frozen=True)
+class FitSettings:
+    """What the scale-up needs: motor ranges, task disk, scale limits and discretisation."""
+
+    op: OperatingRange
+    disk: Disk
+    scale_max: float
+    safety_margin: float = 0.0
+    resolution: Resolution = field(default_factory=Resolution)
+    n_scan: int = 128
+
+    @classmethod
+    def from_sections(
+        cls,
+        operating_range: Mapping[str, Any],
+        task: Mapping[str, Any],
+        scale: Mapping[str, Any],
+        workspace: Mapping[str, Any],
+    ) -> FitSettings:
+        """Build from the config sections of the same names (validated, defaults filled)."""
+        return cls(
+            op=OperatingRange.from_degrees(
+                operating_range["theta1_deg"], operating_range["theta2_min_deg"]
+            ),
+            disk=min_enclosing_circle(task["points"]),
+            scale_max=float(scale["max_m"]),
+            safety_margin=float(scale["safety_margin_m"]),
+            resolution=Resolution(int(workspace["n_delta"]), int(workspace["n_levels"])),
+            n_scan=int(workspace["n_scan"]),
+        )
+
+
+def fit_design(ratios: Sequence[float], settings: FitSettings) -> dict[str, Any]:
+    """Scale-up of one unit design ``(l2, l3, l4, ee_x, ee_y)``.
+
+    Returns ``feasible``, ``reason`` (why not), ``scale_m``, ``workspace_area_unit`` (l1^2),
+    ``workspace_area_m2`` and ``eta`` (NaN when infeasible).
+    """
+    disk = settings.disk
+    try:
+        slices = slice_workspace(ratios, settings.op, disk.angle, settings.resolution)
+    except ValueError:
+        return _infeasible("loop does not close", np.nan)
+    fit = minimal_scale(
+        slices,
+        disk.distance,
+        disk.radius + settings.safety_margin,
+        settings.scale_max,
+        settings.n_scan,
+    )
+    if not fit.feasible:
+        return _infeasible(fit.reason, slices.area)
+    area = slices.area * fit.scale**2
+    return {
+        "feasible": True,
+        "reason": "",
+        "scale_m": fit.scale,
+        "workspace_area_unit": slices.area,
+        "workspace_area_m2": area,
+        "eta": disk.area / area,
+    }
+
+
+def _infeasible(reason: str, unit_area: float) -> dict[str, Any]:
+    return {
+        "feasible": False,
+        "reason": reason,
+        "scale_m": np.nan,
+        "workspace_area_unit": unit_area,
+        "workspace_area_m2": np.nan,
+        "eta": np.nan,
+    }
+
+
+def fit_designs(
+    designs: pd.DataFrame, settings: FitSettings, log_every: int = 5000
+) -> pd.DataFrame:
+    """``fit_design`` for every row (columns ``sample_id`` and the ratios), in row order."""
+    ratios = designs[list(RATIO_NAMES)].to_numpy()
+    rows = []
+    start = time.perf_counter()
+    for i, r in enumerate(ratios, 1):
+        rows.append(fit_design(r, settings))
+        if i % log_every == 0 or i == len(ratios):
+            rate = i / max(time.perf_counter() - start, 1e-9)
+            log.info("scaled %d/%d designs (%.0f designs/s)", i, len(ratios), rate)
+    fits = pd.DataFrame(rows, columns=list(_infeasible("", 0.0)))
+    return pd.concat([designs[["sample_id", *RATIO_NAMES]].reset_index(drop=True), fits], axis=1)
+
+
+def select_mechanisms(fits: pd.DataFrame, n_mechanisms: int) -> pd.DataFrame:
+    """The first ``n_mechanisms`` feasible designs in sample order, as the mechanism table."""
+    ok = fits.loc[fits["feasible"]].sort_values("sample_id").head(n_mechanisms)
+    table = pd.DataFrame({"mechanism_id": ok["sample_id"].to_numpy(dtype=np.int64)})
+    for name in RATIO_NAMES:
+        table[name] = ok[name].to_numpy()
+    scale = ok["scale_m"].to_numpy()
+    table["scale_m"] = scale
+    table["l1_m"] = scale
+    for name in RATIO_NAMES:
+        table[f"{name}_m"] = ok[name].to_numpy() * scale
+    table["workspace_area_m2"] = ok["workspace_area_m2"].to_numpy()
+    table["eta"] = ok["eta"].to_numpy()
+    return table
+
+
+def fit_counts(fits: pd.DataFrame) -> dict[str, Any]:
+    """How many designs fit the task, and how many failed for each reason."""
+    reasons = fits.loc[~fits["feasible"], "reason"].value_counts().sort_index()
+    return {
+        "task_fits": int(fits["feasible"].sum()),
+        "task_fit_failures": {str(k): int(v) for k, v in reasons.items()},
+    }

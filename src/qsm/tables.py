@@ -1,0 +1,63 @@
+"""Parquet tables with provenance metadata, and reading them back with clear errors."""
+
+from __future__ import annotations
+
+import json
+from collections.abc import Iterable, Mapping
+from importlib import metadata
+from pathlib import Path
+from typing import Any
+
+import pandas as pd
+import pyarrow as pa
+import pyarrow.parquet as pq
+
+META_KEY = b"qsm"
+PACKAGES = ("qsm-design", "numpy", "scipy", "pandas", "pyarrow")
+
+
+class TableError(ValueError):
+    """A table file is missing, unreadable or lacks a column."""
+
+
+def package_versions(names: Iterable[str] = PACKAGES) -> dict[str, str]:
+    """Installed versions of ``names`` ("missing" for one that is not installed)."""
+    versions = {}
+    for name in names:
+        try:
+            versions[name] = metadata.version(name)
+        except metadata.PackageNotFoundError:
+            versions[name] = "missing"
+    return versions
+
+
+def write_table(
+    table: pd.DataFrame, path: str | Path, meta: Mapping[str, Any] | None = None
+) -> None:
+    """Write ``table`` to Parquet with ``meta`` (JSON) and the package versions in its metadata."""
+    arrow = pa.Table.from_pandas(table, preserve_index=False)
+    info = {"package_versions": package_versions(), **(meta or {})}
+    merged = {**(arrow.schema.metadata or {}), META_KEY: json.dumps(info, default=str).encode()}
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    pq.write_table(arrow.replace_schema_metadata(merged), path)
+
+
+def read_table(path: str | Path, columns: Iterable[str] = ()) -> pd.DataFrame:
+    """Read a Parquet table, raising ``TableError`` naming the file on any problem.
+
+    ``columns`` are required; a missing one is reported by name.
+    """
+    try:
+        table = pq.read_table(path)
+    except (OSError, pa.ArrowException) as exc:
+        raise TableError(f"cannot read table '{path}': {exc}") from exc
+    missing = [c for c in columns if c not in table.column_names]
+    if missing:
+        raise TableError(f"table '{path}' lacks column(s) {', '.join(missing)}")
+    return table.to_pandas()
+
+
+def read_meta(path: str | Path) -> dict[str, Any]:
+    """The qsm metadata stored by ``write_table``."""
+    raw = pq.read_schema(path).metadata or {}
+    return json.loads(raw.get(META_KEY, b"{}"))

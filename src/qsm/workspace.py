@@ -1,0 +1,284 @@
+"""Workspace area and task containment by slicing the workspace into circles about the base.
+
+With l1 = 1 the end effector is ``E = dir(theta1) * (1 + R_e exp(i psi(delta)))`` (complex
+notation), where ``delta = theta1 - theta2``, ``R_e = hypot(EE_x, EE_y)`` and ``psi`` depends
+only on ``delta``. So a pose lies at radius ``rho(delta) = |1 + R_e exp(i psi)|`` and polar angle
+``theta1 + beta(delta)``, and for a fixed ``delta`` the admissible ``theta1`` form one interval.
+The workspace is therefore a union of arcs, and on each circle of radius ``rho`` about the base it
+covers the union ``U(rho)`` of the arcs of every ``delta`` with ``rho(delta) = rho``. Folds and
+overlaps are handled exactly by that union, and
+
+* the area is ``integral rho |U(rho)| d rho`` (midpoint rule over ``n_levels`` circles);
+* a disk of centre ``c`` and radius ``r`` lies in the workspace scaled by ``s`` iff, for every
+  ``R`` in ``[|c| - r, |c| + r]``, the disk's arc on the circle of radius ``R`` lies in
+  ``U(R / s)``: scaling keeps polar angles, so only the part of ``U`` around the task's polar
+  angle matters (``margin``).
+
+The only approximations are the ``delta`` sampling (linear between samples) and the number of
+circles; both converge quadratically (tests compare with an independent point-membership count).
+"""
+
+from __future__ import annotations
+
+import itertools
+from dataclasses import dataclass
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.kinematics import relative_arm_angle
+
+TWO_PI = 2.0 * np.pi
+
+
+@dataclass(frozen=True)
+class OperatingRange:
+    """Motor ranges: theta1 in [theta1_min, theta1_max], theta2 in [theta2_min, theta1] (rad)."""
+
+    theta1_min: float
+    theta1_max: float
+    theta2_min: float
+
+    @classmethod
+    def from_degrees(cls, theta1_deg: ArrayLike, theta2_min_deg: float) -> OperatingRange:
+        lo, hi = np.radians(np.asarray(theta1_deg, dtype=float))
+        return cls(float(lo), float(hi), float(np.radians(theta2_min_deg)))
+
+    @property
+    def delta_max(self) -> float:
+        """Largest ``theta1 - theta2`` (rad)."""
+        return self.theta1_max - self.theta2_min
+
+    def theta1_lower(self, delta: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Smallest admissible theta1 for a given ``delta`` (rad)."""
+        return np.maximum(self.theta1_min, delta + self.theta2_min)
+
+
+@dataclass(frozen=True)
+class Resolution:
+    """Discretisation of the slicing: ``delta`` samples and circles (levels)."""
+
+    n_delta: int = 721
+    n_levels: int = 600
+
+
+@dataclass(frozen=True)
+class Slices:
+    """Workspace of a unit design (l1 = 1) cut into circles about the base.
+
+    ``rho`` are the circle radii (midpoints of ``n_levels`` equal bins from ``rho_min`` to
+    ``rho_max``), ``covered`` the angular length of ``U(rho)`` (rad) and ``margin`` the
+    half-width of the arc of ``U(rho)`` centred on the reference polar angle (rad, -1 where that
+    angle is not covered).
+    """
+
+    rho_min: float
+    rho_max: float
+    rho: NDArray[np.float64]
+    covered: NDArray[np.float64]
+    margin: NDArray[np.float64]
+
+    @property
+    def area(self) -> float:
+        """Workspace area in units of l1^2."""
+        return float(
+            np.sum(self.rho * self.covered) * (self.rho_max - self.rho_min) / self.rho.size
+        )
+
+
+def arcs(
+    ratios: ArrayLike, op: OperatingRange, n_delta: int
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Radius and polar-angle interval ``[lo, hi]`` of the workspace arcs at ``n_delta`` deltas.
+
+    Returns ``(rho, lo, hi)`` each of shape (n_delta,), angles unwrapped (rad); NaN where the loop
+    does not close.
+    """
+    r = np.asarray(ratios, dtype=float)
+    delta = np.linspace(0.0, op.delta_max, n_delta)
+    rel, _ = relative_arm_angle(r[None, :], delta)
+    alpha0 = -np.arctan2(r[4], r[3])
+    w = 1.0 + np.hypot(r[3], r[4]) * np.exp(1j * (rel + alpha0))
+    rho = np.abs(w)
+    beta = np.unwrap(np.angle(w))
+    return rho, op.theta1_lower(delta) + beta, op.theta1_max + beta
+
+
+def slice_workspace(
+    ratios: ArrayLike,
+    op: OperatingRange,
+    reference_angle: float = 0.0,
+    resolution: Resolution = Resolution(),
+) -> Slices:
+    """Cut the unit workspace of ``ratios = (l2, l3, l4, ee_x, ee_y)`` into circles.
+
+    ``reference_angle`` (rad) is the polar angle about which ``margin`` is measured (the task
+    centre's). Raises ``ValueError`` if the loop does not close everywhere in ``op``.
+    """
+    rho, lo, hi = arcs(ratios, op, resolution.n_delta)
+    if not np.all(np.isfinite(rho)):
+        raise ValueError("the loop does not close over the whole operating range")
+    rho_min, rho_max = float(rho.min()), float(rho.max())
+    k = resolution.n_levels
+    levels = rho_min + (np.arange(k) + 0.5) * (rho_max - rho_min) / k
+
+    starts, ends = _interval_per_level(rho, lo, hi, levels)
+    starts, ends = _wrap_about(starts, ends, reference_angle)
+    return Slices(
+        rho_min=rho_min,
+        rho_max=rho_max,
+        rho=levels,
+        covered=_union_length(starts, ends),
+        margin=_margin_about_zero(starts, ends),
+    )
+
+
+def _monotone_pieces(rho: NDArray[np.float64]) -> list[slice]:
+    """Index ranges (sharing their end points) on which ``rho`` is monotone."""
+    step = np.sign(np.diff(rho))
+    turns = np.flatnonzero(step[1:] * step[:-1] < 0) + 1
+    bounds = np.concatenate([[0], turns, [rho.size - 1]])
+    return [slice(a, b + 1) for a, b in itertools.pairwise(bounds)]
+
+
+def _interval_per_level(
+    rho: NDArray[np.float64],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    levels: NDArray[np.float64],
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Arc of every monotone piece of ``rho(delta)`` on every level: (pieces, levels) arrays.
+
+    Levels a piece does not reach get an empty interval (NaN).
+    """
+    pieces = _monotone_pieces(rho)
+    starts = np.full((len(pieces), levels.size), np.nan)
+    ends = np.full_like(starts, np.nan)
+    for i, sl in enumerate(pieces):
+        r, a, b = rho[sl], lo[sl], hi[sl]
+        if r[-1] < r[0]:
+            r, a, b = r[::-1], a[::-1], b[::-1]
+        inside = (levels >= r[0]) & (levels <= r[-1])
+        starts[i, inside] = np.interp(levels[inside], r, a)
+        ends[i, inside] = np.interp(levels[inside], r, b)
+    return starts, ends
+
+
+def _wrap_about(
+    starts: NDArray[np.float64], ends: NDArray[np.float64], centre: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Express arcs relative to ``centre`` on [-pi, pi], splitting an arc that crosses pi.
+
+    Every arc is shorter than 2 pi (theta1's range), so one split suffices. Empty arcs become
+    zero-length arcs at pi.
+    """
+    s = starts - centre
+    shift = np.floor((s + np.pi) / TWO_PI) * TWO_PI
+    s = s - shift
+    e = ends - centre - shift
+    over = e > np.pi
+    s2 = np.where(over, -np.pi, np.pi)
+    e2 = np.where(over, e - TWO_PI, np.pi)
+    e = np.minimum(e, np.pi)
+    empty = ~np.isfinite(s)
+    s, e = np.where(empty, np.pi, s), np.where(empty, np.pi, e)
+    return np.concatenate([s, s2]), np.concatenate([e, e2])
+
+
+def _union_length(starts: NDArray[np.float64], ends: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Length of the union of intervals; intervals along axis 0, levels along axis 1."""
+    order = np.argsort(starts, axis=0)
+    s = np.take_along_axis(starts, order, axis=0)
+    e = np.take_along_axis(ends, order, axis=0)
+    reach = np.maximum.accumulate(e, axis=0)
+    previous = np.vstack([np.full((1, s.shape[1]), -np.inf), reach[:-1]])
+    return np.sum(np.clip(e - np.maximum(s, previous), 0.0, None), axis=0)
+
+
+def _margin_about_zero(
+    starts: NDArray[np.float64], ends: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Half-width of the largest arc centred on 0 inside the union; -1 where 0 is not covered."""
+    holds_zero = (starts <= 0.0) & (ends >= 0.0)
+    right = np.max(np.where(holds_zero, ends, 0.0), axis=0)
+    left = np.min(np.where(holds_zero, starts, 0.0), axis=0)
+    for _ in range(starts.shape[0]):  # chain overlapping arcs outwards
+        right = np.max(np.where(starts <= right, np.maximum(ends, right), right), axis=0)
+        left = np.min(np.where(ends >= left, np.minimum(starts, left), left), axis=0)
+    return np.where(holds_zero.any(axis=0), np.minimum(right, -left), -1.0)
+
+
+def disk_arc_half_width(
+    radius: NDArray[np.float64], centre_distance: float, disk_radius: float
+) -> NDArray[np.float64]:
+    """Half-width (rad) of the arc a disk cuts from the circle of ``radius`` about the origin."""
+    cos_w = (radius**2 + centre_distance**2 - disk_radius**2) / (2.0 * radius * centre_distance)
+    return np.arccos(np.clip(cos_w, -1.0, 1.0))
+
+
+def containment_margin(
+    slices: Slices,
+    scale: ArrayLike,
+    centre_distance: float,
+    disk_radius: float,
+    n_radii: int = 64,
+) -> NDArray[np.float64]:
+    """Smallest angular slack (rad) of a task disk inside the workspace scaled by ``scale``.
+
+    The disk (centre at ``centre_distance`` from the base along the reference angle of ``slices``,
+    radius ``disk_radius``, metres) is contained iff the result is >= 0. Vectorised over ``scale``.
+    """
+    s = np.atleast_1d(np.asarray(scale, dtype=float))[:, None]
+    # Chebyshev-spaced radii across the disk: the arc width changes fastest near its ends
+    radii = centre_distance - disk_radius * np.cos(np.linspace(0.0, np.pi, n_radii))
+    need = disk_arc_half_width(radii, centre_distance, disk_radius)[None, :]
+    unit = radii[None, :] / s
+    have = np.interp(unit, slices.rho, slices.margin)
+    have = np.where((unit < slices.rho_min) | (unit > slices.rho_max), -1.0, have)
+    return np.min(have - need, axis=1)
+
+
+@dataclass(frozen=True)
+class Fit:
+    """Smallest scale (metres of l1) at which the task disk fits, or NaN if none up to the limit."""
+
+    scale: float
+    feasible: bool
+    reason: str
+
+
+def minimal_scale(
+    slices: Slices,
+    centre_distance: float,
+    disk_radius: float,
+    scale_max: float,
+    n_scan: int = 128,
+    rel_tol: float = 1e-9,
+) -> Fit:
+    """Smallest ``s <= scale_max`` with the disk inside ``s`` times the unit workspace.
+
+    Containment is not monotone in ``s`` (the disk can leave through the inner edge of a
+    crescent), so the admissible range implied by the radii is scanned at ``n_scan`` scales for the
+    first one that contains the disk, then the boundary is bisected to ``rel_tol``.
+    """
+    if disk_radius >= centre_distance:
+        return Fit(np.nan, False, "task disk covers the base")
+    lo = (centre_distance + disk_radius) / slices.rho_max  # disk must reach no further out
+    hi = min(scale_max, (centre_distance - disk_radius) / slices.rho_min)
+    if lo > hi:
+        return Fit(np.nan, False, "workspace too thin for the task disk")
+    scan = np.linspace(lo, hi, n_scan)
+    ok = containment_margin(slices, scan, centre_distance, disk_radius) >= 0.0
+    if not ok.any():
+        return Fit(np.nan, False, "no scale up to scale.max_m holds the task")
+    first = int(np.argmax(ok))
+    if first == 0:
+        return Fit(float(lo), True, "")
+    a, b = scan[first - 1], scan[first]
+    while b - a > rel_tol * b:
+        mid = 0.5 * (a + b)
+        if containment_margin(slices, mid, centre_distance, disk_radius)[0] >= 0.0:
+            b = mid
+        else:
+            a = mid
+    return Fit(float(b), True, "")

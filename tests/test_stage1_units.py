@@ -1,0 +1,150 @@
+"""Sampling, filters, sharding, tables and the command line of Stage 1."""
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from qsm.config import load_config
+from qsm.filters import kinematic_filters
+from qsm.kinematics import RATIO_NAMES, pose
+from qsm.mechanisms import FitSettings, fit_designs, select_mechanisms
+from qsm.sampling import latin_hypercube
+from qsm.sharding import shard_slice
+from qsm.tables import TableError, read_meta, read_table, write_table
+from qsm.workspace import OperatingRange
+
+OP = OperatingRange.from_degrees([45.0, 180.0], -37.5)
+BOUNDS = load_config()["sampling"]["bounds"]
+
+
+def test_lhs_is_seeded_within_bounds_and_stratified():
+    a = latin_hypercube(500, BOUNDS, seed=3)
+    b = latin_hypercube(500, BOUNDS, seed=3)
+    pd.testing.assert_frame_equal(a, b)
+    assert not a.equals(latin_hypercube(500, BOUNDS, seed=4))
+    for name in RATIO_NAMES:
+        lo, hi = BOUNDS[name]
+        bins = np.floor((a[name] - lo) / (hi - lo) * 500).astype(int)
+        assert sorted(bins) == list(range(500))  # one sample per stratum: a Latin hypercube
+    assert list(a["sample_id"]) == list(range(500))
+
+
+def test_filter_counts_follow_the_definitions():
+    samples = latin_hypercube(20000, BOUNDS, seed=1)
+    kept, counts = kinematic_filters(samples, OP, min_transmission_angle_deg=20.0)
+    r = samples[list(RATIO_NAMES)].to_numpy()
+    assert counts["crank_rocker"] == int(np.sum(r[:, 1] + r[:, 0] < 1 + r[:, 2]))
+    assert counts["samples"] >= counts["crank_rocker"] >= counts["loop_closes"]
+    assert counts["loop_closes"] > counts["transmission_angle"] == len(kept)
+    # every kept design closes its loop on a dense grid of the operating range
+    t1, t2 = np.meshgrid(
+        np.radians(np.linspace(45, 180, 40)), np.radians(np.linspace(-37.5, 180, 60))
+    )
+    keep = t2 <= t1
+    design = np.column_stack([np.ones(len(kept)), kept[list(RATIO_NAMES)].to_numpy()])
+    p = pose(
+        design[:, None, :],
+        np.broadcast_to(t1[keep], (len(kept), keep.sum())),
+        np.broadcast_to(t2[keep], (len(kept), keep.sum())),
+    )
+    assert p.closes.all()
+
+
+@pytest.mark.parametrize(("n", "k"), [(10, 1), (10, 3), (7, 7), (3, 5), (11080, 8)])
+def test_shards_cover_every_row_once(n, k):
+    rows = np.concatenate([np.arange(n)[shard_slice(n, k, i)] for i in range(k)])
+    np.testing.assert_array_equal(rows, np.arange(n))
+
+
+def test_shard_arguments_are_checked():
+    with pytest.raises(ValueError, match="at least 1"):
+        shard_slice(10, 0, 0)
+    with pytest.raises(ValueError, match="outside"):
+        shard_slice(10, 2, 2)
+
+
+def test_selection_does_not_depend_on_sharding():
+    config = load_config()
+    settings = FitSettings.from_sections(
+        config["operating_range"], config["task"], config["scale"], config["workspace"]
+    )
+    candidates, _ = kinematic_filters(latin_hypercube(600, BOUNDS, seed=9), OP, 0.0)
+    whole = fit_designs(candidates, settings)
+    parts = pd.concat(
+        [
+            fit_designs(candidates.iloc[shard_slice(len(candidates), 3, i)], settings)
+            for i in (2, 0, 1)
+        ],
+        ignore_index=True,
+    )
+    a, b = select_mechanisms(whole, 50), select_mechanisms(parts, 50)
+    pd.testing.assert_frame_equal(a, b)
+    assert a["mechanism_id"].is_monotonic_increasing and len(a) == 50
+    np.testing.assert_allclose(a["l3_m"], a["l3"] * a["scale_m"])
+
+
+def test_tables_keep_metadata_and_name_bad_files(tmp_path):
+    path = tmp_path / "t.parquet"
+    write_table(pd.DataFrame({"a": [1.0, 2.0]}), path, {"settings_hash": "abc"})
+    assert read_meta(path)["settings_hash"] == "abc"
+    assert "numpy" in read_meta(path)["package_versions"]
+    with pytest.raises(TableError, match=r"t\.parquet.*lacks column\(s\) b"):
+        read_table(path, ["a", "b"])
+    truncated = tmp_path / "cut.parquet"
+    truncated.write_bytes(path.read_bytes()[:40])
+    with pytest.raises(TableError, match=r"cut\.parquet"):
+        read_table(truncated)
+
+
+def run_cli(*args):
+    return subprocess.run(
+        [sys.executable, "-m", "qsm", *args], capture_output=True, text=True, check=False
+    )
+
+
+def test_cli_evaluate_agrees_with_the_library():
+    out = run_cli("evaluate", "--ratios", "0.3", "1.0", "0.5", "1.2", "0.4")
+    assert out.returncode == 0, out.stderr
+    result = json.loads(out.stdout)
+    assert result["feasible"] is True
+    config = load_config()
+    settings = FitSettings.from_sections(
+        config["operating_range"], config["task"], config["scale"], config["workspace"]
+    )
+    table = pd.DataFrame([[0, 0.3, 1.0, 0.5, 1.2, 0.4]], columns=["sample_id", *RATIO_NAMES])
+    direct = fit_designs(table, settings).iloc[0]
+    assert result["scale"] == pytest.approx(direct["scale_m"], rel=1e-12)
+    assert result["eta"] == pytest.approx(direct["eta"], rel=1e-12)
+    assert result["eta"] == pytest.approx(
+        np.pi * result["task_disk"]["radius_m"] ** 2 / result["workspace_area_m2"]
+    )
+
+
+def test_cli_reports_infeasible_designs_and_bad_input(tmp_path):
+    far = run_cli(
+        "evaluate",
+        "--ratios",
+        "0.3",
+        "1.0",
+        "0.5",
+        "1.2",
+        "0.4",
+        "--task-points",
+        "3",
+        "3",
+        "3.1",
+        "3",
+    )
+    assert far.returncode == 0 and json.loads(far.stdout)["feasible"] is False
+    crossed = json.loads(run_cli("evaluate", "--ratios", "0.6", "1.3", "0.3", "1.2", "0.4").stdout)
+    assert crossed["feasible"] is False and "crank_rocker" in crossed["reason"]
+    odd = run_cli("evaluate", "--ratios", "0.3", "1.0", "0.5", "1.2", "0.4", "--task-points", "1")
+    assert odd.returncode == 2 and "pairs" in odd.stderr
+    bad = tmp_path / "bad.yaml"
+    bad.write_text("task:\n  payload_kg: heavy\n")
+    out = run_cli("evaluate", "--ratios", "0.3", "1.0", "0.5", "1.2", "0.4", "--config", str(bad))
+    assert out.returncode == 2 and "task.payload_kg" in out.stderr

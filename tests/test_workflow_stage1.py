@@ -1,0 +1,109 @@
+"""Snakemake itself on config/test.yaml: Stage 1 outputs, their provenance and shard invariance."""
+
+import json
+
+import pandas as pd
+import pytest
+import yaml
+from workflow_helpers import copy_workflow, snakemake
+
+from qsm.config import settings_hash, validate_config
+from qsm.evaluate import evaluate_ratios
+from qsm.filters import kinematic_filters
+from qsm.mechanisms import MECHANISM_COLUMNS
+from qsm.sampling import latin_hypercube
+from qsm.tables import read_meta, read_table
+from qsm.workspace import OperatingRange
+
+pytestmark = pytest.mark.workflow
+
+STAGE1 = ["select_mechanisms", "plot_mechanisms"]
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    work = copy_workflow(tmp_path_factory.mktemp("wf"))
+    snakemake(work, *STAGE1)
+    return work
+
+
+def effective_config(work):
+    config = yaml.safe_load((work / "config" / "config.yaml").read_text())
+    for key, value in yaml.safe_load((work / "config" / "test.yaml").read_text()).items():
+        config[key] = {**config.get(key, {}), **value}
+    return validate_config(config)
+
+
+def test_mechanism_table(run):
+    config = effective_config(run)
+    table = read_table(run / "results/mechanisms/mechanisms.parquet", MECHANISM_COLUMNS)
+    assert list(table.columns) == list(MECHANISM_COLUMNS)
+    assert len(table) == config["sampling"]["n_mechanisms"] == 100
+    assert table["mechanism_id"].is_unique and table["mechanism_id"].is_monotonic_increasing
+    meta = read_meta(run / "results/mechanisms/mechanisms.parquet")
+    assert set(meta["columns"]) == set(MECHANISM_COLUMNS)
+    workspace = {k: v for k, v in config["workspace"].items() if k != "shards"}
+    expected = {k: config[k] for k in ("sampling", "operating_range", "filters", "task", "scale")}
+    assert meta["settings_hash"] == settings_hash({**expected, "workspace": workspace})
+    # a few rows re-evaluated from their ratios through the public API
+    for _, row in table.sample(5, random_state=0).iterrows():
+        again = evaluate_ratios(row[["l2", "l3", "l4", "ee_x", "ee_y"]].to_numpy(float), config)
+        assert again["feasible"]
+        assert again["scale"] == pytest.approx(row["scale_m"], rel=1e-9)
+        assert again["eta"] == pytest.approx(row["eta"], rel=1e-9)
+
+
+def test_filter_report_counts(run):
+    config = effective_config(run)
+    report = json.loads((run / "results/mechanisms/filter_report.json").read_text())
+    s = config["sampling"]
+    samples = latin_hypercube(s["n_samples"], s["bounds"], s["seed"])
+    op = OperatingRange.from_degrees(config["operating_range"]["theta1_deg"], -37.5)
+    _, counts = kinematic_filters(samples, op, 0.0)
+    for key, value in counts.items():
+        assert report[key] == value
+    failures = sum(report["task_fit_failures"].values())
+    assert report["task_fits"] + failures == report["transmission_angle"]
+    assert report["selected"] == 100 and report["shortfall"] == 0
+    log = (run / "results/logs/filter_kinematics.log").read_text().splitlines()
+    assert any(line.split()[-2:] == ["loop_closes", str(report["loop_closes"])] for line in log)
+
+
+def test_figures_and_logs(run):
+    for name in ("mechanism_examples.png", "scale_eta.png"):
+        assert (run / "results/figures" / name).stat().st_size > 10_000
+    assert "designs/s" in (run / "results/logs/fit_task/shard-0.log").read_text()
+
+
+def test_second_run_has_nothing_to_do(run):
+    out = snakemake(run, *STAGE1, "--dry-run")
+    assert "Nothing to be done" in out.stdout + out.stderr
+
+
+def test_same_table_whatever_the_shard_count(run, tmp_path):
+    other = copy_workflow(tmp_path / "three")
+    test = yaml.safe_load((other / "config/test.yaml").read_text())
+    test["workspace"]["shards"] = 3
+    (other / "config/test.yaml").write_text(yaml.safe_dump(test))
+    snakemake(other, "select_mechanisms", "--cores", "1")
+    assert len(list((other / "results/mechanisms/fits").glob("shard-*.parquet"))) == 3
+    a = read_table(run / "results/mechanisms/mechanisms.parquet")
+    b = read_table(other / "results/mechanisms/mechanisms.parquet")
+    pd.testing.assert_frame_equal(a, b, check_exact=True)
+    assert (
+        read_meta(run / "results/mechanisms/mechanisms.parquet")["settings_hash"]
+        == read_meta(other / "results/mechanisms/mechanisms.parquet")["settings_hash"]
+    )
+
+
+def test_task_no_design_can_reach_fails_with_the_key_named(tmp_path):
+    work = copy_workflow(tmp_path / "far")
+    test = yaml.safe_load((work / "config/test.yaml").read_text())
+    test["task"] = {"points": [[3.0, 3.0], [3.2, 3.0]]}
+    (work / "config/test.yaml").write_text(yaml.safe_dump(test))
+    out = snakemake(work, "select_mechanisms", check=False)
+    assert out.returncode != 0
+    log = (work / "results/logs/select_mechanisms.log").read_text()
+    assert "task.points" in log
+    # what was computed before the failing rule is kept
+    assert (work / "results/mechanisms/candidates.parquet").exists()

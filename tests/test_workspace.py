@@ -1,0 +1,138 @@
+"""Workspace area and task containment against an independent inverse-kinematics reference."""
+
+import numpy as np
+import pytest
+from reference_workspace import pixel_area, reachable
+
+from qsm.kinematics import design_from_ratios, loop_closes_everywhere
+from qsm.task import Disk
+from qsm.workspace import (
+    OperatingRange,
+    Resolution,
+    containment_margin,
+    minimal_scale,
+    slice_workspace,
+)
+
+pytestmark = pytest.mark.filterwarnings("ignore:invalid value encountered:RuntimeWarning")
+
+OP = OperatingRange.from_degrees([45.0, 180.0], -37.5)
+DISK = Disk((-0.72, 0.11), 0.1345)
+
+
+def feasible_ratios(seed, n):
+    rng = np.random.default_rng(seed)
+    out = []
+    while len(out) < n:
+        r = np.array(
+            [
+                rng.uniform(0.18, 0.6),
+                rng.uniform(0.8, 1.3),
+                rng.uniform(0.3, 0.6),
+                rng.uniform(1.0, 1.4),
+                rng.uniform(0.2, 0.7),
+            ]
+        )
+        if r[1] + r[0] < 1 + r[2] and loop_closes_everywhere(r, OP.delta_max):
+            out.append(r)
+    return out
+
+
+@pytest.mark.parametrize("ratios", feasible_ratios(11, 4))
+def test_area_matches_pixel_count_of_reachable_points(ratios):
+    reference = pixel_area(design_from_ratios(ratios), OP, n=700)
+    area = slice_workspace(ratios, OP).area
+    assert area == pytest.approx(reference, rel=5e-3)  # the issue's bound; seen: 2e-4
+
+
+def test_area_converges_with_resolution():
+    ratios = feasible_ratios(12, 1)[0]
+    fine = slice_workspace(ratios, OP, resolution=Resolution(2881, 2400)).area
+    coarse = slice_workspace(ratios, OP, resolution=Resolution(181, 150)).area
+    default = slice_workspace(ratios, OP).area
+    assert abs(default - fine) < abs(coarse - fine) + 1e-12
+    assert default == pytest.approx(fine, rel=1e-3)
+
+
+def test_area_handles_folds_a_wrapped_operating_range():
+    """A wide theta1 range makes arcs overlap themselves: the union, not the sum, counts."""
+    ratios = feasible_ratios(13, 1)[0]
+    wide = OperatingRange.from_degrees([-170.0, 185.0], -37.5)
+    if not loop_closes_everywhere(ratios, wide.delta_max):
+        pytest.skip("loop does not close on the wide range")
+    area = slice_workspace(ratios, wide).area
+    reference = pixel_area(design_from_ratios(ratios), wide, n=700)
+    assert area == pytest.approx(reference, rel=5e-3)
+
+
+def disk_points(disk: Disk, n_rings: int = 12, n_around: int = 72) -> np.ndarray:
+    rings = np.linspace(0.0, disk.radius, n_rings)
+    ang = np.linspace(0.0, 2 * np.pi, n_around, endpoint=False)
+    pts = [
+        np.asarray(disk.centre)[None] + r * np.column_stack([np.cos(ang), np.sin(ang)])
+        for r in rings
+    ]
+    return np.concatenate(pts)
+
+
+@pytest.mark.parametrize("ratios", feasible_ratios(21, 6))
+def test_minimal_scale_contains_the_task_and_nothing_smaller_does(ratios):
+    slices = slice_workspace(ratios, OP, DISK.angle)
+    fit = minimal_scale(slices, DISK.distance, DISK.radius, scale_max=2.0)
+    if not fit.feasible:
+        # no scale: the reference must find the disk uncovered on a scan of scales as well
+        for s in np.linspace(0.2, 2.0, 40):
+            assert not reachable(design_from_ratios(ratios, s), disk_points(DISK), OP).all()
+        return
+    pts = disk_points(DISK)
+    inside = reachable(design_from_ratios(ratios, fit.scale * (1 + 2e-3)), pts, OP)
+    assert inside.mean() > 0.999  # contained, up to the discretisation at the boundary
+    for shrink in (1e-2, 3e-2, 1e-1, 0.3):
+        below = reachable(design_from_ratios(ratios, fit.scale * (1 - shrink)), pts, OP)
+        assert not below.all()
+
+
+def test_minimal_scale_is_the_first_contained_scale_of_a_fine_scan():
+    for ratios in feasible_ratios(22, 5):
+        slices = slice_workspace(ratios, OP, DISK.angle)
+        fit = minimal_scale(slices, DISK.distance, DISK.radius, scale_max=2.0)
+        scan = np.linspace(0.05, 2.0, 5000)
+        ok = containment_margin(slices, scan, DISK.distance, DISK.radius) >= 0
+        if not fit.feasible:
+            assert not ok.any()
+            continue
+        assert scan[ok][0] >= fit.scale - 1e-9
+        assert containment_margin(slices, fit.scale, DISK.distance, DISK.radius)[0] >= 0
+
+
+def test_containment_is_not_monotone_in_scale():
+    """Growing the scale can push the disk out through the crescent's inner edge."""
+    ratios = feasible_ratios(23, 1)[0]
+    slices = slice_workspace(ratios, OP, DISK.angle)
+    fit = minimal_scale(slices, DISK.distance, DISK.radius, scale_max=5.0)
+    assert fit.feasible
+    big = containment_margin(slices, 3.0 * fit.scale, DISK.distance, DISK.radius)[0]
+    assert big < 0
+
+
+def test_infeasible_reasons():
+    ratios = feasible_ratios(24, 1)[0]
+    slices = slice_workspace(ratios, OP, DISK.angle)
+    assert minimal_scale(slices, 0.1, 0.2, 2.0).reason == "task disk covers the base"
+    assert not minimal_scale(slices, DISK.distance, DISK.radius, scale_max=0.01).feasible
+    with pytest.raises(ValueError, match="does not close"):
+        slice_workspace([0.6, 0.3, 0.3, 1.2, 0.4], OP)
+
+
+def test_union_and_margin_of_hand_made_arcs():
+    """Arcs from different branches can overlap: the union and the centred margin chain them."""
+    from qsm.workspace import _margin_about_zero, _union_length
+
+    # per level (column): intervals (rows) [start, end]
+    starts = np.array([[-0.3, -0.3, 0.2, -1.0], [0.05, 0.5, 0.3, -0.5], [0.35, 0.6, 0.4, 0.9]])
+    ends = np.array([[0.1, 0.1, 0.25, -0.6], [0.4, 0.7, 0.5, 0.7], [0.9, 0.8, 0.45, 1.2]])
+    np.testing.assert_allclose(_union_length(starts, ends), [1.2, 0.7, 0.25, 1.9])
+    # level 0: [-0.3, 0.1] + [0.05, 0.4] + [0.35, 0.9] chain to [-0.3, 0.9] -> margin 0.3
+    # level 1: [-0.3, 0.1] then a gap -> margin 0.1; level 2: 0 not covered -> -1
+    # level 3: [-0.5, 0.7] holds 0 -> margin 0.5
+    np.testing.assert_allclose(_margin_about_zero(starts, ends), [0.3, 0.1, -1.0, 0.5])

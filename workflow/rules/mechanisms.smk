@@ -1,0 +1,106 @@
+# Stage 1: Latin-hypercube designs, kinematic filters, workspace, scale factor and eta.
+
+STAGE1_SHARDS = range(config["workspace"]["shards"])
+STAGE1_OUTPUTS = [
+    f"{RESULTS}/mechanisms/mechanisms.parquet",
+    f"{RESULTS}/mechanisms/filter_report.json",
+    f"{RESULTS}/figures/mechanism_examples.png",
+    f"{RESULTS}/figures/scale_eta.png",
+]
+
+
+rule sample:
+    output:
+        f"{RESULTS}/mechanisms/samples.parquet",
+    params:
+        sampling=config["sampling"],
+    log:
+        f"{RESULTS}/logs/sample.log",
+    conda:
+        ENV
+    script:
+        "../scripts/sample.py"
+
+
+rule filter_kinematics:
+    input:
+        rules.sample.output[0],
+    output:
+        candidates=f"{RESULTS}/mechanisms/candidates.parquet",
+        counts=f"{RESULTS}/mechanisms/kinematic_filters.json",
+    params:
+        operating_range=config["operating_range"],
+        filters=config["filters"],
+    log:
+        f"{RESULTS}/logs/filter_kinematics.log",
+    conda:
+        ENV
+    script:
+        "../scripts/filter_kinematics.py"
+
+
+rule fit_task:
+    input:
+        rules.filter_kinematics.output.candidates,
+    output:
+        f"{RESULTS}/mechanisms/fits/shard-{{shard}}.parquet",
+    params:
+        shards=config["workspace"]["shards"],
+        operating_range=config["operating_range"],
+        task=config["task"],
+        scale=config["scale"],
+        workspace=config["workspace"],
+    wildcard_constraints:
+        shard=r"\d+",
+    log:
+        f"{RESULTS}/logs/fit_task/shard-{{shard}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/fit_task/shard-{{shard}}.tsv"
+    conda:
+        ENV
+    script:
+        "../scripts/fit_task.py"
+
+
+rule select_mechanisms:
+    input:
+        fits=expand(f"{RESULTS}/mechanisms/fits/shard-{{shard}}.parquet", shard=STAGE1_SHARDS),
+        counts=rules.filter_kinematics.output.counts,
+    output:
+        mechanisms=f"{RESULTS}/mechanisms/mechanisms.parquet",
+        report=f"{RESULTS}/mechanisms/filter_report.json",
+    params:
+        n_mechanisms=config["sampling"]["n_mechanisms"],
+        settings=stage1_settings(),
+    log:
+        f"{RESULTS}/logs/select_mechanisms.log",
+    conda:
+        ENV
+    script:
+        "../scripts/select_mechanisms.py"
+
+
+rule plot_mechanisms:
+    input:
+        rules.select_mechanisms.output.mechanisms,
+    output:
+        examples=report(
+            f"{RESULTS}/figures/mechanism_examples.png",
+            caption="../report/mechanism_examples.rst",
+            category="1. Mechanisms",
+        ),
+        distributions=report(
+            f"{RESULTS}/figures/scale_eta.png",
+            caption="../report/scale_eta.rst",
+            category="1. Mechanisms",
+        ),
+    params:
+        operating_range=config["operating_range"],
+        task=config["task"],
+        figures=config["figures"],
+    log:
+        f"{RESULTS}/logs/plot_mechanisms.log",
+    conda:
+        ENV
+    script:
+        "../scripts/plot_mechanisms.py"

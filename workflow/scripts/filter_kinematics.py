@@ -1,0 +1,22 @@
+"""Rule filter_kinematics: crank-rocker, loop closure and transmission-angle filters."""
+
+import json
+
+from qsm.filters import kinematic_filters
+from qsm.kinematics import RATIO_NAMES
+from qsm.logs import logged
+from qsm.tables import read_table, write_table
+from qsm.workspace import OperatingRange
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    samples = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])  # noqa: F821
+    op = OperatingRange.from_degrees(
+        p.operating_range["theta1_deg"], p.operating_range["theta2_min_deg"]
+    )
+    candidates, counts = kinematic_filters(samples, op, p.filters["min_transmission_angle_deg"])
+    for step, n in counts.items():
+        log.info("%-20s %7d", step, n)
+    write_table(candidates, snakemake.output.candidates)  # noqa: F821
+    with open(snakemake.output.counts, "w") as fh:  # noqa: F821
+        json.dump(counts, fh, indent=2)

@@ -1,0 +1,16 @@
+"""Rule fit_task: workspace, minimal scale factor and eta for one shard of the candidates."""
+
+from qsm.kinematics import RATIO_NAMES
+from qsm.logs import logged
+from qsm.mechanisms import FitSettings, fit_designs
+from qsm.sharding import shard_slice
+from qsm.tables import read_table, write_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    shard = int(snakemake.wildcards.shard)  # noqa: F821
+    candidates = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])  # noqa: F821
+    rows = candidates.iloc[shard_slice(len(candidates), p.shards, shard)]
+    log.info("shard %d of %d: %d designs", shard, p.shards, len(rows))
+    settings = FitSettings.from_sections(p.operating_range, p.task, p.scale, p.workspace)
+    write_table(fit_designs(rows, settings), snakemake.output[0])  # noqa: F821

@@ -1,0 +1,20 @@
+"""Rule plot_mechanisms: example designs with workspace and task, scale and eta distributions."""
+
+from qsm.logs import logged
+from qsm.mechanisms import MECHANISM_COLUMNS
+from qsm.plots import distributions_figure, examples_figure
+from qsm.tables import read_table
+from qsm.task import min_enclosing_circle
+from qsm.workspace import OperatingRange
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    out = snakemake.output  # noqa: F821
+    table = read_table(snakemake.input[0], MECHANISM_COLUMNS)  # noqa: F821
+    op = OperatingRange.from_degrees(
+        p.operating_range["theta1_deg"], p.operating_range["theta2_min_deg"]
+    )
+    disk = min_enclosing_circle(p.task["points"])
+    examples_figure(table, op, disk, out.examples, p.figures["n_examples"])
+    distributions_figure(table, out.distributions)
+    log.info("drew %d mechanisms", len(table))

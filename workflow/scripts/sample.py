@@ -1,0 +1,12 @@
+"""Rule sample: Latin-hypercube samples of the unit-mechanism ratios."""
+
+from qsm.config import settings_hash
+from qsm.logs import logged
+from qsm.sampling import latin_hypercube
+from qsm.tables import write_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    sampling = snakemake.params.sampling  # noqa: F821
+    table = latin_hypercube(sampling["n_samples"], sampling["bounds"], sampling["seed"])
+    write_table(table, snakemake.output[0], {"settings_hash": settings_hash(sampling)})  # noqa: F821
+    log.info("wrote %d LHS samples (seed %d)", len(table), sampling["seed"])

@@ -1,0 +1,45 @@
+"""Rule select_mechanisms: gather the shards, keep the first n feasible designs, count filters."""
+
+import json
+
+import pandas as pd
+
+from qsm.config import settings_hash
+from qsm.logs import logged
+from qsm.mechanisms import MECHANISM_COLUMNS, fit_counts, select_mechanisms
+from qsm.tables import read_table, write_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    fits = pd.concat(
+        [read_table(f, ["sample_id", "feasible", "reason"]) for f in snakemake.input.fits],  # noqa: F821
+        ignore_index=True,
+    )
+    with open(snakemake.input.counts) as fh:  # noqa: F821
+        counts = json.load(fh)
+    counts.update(fit_counts(fits))
+    if counts["task_fits"] == 0:
+        raise ValueError(
+            "no design holds the task: check config key 'task.points' (the workspace of this "
+            "family lies at x < 0 of the base) and 'scale.max_m'"
+        )
+    table = select_mechanisms(fits, p.n_mechanisms)
+    counts["selected"] = len(table)
+    counts["requested"] = p.n_mechanisms
+    counts["shortfall"] = p.n_mechanisms - len(table)
+    if counts["shortfall"] > 0:
+        log.warning(
+            "only %d feasible designs for the %d requested: no filter was loosened",
+            len(table),
+            p.n_mechanisms,
+        )
+    for step, n in counts.items():
+        log.info("%-20s %s", step, n)
+    meta = {
+        "settings_hash": settings_hash(p.settings),
+        "settings": p.settings,
+        "columns": MECHANISM_COLUMNS,
+    }
+    write_table(table, snakemake.output.mechanisms, meta)  # noqa: F821
+    with open(snakemake.output.report, "w") as fh:  # noqa: F821
+        json.dump(counts, fh, indent=2)
