@@ -21,9 +21,11 @@ validate_config(config)
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/mechanisms.smk"
+include: "workflow/rules/dynamics.smk"
 
 
 rule all:
     input:
         STAGE1_OUTPUTS,
+        STAGE2_OUTPUTS,
     default_target: True

@@ -31,7 +31,7 @@ def main() -> None:
     args = parser.parse_args()
     config = load_config()
     settings = FitSettings.from_sections(
-        config["operating_range"], config["task"], config["scale"], config["workspace"]
+        config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     op = settings.op
     rng = np.random.default_rng(0)

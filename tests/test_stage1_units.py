@@ -70,7 +70,7 @@ def test_shard_arguments_are_checked():
 def test_selection_does_not_depend_on_sharding():
     config = load_config()
     settings = FitSettings.from_sections(
-        config["operating_range"], config["task"], config["scale"], config["workspace"]
+        config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     candidates, _ = kinematic_filters(latin_hypercube(600, BOUNDS, seed=9), OP, 0.0)
     whole = fit_designs(candidates, settings)
@@ -113,7 +113,7 @@ def test_cli_evaluate_agrees_with_the_library():
     assert result["feasible"] is True
     config = load_config()
     settings = FitSettings.from_sections(
-        config["operating_range"], config["task"], config["scale"], config["workspace"]
+        config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     table = pd.DataFrame([[0, 0.3, 1.0, 0.5, 1.2, 0.4]], columns=["sample_id", *RATIO_NAMES])
     direct = fit_designs(table, settings).iloc[0]

@@ -1,4 +1,4 @@
-"""Command line: ``python -m qsm evaluate ...`` (see ``python -m qsm --help``)."""
+"""Command line: ``python -m qsm evaluate ...`` and ``python -m qsm export-mjcf ...``."""
 
 from __future__ import annotations
 
@@ -6,9 +6,16 @@ import argparse
 import json
 import sys
 from collections.abc import Sequence
+from pathlib import Path
 
+from qsm.cad import export_stl
 from qsm.config import ConfigError, load_config
+from qsm.dataset import cad_settings
 from qsm.evaluate import evaluate_ratios
+from qsm.kinematics import DESIGN_NAMES
+from qsm.mechanisms import MECHANISM_COLUMNS
+from qsm.mjcf import mjcf_xml
+from qsm.tables import read_table
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -31,7 +38,33 @@ def _parser() -> argparse.ArgumentParser:
         help="task points x1 y1 x2 y2 ... in metres (default: the config's task.points)",
     )
     ev.add_argument("--config", help="config YAML (default: built-in defaults)")
+    ex = sub.add_parser(
+        "export-mjcf", help="write a mechanism's MuJoCo model (MJCF) and link STLs (mm)"
+    )
+    ex.add_argument("--id", type=int, required=True, help="mechanism_id in the mechanism table")
+    ex.add_argument(
+        "--mechanisms",
+        default="results/mechanisms/mechanisms.parquet",
+        help="mechanism table (default: %(default)s)",
+    )
+    ex.add_argument("--config", help="config YAML for the link section and payload")
+    ex.add_argument("--out", help="output folder (default: results/models/mechanism-ID)")
     return parser
+
+
+def _export(args: argparse.Namespace, config: dict) -> dict:
+    table = read_table(args.mechanisms, MECHANISM_COLUMNS)
+    row = table.loc[table["mechanism_id"] == args.id]
+    if row.empty:
+        raise ValueError(f"mechanism_id {args.id} is not in '{args.mechanisms}'")
+    design = row[[f"{n}_m" for n in DESIGN_NAMES]].to_numpy(dtype=float)[0]
+    out = Path(args.out or f"results/models/mechanism-{args.id}")
+    out.mkdir(parents=True, exist_ok=True)
+    cad = cad_settings(config["cad"])
+    xml = out / "model.xml"
+    xml.write_text(mjcf_xml(design, cad, config["task"]["payload_kg"]))
+    stls = export_stl(design, out / "stl", cad)
+    return {"mechanism_id": args.id, "mjcf": str(xml), "stl": [str(p) for p in stls]}
 
 
 def main(argv: Sequence[str] | None = None) -> int:
@@ -39,12 +72,15 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     try:
         config = load_config(args.config)
-        if args.task_points is not None:
+        if getattr(args, "task_points", None) is not None:
             pts = args.task_points
             if len(pts) % 2:
                 raise ConfigError("--task-points takes pairs of numbers: x1 y1 x2 y2 ...")
             config["task"]["points"] = [pts[i : i + 2] for i in range(0, len(pts), 2)]
-        result = evaluate_ratios(args.ratios, config)
+        if args.command == "export-mjcf":
+            result = _export(args, config)
+        else:
+            result = evaluate_ratios(args.ratios, config)
     except (ConfigError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

@@ -7,22 +7,27 @@ from typing import Any
 
 import numpy as np
 
+from qsm.dataset import cad_settings, duty_settings
+from qsm.duty import duty_cycle
+from qsm.dynamics import evaluate_mechanism
 from qsm.filters import crank_rocker, transmission_ok
 from qsm.kinematics import DESIGN_NAMES, RATIO_NAMES, loop_closes_everywhere
 from qsm.mechanisms import FitSettings, fit_design
 
 
 def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[str, Any]:
-    """Stage 1 for one unit design ``(l2, l3, l4, ee_x, ee_y)`` under a validated ``config``.
+    """Stages 1 and 2 for one unit design ``(l2, l3, l4, ee_x, ee_y)`` under a validated config.
 
-    Returns the filter outcomes, ``feasible``, ``scale`` (m), ``workspace_area_m2``, ``eta`` and the
-    scaled lengths (m); values that do not exist for an infeasible design are None.
+    Returns the filter outcomes, ``feasible``, ``scale`` (m), ``workspace_area_m2``, ``eta``, the
+    scaled lengths (m) and, from the MuJoCo dynamics over the configured duty, ``tau1_Nm``,
+    ``tau2_Nm`` and ``dynamics_status``; values that do not exist for an infeasible design are
+    None.
     """
     r = np.asarray(ratios, dtype=float)
     if r.shape != (len(RATIO_NAMES),):
         raise ValueError(f"give the 5 ratios {', '.join(RATIO_NAMES)}; got {r.size} values")
     settings = FitSettings.from_sections(
-        config["operating_range"], config["task"], config["scale"], config["workspace"]
+        config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     checks = {
         "crank_rocker": bool(crank_rocker(r[None])[0]),
@@ -47,4 +52,16 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
     out["design_m"] = (
         dict(zip(DESIGN_NAMES, [scale, *(r * scale).tolist()], strict=True)) if scale else None
     )
+    out.update(tau1_Nm=None, tau2_Nm=None, dynamics_status=None)
+    if out["design_m"] is not None:
+        dyn = evaluate_mechanism(
+            list(out["design_m"].values()),
+            duty_cycle(duty_settings(config["dynamics"]["duty"], config["operating_range"])),
+            cad_settings(config["cad"]),
+            config["task"]["payload_kg"],
+        )
+        ok = dyn["status"] == "ok"
+        out["tau1_Nm"] = dyn["tau1_Nm"] if ok else None
+        out["tau2_Nm"] = dyn["tau2_Nm"] if ok else None
+        out["dynamics_status"] = dyn["status"] + (f": {dyn['status_reason']}" if not ok else "")
     return out

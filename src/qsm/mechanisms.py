@@ -43,16 +43,16 @@ class FitSettings:
     def from_sections(
         cls,
         operating_range: Mapping[str, Any],
-        task: Mapping[str, Any],
+        task_points: Sequence[Sequence[float]],
         scale: Mapping[str, Any],
         workspace: Mapping[str, Any],
     ) -> FitSettings:
-        """Build from the config sections of the same names (validated, defaults filled)."""
+        """Build from the config sections (validated, defaults filled) and ``task.points``."""
         return cls(
             op=OperatingRange.from_degrees(
                 operating_range["theta1_deg"], operating_range["theta2_min_deg"]
             ),
-            disk=min_enclosing_circle(task["points"]),
+            disk=min_enclosing_circle(task_points),
             scale_max=float(scale["max_m"]),
             safety_margin=float(scale["safety_margin_m"]),
             resolution=Resolution(int(workspace["n_delta"]), int(workspace["n_levels"])),

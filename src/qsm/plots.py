@@ -97,3 +97,21 @@ def distributions_figure(mechanisms: pd.DataFrame, path: str | Path) -> None:
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def performance_figure(dataset: pd.DataFrame, path: str | Path) -> None:
+    """eta, tau1 and tau2 of every mechanism against each other, coloured by the scale factor."""
+    pairs = [("eta", "tau1_Nm"), ("eta", "tau2_Nm"), ("tau1_Nm", "tau2_Nm")]
+    labels = {"eta": "eta (-)", "tau1_Nm": "tau1 (N m)", "tau2_Nm": "tau2 (N m)"}
+    fig, axes = plt.subplots(1, 3, figsize=(14, 4.2))
+    for ax, (x, y) in zip(axes, pairs, strict=True):
+        sc = ax.scatter(dataset[x], dataset[y], c=dataset["scale_m"], s=3, cmap="viridis")
+        ax.set_xlabel(labels[x])
+        ax.set_ylabel(labels[y])
+        ax.grid(alpha=0.3)
+    fig.colorbar(sc, ax=axes, label="scale factor l1 (m)")
+    fig.suptitle(
+        f"Engineering performance of {len(dataset)} mechanisms (peak torques over the duty)"
+    )
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)

@@ -10,7 +10,17 @@ def stage1_settings():
         "sampling": config["sampling"],
         "operating_range": config["operating_range"],
         "filters": config["filters"],
-        "task": config["task"],
+        "task_points": config["task"]["points"],
         "scale": config["scale"],
         "workspace": workspace,
+    }
+
+
+def stage2_settings():
+    """What the dataset depends on beyond Stage 1 (its metadata hash); not the shard count."""
+    return {
+        **stage1_settings(),
+        "duty": config["dynamics"]["duty"],
+        "cad": config["cad"],
+        "payload_kg": config["task"]["payload_kg"],
     }

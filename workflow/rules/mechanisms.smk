@@ -47,7 +47,7 @@ rule fit_task:
     params:
         shards=config["workspace"]["shards"],
         operating_range=config["operating_range"],
-        task=config["task"],
+        task_points=config["task"]["points"],
         scale=config["scale"],
         workspace=config["workspace"],
     wildcard_constraints:
@@ -96,7 +96,7 @@ rule plot_mechanisms:
         ),
     params:
         operating_range=config["operating_range"],
-        task=config["task"],
+        task_points=config["task"]["points"],
         figures=config["figures"],
     log:
         f"{RESULTS}/logs/plot_mechanisms.log",

@@ -12,5 +12,5 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     candidates = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])  # noqa: F821
     rows = candidates.iloc[shard_slice(len(candidates), p.shards, shard)]
     log.info("shard %d of %d: %d designs", shard, p.shards, len(rows))
-    settings = FitSettings.from_sections(p.operating_range, p.task, p.scale, p.workspace)
+    settings = FitSettings.from_sections(p.operating_range, p.task_points, p.scale, p.workspace)
     write_table(fit_designs(rows, settings), snakemake.output[0])  # noqa: F821

@@ -14,7 +14,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     op = OperatingRange.from_degrees(
         p.operating_range["theta1_deg"], p.operating_range["theta2_min_deg"]
     )
-    disk = min_enclosing_circle(p.task["points"])
+    disk = min_enclosing_circle(p.task_points)
     examples_figure(table, op, disk, out.examples, p.figures["n_examples"])
     distributions_figure(table, out.distributions)
     log.info("drew %d mechanisms", len(table))

@@ -1,4 +1,4 @@
-"""Snakemake itself on config/test.yaml: Stage 1 outputs, their provenance and shard invariance."""
+"""Snakemake itself on config/test.yaml: outputs, their provenance and shard-count invariance."""
 
 import json
 
@@ -8,6 +8,7 @@ import yaml
 from workflow_helpers import copy_workflow, snakemake
 
 from qsm.config import settings_hash, validate_config
+from qsm.dataset import DATASET_COLUMNS
 from qsm.evaluate import evaluate_ratios
 from qsm.filters import kinematic_filters
 from qsm.mechanisms import MECHANISM_COLUMNS
@@ -17,13 +18,12 @@ from qsm.workspace import OperatingRange
 
 pytestmark = pytest.mark.workflow
 
-STAGE1 = ["select_mechanisms", "plot_mechanisms"]
-
 
 @pytest.fixture(scope="module")
 def run(tmp_path_factory):
+    """One run of the default target (every stage built so far)."""
     work = copy_workflow(tmp_path_factory.mktemp("wf"))
-    snakemake(work, *STAGE1)
+    snakemake(work)
     return work
 
 
@@ -43,7 +43,8 @@ def test_mechanism_table(run):
     meta = read_meta(run / "results/mechanisms/mechanisms.parquet")
     assert set(meta["columns"]) == set(MECHANISM_COLUMNS)
     workspace = {k: v for k, v in config["workspace"].items() if k != "shards"}
-    expected = {k: config[k] for k in ("sampling", "operating_range", "filters", "task", "scale")}
+    expected = {k: config[k] for k in ("sampling", "operating_range", "filters", "scale")}
+    expected["task_points"] = config["task"]["points"]
     assert meta["settings_hash"] == settings_hash({**expected, "workspace": workspace})
     # a few rows re-evaluated from their ratios through the public API
     for _, row in table.sample(5, random_state=0).iterrows():
@@ -75,25 +76,42 @@ def test_figures_and_logs(run):
     assert "designs/s" in (run / "results/logs/fit_task/shard-0.log").read_text()
 
 
+def test_dataset(run):
+    mechanisms = read_table(run / "results/mechanisms/mechanisms.parquet")
+    dataset = read_table(run / "results/dataset.parquet", DATASET_COLUMNS)
+    assert list(dataset.columns) == list(DATASET_COLUMNS)
+    assert list(dataset["mechanism_id"]) == list(mechanisms["mechanism_id"])
+    pd.testing.assert_frame_equal(dataset[list(MECHANISM_COLUMNS)], mechanisms)
+    status = json.loads((run / "results/dynamics/status.json").read_text())
+    assert sum(status["status"].values()) == len(dataset) == 100
+    assert status["status"] == dataset["status"].value_counts().to_dict()
+    ok = dataset["status"] == "ok"
+    assert (dataset.loc[ok, ["tau1_Nm", "tau2_Nm"]] > 0).all().all()
+    assert (dataset.loc[ok, "tau1_Nm"] >= dataset.loc[ok, "tau1_rms_Nm"]).all()
+    assert "mechanisms/s" in (run / "results/logs/dynamics/shard-0.log").read_text()
+    assert (run / "results/figures/performance.png").stat().st_size > 10_000
+
+
 def test_second_run_has_nothing_to_do(run):
-    out = snakemake(run, *STAGE1, "--dry-run")
+    out = snakemake(run, "--dry-run")
     assert "Nothing to be done" in out.stdout + out.stderr
 
 
-def test_same_table_whatever_the_shard_count(run, tmp_path):
-    other = copy_workflow(tmp_path / "three")
+def test_same_tables_whatever_the_shard_count(run, tmp_path):
+    other = copy_workflow(tmp_path / "other")
     test = yaml.safe_load((other / "config/test.yaml").read_text())
     test["workspace"]["shards"] = 3
+    test["dynamics"] = {"shards": 1}
     (other / "config/test.yaml").write_text(yaml.safe_dump(test))
-    snakemake(other, "select_mechanisms", "--cores", "1")
+    snakemake(other, "gather_dataset", "--cores", "1")
     assert len(list((other / "results/mechanisms/fits").glob("shard-*.parquet"))) == 3
-    a = read_table(run / "results/mechanisms/mechanisms.parquet")
-    b = read_table(other / "results/mechanisms/mechanisms.parquet")
-    pd.testing.assert_frame_equal(a, b, check_exact=True)
-    assert (
-        read_meta(run / "results/mechanisms/mechanisms.parquet")["settings_hash"]
-        == read_meta(other / "results/mechanisms/mechanisms.parquet")["settings_hash"]
-    )
+    assert len(list((other / "results/dynamics").glob("shard-*.parquet"))) == 1
+    for name in ("mechanisms/mechanisms.parquet", "dataset.parquet"):
+        a = read_table(run / "results" / name)
+        b = read_table(other / "results" / name)
+        pd.testing.assert_frame_equal(a, b, check_exact=True)
+        hashes = {read_meta(w / "results" / name)["settings_hash"] for w in (run, other)}
+        assert len(hashes) == 1
 
 
 def test_task_no_design_can_reach_fails_with_the_key_named(tmp_path):

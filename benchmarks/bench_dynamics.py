@@ -1,0 +1,100 @@
+"""Per-mechanism cost of the dynamics stage (CAD, model build, inverse dynamics) and a projection.
+
+Run: ``python benchmarks/bench_dynamics.py [--designs 200] [--seed 0]``. Random designs: ratios
+l2 in [0.18, 0.6], l3 [0.8, 1.3], l4 [0.3, 0.6], ee_x [1.0, 1.4], ee_y [0.2, 0.7] and scale l1 in
+[0.3, 0.8] m, kept when the loop closes over the whole operating range.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from concurrent.futures import ProcessPoolExecutor
+
+import numpy as np
+import pandas as pd
+
+from qsm import cad, duty, dynamics, kinematics, mjcf
+
+PAPER_MECHANISMS = 11_080
+LOW = np.array([0.18, 0.8, 0.3, 1.0, 0.2])
+HIGH = np.array([0.6, 1.3, 0.6, 1.4, 0.7])
+
+
+def random_designs(n: int, seed: int) -> np.ndarray:
+    """``n`` scaled designs (n, 6) in m whose loop closes over the operating range."""
+    rng = np.random.default_rng(seed)
+    kept: list[np.ndarray] = []
+    while sum(len(k) for k in kept) < n:
+        ratios = rng.uniform(LOW, HIGH, (4 * n, 5))
+        ratios = ratios[kinematics.loop_closes_everywhere(ratios, math.radians(217.5))]
+        kept.append(kinematics.design_from_ratios(ratios, rng.uniform(0.3, 0.8, len(ratios))))
+    return np.concatenate(kept)[:n]
+
+
+def stage_times(designs: np.ndarray, d: duty.Duty, payload_kg: float) -> dict[str, float]:
+    """Mean ms per mechanism of each step of :func:`qsm.dynamics.evaluate_mechanism`."""
+    steps = dict.fromkeys(("cad", "loop_kinematics", "model_build", "inverse_dynamics"), 0.0)
+    settings = cad.DEFAULT_CAD
+    for design in designs:
+        t0 = time.perf_counter()
+        props = cad.mass_properties(design, settings)
+        t1 = time.perf_counter()
+        state = dynamics.loop_state(design, d.theta, d.dtheta, d.ddtheta)
+        t2 = time.perf_counter()
+        model = mjcf.model_spec(design, settings, payload_kg, props).compile()
+        t3 = time.perf_counter()
+        dynamics.inverse_dynamics(model, design, state)
+        t4 = time.perf_counter()
+        for key, dt in zip(steps, (t1 - t0, t2 - t1, t3 - t2, t4 - t3), strict=True):
+            steps[key] += dt
+    return {k: 1e3 * v / len(designs) for k, v in steps.items()}
+
+
+def _table_chunk(designs: np.ndarray) -> pd.DataFrame:
+    df = pd.DataFrame(designs, columns=list(dynamics.DESIGN_COLUMNS))
+    return dynamics.evaluate_table(df, duty.duty_cycle(), payload_kg=5.0)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("--designs", type=int, default=200)
+    parser.add_argument("--seed", type=int, default=0)
+    args = parser.parse_args()
+    designs = random_designs(args.designs, args.seed)
+    d = duty.duty_cycle()
+    print(f"{len(designs)} designs, {len(d.theta)} duty samples ({d.static.sum()} static)")
+
+    _table_chunk(designs[:5])  # warm up
+    steps = stage_times(designs, d, 5.0)
+    for key, ms in steps.items():
+        print(f"  {key:<18s} {ms:7.3f} ms/mechanism")
+    print(f"  {'sum of steps':<18s} {sum(steps.values()):7.3f} ms/mechanism")
+
+    t0 = time.perf_counter()
+    out = _table_chunk(designs)
+    serial = (time.perf_counter() - t0) / len(designs)
+    print(f"evaluate_table, 1 process: {1e3 * serial:.3f} ms/mechanism, status counts:")
+    print(out["status"].value_counts().to_string())
+    print(f"  -> {PAPER_MECHANISMS} mechanisms on 2 cores: {serial * PAPER_MECHANISMS / 2:.1f} s")
+
+    with ProcessPoolExecutor(2) as pool:
+        list(pool.map(_table_chunk, [designs[:2], designs[2:4]]))  # start the workers
+        t0 = time.perf_counter()
+        list(pool.map(_table_chunk, np.array_split(designs, 2)))
+        wall = time.perf_counter() - t0
+    print(
+        f"evaluate_table, 2 processes: {1e3 * wall / len(designs):.3f} ms/mechanism wall -> "
+        f"{PAPER_MECHANISMS} mechanisms: {wall / len(designs) * PAPER_MECHANISMS:.1f} s"
+    )
+
+    t0 = time.perf_counter()
+    for design in designs[:20]:
+        cad.link_meshes(design)
+    mesh_ms = 1e3 * (time.perf_counter() - t0) / 20
+    print(f"optional trimesh solids (STL path, not in the stage): {mesh_ms:.1f} ms/mechanism")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,214 @@
+"""Parametric link solids of one scaled design: outlines, exact mass properties, STL export.
+
+Each link is a flat plate of constant thickness: a 2D outline made of straight bars of width
+``width_m`` with circular joint bosses of radius ``boss_radius_m``, extruded by ``thickness_m``
+(symmetric about z = 0). The outline is one simple polygon (arcs discretised with
+``segments_per_circle``), so
+
+* the mass properties of the prism are computed exactly for that polygon from its area moments
+  (cheap: used on the dynamics path for every mechanism), and
+* the trimesh solid (for STL export) is the extrusion of the same polygon, one watertight body whose
+  ``mass_properties`` agree with the analytic values to rounding.
+
+Link frames (also the MuJoCo body frames of :mod:`qsm.mjcf`), x-y is the mechanism plane:
+
+* ``lower_arm``: origin at A, +x towards B, length l1;
+* ``crank``:     origin at A, +x towards C, length l2;
+* ``coupler``:   origin at C, +x towards D, length l3;
+* ``upper_arm``: origin at the pivot B, +x along the EE_x axis dir(phi); it holds the rocker point
+  D = (-l4, 0), the corner E' = (EE_x, 0) and the end effector E = (EE_x, -EE_y): an L-shaped bell
+  crank made of the bar D-E' (through B) and the bar E'-E, with bosses at D, B and E.
+
+The paper gives no cross-sections (its parts were drawn in Rhino and printed in ABS-M30); the
+defaults below are a plausible printed section for 0.3-1 m links.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import NamedTuple
+
+import numpy as np
+import shapely
+import trimesh
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.kinematics import as_design
+
+LINK_NAMES: tuple[str, ...] = ("lower_arm", "crank", "coupler", "upper_arm")
+ABS_M30_DENSITY_KG_M3 = 1040.0
+
+
+class CadError(ValueError):
+    """The cross-section does not fit the design (bosses overlap or a bar is too short)."""
+
+
+@dataclass(frozen=True)
+class CadSettings:
+    """Cross-section and material of every link.
+
+    width_m: bar width (m), default 40 mm.
+    thickness_m: plate thickness along z (m), default 20 mm.
+    boss_radius_m: radius of the joint bosses (m), default 25 mm; must exceed width_m / 2.
+    density_kg_m3: material density, default 1040 kg/m^3 (ABS-M30).
+    segments_per_circle: polygon segments of a full boss circle, default 64 (area error 0.16 %
+        of the boss discs; the mesh and the mass properties use the same polygon).
+    """
+
+    width_m: float = 0.040
+    thickness_m: float = 0.020
+    boss_radius_m: float = 0.025
+    density_kg_m3: float = ABS_M30_DENSITY_KG_M3
+    segments_per_circle: int = 64
+
+    def __post_init__(self) -> None:
+        if not (self.width_m > 0 and self.thickness_m > 0 and self.density_kg_m3 > 0):
+            raise ValueError("width_m, thickness_m and density_kg_m3 must be positive")
+        if not self.boss_radius_m > self.width_m / 2:
+            raise ValueError("boss_radius_m must exceed width_m / 2")
+        if self.segments_per_circle < 8:
+            raise ValueError("segments_per_circle must be at least 8")
+
+
+DEFAULT_CAD = CadSettings()
+
+
+class MassProperties(NamedTuple):
+    """Rigid-body properties of one link in its link frame (SI units).
+
+    mass_kg; com_m (3,) centre of mass; inertia_kg_m2 (3, 3) inertia tensor about the centre of
+    mass in link-frame axes (off-diagonal entries are the tensor elements, -integral(x y dm)).
+    """
+
+    mass_kg: float
+    com_m: NDArray[np.float64]
+    inertia_kg_m2: NDArray[np.float64]
+
+
+def _arc(cx: float, cy: float, r: float, a0: float, a1: float, seg: int) -> NDArray[np.float64]:
+    """Points on a CCW arc from angle a0 to a1 > a0 (rad), both ends included."""
+    n = max(2, math.ceil((a1 - a0) / (2 * math.pi) * seg) + 1)
+    a = np.linspace(a0, a1, n)
+    return np.column_stack([cx + r * np.cos(a), cy + r * np.sin(a)])
+
+
+def _bar_outline(length: float, s: CadSettings) -> NDArray[np.float64]:
+    """CCW outline of a straight bar from (0, 0) to (length, 0) with bosses at both ends."""
+    r, h = s.boss_radius_m, s.width_m / 2
+    beta = math.asin(h / r)
+    if not length > 2 * math.sqrt(r * r - h * h):
+        raise CadError(f"bar of length {length:.4g} m is too short for bosses of radius {r} m")
+    return np.concatenate(
+        [
+            _arc(0.0, 0.0, r, beta, 2 * math.pi - beta, s.segments_per_circle),
+            _arc(length, 0.0, r, beta - math.pi, math.pi - beta, s.segments_per_circle),
+        ]
+    )
+
+
+def _upper_arm_outline(l4: float, ee_x: float, ee_y: float, s: CadSettings) -> NDArray[np.float64]:
+    """CCW outline of the L-shaped upper arm: bar D-E' along x, bar E'-E along -y, 3 bosses."""
+    r, h, seg = s.boss_radius_m, s.width_m / 2, s.segments_per_circle
+    beta = math.asin(h / r)
+    x0 = math.sqrt(r * r - h * h)
+    if not (l4 > 2 * x0 and ee_x > x0 + h and ee_y > x0 + h):
+        raise CadError(
+            f"upper arm (l4={l4:.4g}, ee_x={ee_x:.4g}, ee_y={ee_y:.4g} m) is too small for bosses "
+            f"of radius {r} m on bars of width {s.width_m} m"
+        )
+    pi = math.pi
+    return np.concatenate(
+        [
+            _arc(-l4, 0.0, r, beta, 2 * pi - beta, seg),  # boss D, ends at bottom edge
+            _arc(0.0, 0.0, r, pi + beta, 2 * pi - beta, seg),  # boss B, lower half
+            [[ee_x - h, -h]],  # inner corner
+            _arc(ee_x, -ee_y, r, pi / 2 + beta, 5 * pi / 2 - beta, seg),  # boss E
+            [[ee_x + h, h]],  # outer corner
+            _arc(0.0, 0.0, r, beta, pi - beta, seg),  # boss B, upper half
+        ]
+    )
+
+
+def link_outlines(design: ArrayLike, settings: CadSettings = CadSettings()) -> dict[str, NDArray]:
+    """CCW outline polygons (n, 2) of the four links in their link frames (m).
+
+    Raises :class:`CadError` when the section does not fit the design.
+    """
+    l1, l2, l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
+    return {
+        "lower_arm": _bar_outline(l1, settings),
+        "crank": _bar_outline(l2, settings),
+        "coupler": _bar_outline(l3, settings),
+        "upper_arm": _upper_arm_outline(l4, ee_x, ee_y, settings),
+    }
+
+
+def polygon_mass_properties(
+    outline: ArrayLike, thickness_m: float, density_kg_m3: float
+) -> MassProperties:
+    """Exact mass properties of the prism extruding a simple CCW polygon (m) symmetrically in z."""
+    p = np.asarray(outline, dtype=float)
+    x, y = p[:, 0], p[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    c = x * yn - xn * y
+    area = c.sum() / 2
+    if not area > 0:
+        raise CadError("outline must be a counter-clockwise polygon with positive area")
+    cx = ((x + xn) * c).sum() / (6 * area)
+    cy = ((y + yn) * c).sum() / (6 * area)
+    # second moments about the origin, then about the centroid
+    sxx = ((x * x + x * xn + xn * xn) * c).sum() / 12 - area * cx * cx  # integral x^2 dA
+    syy = ((y * y + y * yn + yn * yn) * c).sum() / 12 - area * cy * cy  # integral y^2 dA
+    sxy = ((x * yn + 2 * x * y + 2 * xn * yn + xn * y) * c).sum() / 24 - area * cx * cy
+    sigma = density_kg_m3 * thickness_m  # areal density
+    mass = sigma * area
+    t2 = mass * thickness_m**2 / 12
+    inertia = np.array(
+        [
+            [sigma * syy + t2, -sigma * sxy, 0.0],
+            [-sigma * sxy, sigma * sxx + t2, 0.0],
+            [0.0, 0.0, sigma * (sxx + syy)],
+        ]
+    )
+    return MassProperties(float(mass), np.array([cx, cy, 0.0]), inertia)
+
+
+def mass_properties(
+    design: ArrayLike, settings: CadSettings = CadSettings()
+) -> dict[str, MassProperties]:
+    """Mass properties of the four links (link frames, SI units), keyed by :data:`LINK_NAMES`."""
+    return {
+        name: polygon_mass_properties(poly, settings.thickness_m, settings.density_kg_m3)
+        for name, poly in link_outlines(design, settings).items()
+    }
+
+
+def link_meshes(
+    design: ArrayLike, settings: CadSettings = CadSettings()
+) -> dict[str, trimesh.Trimesh]:
+    """Watertight trimesh solids of the four links in their link frames (m), z in +-thickness/2."""
+    return {
+        name: trimesh.creation.extrude_polygon(
+            shapely.Polygon(poly), settings.thickness_m, mid_plane=True, engine="earcut"
+        )
+        for name, poly in link_outlines(design, settings).items()
+    }
+
+
+def export_stl(
+    design: ArrayLike, directory: str | Path, settings: CadSettings = CadSettings()
+) -> list[Path]:
+    """Write one binary STL per link (``<link>.stl``, millimetres, link frame) into ``directory``.
+
+    Returns the written paths in :data:`LINK_NAMES` order.
+    """
+    out = Path(directory)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for name, mesh in link_meshes(design, settings).items():
+        path = out / f"{name}.stl"
+        mesh.copy().apply_scale(1000.0).export(path)
+        paths.append(path)
+    return paths

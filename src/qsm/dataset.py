@@ -1,0 +1,114 @@
+"""Stage 2 orchestration: settings from the config, one dynamics shard, and the gathered dataset."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from qsm.cad import CadSettings
+from qsm.duty import DutySettings, duty_cycle
+from qsm.dynamics import RESULT_KEYS, evaluate_table
+from qsm.mechanisms import MECHANISM_COLUMNS
+from qsm.sharding import shard_slice
+
+#: Columns that Stage 2 adds to the mechanism table, with units.
+DYNAMICS_COLUMNS: dict[str, str] = {
+    "tau1_Nm": "peak |torque| of motor 1 (lower arm) over the duty (N m)",
+    "tau2_Nm": "peak |torque| of motor 2 (crank) over the duty (N m)",
+    "theta1_at_tau1_peak_deg": "theta1 where |tau1| peaks (deg)",
+    "theta2_at_tau1_peak_deg": "theta2 where |tau1| peaks (deg)",
+    "theta1_at_tau2_peak_deg": "theta1 where |tau2| peaks (deg)",
+    "theta2_at_tau2_peak_deg": "theta2 where |tau2| peaks (deg)",
+    "tau1_rms_Nm": "time-weighted RMS torque of motor 1 over the moving duty (N m)",
+    "tau2_rms_Nm": "time-weighted RMS torque of motor 2 over the moving duty (N m)",
+    "coupler_force_peak_N": "peak coupler force at D, the D bearing load (N)",
+    "transmission_angle_min_deg": "smallest transmission angle at D, folded into [0, 90] (deg)",
+    "mass_lower_arm_kg": "lower arm mass (kg)",
+    "mass_crank_kg": "crank mass (kg)",
+    "mass_coupler_kg": "coupler mass (kg)",
+    "mass_upper_arm_kg": "upper arm mass without payload (kg)",
+    "status": "ok, or the failure: cad_invalid, loop_open, singular, nonfinite, error",
+    "status_reason": "why a mechanism failed (empty when ok)",
+}
+DATASET_COLUMNS: dict[str, str] = {**MECHANISM_COLUMNS, **DYNAMICS_COLUMNS}
+assert set(DYNAMICS_COLUMNS) == set(RESULT_KEYS)
+
+
+class DatasetError(ValueError):
+    """The dynamics shards do not cover the mechanisms exactly once."""
+
+
+def cad_settings(section: Mapping[str, Any]) -> CadSettings:
+    """Link section and material from the config section ``cad``."""
+    return CadSettings(
+        width_m=section["width_m"],
+        thickness_m=section["thickness_m"],
+        boss_radius_m=section["boss_radius_m"],
+        density_kg_m3=section["density_kg_m3"],
+        segments_per_circle=section["segments_per_circle"],
+    )
+
+
+def duty_settings(duty: Mapping[str, Any], operating_range: Mapping[str, Any]) -> DutySettings:
+    """The duty from the config sections ``dynamics.duty`` and ``operating_range``."""
+    lo, hi = operating_range["theta1_deg"]
+    return DutySettings(
+        theta1_min_deg=lo,
+        theta1_max_deg=hi,
+        theta2_min_deg=operating_range["theta2_min_deg"],
+        **duty,
+    )
+
+
+def evaluate_shard(
+    mechanisms: pd.DataFrame,
+    n_shards: int,
+    shard: int,
+    cad: CadSettings,
+    duty: DutySettings,
+    payload_kg: float,
+) -> pd.DataFrame:
+    """Dynamics of the rows of shard ``shard`` of ``n_shards`` (``mechanism_id`` + results)."""
+    rows = mechanisms.iloc[shard_slice(len(mechanisms), n_shards, shard)]
+    out = evaluate_table(rows, duty_cycle(duty), cad, payload_kg)
+    return out.reset_index(drop=True)
+
+
+def gather(mechanisms: pd.DataFrame, shards: Sequence[pd.DataFrame]) -> pd.DataFrame:
+    """Join the mechanism table with the dynamics of all shards, in the mechanism table's order.
+
+    Raises :class:`DatasetError` unless every mechanism id appears exactly once in the shards.
+    """
+    dyn = pd.concat(shards, ignore_index=True)
+    counts = dyn["mechanism_id"].value_counts()
+    expected = pd.Index(mechanisms["mechanism_id"])
+    missing = expected.difference(counts.index)
+    extra = counts.index.difference(expected)
+    repeated = counts[counts > 1].index
+    if len(missing) or len(extra) or len(repeated):
+        raise DatasetError(
+            "dynamics shards do not cover the mechanisms exactly once: "
+            f"missing {_ids(missing)}, unknown {_ids(extra)}, repeated {_ids(repeated)}"
+        )
+    table = mechanisms.merge(dyn, on="mechanism_id", how="left", validate="one_to_one")
+    return table[list(DATASET_COLUMNS)]
+
+
+def _ids(ids: pd.Index) -> str:
+    """A count and the first few ids, for error messages."""
+    head = ", ".join(map(str, sorted(ids)[:5]))
+    return f"{len(ids)} ({head}{', ...' if len(ids) > 5 else ''})"
+
+
+def status_counts(dataset: pd.DataFrame) -> dict[str, int]:
+    """How many mechanisms ended in each status."""
+    return {str(k): int(v) for k, v in dataset["status"].value_counts().sort_index().items()}
+
+
+def ok_rows(dataset: pd.DataFrame) -> pd.DataFrame:
+    """Mechanisms whose dynamics succeeded and whose labels are finite."""
+    ok = dataset["status"].eq("ok") & np.isfinite(dataset[["tau1_Nm", "tau2_Nm", "eta"]]).all(1)
+    return dataset.loc[ok].reset_index(drop=True)

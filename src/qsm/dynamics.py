@@ -1,0 +1,309 @@
+"""Closed-chain inverse dynamics of the mechanism with MuJoCo: motor torques over a duty.
+
+MuJoCo's inverse dynamics with the loop equality active does not give the motor torques of a
+closed chain (its soft constraint force is zero on a consistent trajectory). Instead
+(NOTES.md, "Closed-chain dynamics with MuJoCo"):
+
+1. the passive joint angles, velocities and accelerations follow analytically from the loop
+   closure B - l4 dir(phi) = C + l3 dir(psi) (phi: upper arm, psi: coupler CD) and its first and
+   second time derivatives, including the velocity-product (Jdot v) terms;
+2. ``mj_inverse`` on the open tree (equality disabled through ``opt.disableflags``) gives the
+   generalized force ``qfrc`` that the tree needs on that consistent state;
+3. with G = dq/dtheta (4 x 2) the motor torques are tau = G^T qfrc, and the coupler force lambda
+   (force on the coupler at D from the upper arm, the D bearing load) solves the passive rows of
+   qfrc = S^T tau + Jc^T lambda.
+
+Sign: tau_i is the torque motor i applies to its own link (lower arm, crank) about +z
+(counter-clockwise positive); both motor joints are absolute angles (see :mod:`qsm.mjcf`).
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+from typing import Any, NamedTuple
+
+import mujoco
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
+from qsm.duty import Duty, duty_cycle
+from qsm.kinematics import DESIGN_NAMES, as_design, pose
+from qsm.mjcf import JOINT_NAMES, model_spec
+
+log = logging.getLogger(__name__)
+
+# |sin| of the transmission angle at D below which a mechanism is reported as singular
+MIN_SIN_TRANSMISSION = 1e-3
+DESIGN_COLUMNS: tuple[str, ...] = tuple(f"{n}_m" for n in DESIGN_NAMES)
+RESULT_KEYS: tuple[str, ...] = (
+    "tau1_Nm",
+    "tau2_Nm",
+    "theta1_at_tau1_peak_deg",
+    "theta2_at_tau1_peak_deg",
+    "theta1_at_tau2_peak_deg",
+    "theta2_at_tau2_peak_deg",
+    "tau1_rms_Nm",
+    "tau2_rms_Nm",
+    "coupler_force_peak_N",
+    "transmission_angle_min_deg",
+    "mass_lower_arm_kg",
+    "mass_crank_kg",
+    "mass_coupler_kg",
+    "mass_upper_arm_kg",
+    "status",
+    "status_reason",
+)
+
+
+class LoopState(NamedTuple):
+    """Loop-consistent joint state for motor samples (N of them).
+
+    q, qd, qdd: (N, 4) positions (rad), velocities (rad/s), accelerations (rad/s^2) of the joints
+    in :data:`qsm.mjcf.JOINT_NAMES` order; G: (N, 4, 2) dq/dtheta; rocker_dir, coupler_dir: (N, 2)
+    unit vectors dir(phi) and dir(psi); sin_transmission: (N,) |sin| of the transmission angle at
+    D; closes: (N,) whether the loop closes (other fields are NaN where it does not).
+    """
+
+    q: NDArray[np.float64]
+    qd: NDArray[np.float64]
+    qdd: NDArray[np.float64]
+    G: NDArray[np.float64]
+    rocker_dir: NDArray[np.float64]
+    coupler_dir: NDArray[np.float64]
+    sin_transmission: NDArray[np.float64]
+    closes: NDArray[np.bool_]
+
+
+def _perp(w: NDArray[np.float64]) -> NDArray[np.float64]:
+    return np.stack([-w[..., 1], w[..., 0]], axis=-1)
+
+
+def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def loop_state(
+    design: ArrayLike, theta: ArrayLike, dtheta: ArrayLike, ddtheta: ArrayLike
+) -> LoopState:
+    """Solve the loop for motor angles/rates/accelerations (N, 2) of one design (6 lengths, m)."""
+    d = as_design(design)
+    th, dth, ddth = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (theta, dtheta, ddtheta))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        return _loop_state(d, th, dth, ddth)
+
+
+def _loop_state(
+    d: NDArray[np.float64],
+    th: NDArray[np.float64],
+    dth: NDArray[np.float64],
+    ddth: NDArray[np.float64],
+) -> LoopState:
+    l1, l2, l3, l4 = d[0], d[1], d[2], d[3]
+    p = pose(d, th[:, 0], th[:, 1])
+    psi = np.arctan2(p.D[:, 1] - p.C[:, 1], p.D[:, 0] - p.C[:, 0])
+    u = np.stack([np.cos(p.phi), np.sin(p.phi)], axis=-1)
+    v = np.stack([np.cos(psi), np.sin(psi)], axis=-1)
+    e1 = np.stack([np.cos(th[:, 0]), np.sin(th[:, 0])], axis=-1)
+    e2 = np.stack([np.cos(th[:, 1]), np.sin(th[:, 1])], axis=-1)
+    # M [phi_dot, psi_dot] = C_dot - B_dot with columns a = -l4 perp(u), b = -l3 perp(v)
+    a, b = -l4 * _perp(u), -l3 * _perp(v)
+    det = _cross(a, b)
+
+    def solve(rhs: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        return _cross(rhs, b) / det, _cross(a, rhs) / det
+
+    phi_1, psi_1 = solve(-l1 * _perp(e1))  # d/dtheta1
+    phi_2, psi_2 = solve(l2 * _perp(e2))  # d/dtheta2
+    phi_d = phi_1 * dth[:, 0] + phi_2 * dth[:, 1]
+    psi_d = psi_1 * dth[:, 0] + psi_2 * dth[:, 1]
+    b_dd = l1 * (ddth[:, :1] * _perp(e1) - dth[:, :1] ** 2 * e1)
+    c_dd = l2 * (ddth[:, 1:] * _perp(e2) - dth[:, 1:] ** 2 * e2)
+    phi_dd, psi_dd = solve(
+        c_dd - b_dd - l4 * phi_d[:, None] ** 2 * u - l3 * psi_d[:, None] ** 2 * v
+    )
+
+    q = np.column_stack([th[:, 0], p.phi - th[:, 0], th[:, 1], psi - th[:, 1]])
+    qd = np.column_stack([dth[:, 0], phi_d - dth[:, 0], dth[:, 1], psi_d - dth[:, 1]])
+    qdd = np.column_stack([ddth[:, 0], phi_dd - ddth[:, 0], ddth[:, 1], psi_dd - ddth[:, 1]])
+    one, zero = np.ones_like(phi_1), np.zeros_like(phi_1)
+    G = np.stack(
+        [
+            np.stack([one, zero], axis=-1),
+            np.stack([phi_1 - 1.0, phi_2], axis=-1),
+            np.stack([zero, one], axis=-1),
+            np.stack([psi_1, psi_2 - 1.0], axis=-1),
+        ],
+        axis=1,
+    )
+    return LoopState(q, qd, qdd, G, u, v, np.abs(_cross(u, v)), p.closes)
+
+
+class InverseResult(NamedTuple):
+    """tau: (N, 2) motor torques (N m); coupler_force: (N, 2) force on the coupler at D from the
+    upper arm (N), the D bearing load. NaN rows where the loop does not close."""
+
+    tau: NDArray[np.float64]
+    coupler_force: NDArray[np.float64]
+
+
+def inverse_dynamics(model: mujoco.MjModel, design: ArrayLike, state: LoopState) -> InverseResult:
+    """Closed-chain inverse dynamics of ``model`` (from :func:`qsm.mjcf.build_model` for
+    ``design``) on the loop-consistent ``state`` (:func:`loop_state`).
+
+    Runs ``mj_inverse`` on the open tree (the loop equality is disabled during the call and the
+    model's flags restored afterwards), then tau = G^T qfrc and the coupler force from the
+    passive-joint rows of qfrc = S^T tau + Jc^T lambda.
+    """
+    dof = np.array([model.jnt_dofadr[model.joint(n).id] for n in JOINT_NAMES])
+    if not np.array_equal(dof, np.arange(4)):
+        raise RuntimeError(f"unexpected dof order {dof} for joints {JOINT_NAMES}")
+    data = mujoco.MjData(model)
+    qpos, qvel, qacc, qfrc_inv = data.qpos, data.qvel, data.qacc, data.qfrc_inverse
+    n = len(state.q)
+    qfrc = np.full((n, 4), np.nan)
+    flags = model.opt.disableflags
+    model.opt.disableflags = flags | mujoco.mjtDisableBit.mjDSBL_EQUALITY
+    try:
+        for k in np.flatnonzero(state.closes):
+            qpos[:] = state.q[k]
+            qvel[:] = state.qd[k]
+            qacc[:] = state.qdd[k]
+            mujoco.mj_inverse(model, data)
+            qfrc[k] = qfrc_inv
+    finally:
+        model.opt.disableflags = flags
+    tau = np.einsum("nij,ni->nj", state.G, qfrc)
+    d = as_design(design)
+    a, b = d[3] * _perp(state.rocker_dir), d[2] * _perp(state.coupler_dir)
+    det = _cross(a, b)
+    f1, f2 = qfrc[:, 1], qfrc[:, 3]  # rows of the passive joints: a . lambda = f1, b . lambda = f2
+    lam = np.column_stack(
+        [(f1 * b[:, 1] - f2 * a[:, 1]) / det, (a[:, 0] * f2 - b[:, 0] * f1) / det]
+    )
+    return InverseResult(tau, lam)
+
+
+def joint_torques(
+    design: ArrayLike,
+    theta: ArrayLike,
+    dtheta: ArrayLike,
+    ddtheta: ArrayLike,
+    *,
+    payload_kg: float,
+    link_density: float | None = None,
+) -> NDArray[np.float64]:
+    """Motor torques (N, 2) in N m for motor angles, rates, accelerations (N, 2) in rad, rad/s,
+    rad/s^2 of one design (6 lengths, m) with a payload (kg) at E.
+
+    Links use the default :class:`qsm.cad.CadSettings` section, with ``link_density`` (kg/m^3)
+    replacing the default material when given. Rows where the loop does not close are NaN;
+    raises :class:`qsm.cad.CadError` when the section does not fit the design.
+    """
+    settings = DEFAULT_CAD if link_density is None else CadSettings(density_kg_m3=link_density)
+    state = loop_state(design, theta, dtheta, ddtheta)
+    model = model_spec(design, settings, payload_kg).compile()
+    return inverse_dynamics(model, design, state).tau
+
+
+def _failure(status: str, reason: str, masses: dict[str, float]) -> dict[str, Any]:
+    out: dict[str, Any] = dict.fromkeys(RESULT_KEYS, np.nan)
+    out.update(masses, status=status, status_reason=reason)
+    return out
+
+
+def evaluate_mechanism(
+    design: ArrayLike,
+    duty: Duty,
+    settings: CadSettings = DEFAULT_CAD,
+    payload_kg: float = 5.0,
+) -> dict[str, Any]:
+    """Peak and RMS motor torques of one design (6 lengths, m) over ``duty``.
+
+    Returns a dict with the keys :data:`RESULT_KEYS`: peak |tau| (N m) of each motor and the motor
+    angles (deg) where it occurs, time-weighted RMS torques over the moving part of the duty,
+    peak coupler (D bearing) force (N), smallest transmission angle at D (deg, folded into
+    [0, 90]), link masses (kg, without the payload), and ``status``: 'ok', 'cad_invalid' (the
+    section does not fit), 'loop_open' (the loop does not close at some duty pose), 'singular'
+    (|sin| of the transmission angle below :data:`MIN_SIN_TRANSMISSION`), 'nonfinite' or 'error'
+    (unexpected exception), with a human-readable ``status_reason``. Never raises.
+    """
+    masses: dict[str, float] = {}
+    try:
+        props = mass_properties(design, settings)
+        masses = {f"mass_{k}_kg": v.mass_kg for k, v in props.items()}
+        state = loop_state(design, duty.theta, duty.dtheta, duty.ddtheta)
+        if not state.closes.all():
+            bad = np.flatnonzero(~state.closes)
+            t1, t2 = np.degrees(duty.theta[bad[0]])
+            return _failure(
+                "loop_open",
+                f"loop does not close at {len(bad)} of {len(bad) + state.closes.sum()} duty poses,"
+                f" first at theta1={t1:.2f} deg, theta2={t2:.2f} deg",
+                masses,
+            )
+        sin_mu = state.sin_transmission
+        if sin_mu.min() < MIN_SIN_TRANSMISSION:
+            return _failure(
+                "singular",
+                f"|sin transmission angle| = {sin_mu.min():.3g} < {MIN_SIN_TRANSMISSION}",
+                masses,
+            )
+        model = model_spec(design, settings, payload_kg, props).compile()
+        inv = inverse_dynamics(model, design, state)
+        if not (np.isfinite(inv.tau).all() and np.isfinite(inv.coupler_force).all()):
+            return _failure("nonfinite", "non-finite torque or coupler force", masses)
+    except CadError as exc:
+        return _failure("cad_invalid", str(exc), masses)
+    except Exception as exc:  # one bad mechanism must not stop a table
+        return _failure("error", f"{type(exc).__name__}: {exc}", masses)
+    mag = np.abs(inv.tau)
+    k1, k2 = int(np.argmax(mag[:, 0])), int(np.argmax(mag[:, 1]))
+    w = duty.weight_s
+    rms = np.sqrt((w[:, None] * inv.tau**2).sum(axis=0) / w.sum())
+    deg = np.degrees(duty.theta)
+    return {
+        "tau1_Nm": float(mag[k1, 0]),
+        "tau2_Nm": float(mag[k2, 1]),
+        "theta1_at_tau1_peak_deg": float(deg[k1, 0]),
+        "theta2_at_tau1_peak_deg": float(deg[k1, 1]),
+        "theta1_at_tau2_peak_deg": float(deg[k2, 0]),
+        "theta2_at_tau2_peak_deg": float(deg[k2, 1]),
+        "tau1_rms_Nm": float(rms[0]),
+        "tau2_rms_Nm": float(rms[1]),
+        "coupler_force_peak_N": float(np.hypot(*inv.coupler_force.T).max()),
+        "transmission_angle_min_deg": float(np.degrees(np.arcsin(min(sin_mu.min(), 1.0)))),
+        **masses,
+        "status": "ok",
+        "status_reason": "",
+    }
+
+
+def evaluate_table(
+    df: pd.DataFrame,
+    duty: Duty | None = None,
+    settings: CadSettings = DEFAULT_CAD,
+    payload_kg: float = 5.0,
+    log_every: int = 1000,
+) -> pd.DataFrame:
+    """:func:`evaluate_mechanism` for every row of ``df`` (columns l1_m ... ee_y_m, m).
+
+    Returns one row per input row, in the same order and with the same index, holding
+    ``mechanism_id`` (when ``df`` has it) and the :data:`RESULT_KEYS` columns. ``duty`` defaults to
+    :func:`qsm.duty.duty_cycle` with default settings. Progress is logged every ``log_every`` rows.
+    """
+    duty = duty_cycle() if duty is None else duty
+    designs = df.loc[:, list(DESIGN_COLUMNS)].to_numpy(dtype=float)
+    rows = []
+    start = time.perf_counter()
+    for i, design in enumerate(designs, start=1):
+        rows.append(evaluate_mechanism(design, duty, settings, payload_kg))
+        if i % log_every == 0 or i == len(designs):
+            elapsed = time.perf_counter() - start
+            log.info("dynamics: %d/%d mechanisms, %.1f mechanisms/s", i, len(designs), i / elapsed)
+    out = pd.DataFrame(rows, index=df.index, columns=list(RESULT_KEYS))
+    if "mechanism_id" in df.columns:
+        out.insert(0, "mechanism_id", df["mechanism_id"].to_numpy())
+    return out

@@ -1,0 +1,99 @@
+"""Link solids: mass properties by hand and from the mesh, STL export."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+import trimesh
+
+from qsm import cad
+
+DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
+
+
+def test_bar_with_end_half_discs_matches_hand_computation() -> None:
+    """Bosses of radius width/2 turn a bar into a stadium: rectangle plus two half discs."""
+    L, w, t, rho = 0.4, 0.03, 0.01, 1040.0
+    h = w / 2
+    s = cad.CadSettings(
+        width_m=w,
+        thickness_m=t,
+        boss_radius_m=h * (1 + 1e-12),
+        density_kg_m3=rho,
+        segments_per_circle=4096,
+    )
+    mp = cad.polygon_mass_properties(cad.link_outlines([L, L, L, L, L, L], s)["crank"], t, rho)
+    a_half = math.pi * h**2 / 2
+    area = L * w + 2 * a_half
+    mass = rho * t * area
+    # area moments about the bar centre (L/2, 0)
+    int_y2 = L * w**3 / 12 + math.pi * h**4 / 4
+    half_x2 = (L / 2) ** 2 * a_half + L * (2 * h**3 / 3) + math.pi * h**4 / 8
+    int_x2 = w * L**3 / 12 + 2 * half_x2
+    hand = np.diag(
+        [
+            rho * t * int_y2 + mass * t**2 / 12,
+            rho * t * int_x2 + mass * t**2 / 12,
+            rho * t * (int_x2 + int_y2),
+        ]
+    )
+    assert mp.mass_kg == pytest.approx(mass, rel=1e-6)
+    np.testing.assert_allclose(mp.com_m, [L / 2, 0.0, 0.0], atol=1e-12)
+    np.testing.assert_allclose(mp.inertia_kg_m2, hand, rtol=1e-6, atol=1e-12 * hand.max())
+
+
+def test_bar_with_bosses_area_matches_hand_computation() -> None:
+    """Area of rectangle plus two boss discs minus the parts of the discs inside the bar."""
+    s = cad.CadSettings(segments_per_circle=8192)
+    L, r, h = 0.3, s.boss_radius_m, s.width_m / 2
+    x0, beta = math.sqrt(r * r - h * h), math.asin(h / r)
+    area = L * 2 * h + 2 * (math.pi * r * r - (h * x0 + r * r * beta))
+    mp = cad.mass_properties([L, 0.2, 0.5, 0.2, 0.6, 0.2], s)["lower_arm"]
+    assert mp.mass_kg == pytest.approx(s.density_kg_m3 * s.thickness_m * area, rel=1e-6)
+    np.testing.assert_allclose(mp.com_m, [L / 2, 0.0, 0.0], atol=1e-12)
+
+
+def test_analytic_mass_properties_match_trimesh() -> None:
+    s = cad.CadSettings()
+    analytic = cad.mass_properties(DESIGN, s)
+    meshes = cad.link_meshes(DESIGN, s)
+    for name in cad.LINK_NAMES:
+        mesh = meshes[name]
+        mesh.density = s.density_kg_m3
+        a = analytic[name]
+        assert mesh.is_watertight and mesh.is_winding_consistent and mesh.volume > 0
+        assert mesh.mass == pytest.approx(a.mass_kg, rel=1e-9), name
+        np.testing.assert_allclose(mesh.center_mass, a.com_m, atol=1e-9)
+        np.testing.assert_allclose(mesh.moment_inertia, a.inertia_kg_m2, rtol=1e-9, atol=1e-12)
+    upper = analytic["upper_arm"]
+    assert abs(upper.inertia_kg_m2[0, 1]) > 1e-6  # the L-shape has a product of inertia
+
+
+def test_stl_export_is_watertight_and_in_millimetres(tmp_path) -> None:
+    s = cad.CadSettings()
+    paths = cad.export_stl(DESIGN, tmp_path, s)
+    assert [p.name for p in paths] == [f"{n}.stl" for n in cad.LINK_NAMES]
+    l1, l2, l3, l4, ee_x, ee_y = DESIGN
+    r = s.boss_radius_m
+    expected = {
+        "lower_arm": (l1 + 2 * r, 2 * r),
+        "crank": (l2 + 2 * r, 2 * r),
+        "coupler": (l3 + 2 * r, 2 * r),
+        "upper_arm": (l4 + ee_x + 2 * r, ee_y + 2 * r),
+    }
+    for path in paths:
+        mesh = trimesh.load_mesh(path)
+        assert mesh.is_watertight, path.name
+        ex, ey = expected[path.stem]
+        np.testing.assert_allclose(
+            mesh.extents, [ex * 1000, ey * 1000, s.thickness_m * 1000], rtol=1e-3
+        )
+
+
+def test_section_that_does_not_fit_raises_cad_error() -> None:
+    with pytest.raises(cad.CadError):
+        cad.mass_properties([0.1, 0.02, 0.1, 0.04, 0.12, 0.05])
+    with pytest.raises(ValueError, match="boss_radius_m"):
+        cad.CadSettings(width_m=0.05, boss_radius_m=0.02)

@@ -1,0 +1,65 @@
+# Stage 2: link solids, MuJoCo models and closed-chain inverse dynamics, in fixed shards.
+
+DYNAMICS_SHARDS = range(config["dynamics"]["shards"])
+STAGE2_OUTPUTS = [
+    f"{RESULTS}/dataset.parquet",
+    f"{RESULTS}/dynamics/status.json",
+    f"{RESULTS}/figures/performance.png",
+]
+
+
+rule dynamics:
+    input:
+        rules.select_mechanisms.output.mechanisms,
+    output:
+        f"{RESULTS}/dynamics/shard-{{shard}}.parquet",
+    params:
+        shards=config["dynamics"]["shards"],
+        duty=config["dynamics"]["duty"],
+        operating_range=config["operating_range"],
+        cad=config["cad"],
+        payload_kg=config["task"]["payload_kg"],
+    wildcard_constraints:
+        shard=r"\d+",
+    log:
+        f"{RESULTS}/logs/dynamics/shard-{{shard}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/dynamics/shard-{{shard}}.tsv"
+    conda:
+        ENV
+    script:
+        "../scripts/dynamics_shard.py"
+
+
+rule gather_dataset:
+    input:
+        mechanisms=rules.select_mechanisms.output.mechanisms,
+        shards=expand(f"{RESULTS}/dynamics/shard-{{shard}}.parquet", shard=DYNAMICS_SHARDS),
+    output:
+        dataset=f"{RESULTS}/dataset.parquet",
+        status=f"{RESULTS}/dynamics/status.json",
+    params:
+        settings=stage2_settings(),
+    log:
+        f"{RESULTS}/logs/gather_dataset.log",
+    conda:
+        ENV
+    script:
+        "../scripts/gather_dataset.py"
+
+
+rule plot_dynamics:
+    input:
+        rules.gather_dataset.output.dataset,
+    output:
+        report(
+            f"{RESULTS}/figures/performance.png",
+            caption="../report/performance.rst",
+            category="2. Dynamics",
+        ),
+    log:
+        f"{RESULTS}/logs/plot_dynamics.log",
+    conda:
+        ENV
+    script:
+        "../scripts/plot_dynamics.py"

@@ -1,0 +1,40 @@
+"""Rule gather_dataset: join the mechanisms with the dynamics of every shard; check coverage."""
+
+import json
+
+from qsm.config import settings_hash
+from qsm.dataset import DATASET_COLUMNS, gather, status_counts
+from qsm.dynamics import RESULT_KEYS
+from qsm.logs import logged
+from qsm.mechanisms import MECHANISM_COLUMNS
+from qsm.tables import read_table, write_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    inp = snakemake.input  # noqa: F821
+    mechanisms = read_table(inp.mechanisms, MECHANISM_COLUMNS)
+    shards = [read_table(path, ["mechanism_id", *RESULT_KEYS]) for path in inp.shards]
+    dataset = gather(mechanisms, shards)
+    counts = status_counts(dataset)
+    failed = dataset.loc[dataset["status"] != "ok"]
+    for status, group in failed.groupby("status"):
+        log.warning(
+            "%d mechanisms %s, e.g. id %d: %s",
+            len(group),
+            status,
+            group["mechanism_id"].iloc[0],
+            group["status_reason"].iloc[0],
+        )
+    log.info("dataset: %d mechanisms, status %s", len(dataset), counts)
+    meta = {
+        "settings_hash": settings_hash(p.settings),
+        "settings": p.settings,
+        "columns": DATASET_COLUMNS,
+    }
+    write_table(dataset, snakemake.output.dataset, meta)  # noqa: F821
+    summary = {"mechanisms": len(dataset), "status": counts}
+    summary["failures"] = {
+        str(row.mechanism_id): f"{row.status}: {row.status_reason}" for row in failed.itertuples()
+    }
+    with open(snakemake.output.status, "w") as fh:  # noqa: F821
+        json.dump(summary, fh, indent=2)

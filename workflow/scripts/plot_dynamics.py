@@ -1,0 +1,12 @@
+"""Rule plot_dynamics: eta against the motor torques, coloured by scale (paper Fig. 11)."""
+
+from qsm.dataset import DATASET_COLUMNS, ok_rows
+from qsm.logs import logged
+from qsm.plots import performance_figure
+from qsm.tables import read_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    dataset = read_table(snakemake.input[0], DATASET_COLUMNS)  # noqa: F821
+    ok = ok_rows(dataset)
+    performance_figure(ok, snakemake.output[0])  # noqa: F821
+    log.info("drew %d of %d mechanisms (status ok)", len(ok), len(dataset))
