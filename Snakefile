@@ -22,10 +22,14 @@ validate_config(config)
 include: "workflow/rules/common.smk"
 include: "workflow/rules/mechanisms.smk"
 include: "workflow/rules/dynamics.smk"
+include: "workflow/rules/surrogate.smk"
+include: "workflow/rules/optimization.smk"
 
 
 rule all:
     input:
         STAGE1_OUTPUTS,
         STAGE2_OUTPUTS,
+        STAGE3_OUTPUTS,
+        STAGE4_OUTPUTS,
     default_target: True

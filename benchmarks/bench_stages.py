@@ -24,6 +24,8 @@ ROOT = Path(__file__).resolve().parents[1]
 STAGES = {
     "1": ["select_mechanisms", "plot_mechanisms"],
     "2": ["gather_dataset", "plot_dynamics"],
+    "3": ["train_surrogate"],
+    "4": ["compare_fronts"],
 }
 
 

@@ -2,18 +2,23 @@
 
 import json
 
+import numpy as np
 import pandas as pd
 import pytest
 import yaml
 from workflow_helpers import copy_workflow, snakemake
 
 from qsm.config import settings_hash, validate_config
-from qsm.dataset import DATASET_COLUMNS
+from qsm.dataset import DATASET_COLUMNS, cad_settings, duty_settings
+from qsm.duty import duty_cycle
 from qsm.evaluate import evaluate_ratios
 from qsm.filters import kinematic_filters
-from qsm.mechanisms import MECHANISM_COLUMNS
+from qsm.mechanisms import MECHANISM_COLUMNS, FitSettings
 from qsm.sampling import latin_hypercube
+from qsm.surrogate import INPUTS
+from qsm.surrogate import load as load_surrogate
 from qsm.tables import read_meta, read_table
+from qsm.verify import summary, verify_design
 from qsm.workspace import OperatingRange
 
 pytestmark = pytest.mark.workflow
@@ -125,3 +130,46 @@ def test_task_no_design_can_reach_fails_with_the_key_named(tmp_path):
     assert "task.points" in log
     # what was computed before the failing rule is kept
     assert (work / "results/mechanisms/candidates.parquet").exists()
+
+
+def test_surrogate_outputs(run):
+    metrics = json.loads((run / "results/surrogate/metrics.json").read_text())
+    for split in ("train", "test"):
+        for metric in ("r2", "mse", "rmse"):
+            assert set(metrics[split][metric]) == {"eta", "tau1", "tau2", "all"}
+    assert metrics["fit_seconds"] > 0
+    model = load_surrogate(run / "results/surrogate/model.json")
+    dataset = read_table(run / "results/dataset.parquet")
+    pred = model.predict(dataset[list(INPUTS)].to_numpy())
+    assert pred.shape == (len(dataset), 3) and np.isfinite(pred).all()
+    assert "| test | all |" in (run / "results/surrogate/metrics.md").read_text()
+
+
+@pytest.mark.parametrize("formulation", ["", "ratios/"])
+def test_verification_matches_a_direct_reevaluation(run, formulation):
+    config = effective_config(run)
+    folder = run / "results/optimization" / formulation
+    table = read_table(folder / "verification.parquet")
+    pareto = read_table(folder / "pareto.parquet")
+    assert len(table) == len(pareto) > 0
+    pd.testing.assert_frame_equal(table[list(pareto.columns)], pareto)
+    stored = json.loads((folder / "verification.json").read_text())
+    assert json.dumps(stored, sort_keys=True) == json.dumps(summary(table), sort_keys=True)
+    fit = FitSettings.from_sections(
+        config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
+    )
+    duty = duty_cycle(duty_settings(config["dynamics"]["duty"], config["operating_range"]))
+    for _, row in table.head(3).iterrows():
+        design = row[list(INPUTS)].to_numpy(float)
+        direct = verify_design(design, fit, duty, cad_settings(config["cad"]), 5.0)
+        for key in ("feasible", "eta_true", "tau1_true_Nm", "tau2_true_Nm"):
+            assert direct[key] == pytest.approx(row[key], rel=1e-12, nan_ok=True)
+    if formulation == "ratios/":  # exact Stage 1: every design holds the task at its scale
+        assert table["feasible"].all()
+        row = table.iloc[0]
+        again = evaluate_ratios(row[["l2", "l3", "l4", "ee_x", "ee_y"]].to_numpy(float), config)
+        assert again["scale"] == pytest.approx(row["scale_m"], rel=1e-9)
+        assert again["eta"] == pytest.approx(row["eta_true"], rel=1e-9)
+        assert again["tau1_Nm"] == pytest.approx(row["tau1_true_Nm"], rel=1e-9)
+    comparison = json.loads((run / "results/optimization/comparison.json").read_text())
+    assert set(comparison["fronts"]) == {"paper", "ratios"}

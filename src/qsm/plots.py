@@ -1,7 +1,8 @@
-"""Stage 1 figures: designs with workspace, task disk and linkage; scale and eta."""
+"""Figures: designs with workspace, task and linkage; distributions; parity; Pareto fronts."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 import matplotlib
@@ -12,6 +13,7 @@ import numpy as np
 import pandas as pd
 from matplotlib.axes import Axes
 from matplotlib.tri import Triangulation
+from numpy.typing import NDArray
 
 from qsm.kinematics import DESIGN_NAMES, pose
 from qsm.task import Disk
@@ -114,4 +116,82 @@ def performance_figure(dataset: pd.DataFrame, path: str | Path) -> None:
         f"Engineering performance of {len(dataset)} mechanisms (peak torques over the duty)"
     )
     fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+
+
+def parity_figure(
+    truth: NDArray[np.float64],
+    prediction: NDArray[np.float64],
+    names: Sequence[str],
+    path: str | Path,
+) -> None:
+    """Predicted against true values of each output, with the identity line and R^2."""
+    fig, axes = plt.subplots(1, len(names), figsize=(4.3 * len(names), 4.2))
+    for ax, name, t, p in zip(axes, names, truth.T, prediction.T, strict=True):
+        ax.scatter(t, p, s=3, alpha=0.5)
+        lo, hi = min(t.min(), p.min()), max(t.max(), p.max())
+        ax.plot([lo, hi], [lo, hi], "k--", lw=1)
+        r2 = 1 - np.sum((t - p) ** 2) / np.sum((t - t.mean()) ** 2)
+        ax.set_title(f"{name}: test R^2 = {r2:.4f}")
+        ax.set_xlabel(f"true {name}")
+        ax.set_ylabel(f"predicted {name}")
+        ax.set_aspect("equal")
+        ax.grid(alpha=0.3)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+
+
+def pareto_figures(
+    pareto: pd.DataFrame, hypervolume: pd.DataFrame, path_3d: str | Path, path_pairs: str | Path
+) -> None:
+    """The Pareto front in 3D and pairwise, coloured by the scale factor; the HV history."""
+    cols = ["eta_pred", "tau1_pred_Nm", "tau2_pred_Nm"]
+    labels = ["eta' (-)", "tau1' (N m)", "tau2' (N m)"]
+    fig = plt.figure(figsize=(6.5, 5.5))
+    ax = fig.add_subplot(projection="3d")
+    sc = ax.scatter(*(pareto[c] for c in cols), c=pareto["scale_m"], cmap="viridis", s=14)
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
+    ax.set_zlabel(labels[2])
+    fig.colorbar(sc, ax=ax, shrink=0.7, label="scale factor l1 (m)")
+    ax.set_title(f"{len(pareto)} Pareto designs (surrogate predictions)")
+    fig.savefig(path_3d, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+    fig, axes = plt.subplots(1, 4, figsize=(18, 4.2))
+    for ax, (i, j) in zip(axes[:3], [(0, 1), (0, 2), (1, 2)], strict=True):
+        sc = ax.scatter(pareto[cols[i]], pareto[cols[j]], c=pareto["scale_m"], cmap="viridis", s=12)
+        ax.set_xlabel(labels[i])
+        ax.set_ylabel(labels[j])
+        ax.grid(alpha=0.3)
+    fig.colorbar(sc, ax=axes[:3], label="scale factor l1 (m)")
+    axes[3].plot(hypervolume["generation"], hypervolume["hypervolume"])
+    axes[3].set_xlabel("generation")
+    axes[3].set_ylabel("hypervolume (normalised objectives)")
+    axes[3].grid(alpha=0.3)
+    fig.savefig(path_pairs, dpi=110, bbox_inches="tight")
+    plt.close(fig)
+
+
+def representatives(pareto: pd.DataFrame, n: int) -> pd.DataFrame:
+    """``n`` Pareto designs evenly spread over the range of the scale factor."""
+    order = pareto.sort_values("scale_m")
+    return order.iloc[np.unique(np.linspace(0, len(order) - 1, min(n, len(order))).astype(int))]
+
+
+def representatives_figure(
+    pareto: pd.DataFrame, op: OperatingRange, disk: Disk, n: int, path: str | Path
+) -> None:
+    """Representative Pareto designs with linkage, workspace and task (paper Fig. 6)."""
+    pick = representatives(pareto, n)
+    fig, axes = plt.subplots(1, len(pick), figsize=(4.0 * len(pick), 4.0), squeeze=False)
+    for ax, (_, row) in zip(axes[0], pick.iterrows(), strict=True):
+        design = row[[f"{name}_m" for name in DESIGN_NAMES]].to_numpy(dtype=float)
+        title = (
+            f"l1 {row.scale_m:.3f} m: eta' {row.eta_pred:.3f}\n"
+            f"tau1' {row.tau1_pred_Nm:.1f}, tau2' {row.tau2_pred_Nm:.1f} N m"
+        )
+        draw_design(ax, design, op, disk, title)
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
     plt.close(fig)

@@ -24,3 +24,8 @@ def stage2_settings():
         "cad": config["cad"],
         "payload_kg": config["task"]["payload_kg"],
     }
+
+
+def optimization_settings():
+    """What an NSGA-II run uses; the choice of the primary front is not among it."""
+    return {k: v for k, v in config["optimization"].items() if k != "formulation"}

@@ -1,0 +1,295 @@
+"""Stage 4: NSGA-II (pymoo) on the surrogate with the paper's constraints g1..g10 (Section 2.4).
+
+Objectives, all minimised: (eta', tau1', tau2'), the surrogate's predictions. Constraints in
+pymoo's ``G <= 0`` form:
+
+* g1..g3: eta' > 0, tau1' > 0, tau2' > 0  ->  ``-eta'``, ``-tau1'``, ``-tau2'``;
+* g4: crank-rocker l3 + l2 < l1 + l4      ->  ``l3 + l2 - l1 - l4``;
+* g5..g10: each prediction within mean +- z std of its training labels (z = 1.95)
+  ->  ``(mean - z std) - y'`` and ``y' - (mean + z std)``.
+
+Two formulations: ``paper`` optimises the 6 scaled lengths (the scale l1 free, as in the paper);
+``ratios`` optimises the 5 ratios in Table 1 and computes the scale and eta exactly with Stage 1
+(task containment guaranteed), taking only the torques from the surrogate.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+from pymoo.algorithms.moo.nsga2 import NSGA2
+from pymoo.core.callback import Callback
+from pymoo.core.problem import Problem
+from pymoo.indicators.hv import HV
+from pymoo.optimize import minimize
+
+from qsm.filters import crank_rocker
+from qsm.kinematics import RATIO_NAMES, design_from_ratios, loop_closes_everywhere
+from qsm.mechanisms import FitSettings, fit_design
+from qsm.surrogate import INPUTS, Surrogate
+
+N_CONSTRAINTS = 10
+CONSTRAINT_NAMES: tuple[str, ...] = (
+    "g1_eta_positive",
+    "g2_tau1_positive",
+    "g3_tau2_positive",
+    "g4_crank_rocker",
+    "g5_eta_low",
+    "g6_eta_high",
+    "g7_tau1_low",
+    "g8_tau1_high",
+    "g9_tau2_low",
+    "g10_tau2_high",
+)
+
+
+@dataclass(frozen=True)
+class LabelStats:
+    """Mean and standard deviation of the training labels (eta, tau1, tau2) and z."""
+
+    mean: NDArray[np.float64]
+    std: NDArray[np.float64]
+    z: float = 1.95
+
+    @classmethod
+    def of(cls, model: Surrogate, z: float) -> LabelStats:
+        """The statistics of the labels ``model`` was trained on."""
+        return cls(model.label_mean, model.label_std, z)
+
+
+def paper_constraints(
+    design: NDArray[np.float64], pred: NDArray[np.float64], stats: LabelStats
+) -> NDArray[np.float64]:
+    """g1..g10 as ``G <= 0`` for designs (N, 6) of lengths and predictions (N, 3)."""
+    l1, l2, l3, l4 = design[:, 0], design[:, 1], design[:, 2], design[:, 3]
+    lo = stats.mean - stats.z * stats.std
+    hi = stats.mean + stats.z * stats.std
+    cols = [-pred[:, 0], -pred[:, 1], -pred[:, 2], l3 + l2 - l1 - l4]
+    for j in range(3):
+        cols += [lo[j] - pred[:, j], pred[:, j] - hi[j]]
+    return np.column_stack(cols)
+
+
+class PaperProblem(Problem):
+    """The paper's problem over the 6 scaled lengths, vectorised over the population."""
+
+    def __init__(self, model: Surrogate, lower: NDArray, upper: NDArray, stats: LabelStats) -> None:
+        super().__init__(n_var=6, n_obj=3, n_ieq_constr=N_CONSTRAINTS, xl=lower, xu=upper)
+        self.model = model
+        self.stats = stats
+
+    def _evaluate(self, x: NDArray, out: dict, *args: Any, **kwargs: Any) -> None:
+        pred = self.model.predict(x)
+        out["F"] = pred
+        out["G"] = paper_constraints(x, pred, self.stats)
+
+
+class RatiosProblem(Problem):
+    """Ratios (5) in Table 1; scale and eta exact from Stage 1, torques from the surrogate.
+
+    A design whose loop does not close or whose workspace holds the task at no scale is made
+    infeasible through g4 (violation 1), with finite stand-in objectives (eta = 1, torques at the
+    training means).
+    """
+
+    def __init__(
+        self,
+        model: Surrogate,
+        lower: NDArray,
+        upper: NDArray,
+        stats: LabelStats,
+        fit: FitSettings,
+    ) -> None:
+        super().__init__(n_var=5, n_obj=3, n_ieq_constr=N_CONSTRAINTS, xl=lower, xu=upper)
+        self.model = model
+        self.stats = stats
+        self.fit = fit
+
+    def designs(self, ratios: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+        """Scaled designs (N, 6), exact eta (N,) and a feasibility mask for ratios (N, 5)."""
+        n = len(ratios)
+        scale = np.full(n, np.nan)
+        eta = np.full(n, np.nan)
+        ok = crank_rocker(ratios) & loop_closes_everywhere(ratios, self.fit.op.delta_max)
+        for i in np.flatnonzero(ok):
+            result = fit_design(ratios[i], self.fit)
+            if result["feasible"]:
+                scale[i], eta[i] = result["scale_m"], result["eta"]
+        feasible = np.isfinite(scale)
+        return design_from_ratios(ratios, np.where(feasible, scale, 1.0)), eta, feasible
+
+    def _evaluate(self, x: NDArray, out: dict, *args: Any, **kwargs: Any) -> None:
+        design, eta, feasible = self.designs(x)
+        pred = self.model.predict(design)
+        pred[:, 0] = np.where(feasible, eta, 1.0)
+        pred[~feasible, 1:] = self.stats.mean[1:]
+        g = paper_constraints(design, pred, self.stats)
+        g[:, 3] = np.where(feasible, g[:, 3], 1.0)
+        out["F"] = pred
+        out["G"] = g
+
+
+@dataclass
+class Recorder(Callback):
+    """Per generation: hypervolume of the feasible non-dominated set (normalised objectives);
+    the last ``keep`` populations (X, F, G). Replaces pymoo's ``save_history``, which deep-copies
+    the algorithm every generation."""
+
+    lower: NDArray[np.float64]
+    upper: NDArray[np.float64]
+    keep: int = 3
+    progress: Callable[[int, float], None] | None = None
+    hypervolume: list[float] = field(default_factory=list)
+    populations: list[dict[str, NDArray]] = field(default_factory=list)
+
+    def __post_init__(self) -> None:
+        super().__init__()
+        self._hv = HV(ref_point=np.full(3, 1.1))
+
+    def notify(self, algorithm: Any) -> None:
+        pop = algorithm.pop
+        x, f, g = pop.get("X"), pop.get("F"), pop.get("G")
+        feasible = np.all(g <= 0, axis=1)
+        norm = (f[feasible] - self.lower) / (self.upper - self.lower)
+        self.hypervolume.append(float(self._hv(norm)) if len(norm) else 0.0)
+        self.populations.append({"X": x.copy(), "F": f.copy(), "G": g.copy()})
+        del self.populations[: -self.keep]
+        if self.progress is not None:
+            self.progress(algorithm.n_gen, self.hypervolume[-1])
+
+
+@dataclass(frozen=True)
+class OptimisationResult:
+    """Pareto designs, the last populations and the hypervolume history."""
+
+    pareto_x: NDArray[np.float64]
+    pareto_f: NDArray[np.float64]
+    last_populations: list[dict[str, NDArray]]
+    hypervolume: list[float]
+
+
+def run_nsga2(
+    problem: Problem,
+    pop_size: int,
+    generations: int,
+    seed: int,
+    objective_range: tuple[NDArray, NDArray],
+    progress: Callable[[int, float], None] | None = None,
+) -> OptimisationResult:
+    """Run NSGA-II for ``generations`` with a recorder; ``objective_range`` normalises the HV."""
+    recorder = Recorder(*objective_range, progress=progress)
+    result = minimize(
+        problem,
+        NSGA2(pop_size=pop_size),
+        ("n_gen", generations),
+        seed=seed,
+        callback=recorder,
+        verbose=False,
+    )
+    if result.opt is None or result.X is None:
+        raise RuntimeError("NSGA-II found no feasible design")
+    return OptimisationResult(
+        pareto_x=np.atleast_2d(result.opt.get("X")),
+        pareto_f=np.atleast_2d(result.opt.get("F")),
+        last_populations=recorder.populations,
+        hypervolume=recorder.hypervolume,
+    )
+
+
+def bounds_from(
+    table: Mapping[str, NDArray], columns: tuple[str, ...], override: Mapping[str, Any]
+) -> tuple[NDArray, NDArray]:
+    """Lower and upper bounds per column: the data's min and max unless ``override`` names it."""
+    lo, hi = [], []
+    for name in columns:
+        given = override.get(name)
+        if given is not None:
+            lo.append(float(given[0]))
+            hi.append(float(given[1]))
+        else:
+            lo.append(float(np.min(table[name])))
+            hi.append(float(np.max(table[name])))
+    return np.array(lo), np.array(hi)
+
+
+PREDICTION_COLUMNS: tuple[str, ...] = ("eta_pred", "tau1_pred_Nm", "tau2_pred_Nm")
+
+
+@dataclass(frozen=True)
+class FrontTables:
+    """What an optimisation writes: the Pareto designs, the last generations, the HV history."""
+
+    pareto: pd.DataFrame
+    last_generations: pd.DataFrame
+    hypervolume: pd.DataFrame
+
+
+def _design_table(design: NDArray, objectives: NDArray) -> pd.DataFrame:
+    table = pd.DataFrame(design, columns=list(INPUTS))
+    table.insert(0, "scale_m", design[:, 0])
+    for j, name in enumerate(RATIO_NAMES, start=1):
+        table[name] = design[:, j] / design[:, 0]
+    for j, name in enumerate(PREDICTION_COLUMNS):
+        table[name] = objectives[:, j]
+    return table
+
+
+def optimise(
+    formulation: str,
+    model: Surrogate,
+    dataset: pd.DataFrame,
+    section: Mapping[str, Any],
+    fit: FitSettings,
+    ratio_bounds: Mapping[str, Any],
+    progress: Callable[[int, float], None] | None = None,
+) -> FrontTables:
+    """Run NSGA-II in the given formulation (``paper`` or ``ratios``) and tabulate the results.
+
+    ``dataset`` (status-ok rows) gives the paper formulation's bounds (unless ``section["bounds"]``
+    overrides them) and the objective range that normalises the hypervolume.
+    """
+    stats = LabelStats.of(model, section["z"])
+    labels = dataset[["eta", "tau1_Nm", "tau2_Nm"]].to_numpy()
+    objective_range = (labels.min(axis=0), labels.max(axis=0))
+    problem: Problem
+    if formulation == "paper":
+        lo, hi = bounds_from(dataset, INPUTS, section["bounds"])
+        problem = PaperProblem(model, lo, hi, stats)
+    elif formulation == "ratios":
+        lo = np.array([ratio_bounds[n][0] for n in RATIO_NAMES], dtype=float)
+        hi = np.array([ratio_bounds[n][1] for n in RATIO_NAMES], dtype=float)
+        problem = RatiosProblem(model, lo, hi, stats, fit)
+    else:
+        raise ValueError(f"config key 'optimization.formulation': unknown '{formulation}'")
+    result = run_nsga2(
+        problem,
+        section["pop_size"],
+        section["generations"],
+        section["seed"],
+        objective_range,
+        progress,
+    )
+
+    def lengths(x: NDArray) -> NDArray:
+        return problem.designs(x)[0] if isinstance(problem, RatiosProblem) else x
+
+    pareto = _design_table(lengths(result.pareto_x), result.pareto_f)
+    generations = []
+    first = section["generations"] - len(result.last_populations) + 1
+    for offset, pop in enumerate(result.last_populations):
+        table = _design_table(lengths(pop["X"]), pop["F"])
+        table.insert(0, "generation", first + offset)
+        table["feasible"] = np.all(pop["G"] <= 0, axis=1)
+        generations.append(table)
+    history = pd.DataFrame(
+        {
+            "generation": np.arange(1, len(result.hypervolume) + 1),
+            "hypervolume": result.hypervolume,
+        }
+    )
+    return FrontTables(pareto, pd.concat(generations, ignore_index=True), history)

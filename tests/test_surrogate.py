@@ -1,0 +1,98 @@
+"""The MLP surrogate: storage without pickle, metrics, and the paper's settings."""
+
+import json
+
+import numpy as np
+import pytest
+
+from qsm.config import load_config
+from qsm.surrogate import (
+    Surrogate,
+    SurrogateSettings,
+    load,
+    metrics_markdown,
+    regression_metrics,
+    train,
+)
+
+
+@pytest.fixture(scope="module")
+def fitted():
+    rng = np.random.default_rng(0)
+    x = rng.uniform(0.1, 1.0, (1500, 6))
+    y = np.column_stack(
+        [
+            0.05 + x[:, 0] * x[:, 1],
+            40 + 20 * x[:, 4] ** 2 + 5 * x[:, 0],
+            15 + 5 * np.sin(3 * x[:, 2]),
+        ]
+    )
+    settings = SurrogateSettings(max_epochs=400, seed=3)
+    return x, y, settings, train(x, y, settings)
+
+
+def test_paper_settings_are_the_defaults():
+    s = SurrogateSettings.from_section(load_config()["surrogate"])
+    assert s.hidden_layers == (100,) and s.learning_rate == 1e-3 and s.max_epochs == 50_000
+
+
+def test_forward_pass_equals_scikit_learn(fitted):
+    x, _, _, result = fitted
+    model = result.model
+    normalised = (x - model.x_min) / model.x_span
+    np.testing.assert_allclose(
+        model.predict_normalised(x), result.estimator.predict(normalised), rtol=1e-12, atol=1e-12
+    )
+
+
+def test_json_round_trip_without_pickle(fitted, tmp_path):
+    x, _, _, result = fitted
+    path = tmp_path / "model.json"
+    result.model.save(path)
+    assert json.loads(path.read_text())["format"] == "qsm-surrogate/1"
+    again = load(path)
+    assert isinstance(again, Surrogate)
+    np.testing.assert_array_equal(again.predict(x), result.model.predict(x))
+    np.testing.assert_array_equal(again.label_std, result.model.label_std)
+    (tmp_path / "bad.json").write_text("{}")
+    with pytest.raises(ValueError, match=r"bad\.json"):
+        load(tmp_path / "bad.json")
+
+
+def test_learns_a_smooth_function_and_reports_the_paper_table(fitted):
+    x, y, settings, result = fitted
+    m = result.metrics
+    assert set(m) >= {"train", "test", "fit_seconds"}
+    for split in ("train", "test"):
+        for metric in ("r2", "mse", "rmse"):
+            assert set(m[split][metric]) == {"eta", "tau1", "tau2", "all"}
+    assert min(m["test"]["r2"].values()) > 0.98
+    assert len(result.test_index) == round(settings.test_fraction * len(x))
+    # the stored label statistics are those of the training rows only
+    train_rows = np.setdiff1d(np.arange(len(x)), result.test_index)
+    np.testing.assert_allclose(result.model.label_mean, y[train_rows].mean(axis=0))
+    assert "| test | all |" in metrics_markdown(m)
+
+
+def test_metrics_by_hand():
+    truth = np.array([[0.0, 0.0, 0.0], [1.0, 2.0, 4.0]])
+    pred = np.array([[0.0, 0.5, 0.0], [1.0, 2.0, 3.0]])
+    m = regression_metrics(truth, pred, np.zeros(3), np.array([1.0, 2.0, 4.0]))
+    # normalised errors: eta 0, 0; tau1 0.25, 0; tau2 0, -0.25
+    assert m["mse"]["eta"] == 0 and m["r2"]["eta"] == 1
+    assert m["mse"]["tau1"] == pytest.approx(0.25**2 / 2)
+    assert m["r2"]["tau2"] == pytest.approx(1 - 0.0625 / 0.5)
+    assert m["mse"]["all"] == pytest.approx(2 * 0.0625 / 6)
+    assert m["rmse"]["all"] == pytest.approx(np.sqrt(2 * 0.0625 / 6))
+
+
+def test_same_seed_same_model(fitted):
+    x, y, settings, result = fitted
+    again = train(x, y, settings)
+    np.testing.assert_array_equal(again.model.weights[0], result.model.weights[0])
+
+
+def test_log_transform_needs_positive_labels():
+    x = np.ones((10, 6))
+    with pytest.raises(ValueError, match="positive"):
+        train(x, -np.ones((10, 3)), SurrogateSettings(output_transform="log"))

@@ -1,0 +1,36 @@
+# Stage 3: the MLP surrogate from the 6 scaled lengths to (eta, tau1, tau2).
+
+STAGE3_OUTPUTS = [
+    f"{RESULTS}/surrogate/model.json",
+    f"{RESULTS}/surrogate/metrics.json",
+    f"{RESULTS}/surrogate/metrics.md",
+    f"{RESULTS}/figures/surrogate_parity.png",
+]
+
+
+rule train_surrogate:
+    input:
+        rules.gather_dataset.output.dataset,
+    output:
+        model=f"{RESULTS}/surrogate/model.json",
+        metrics=f"{RESULTS}/surrogate/metrics.json",
+        table=report(
+            f"{RESULTS}/surrogate/metrics.md",
+            caption="../report/surrogate_metrics.rst",
+            category="3. Surrogate",
+        ),
+        parity=report(
+            f"{RESULTS}/figures/surrogate_parity.png",
+            caption="../report/surrogate_parity.rst",
+            category="3. Surrogate",
+        ),
+    params:
+        surrogate=config["surrogate"],
+    log:
+        f"{RESULTS}/logs/train_surrogate.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/train_surrogate.tsv"
+    conda:
+        ENV
+    script:
+        "../scripts/train_surrogate.py"

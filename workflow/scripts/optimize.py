@@ -1,0 +1,32 @@
+"""Rules optimize and optimize_ratios: NSGA-II on the surrogate; tables and figures."""
+
+from qsm.dataset import DATASET_COLUMNS, ok_rows
+from qsm.logs import logged
+from qsm.mechanisms import FitSettings
+from qsm.optimize import optimise
+from qsm.plots import pareto_figures, representatives_figure
+from qsm.surrogate import load
+from qsm.tables import read_table, write_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    out = snakemake.output  # noqa: F821
+    model = load(snakemake.input.model)  # noqa: F821
+    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))  # noqa: F821
+    fit = FitSettings.from_sections(p.operating_range, p.task_points, p.scale, p.workspace)
+    every = max(1, p.optimization["generations"] // 10)
+
+    def progress(generation: int, hypervolume: float) -> None:
+        if generation % every == 0:
+            log.info("generation %d: hypervolume %.4f", generation, hypervolume)
+
+    tables = optimise(p.formulation, model, dataset, p.optimization, fit, p.ratio_bounds, progress)
+    meta = {"formulation": p.formulation, "settings": dict(p.optimization)}
+    write_table(tables.pareto, out.pareto, meta)
+    write_table(tables.last_generations, out.generations, meta)
+    write_table(tables.hypervolume, out.hypervolume, meta)
+    pareto_figures(tables.pareto, tables.hypervolume, out.front_3d, out.front_pairs)
+    representatives_figure(
+        tables.pareto, fit.op, fit.disk, p.optimization["n_representatives"], out.designs
+    )
+    log.info("%s formulation: %d Pareto designs", p.formulation, len(tables.pareto))

@@ -1,0 +1,35 @@
+"""Rule train_surrogate: fit the MLP, write the model (JSON), metrics and parity plots."""
+
+import json
+
+from qsm.dataset import DATASET_COLUMNS, ok_rows
+from qsm.logs import logged
+from qsm.plots import parity_figure
+from qsm.surrogate import INPUTS, OUTPUTS, SurrogateSettings, metrics_markdown, train
+from qsm.tables import read_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    out = snakemake.output  # noqa: F821
+    settings = SurrogateSettings.from_section(snakemake.params.surrogate)  # noqa: F821
+    dataset = ok_rows(read_table(snakemake.input[0], DATASET_COLUMNS))  # noqa: F821
+    x = dataset[list(INPUTS)].to_numpy()
+    y = dataset[list(OUTPUTS)].to_numpy()
+    log.info("training on %d designs (status ok) with %s", len(x), settings)
+    result = train(x, y, settings)
+    result.model.save(out.model)
+    with open(out.metrics, "w") as fh:
+        json.dump(result.metrics, fh, indent=2)
+    with open(out.table, "w") as fh:
+        fh.write(metrics_markdown(result.metrics))
+    parity_figure(
+        y[result.test_index],
+        result.test_prediction,
+        ["eta", "tau1 (N m)", "tau2 (N m)"],
+        out.parity,
+    )
+    log.info(
+        "test R^2 %s after %d epochs, %.1f s",
+        result.metrics["test"]["r2"],
+        result.metrics["epochs"],
+        result.metrics["fit_seconds"],
+    )

@@ -1,0 +1,25 @@
+"""Rules verify_pareto and verify_pareto_ratios: the Pareto designs under the true physics."""
+
+import json
+
+from qsm.dataset import cad_settings, duty_settings
+from qsm.duty import duty_cycle
+from qsm.logs import logged
+from qsm.mechanisms import FitSettings
+from qsm.optimize import PREDICTION_COLUMNS
+from qsm.surrogate import INPUTS
+from qsm.tables import read_table, write_table
+from qsm.verify import TRUE_COLUMNS, summary, verify_front
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    out = snakemake.output  # noqa: F821
+    pareto = read_table(snakemake.input.pareto, [*INPUTS, *PREDICTION_COLUMNS])  # noqa: F821
+    fit = FitSettings.from_sections(p.operating_range, p.task_points, p.scale, p.workspace)
+    duty = duty_cycle(duty_settings(p.duty, p.operating_range))
+    table = verify_front(pareto, fit, duty, cad_settings(p.cad), p.payload_kg)
+    result = summary(table)
+    write_table(table, out.table, {"columns": TRUE_COLUMNS})
+    with open(out.summary, "w") as fh:
+        json.dump(result, fh, indent=2)
+    log.info("verification: %s", result)
