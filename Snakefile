@@ -24,6 +24,7 @@ include: "workflow/rules/mechanisms.smk"
 include: "workflow/rules/dynamics.smk"
 include: "workflow/rules/surrogate.smk"
 include: "workflow/rules/optimization.smk"
+include: "workflow/rules/design_rules.smk"
 
 
 rule all:
@@ -32,4 +33,5 @@ rule all:
         STAGE2_OUTPUTS,
         STAGE3_OUTPUTS,
         STAGE4_OUTPUTS,
+        STAGE5_OUTPUTS,
     default_target: True

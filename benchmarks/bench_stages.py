@@ -26,6 +26,7 @@ STAGES = {
     "2": ["gather_dataset", "plot_dynamics"],
     "3": ["train_surrogate"],
     "4": ["compare_fronts"],
+    "5": ["design_rules_summary"],
 }
 
 

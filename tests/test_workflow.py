@@ -173,3 +173,27 @@ def test_verification_matches_a_direct_reevaluation(run, formulation):
         assert again["tau1_Nm"] == pytest.approx(row["tau1_true_Nm"], rel=1e-9)
     comparison = json.loads((run / "results/optimization/comparison.json").read_text())
     assert set(comparison["fronts"]) == {"paper", "ratios"}
+
+
+def test_design_rules_outputs(run):
+    config = effective_config(run)
+    rules = run / "results/design_rules"
+    n = config["design_rules"]["sobol_n"]
+    assert read_meta(rules / "sobol.parquet")["n_evaluations"] == n * (2 * 6 + 2)
+    designs = read_table(rules / "designs_400.parquet")
+    pareto = read_table(run / "results/optimization/pareto.parquet")
+    gens = read_table(run / "results/optimization/last_generations.parquet")
+    assert len(designs) == len(pareto) + len(gens)  # 400 with the paper's population
+    assert gens["generation"].nunique() == 3
+    splits = json.loads((rules / "tree_first_splits.json").read_text())
+    assert splits["n_designs"] == len(designs)
+    table = read_table(rules / "correlations.parquet")
+    row = table[(table["a"] == "tau1_pred_Nm") & (table["b"] == "tau2_pred_Nm")].iloc[0]
+    direct = np.corrcoef(designs["tau1_pred_Nm"], designs["tau2_pred_Nm"])[0, 1]
+    assert row["pearson"] == pytest.approx(direct, rel=1e-12)
+    grads = read_table(rules / "eta_derivatives.parquet")
+    assert len(grads) == 100 and grads["mechanism_id"].is_unique
+    summary_md = (rules / "summary.md").read_text()
+    rows = [ln for ln in summary_md.splitlines() if ln.startswith("| ") and "---" not in ln]
+    assert len(rows) == 1 + 10  # header and one row per finding of the paper's Section 4
+    assert f"{n * 14:,} surrogate evaluations" in summary_md

@@ -29,3 +29,9 @@ def stage2_settings():
 def optimization_settings():
     """What an NSGA-II run uses; the choice of the primary front is not among it."""
     return {k: v for k, v in config["optimization"].items() if k != "formulation"}
+
+
+def primary_front(name):
+    """A file of the front that feeds the later stages (optimization.formulation)."""
+    sub = "" if config["optimization"]["formulation"] == "paper" else "ratios/"
+    return f"{RESULTS}/optimization/{sub}{name}"

@@ -1,0 +1,71 @@
+"""Derivatives of the true eta with respect to the 6 design variables (paper Fig. 9).
+
+eta(X) = task-disk area / workspace area of the design X = (l1, l2, l3, l4, ee_x, ee_y) in metres,
+with the workspace from Stage 1's slicing (no surrogate). Central differences with a relative
+step; the slicing is smooth in X, so the step's truncation and noise errors are small (tested
+against a step-halved estimate).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from qsm.kinematics import DESIGN_NAMES
+from qsm.task import Disk
+from qsm.workspace import OperatingRange, Resolution, slice_workspace
+
+
+def true_eta(design: NDArray[np.float64], op: OperatingRange, disk: Disk, res: Resolution) -> float:
+    """Task-disk area over the workspace area of one design (6 lengths, m); NaN if its loop
+    does not close over the whole operating range."""
+    try:
+        unit = slice_workspace(design[1:] / design[0], op, 0.0, res).area
+    except ValueError:
+        return float("nan")
+    return disk.area / (unit * design[0] ** 2)
+
+
+def eta_gradient(
+    design: NDArray[np.float64],
+    op: OperatingRange,
+    disk: Disk,
+    res: Resolution,
+    rel_step: float = 1e-3,
+) -> NDArray[np.float64]:
+    """d eta / d x for the 6 lengths (1/m) by central differences with step ``rel_step * x``.
+
+    A design on the edge of loop closure, where one step opens the loop, gets the one-sided
+    difference of the other step; NaN where neither side closes.
+    """
+    centre = true_eta(design, op, disk, res)
+    grad = np.empty(6)
+    for i in range(6):
+        h = rel_step * design[i]
+        up, down = design.copy(), design.copy()
+        up[i] += h
+        down[i] -= h
+        e_up, e_down = true_eta(up, op, disk, res), true_eta(down, op, disk, res)
+        if np.isfinite(e_up) and np.isfinite(e_down):
+            grad[i] = (e_up - e_down) / (2 * h)
+        elif np.isfinite(e_up):
+            grad[i] = (e_up - centre) / h
+        else:
+            grad[i] = (centre - e_down) / h
+    return grad
+
+
+def eta_gradients(
+    designs: pd.DataFrame,
+    op: OperatingRange,
+    disk: Disk,
+    res: Resolution,
+    rel_step: float = 1e-3,
+) -> pd.DataFrame:
+    """``eta_gradient`` of every row (columns l1_m ... ee_y_m, plus ``mechanism_id``)."""
+    lengths = designs[[f"{n}_m" for n in DESIGN_NAMES]].to_numpy()
+    grads = np.array([eta_gradient(d, op, disk, res, rel_step) for d in lengths]).reshape(-1, 6)
+    out = pd.DataFrame(grads, columns=[f"deta_d{n}_per_m" for n in DESIGN_NAMES])
+    out.insert(0, "mechanism_id", designs["mechanism_id"].to_numpy())
+    return out

@@ -1,0 +1,134 @@
+# Stage 5: design rules from Sobol indices, decision trees, correlations and eta derivatives.
+
+RULES_DIR = f"{RESULTS}/design_rules"
+RULE_SHARDS = range(config["design_rules"]["shards"])
+STAGE5_OUTPUTS = [f"{RULES_DIR}/summary.md"]
+
+
+rule sobol:
+    input:
+        model=rules.train_surrogate.output.model,
+        dataset=rules.gather_dataset.output.dataset,
+    output:
+        indices=f"{RULES_DIR}/sobol.parquet",
+        figure=report(
+            f"{RESULTS}/figures/sobol.png", caption="../report/sobol.rst", category="5. Design rules"
+        ),
+    params:
+        design_rules=config["design_rules"],
+        bounds=config["optimization"]["bounds"],
+    log:
+        f"{RESULTS}/logs/sobol.log",
+    conda:
+        ENV
+    script:
+        "../scripts/sobol.py"
+
+
+rule decision_trees:
+    input:
+        pareto=primary_front("pareto.parquet"),
+        generations=primary_front("last_generations.parquet"),
+    output:
+        designs=f"{RULES_DIR}/designs_400.parquet",
+        rules=f"{RULES_DIR}/tree_rules.txt",
+        first_splits=f"{RULES_DIR}/tree_first_splits.json",
+        figure=report(
+            f"{RESULTS}/figures/decision_trees.png",
+            caption="../report/decision_trees.rst",
+            category="5. Design rules",
+        ),
+    params:
+        design_rules=config["design_rules"],
+    log:
+        f"{RESULTS}/logs/decision_trees.log",
+    conda:
+        ENV
+    script:
+        "../scripts/decision_trees.py"
+
+
+rule correlations:
+    input:
+        designs=rules.decision_trees.output.designs,
+    output:
+        table=f"{RULES_DIR}/correlations.parquet",
+        figure=report(
+            f"{RESULTS}/figures/correlations.png",
+            caption="../report/correlations.rst",
+            category="5. Design rules",
+        ),
+    params:
+        alpha=config["design_rules"]["alpha"],
+    log:
+        f"{RESULTS}/logs/correlations.log",
+    conda:
+        ENV
+    script:
+        "../scripts/correlations.py"
+
+
+rule eta_derivatives_shard:
+    input:
+        rules.select_mechanisms.output.mechanisms,
+    output:
+        f"{RULES_DIR}/eta_derivatives/shard-{{shard}}.parquet",
+    params:
+        shards=config["design_rules"]["shards"],
+        step=config["design_rules"]["derivative_step"],
+        operating_range=config["operating_range"],
+        task_points=config["task"]["points"],
+        workspace=config["workspace"],
+    wildcard_constraints:
+        shard=r"\d+",
+    log:
+        f"{RESULTS}/logs/eta_derivatives/shard-{{shard}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/eta_derivatives/shard-{{shard}}.tsv"
+    conda:
+        ENV
+    script:
+        "../scripts/eta_derivatives_shard.py"
+
+
+rule eta_derivatives:
+    input:
+        expand(f"{RULES_DIR}/eta_derivatives/shard-{{shard}}.parquet", shard=RULE_SHARDS),
+    output:
+        table=f"{RULES_DIR}/eta_derivatives.parquet",
+        figure=report(
+            f"{RESULTS}/figures/eta_derivatives.png",
+            caption="../report/eta_derivatives.rst",
+            category="5. Design rules",
+        ),
+    log:
+        f"{RESULTS}/logs/eta_derivatives.log",
+    conda:
+        ENV
+    script:
+        "../scripts/eta_derivatives.py"
+
+
+rule design_rules_summary:
+    input:
+        sobol=rules.sobol.output.indices,
+        first_splits=rules.decision_trees.output.first_splits,
+        correlations=rules.correlations.output.table,
+        derivatives=rules.eta_derivatives.output.table,
+        pareto=primary_front("pareto.parquet"),
+    output:
+        summary=report(
+            f"{RULES_DIR}/summary.md",
+            caption="../report/design_rules_summary.rst",
+            category="5. Design rules",
+        ),
+        table=f"{RULES_DIR}/findings.parquet",
+    params:
+        alpha=config["design_rules"]["alpha"],
+        primary=config["optimization"]["formulation"],
+    log:
+        f"{RESULTS}/logs/design_rules_summary.log",
+    conda:
+        ENV
+    script:
+        "../scripts/design_rules_summary.py"

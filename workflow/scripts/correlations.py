@@ -1,0 +1,15 @@
+"""Rule correlations: Spearman and Pearson coefficients on the 400 designs."""
+
+from qsm.logs import logged
+from qsm.rule_plots import correlation_figure
+from qsm.tables import read_table, write_table
+from qsm.trees import FEATURES_MM, OBJECTIVES, correlations
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    alpha = snakemake.params.alpha  # noqa: F821
+    designs = read_table(snakemake.input.designs, [*FEATURES_MM, *OBJECTIVES])  # noqa: F821
+    table = correlations(designs, FEATURES_MM, list(OBJECTIVES))
+    write_table(table, snakemake.output.table, {"n_designs": len(designs)})  # noqa: F821
+    correlation_figure(table, FEATURES_MM, list(OBJECTIVES), alpha, snakemake.output.figure)  # noqa: F821
+    tau = table[(table["a"] == "tau1_pred_Nm") & (table["b"] == "tau2_pred_Nm")].iloc[0]
+    log.info("Pearson(tau1, tau2) = %.3f on %d designs", tau["pearson"], len(designs))

@@ -1,0 +1,13 @@
+"""Rule eta_derivatives: gather the shards; box plot of the derivatives (paper Fig. 9)."""
+
+import pandas as pd
+
+from qsm.logs import logged
+from qsm.rule_plots import derivatives_figure
+from qsm.tables import read_table, write_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    grads = pd.concat([read_table(f) for f in snakemake.input], ignore_index=True)  # noqa: F821
+    write_table(grads, snakemake.output.table)  # noqa: F821
+    derivatives_figure(grads, snakemake.output.figure)  # noqa: F821
+    log.info("median |d eta / d x| (1/m): %s", grads.filter(like="deta_d").abs().median().to_dict())

@@ -1,0 +1,22 @@
+"""Rule eta_derivatives_shard: d eta / d x of the true eta for one shard of the mechanisms."""
+
+from qsm.eta_derivatives import eta_gradients
+from qsm.logs import logged
+from qsm.mechanisms import MECHANISM_COLUMNS
+from qsm.sharding import shard_slice
+from qsm.tables import read_table, write_table
+from qsm.task import min_enclosing_circle
+from qsm.workspace import OperatingRange, Resolution
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    shard = int(snakemake.wildcards.shard)  # noqa: F821
+    table = read_table(snakemake.input[0], MECHANISM_COLUMNS)  # noqa: F821
+    rows = table.iloc[shard_slice(len(table), p.shards, shard)]
+    op = OperatingRange.from_degrees(
+        p.operating_range["theta1_deg"], p.operating_range["theta2_min_deg"]
+    )
+    res = Resolution(p.workspace["n_delta"], p.workspace["n_levels"])
+    grads = eta_gradients(rows, op, min_enclosing_circle(p.task_points), res, p.step)
+    write_table(grads, snakemake.output[0])  # noqa: F821
+    log.info("shard %d of %d: derivatives of %d mechanisms", shard, p.shards, len(grads))

@@ -1,0 +1,30 @@
+"""Rule sobol: Sobol indices of the surrogate's eta, tau1, tau2 over the optimisation bounds."""
+
+from qsm.dataset import DATASET_COLUMNS, ok_rows
+from qsm.kinematics import DESIGN_NAMES
+from qsm.logs import logged
+from qsm.optimize import bounds_from
+from qsm.rule_plots import sobol_figure
+from qsm.sensitivity import sobol_indices
+from qsm.surrogate import INPUTS, load
+from qsm.tables import read_table, write_table
+
+OUTPUTS = ["eta", "tau1", "tau2"]
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    out = snakemake.output  # noqa: F821
+    model = load(snakemake.input.model)  # noqa: F821
+    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))  # noqa: F821
+    lo, hi = bounds_from(dataset, INPUTS, p.bounds)
+    result = sobol_indices(
+        model.predict,
+        list(DESIGN_NAMES),
+        list(zip(lo, hi, strict=True)),
+        OUTPUTS,
+        p.design_rules["sobol_n"],
+        p.design_rules["seed"],
+    )
+    write_table(result.indices, out.indices, {"n_evaluations": result.n_evaluations})
+    sobol_figure(result.indices, OUTPUTS, out.figure)
+    log.info("Sobol indices from %d surrogate evaluations", result.n_evaluations)
