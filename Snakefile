@@ -16,6 +16,9 @@ from qsm.config import validate_config  # noqa: E402
 
 configfile: "config/config.yaml"
 
+
+report: "workflow/report/workflow.rst"
+
 validate_config(config)
 
 
@@ -25,6 +28,8 @@ include: "workflow/rules/dynamics.smk"
 include: "workflow/rules/surrogate.smk"
 include: "workflow/rules/optimization.smk"
 include: "workflow/rules/design_rules.smk"
+include: "workflow/rules/realization.smk"
+include: "workflow/rules/summary.smk"
 
 
 rule all:
@@ -34,4 +39,6 @@ rule all:
         STAGE3_OUTPUTS,
         STAGE4_OUTPUTS,
         STAGE5_OUTPUTS,
+        STAGE6_OUTPUTS,
+        f"{RESULTS}/summary.md",
     default_target: True

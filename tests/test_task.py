@@ -5,6 +5,7 @@ import itertools
 import numpy as np
 import pytest
 
+from qsm.config import load_config
 from qsm.task import _circumcircle, min_enclosing_circle
 
 
@@ -54,13 +55,13 @@ def test_independent_of_point_order():
 
 
 def test_default_task_disk():
-    """The default palletising points: the farthest pair (-0.62, 0.20), (-0.82, 0.02) is a
-    diameter (the other points lie within 0.105 m of its middle), so by hand the centre is
-    (-0.72, 0.11) and the radius sqrt(0.2^2 + 0.18^2) / 2 = 0.134536 m."""
-    pts = [[-0.62, 0.20], [-0.82, 0.02], [-0.70, 0.02], [-0.82, 0.14], [-0.70, 0.14]]
+    """The default palletising points: the farthest pair (-0.53, 0.17), (-0.70, 0.02) is a
+    diameter (the other points lie within 0.089 m of its middle), so by hand the centre is
+    (-0.615, 0.095) and the radius sqrt(0.17^2 + 0.15^2) / 2 = 0.113358 m."""
+    pts = load_config()["task"]["points"]
     disk = min_enclosing_circle(pts)
-    assert disk.centre == pytest.approx((-0.72, 0.11), abs=1e-12)
-    assert disk.radius == pytest.approx(np.sqrt(0.2**2 + 0.18**2) / 2, rel=1e-12)
+    assert disk.centre == pytest.approx((-0.615, 0.095), abs=1e-12)
+    assert disk.radius == pytest.approx(np.sqrt(0.17**2 + 0.15**2) / 2, rel=1e-12)
 
 
 @pytest.mark.parametrize("bad", [[], [[1.0, 2.0, 3.0]], [1.0, 2.0]])

@@ -5,8 +5,9 @@ import json
 import numpy as np
 import pandas as pd
 import pytest
+import trimesh
 import yaml
-from workflow_helpers import copy_workflow, snakemake
+from workflow_helpers import copy_run, copy_workflow, planned_jobs, snakemake
 
 from qsm.config import settings_hash, validate_config
 from qsm.dataset import DATASET_COLUMNS, cad_settings, duty_settings
@@ -14,6 +15,7 @@ from qsm.duty import duty_cycle
 from qsm.evaluate import evaluate_ratios
 from qsm.filters import kinematic_filters
 from qsm.mechanisms import MECHANISM_COLUMNS, FitSettings
+from qsm.printing import all_links_fit
 from qsm.sampling import latin_hypercube
 from qsm.surrogate import INPUTS
 from qsm.surrogate import load as load_surrogate
@@ -22,14 +24,6 @@ from qsm.verify import summary, verify_design
 from qsm.workspace import OperatingRange
 
 pytestmark = pytest.mark.workflow
-
-
-@pytest.fixture(scope="module")
-def run(tmp_path_factory):
-    """One run of the default target (every stage built so far)."""
-    work = copy_workflow(tmp_path_factory.mktemp("wf"))
-    snakemake(work)
-    return work
 
 
 def effective_config(work):
@@ -197,3 +191,57 @@ def test_design_rules_outputs(run):
     rows = [ln for ln in summary_md.splitlines() if ln.startswith("| ") and "---" not in ln]
     assert len(rows) == 1 + 10  # header and one row per finding of the paper's Section 4
     assert f"{n * 14:,} surrogate evaluations" in summary_md
+
+
+def test_realisation_outputs(run):
+    config = effective_config(run)
+    real = run / "results/realization"
+    selected = json.loads((real / "selected.json").read_text())
+    design = np.array(selected["design_m"])
+    assert selected["feasible"] and selected["dynamics_status"] == "ok"
+    assert all_links_fit(
+        design, cad_settings(config["cad"]), tuple(config["printing"]["build_volume_mm"])
+    )
+    torques = json.loads((real / "torques.json").read_text())
+    assert set(torques["before"]) >= {"tau1_Nm", "tau2_Nm"} and set(torques["after"]) >= {
+        "tau1_Nm",
+        "tau2_Nm",
+    }
+    # lighter links need less torque, and the 'before' model is the Stage 2 model of the design
+    assert torques["after"]["tau1_Nm"] < torques["before"]["tau1_Nm"]
+    assert torques["before"]["tau1_Nm"] == pytest.approx(selected["tau1_true_Nm"], rel=1e-9)
+    topo = json.loads((real / "topology.json").read_text())
+    for link in topo["links"].values():
+        assert link["mass_after_kg"] < link["mass_before_kg"] and link["watertight"]
+    checks = json.loads((real / "stl_check.json").read_text())
+    for stage in ("before", "after"):
+        for name, check in checks[stage].items():
+            mesh = trimesh.load(run / check["path"])
+            assert mesh.is_watertight and check["watertight"], name
+            assert max(mesh.extents) > 50  # millimetres, not metres
+    payload = json.loads((real / "payload_test.json").read_text())
+    assert {"passed", "max_tracking_error_deg", "peak_torque_Nm", "limit_Nm"} <= set(payload)
+    assert payload["limit_Nm"] == config["payload_test"]["torque_limits_Nm"]
+    summary_md = (run / "results/summary.md").read_text()
+    assert "payload test" in summary_md and "## Stage 6" in summary_md
+
+
+def test_payload_test_fails_below_the_required_torque(run, tmp_path):
+    work = copy_run(run, tmp_path / "weak")
+    low = tmp_path / "low.yaml"
+    low.write_text("payload_test: {torque_limits_Nm: [5.0, 5.0]}")
+    assert planned_jobs(work, "payload_test", configs=(str(low),)) == {"payload_test": 1}
+    snakemake(work, "payload_test", configs=(str(low),))
+    payload = json.loads((work / "results/realization/payload_test.json").read_text())
+    assert payload["passed"] is False and payload["saturated"] is True
+
+
+def test_report_and_lint(run, tmp_path):
+    work = copy_run(run, tmp_path / "report")
+    snakemake(work, "--report", "results/report.html")
+    html = (work / "results/report.html").read_text(errors="replace")
+    for caption in ("Sobol indices", "payload test", "Pareto front"):
+        assert caption in html
+    lint = snakemake(work, "--lint")
+    assert "Congratulations" in lint.stdout + lint.stderr
+    assert "Lints for" not in lint.stdout + lint.stderr

@@ -11,10 +11,10 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def copy_workflow(dest: Path) -> Path:
-    """Copy what a run needs (Snakefile, workflow, config, src) into ``dest``."""
+    """Copy what a run needs (Snakefile, workflow, config, profiles, src) into ``dest``."""
     dest.mkdir(parents=True, exist_ok=True)
     shutil.copy2(ROOT / "Snakefile", dest / "Snakefile")
-    for name in ("workflow", "config", "src"):
+    for name in ("workflow", "config", "profiles", "src"):
         shutil.copytree(
             ROOT / name,
             dest / name,
@@ -24,13 +24,37 @@ def copy_workflow(dest: Path) -> Path:
     return dest
 
 
-def snakemake(workdir: Path, *args: str, check: bool = True) -> subprocess.CompletedProcess:
-    """Run ``snakemake`` in ``workdir`` with the test config; output captured."""
+def snakemake(
+    workdir: Path, *args: str, check: bool = True, configs: tuple[str, ...] = ()
+) -> subprocess.CompletedProcess:
+    """Run ``snakemake`` in ``workdir`` with the test config (and ``configs`` over it)."""
     cmd = [sys.executable, "-m", "snakemake", *args]
-    if "--cores" not in args:
+    if "--cores" not in args and "--profile" not in args:
         cmd += ["--cores", "2"]
-    cmd += ["--configfile", "config/test.yaml"]  # last: it takes several values
+    cmd += ["--configfile", "config/test.yaml", *configs]  # last: it takes several values
     out = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, check=False)
     if check and out.returncode != 0:
         raise AssertionError(f"snakemake {' '.join(args)} failed:\n{out.stdout}\n{out.stderr}")
     return out
+
+
+def copy_run(run: Path, dest: Path) -> Path:
+    """A copy of a finished run (results and Snakemake's metadata included) to change freely."""
+    shutil.copytree(run, dest, symlinks=True)
+    return dest
+
+
+def planned_jobs(workdir: Path, *args: str, configs: tuple[str, ...] = ()) -> dict[str, int]:
+    """Rules a dry run would execute, with their job counts (empty when nothing is to be done)."""
+    out = snakemake(workdir, "--dry-run", *args, configs=configs)
+    text = out.stdout + out.stderr
+    if "Nothing to be done" in text:
+        return {}
+    lines = text.split("Job stats:", 1)[1].splitlines()[3:]
+    jobs = {}
+    for line in lines:
+        parts = line.split()
+        if not parts or parts[0] == "total":
+            break
+        jobs[parts[0]] = int(parts[1])
+    return jobs

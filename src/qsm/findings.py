@@ -24,14 +24,15 @@ REASONS: dict[str, str] = {
     "link sections and duty are not published.",
     "trees": "near our front EE_x varies less than the four-bar lengths, so other variables "
     "split first; the trees follow the same variables as the Sobol indices.",
-    "direction": "over all 11,080 mechanisms Spearman(EE_x in m, tau1) is -0.60: a longer upper "
-    "arm comes with a larger scale and a smaller unit crescent, and the reach is pinned by the "
-    "task, so EE_x does not raise the payload's moment as it would at a fixed scale.",
+    "direction": "a longer upper arm (in metres) comes with a larger scale and a smaller unit "
+    "crescent, and the reach is pinned by the task, so EE_x does not raise the payload's moment "
+    "as it would at a fixed scale (see the dataset-wide coefficients in correlations.parquet).",
     "l1": "at the minimal scale l1 is set by the ratios and the task, so near the front it "
     "varies little and carries no separate effect on eta.",
     "pearson_tau": "both motors sit at A, so at a static pose tau1 + tau2 is the whole weight's "
-    "moment about A and the four-bar only splits it: on a front that minimises both, the two "
-    "trade off. The paper's 0.95 suggests designs spread along size rather than along the front.",
+    "moment about A and the four-bar only splits it; near a front that minimises both, that "
+    "split varies from design to design. The paper's 0.95 suggests designs spread along size "
+    "rather than along the front.",
     "scale": "the scale is not free at the minimal scale: it follows from the ratios and the "
     "task, and larger-scale designs have smaller unit crescents and lower tau1.",
     "derivatives": "the derivatives agree with this run's Sobol ranking for eta (the four-bar "

@@ -1,0 +1,272 @@
+"""Simulated payload test of a (topology-optimised) design (paper Section 5, Fig. 13).
+
+The paper grips a 3 kg object with a 2 kg gripper (5 kg at the end effector) and drives the arm
+through the task with motors geared to 150 N m and 100 N m (NEMA 17 + 50:1 gear and belt). Here the
+closed-chain MuJoCo model (:mod:`qsm.mjcf`, optionally with the optimised link mass properties)
+is simulated forward:
+
+* reference: the task points in order (and back to the first when ``return_to_start``), each
+  solved by :mod:`qsm.inverse_kinematics` (solution closest to the previous one), joined by
+  rest-to-rest minimum-jerk segments in joint space of ``segment_duration_s``, each followed by
+  a ``dwell_s`` hold (the test starts with one hold at the first point);
+* control: feed-forward torques from the closed-chain inverse dynamics
+  (:func:`qsm.dynamics.inverse_dynamics`, same model and properties) plus joint PD feedback
+  ``kp (theta_ref - theta) + kd (dtheta_ref - dtheta)``; the *requested* torque is clamped to the
+  motor limits before it is applied;
+* pass: the requested torque never exceeds the limits (no saturation) and the largest tracking
+  error of either motor stays within ``tracking_tolerance_deg``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import mujoco
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.cad import DEFAULT_CAD, CadSettings, MassProperties
+from qsm.duty import minimum_jerk
+from qsm.dynamics import MIN_SIN_TRANSMISSION, inverse_dynamics, loop_state
+from qsm.inverse_kinematics import THETA1_RANGE_DEG, THETA2_MIN_DEG, joint_path
+from qsm.kinematics import as_design, pose
+from qsm.mjcf import model_spec
+
+
+@dataclass(frozen=True)
+class PayloadSettings:
+    """Payload test settings (SI units unless named otherwise).
+
+    object_kg, gripper_kg: masses at the end effector, default 3 and 2 kg (paper).
+    torque_limits_Nm: motor torque limits after gearing, default (150, 100) N m (paper).
+    segment_duration_s: duration of each point-to-point move, default 1.5 s.
+    dwell_s: hold at each task point (and before the first move), default 0.5 s.
+    return_to_start: move back to the first point at the end, default True.
+    kp_Nm_rad, kd_Nms_rad: PD gains per motor, default (400, 200) and (20, 10).
+    tracking_tolerance_deg: largest allowed motor tracking error, default 0.5 deg.
+    theta1_range_deg, theta2_min_deg: operating range for the IK, default (45, 180), -37.5.
+    """
+
+    object_kg: float = 3.0
+    gripper_kg: float = 2.0
+    torque_limits_Nm: tuple[float, float] = (150.0, 100.0)
+    segment_duration_s: float = 1.5
+    dwell_s: float = 0.5
+    return_to_start: bool = True
+    kp_Nm_rad: tuple[float, float] = (400.0, 200.0)
+    kd_Nms_rad: tuple[float, float] = (20.0, 10.0)
+    tracking_tolerance_deg: float = 0.5
+    theta1_range_deg: tuple[float, float] = THETA1_RANGE_DEG
+    theta2_min_deg: float = THETA2_MIN_DEG
+
+    def __post_init__(self) -> None:
+        if self.segment_duration_s <= 0 or self.dwell_s < 0:
+            raise ValueError("need segment_duration_s > 0 and dwell_s >= 0")
+        if min(self.torque_limits_Nm) <= 0 or self.tracking_tolerance_deg <= 0:
+            raise ValueError("torque limits and tracking tolerance must be positive")
+
+    @property
+    def payload_kg(self) -> float:
+        """Total mass at the end effector (kg)."""
+        return self.object_kg + self.gripper_kg
+
+
+DEFAULT_PAYLOAD_TEST = PayloadSettings()
+
+
+def reference_trajectory(
+    waypoints: ArrayLike, segment_duration_s: float, dwell_s: float, dt: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Joint-space reference through ``waypoints`` (n, 2) rad: an initial hold, then for every
+    consecutive pair a minimum-jerk move and a hold. Returns t (N,) s and theta, dtheta, ddtheta
+    (N, 2) in rad, rad/s, rad/s^2 sampled every ``dt`` s."""
+    way = np.asarray(waypoints, dtype=float)
+    n_move = max(1, round(segment_duration_s / dt))
+    n_hold = round(dwell_s / dt)
+    parts_q = [np.repeat(way[:1], n_hold + 1, axis=0)]
+    parts_v = [np.zeros((n_hold + 1, 2))]
+    parts_a = [np.zeros((n_hold + 1, 2))]
+    for q0, q1 in itertools.pairwise(way):
+        t = np.arange(1, n_move + 1) * dt
+        q, v, a = minimum_jerk(q0, q1, n_move * dt, t)
+        parts_q += [q, np.repeat(q1[None], n_hold, axis=0)]
+        parts_v += [v, np.zeros((n_hold, 2))]
+        parts_a += [a, np.zeros((n_hold, 2))]
+    theta = np.concatenate(parts_q)
+    return (
+        np.arange(len(theta)) * dt,
+        theta,
+        np.concatenate(parts_v),
+        np.concatenate(parts_a),
+    )
+
+
+def payload_test(
+    design: ArrayLike,
+    points: ArrayLike,
+    cad: CadSettings = DEFAULT_CAD,
+    props: dict[str, MassProperties] | None = None,
+    settings: PayloadSettings = DEFAULT_PAYLOAD_TEST,
+) -> dict[str, Any]:
+    """Forward-simulate the payload test of ``design`` (6 lengths, m) through task ``points``
+    (n, 2) m with link mass properties ``props`` (default: the CAD links).
+
+    Returns scalars: ``passed``, ``saturated``, ``max_tracking_error_deg``,
+    ``tracking_tolerance_deg``, ``peak_torque_Nm`` (peak |requested| per motor),
+    ``peak_feedforward_Nm``, ``limit_Nm``, ``saturated_fraction`` (of time steps),
+    ``point_error_mm`` (end-effector error at the end of each hold, per waypoint),
+    ``waypoints_deg``, ``payload_kg``, ``duration_s``, ``reason``; and time series ``t_s`` (N,),
+    ``theta_ref_deg``, ``theta_deg``, ``torque_requested_Nm``, ``torque_applied_Nm`` (N, 2).
+    Raises ``ValueError`` when a point is unreachable in the operating range or the reference
+    path leaves the region where the loop closes.
+    """
+    s = settings
+    d = as_design(design)
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    if s.return_to_start and len(pts) > 1:
+        pts = np.vstack([pts, pts[:1]])
+    way = joint_path(d, pts, s.theta1_range_deg, s.theta2_min_deg)
+    model = model_spec(d, cad, s.payload_kg, props).compile()
+    dt = float(model.opt.timestep)
+    t, th, dth, ddth = reference_trajectory(way, s.segment_duration_s, s.dwell_s, dt)
+    state = loop_state(d, th, dth, ddth)
+    if not state.closes.all():
+        k = int(np.flatnonzero(~state.closes)[0])
+        raise ValueError(
+            f"reference leaves the closing region at t={t[k]:.3f} s, "
+            f"theta=({math.degrees(th[k, 0]):.2f}, {math.degrees(th[k, 1]):.2f}) deg"
+        )
+    if state.sin_transmission.min() < MIN_SIN_TRANSMISSION:
+        raise ValueError("reference passes through a transmission singularity")
+    tau_ff = inverse_dynamics(model, d, state).tau
+    data = mujoco.MjData(model)
+    data.qpos[:], data.qvel[:] = state.q[0], state.qd[0]
+    mujoco.mj_forward(model, data)
+    kp, kd = np.asarray(s.kp_Nm_rad, float), np.asarray(s.kd_Nms_rad, float)
+    limit = np.asarray(s.torque_limits_Nm, float)
+    n = len(t)
+    q_act = np.empty((n, 2))
+    req = np.zeros((n, 2))
+    applied = np.zeros((n, 2))
+    q_act[0] = data.qpos[[0, 2]]
+    for k in range(n - 1):
+        q, dq = data.qpos[[0, 2]], data.qvel[[0, 2]]
+        req[k] = tau_ff[k] + kp * (th[k] - q) + kd * (dth[k] - dq)
+        data.ctrl[:] = np.clip(req[k], -limit, limit)
+        applied[k] = data.ctrl
+        mujoco.mj_step(model, data)
+        q_act[k + 1] = data.qpos[[0, 2]]
+    req[-1] = tau_ff[-1] + kp * (th[-1] - q_act[-1])
+    applied[-1] = np.clip(req[-1], -limit, limit)
+    err = np.degrees(np.abs(q_act - th))
+    over = np.abs(req) > limit
+    saturated = bool(over.any())
+    max_err = float(err.max())
+    tracked = max_err <= s.tracking_tolerance_deg
+    # end-effector error at the end of each hold (waypoint reached and held)
+    n_hold, n_move = round(s.dwell_s / dt), max(1, round(s.segment_duration_s / dt))
+    ends = [n_hold + i * (n_move + n_hold) for i in range(len(way))]
+    ee = pose(d, q_act[ends, 0], q_act[ends, 1]).E
+    point_err = np.linalg.norm(ee - pts, axis=1) * 1e3
+    reasons = []
+    if saturated:
+        reasons.append(
+            "requested torque exceeds the limit "
+            f"(peak {np.abs(req).max(axis=0).round(1).tolist()} > {limit.tolist()} N m)"
+        )
+    if not tracked:
+        reasons.append(f"tracking error {max_err:.3f} deg > {s.tracking_tolerance_deg} deg")
+    return {
+        "passed": bool(tracked and not saturated),
+        "saturated": saturated,
+        "max_tracking_error_deg": max_err,
+        "tracking_tolerance_deg": s.tracking_tolerance_deg,
+        "peak_torque_Nm": np.abs(req).max(axis=0).tolist(),
+        "peak_feedforward_Nm": np.abs(tau_ff).max(axis=0).tolist(),
+        "limit_Nm": limit.tolist(),
+        "saturated_fraction": float(over.any(axis=1).mean()),
+        "point_error_mm": point_err.tolist(),
+        "waypoints_deg": np.degrees(way).tolist(),
+        "payload_kg": s.payload_kg,
+        "duration_s": float(t[-1]),
+        "reason": "; ".join(reasons) if reasons else "ok",
+        "t_s": t,
+        "theta_ref_deg": np.degrees(th),
+        "theta_deg": np.degrees(q_act),
+        "torque_requested_Nm": req,
+        "torque_applied_Nm": applied,
+    }
+
+
+SERIES_KEYS: tuple[str, ...] = (
+    "t_s",
+    "theta_ref_deg",
+    "theta_deg",
+    "torque_requested_Nm",
+    "torque_applied_Nm",
+)
+
+
+def summary(result: dict[str, Any]) -> dict[str, Any]:
+    """The scalar part of a :func:`payload_test` result (JSON-friendly)."""
+    return {k: v for k, v in result.items() if k not in SERIES_KEYS}
+
+
+def plot_payload_test(result: dict[str, Any], path: str | Path) -> Path:
+    """Figure: motor angles (reference and simulated), requested torques with the limits, and the
+    tracking error over time."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    t = result["t_s"]
+    fig, axes = plt.subplots(3, 1, figsize=(8, 7.5), sharex=True)
+    colours = ("tab:blue", "tab:orange")
+    for j, c in enumerate(colours):
+        axes[0].plot(
+            t,
+            result["theta_ref_deg"][:, j],
+            color=c,
+            ls="--",
+            lw=1,
+            label=f"theta{j + 1} reference",
+        )
+        axes[0].plot(t, result["theta_deg"][:, j], color=c, lw=1, label=f"theta{j + 1} simulated")
+        axes[1].plot(
+            t, result["torque_requested_Nm"][:, j], color=c, lw=1, label=f"tau{j + 1} requested"
+        )
+        lim = result["limit_Nm"][j]
+        axes[1].axhline(lim, color=c, ls=":", lw=1)
+        axes[1].axhline(-lim, color=c, ls=":", lw=1)
+        axes[2].plot(
+            t,
+            np.abs(result["theta_deg"][:, j] - result["theta_ref_deg"][:, j]),
+            color=c,
+            lw=1,
+            label=f"motor {j + 1}",
+        )
+    axes[2].axhline(result["tracking_tolerance_deg"], color="k", ls=":", lw=1, label="tolerance")
+    axes[0].set_ylabel("angle (deg)")
+    axes[1].set_ylabel("torque (N m)")
+    axes[2].set_ylabel("|error| (deg)")
+    axes[2].set_xlabel("time (s)")
+    for ax in axes:
+        ax.legend(fontsize=7, loc="upper right")
+    verdict = "PASSED" if result["passed"] else f"FAILED: {result['reason']}"
+    axes[0].set_title(
+        f"payload test, {result['payload_kg']:.1f} kg at E: {verdict}\n"
+        f"peak torque {np.round(result['peak_torque_Nm'], 1).tolist()} N m "
+        f"(limits {result['limit_Nm']}), max error {result['max_tracking_error_deg']:.3f} deg",
+        fontsize=9,
+    )
+    fig.tight_layout()
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(out, dpi=130)
+    plt.close(fig)
+    return out

@@ -1,0 +1,100 @@
+"""Stage 6 orchestration: candidates, link mass properties as JSON, STL export and checks."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+import trimesh
+
+from qsm.cad import MassProperties
+from qsm.kinematics import DESIGN_NAMES
+
+DESIGN_COLUMNS: tuple[str, ...] = tuple(f"{n}_m" for n in DESIGN_NAMES)
+
+
+def candidates(fronts: Mapping[str, pd.DataFrame], primary: str) -> pd.DataFrame:
+    """The verified Pareto designs of every formulation, the primary one first, tagged."""
+    order = [primary, *(k for k in fronts if k != primary)]
+    parts = [fronts[k].assign(formulation=k) for k in order]
+    return pd.concat(parts, ignore_index=True)
+
+
+def selection_record(row: pd.Series) -> dict[str, Any]:
+    """The chosen design as JSON-friendly values (lengths in m, torques in N m)."""
+    out: dict[str, Any] = {}
+    for key, value in row.items():
+        if isinstance(value, np.generic):
+            value = value.item()
+        elif isinstance(value, np.ndarray | tuple):
+            value = [float(v) for v in value]
+        out[str(key)] = value
+    out["design_m"] = [float(row[c]) for c in DESIGN_COLUMNS]
+    return out
+
+
+def props_to_json(props: Mapping[str, MassProperties]) -> dict[str, Any]:
+    """Link mass properties (kg, m, kg m^2 about the centre of mass, link frames) as JSON."""
+    return {
+        name: {
+            "mass_kg": p.mass_kg,
+            "com_m": np.asarray(p.com_m).tolist(),
+            "inertia_kg_m2": np.asarray(p.inertia_kg_m2).tolist(),
+        }
+        for name, p in props.items()
+    }
+
+
+def props_from_json(data: Mapping[str, Any]) -> dict[str, MassProperties]:
+    """Inverse of :func:`props_to_json`."""
+    return {
+        name: MassProperties(
+            float(p["mass_kg"]), np.asarray(p["com_m"]), np.asarray(p["inertia_kg_m2"])
+        )
+        for name, p in data.items()
+    }
+
+
+def export_stls(
+    meshes: Mapping[str, trimesh.Trimesh], directory: str | Path, volume_mm: tuple[float, ...]
+) -> dict[str, dict[str, Any]]:
+    """Write each mesh (metres) as ``<name>.stl`` in millimetres and check it.
+
+    Returns per link: path, watertight, the sorted box (mm) and whether it fits ``volume_mm`` in
+    some axis-aligned orientation.
+    """
+    out = Path(directory)
+    out.mkdir(parents=True, exist_ok=True)
+    checks = {}
+    for name, mesh in meshes.items():
+        mm = mesh.copy()
+        mm.apply_scale(1000.0)
+        path = out / f"{name}.stl"
+        mm.export(path)
+        box = sorted(float(v) for v in mm.extents)
+        checks[name] = {
+            "path": str(path),
+            "watertight": bool(mm.is_watertight),
+            "box_mm": box,
+            "fits_build_volume": bool(np.all(np.array(box) <= np.sort(volume_mm))),
+        }
+    return checks
+
+
+def torques_markdown(torques: Mapping[str, Mapping[str, float]]) -> str:
+    """Before/after torques like the paper's Table 3."""
+    lines = [
+        "| motor | before (N m) | after (N m) | reduction | paper before / after / reduction |",
+        "| --- | --- | --- | --- | --- |",
+    ]
+    paper = {"tau1_Nm": "132.60 / 98.58 / 25.65 %", "tau2_Nm": "37.63 / 31.42 / 16.50 %"}
+    for key in ("tau1_Nm", "tau2_Nm"):
+        b, a = torques["before"][key], torques["after"][key]
+        lines.append(
+            f"| {key.removesuffix('_Nm')} | {b:.2f} | {a:.2f} | {100 * (b - a) / b:.2f} % "
+            f"| {paper[key]} |"
+        )
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,68 @@
+"""Bad input through Snakemake: a clear error naming the key or file; earlier results intact."""
+
+import pyarrow.parquet as pq
+import pytest
+from workflow_helpers import copy_run, snakemake
+
+pytestmark = pytest.mark.workflow
+
+
+def snapshot(work):
+    """Modification times of every result file."""
+    return {p: p.stat().st_mtime_ns for p in (work / "results").rglob("*") if p.is_file()}
+
+
+@pytest.fixture
+def finished(run, tmp_path):
+    return copy_run(run, tmp_path / "copy")
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("dynamics: {shardz: 2}", "config key 'dynamics.shardz' is unknown"),
+        ("sampling: {n_samples: many}", "config key 'sampling.n_samples': 'many' is not of type"),
+        ("workspace: {n_levels: 3}", "config key 'workspace.n_levels': 3 is less than"),
+        ("sampling: {bounds: {l3: [1.3, 0.8]}}", "config key 'sampling.bounds.l3': min 1.3"),
+        ("dynamics: {shards: 0}", "config key 'dynamics.shards': 0 is less than the minimum of 1"),
+        ("optimization: {formulation: best}", "config key 'optimization.formulation'"),
+    ],
+)
+def test_bad_config_names_the_key_and_keeps_results(finished, tmp_path, text, message):
+    before = snapshot(finished)
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(text)
+    out = snakemake(finished, check=False, configs=(str(bad),))
+    assert out.returncode != 0
+    assert message in out.stdout + out.stderr
+    assert snapshot(finished) == before
+
+
+def test_task_no_design_can_reach(finished, tmp_path):
+    bad = tmp_path / "far.yaml"
+    bad.write_text("task: {points: [[3.0, 3.0], [3.2, 3.0]]}")
+    out = snakemake(finished, "select_mechanisms", check=False, configs=(str(bad),))
+    assert out.returncode != 0
+    assert "task.points" in (finished / "results/logs/select_mechanisms.log").read_text()
+    assert (finished / "results/mechanisms/candidates.parquet").exists()
+
+
+def test_truncated_parquet_between_stages_names_the_file(finished):
+    table = finished / "results/mechanisms/mechanisms.parquet"
+    table.write_bytes(table.read_bytes()[:200])
+    samples = (finished / "results/mechanisms/samples.parquet").read_bytes()
+    out = snakemake(finished, "gather_dataset", check=False)
+    assert out.returncode != 0
+    assert "cannot read table 'results/mechanisms/mechanisms.parquet'" in out.stdout + out.stderr
+    assert (finished / "results/mechanisms/samples.parquet").read_bytes() == samples
+
+
+def test_missing_column_names_column_and_file(finished):
+    path = finished / "results/dataset.parquet"
+    table = pq.read_table(path)
+    pq.write_table(table.drop_columns(["tau2_Nm"]), path)
+    out = snakemake(finished, "train_surrogate", check=False)
+    assert out.returncode != 0
+    text = out.stdout + out.stderr
+    assert "table 'results/dataset.parquet' lacks column(s) tau2_Nm" in text
+    assert (finished / "results/mechanisms/mechanisms.parquet").exists()

@@ -1,0 +1,66 @@
+"""Caching and partial reruns: a config change reruns exactly the stages that use the value."""
+
+import pytest
+import yaml
+from workflow_helpers import ROOT, copy_workflow, planned_jobs, snakemake
+
+pytestmark = pytest.mark.workflow
+
+STAGE1 = {"sample", "filter_kinematics", "fit_task", "select_mechanisms", "plot_mechanisms"}
+STAGE2 = {"dynamics", "gather_dataset", "plot_dynamics"}
+STAGE3 = {"train_surrogate"}
+
+
+def override(tmp_path, text):
+    path = tmp_path / "override.yaml"
+    path.write_text(text)
+    return (str(path),)
+
+
+def test_second_run_does_nothing(run):
+    assert planned_jobs(run) == {}
+
+
+def test_generations_rerun_only_the_optimisation_and_after(run, tmp_path):
+    jobs = planned_jobs(run, configs=override(tmp_path, "optimization: {generations: 16}"))
+    assert {"optimize", "optimize_ratios", "verify_pareto", "compare_fronts"} <= set(jobs)
+    assert not (STAGE1 | STAGE2 | STAGE3 | {"sobol", "eta_derivatives"}) & set(jobs)
+
+
+def test_a_dynamics_setting_reruns_the_shards_and_after_not_stage1(run, tmp_path):
+    text = "dynamics: {duty: {peak_speed_deg_s: 50.0}}"
+    jobs = planned_jobs(run, configs=override(tmp_path, text))
+    assert jobs["dynamics"] == 3 and {"gather_dataset", "train_surrogate", "optimize"} <= set(jobs)
+    assert not STAGE1 & set(jobs)
+
+
+def test_payload_reruns_dynamics_but_not_the_workspace(run, tmp_path):
+    jobs = planned_jobs(run, configs=override(tmp_path, "task: {payload_kg: 4.0}"))
+    assert "dynamics" in jobs and not STAGE1 & set(jobs)
+
+
+def test_choosing_the_primary_front_does_not_rerun_the_optimisation(run, tmp_path):
+    jobs = planned_jobs(run, configs=override(tmp_path, "optimization: {formulation: ratios}"))
+    assert "decision_trees" in jobs and "design_rules_summary" in jobs
+    assert not {"optimize", "optimize_ratios", "verify_pareto", "train_surrogate"} & set(jobs)
+
+
+def test_forcerun_until_reruns_one_rule_alone(run):
+    assert planned_jobs(run, "--forcerun", "train_surrogate", "--until", "train_surrogate") == {
+        "train_surrogate": 1
+    }
+
+
+def test_a_single_target_file_builds_alone(tmp_path):
+    work = copy_workflow(tmp_path / "fresh")
+    assert planned_jobs(work, "results/mechanisms/samples.parquet") == {"sample": 1}
+    snakemake(work, "results/mechanisms/samples.parquet")
+    assert sorted(p.name for p in (work / "results").rglob("*.parquet")) == ["samples.parquet"]
+
+
+def test_every_rule_gets_its_config_through_params():
+    """No script reads snakemake.config: such a value would not trigger a rerun."""
+    for script in (ROOT / "workflow" / "scripts").glob("*.py"):
+        assert "snakemake.config" not in script.read_text(), script.name
+    config = yaml.safe_load((ROOT / "config" / "test.yaml").read_text())
+    assert config["dynamics"]["shards"] == 3  # the tests above count three dynamics jobs

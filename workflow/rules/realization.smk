@@ -1,0 +1,91 @@
+# Stage 6: printable design, topology-optimised links, STL files and a simulated payload test.
+
+REAL = f"{RESULTS}/realization"
+LINKS = ["lower_arm", "crank", "coupler", "upper_arm"]
+STAGE6_OUTPUTS = [f"{REAL}/torques.json", f"{REAL}/payload_test.json"]
+
+
+rule select_design:
+    input:
+        paper=rules.verify_pareto.output.table,
+        ratios=rules.verify_pareto_ratios.output.table,
+    output:
+        selected=f"{REAL}/selected.json",
+        figure=report(
+            f"{RESULTS}/figures/selected_design.png",
+            caption="../report/selected_design.rst",
+            category="6. Realisation",
+        ),
+    params:
+        printing=config["printing"],
+        cad=config["cad"],
+        primary=config["optimization"]["formulation"],
+        operating_range=config["operating_range"],
+        task_points=config["task"]["points"],
+    log:
+        f"{RESULTS}/logs/select_design.log",
+    conda:
+        ENV
+    script:
+        "../scripts/select_design.py"
+
+
+rule topology_optimize:
+    input:
+        selected=rules.select_design.output.selected,
+    output:
+        torques=f"{REAL}/torques.json",
+        table=report(
+            f"{REAL}/torques.md", caption="../report/torques.rst", category="6. Realisation"
+        ),
+        topology=f"{REAL}/topology.json",
+        links=f"{REAL}/optimised_links.json",
+        stl_check=f"{REAL}/stl_check.json",
+        stl_before=expand(f"{REAL}/stl/before/{{link}}.stl", link=LINKS),
+        stl_after=expand(f"{REAL}/stl/after/{{link}}.stl", link=LINKS),
+        figure=report(
+            f"{RESULTS}/figures/topology_links.png",
+            caption="../report/topology_links.rst",
+            category="6. Realisation",
+        ),
+    params:
+        topology=config["topology"],
+        cad=config["cad"],
+        duty=config["dynamics"]["duty"],
+        operating_range=config["operating_range"],
+        payload_kg=config["task"]["payload_kg"],
+        build_volume_mm=config["printing"]["build_volume_mm"],
+    log:
+        f"{RESULTS}/logs/topology_optimize.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/topology_optimize.tsv"
+    conda:
+        ENV
+    script:
+        "../scripts/topology_optimize.py"
+
+
+rule payload_test:
+    input:
+        selected=rules.select_design.output.selected,
+        links=rules.topology_optimize.output.links,
+    output:
+        result=f"{REAL}/payload_test.json",
+        figure=report(
+            f"{RESULTS}/figures/payload_test.png",
+            caption="../report/payload_test.rst",
+            category="6. Realisation",
+        ),
+    params:
+        payload_test=config["payload_test"],
+        cad=config["cad"],
+        task_points=config["task"]["points"],
+        operating_range=config["operating_range"],
+    log:
+        f"{RESULTS}/logs/payload_test.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/payload_test.tsv"
+    conda:
+        ENV
+    script:
+        "../scripts/payload_test.py"

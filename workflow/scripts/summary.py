@@ -1,0 +1,18 @@
+"""Rule summary: results/summary.md with the headline numbers of every stage."""
+
+import json
+
+from qsm.headline import headline_markdown
+from qsm.logs import logged
+from qsm.tables import read_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    inp = snakemake.input  # noqa: F821
+    loaded = {}
+    for key in ("filters", "status", "metrics", "comparison", "selected", "torques", "payload"):
+        with open(inp[key]) as fh:
+            loaded[key] = json.load(fh)
+    text = headline_markdown(findings=read_table(inp.findings), **loaded)
+    with open(snakemake.output[0], "w") as fh:  # noqa: F821
+        fh.write(text)
+    log.info("wrote the summary")
