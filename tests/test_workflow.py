@@ -187,6 +187,7 @@ def test_design_rules_outputs(run):
     assert row["pearson"] == pytest.approx(direct, rel=1e-12)
     grads = read_table(rules / "eta_derivatives.parquet")
     assert len(grads) == 100 and grads["mechanism_id"].is_unique
+    assert "mechanisms/s" in (run / "results/logs/eta_derivatives/shard-0.log").read_text()
     summary_md = (rules / "summary.md").read_text()
     rows = [ln for ln in summary_md.splitlines() if ln.startswith("| ") and "---" not in ln]
     assert len(rows) == 1 + 10  # header and one row per finding of the paper's Section 4

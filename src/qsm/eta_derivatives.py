@@ -8,6 +8,9 @@ against a step-halved estimate).
 
 from __future__ import annotations
 
+import logging
+import time
+
 import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
@@ -15,6 +18,8 @@ from numpy.typing import NDArray
 from qsm.kinematics import DESIGN_NAMES
 from qsm.task import Disk
 from qsm.workspace import OperatingRange, Resolution, slice_workspace
+
+log = logging.getLogger(__name__)
 
 
 def true_eta(design: NDArray[np.float64], op: OperatingRange, disk: Disk, res: Resolution) -> float:
@@ -62,10 +67,20 @@ def eta_gradients(
     disk: Disk,
     res: Resolution,
     rel_step: float = 1e-3,
+    log_every: int = 1000,
 ) -> pd.DataFrame:
-    """``eta_gradient`` of every row (columns l1_m ... ee_y_m, plus ``mechanism_id``)."""
+    """``eta_gradient`` of every row (columns l1_m ... ee_y_m, plus ``mechanism_id``); progress
+    is logged every ``log_every`` rows."""
     lengths = designs[[f"{n}_m" for n in DESIGN_NAMES]].to_numpy()
-    grads = np.array([eta_gradient(d, op, disk, res, rel_step) for d in lengths]).reshape(-1, 6)
+    grads = np.empty((len(lengths), 6))
+    start = time.perf_counter()
+    for i, d in enumerate(lengths):
+        grads[i] = eta_gradient(d, op, disk, res, rel_step)
+        if (i + 1) % log_every == 0 or i + 1 == len(lengths):
+            rate = (i + 1) / max(time.perf_counter() - start, 1e-9)
+            log.info(
+                "derivatives of %d/%d mechanisms (%.0f mechanisms/s)", i + 1, len(lengths), rate
+            )
     out = pd.DataFrame(grads, columns=[f"deta_d{n}_per_m" for n in DESIGN_NAMES])
     out.insert(0, "mechanism_id", designs["mechanism_id"].to_numpy())
     return out
