@@ -16,6 +16,7 @@ import numpy as np
 import pandas as pd
 
 from qsm import cad, duty, dynamics, kinematics, mjcf
+from qsm.kinematics import DESIGN_COLUMNS
 
 PAPER_MECHANISMS = 11_080
 LOW = np.array([0.18, 0.8, 0.3, 1.0, 0.2])
@@ -53,7 +54,7 @@ def stage_times(designs: np.ndarray, d: duty.Duty, payload_kg: float) -> dict[st
 
 
 def _table_chunk(designs: np.ndarray) -> pd.DataFrame:
-    df = pd.DataFrame(designs, columns=list(dynamics.DESIGN_COLUMNS))
+    df = pd.DataFrame(designs, columns=list(DESIGN_COLUMNS))
     return dynamics.evaluate_table(df, duty.duty_cycle(), payload_kg=5.0)
 
 

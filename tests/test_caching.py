@@ -2,7 +2,7 @@
 
 import pytest
 import yaml
-from workflow_helpers import ROOT, copy_workflow, planned_jobs, snakemake
+from workflow_helpers import ROOT, copy_run, copy_workflow, planned_jobs, snakemake
 
 pytestmark = pytest.mark.workflow
 
@@ -64,3 +64,14 @@ def test_every_rule_gets_its_config_through_params():
         assert "snakemake.config" not in script.read_text(), script.name
     config = yaml.safe_load((ROOT / "config" / "test.yaml").read_text())
     assert config["dynamics"]["shards"] == 3  # the tests above count three dynamics jobs
+
+
+def test_editing_a_library_module_reruns_exactly_the_rules_that_import_it(run, tmp_path):
+    work = copy_run(run, tmp_path / "edited")
+    module = work / "src/qsm/findings.py"
+    module.write_text(module.read_text() + "\n# an edit\n")
+    jobs = planned_jobs(work)
+    assert set(jobs) - {"all"} == {"design_rules_summary", "summary"}
+    kinematics = work / "src/qsm/kinematics.py"
+    kinematics.write_text(kinematics.read_text() + "\n# an edit\n")
+    assert {"sample", "fit_task", "dynamics", "payload_test"} <= set(planned_jobs(work))

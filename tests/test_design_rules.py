@@ -1,12 +1,14 @@
 """Design-rule extraction: Sobol through SALib, trees, correlations, eta derivatives, findings."""
 
+import dataclasses
+
 import numpy as np
 import pandas as pd
 import pytest
 from SALib.test_functions import Ishigami
 
 from qsm.eta_derivatives import eta_gradient, true_eta
-from qsm.findings import Evidence, findings
+from qsm.findings import Evidence, findings, summary_markdown
 from qsm.kinematics import DESIGN_NAMES
 from qsm.sensitivity import ranking, sobol_indices
 from qsm.task import Disk
@@ -78,7 +80,10 @@ def test_trees_and_correlations_use_exactly_the_400_designs():
 
 
 def test_eta_derivatives_satisfy_eulers_theorem():
-    """eta is homogeneous of degree -2 in the lengths, so sum_i x_i d eta / d x_i = -2 eta."""
+    """eta is homogeneous of degree -2 in the lengths, so sum_i x_i d eta / d x_i = -2 eta.
+
+    This checks the finite differences (their steps, signs and the one-sided fallback), not the
+    area itself: the pixel-reference tests in test_workspace.py do that."""
     for design in ([0.4, 0.12, 0.4, 0.2, 0.48, 0.16], [0.45, 0.1, 0.5, 0.22, 0.55, 0.2]):
         d = np.array(design)
         grad = eta_gradient(d, OP, DISK, Resolution())
@@ -124,7 +129,21 @@ def agreeing_evidence():
         {"scale_m": scale, "eta_pred": -scale, "tau1_pred_Nm": scale, "tau2_pred_Nm": 2 * scale}
     )
     splits = {"eta": "ee_x", "tau1": "ee_x", "tau2": "ee_x"}
-    return Evidence(sobol, 14336, splits, 400, corr_table, grads, pareto)
+    x = np.linspace(0.0, 1.0, 30)
+    dataset = pd.DataFrame(
+        {"ee_x_m": x, "l1_m": x, "scale_m": x, "eta": -x, "tau1_Nm": x, "tau2_Nm": x**2}
+    )
+    return Evidence(
+        sobol=sobol,
+        n_sobol=14336,
+        first_splits=splits,
+        n_designs=400,
+        n_unique=120,
+        correlations=corr_table,
+        gradients=grads,
+        pareto=pareto,
+        dataset=dataset,
+    )
 
 
 def test_findings_agree_and_a_disagreement_carries_its_reason():
@@ -132,15 +151,12 @@ def test_findings_agree_and_a_disagreement_carries_its_reason():
     table = findings(ev, alpha=0.05)
     assert len(table) == 10
     assert (table["agree"] == "agree").all(), table
-    flipped = Evidence(
-        ev.sobol,
-        ev.n_sobol,
-        {**ev.first_splits, "tau2": "l4"},
-        ev.n_designs,
-        ev.correlations,
-        ev.gradients,
-        ev.pareto,
-    )
+    scale_row = table.set_index("finding").loc[
+        "Larger scale factor: lower eta, higher torques (Pareto front)", "this run"
+    ]
+    assert "all mechanisms: eta -1.00, tau1 +1.00, tau2 +1.00" in scale_row
+    assert "120 distinct designs" in summary_markdown(table, ev, "paper")
+    flipped = dataclasses.replace(ev, first_splits={**ev.first_splits, "tau2": "l4"})
     again = findings(flipped, alpha=0.05).set_index("finding")
     row = again.loc["EE_x splits first in every tree"]
     assert row["agree"] == "disagree" and row["likely reason"]

@@ -10,6 +10,7 @@ import pandas as pd
 import pytest
 
 from qsm import duty, dynamics, kinematics, mjcf
+from qsm.kinematics import DESIGN_COLUMNS
 
 G = mjcf.GRAVITY_M_S2
 # (l1, l2, l3, l4, ee_x, ee_y) in m; the loop closes over the whole operating range
@@ -154,7 +155,7 @@ def test_failures_are_reported_not_lost() -> None:
         [0.8, 0.35, 0.85, 0.4, 1.0, 0.45],  # |l3 - l4| = l1 - l2: coupler and rocker align
         DESIGNS[2],
     ]
-    df = pd.DataFrame(rows, columns=list(dynamics.DESIGN_COLUMNS))
+    df = pd.DataFrame(rows, columns=list(DESIGN_COLUMNS))
     df.insert(0, "mechanism_id", [10, 11, 12, 13, 14])
     out = dynamics.evaluate_table(df, duty.duty_cycle(), payload_kg=5.0)
     assert list(out["mechanism_id"]) == [10, 11, 12, 13, 14]

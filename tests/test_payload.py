@@ -13,9 +13,11 @@ FAST = {"segment_duration_s": 0.6, "dwell_s": 0.1}
 
 
 def test_passes_with_generous_limits(tmp_path) -> None:
-    res = payload.payload_test(DESIGN, POINTS, settings=payload.PayloadSettings(**FAST))
+    exact = payload.PayloadSettings(plant_mass_error=0.0, **FAST)
+    res = payload.payload_test(DESIGN, POINTS, settings=exact)
     print(payload.summary(res))
     assert res["passed"] and not res["saturated"]
+    # the plant is the model: only the integrator and the constraint softness remain
     assert res["max_tracking_error_deg"] < 0.1
     assert max(res["point_error_mm"]) < 1.0
     assert np.all(np.asarray(res["peak_torque_Nm"]) < res["limit_Nm"])
@@ -23,6 +25,22 @@ def test_passes_with_generous_limits(tmp_path) -> None:
     n = len(res["t_s"])
     assert res["theta_deg"].shape == res["torque_requested_Nm"].shape == (n, 2)
     assert payload.plot_payload_test(res, tmp_path / "p.png").stat().st_size > 0
+
+
+def test_model_error_shows_in_tracking_and_soft_gains_fail() -> None:
+    errors = [
+        payload.payload_test(
+            DESIGN, POINTS, settings=payload.PayloadSettings(plant_mass_error=e, **FAST)
+        )["max_tracking_error_deg"]
+        for e in (0.0, 0.15, 0.3)
+    ]
+    assert errors[0] < errors[1] < errors[2]  # a heavier plant sags further below the reference
+    soft = payload.PayloadSettings(
+        plant_mass_error=0.3, kp_Nm_rad=(100.0, 50.0), kd_Nms_rad=(5.0, 2.5), **FAST
+    )
+    res = payload.payload_test(DESIGN, POINTS, settings=soft)
+    assert not res["passed"] and not res["saturated"]
+    assert "tracking error" in res["reason"]
 
 
 def test_fails_when_the_limit_is_below_the_required_torque() -> None:

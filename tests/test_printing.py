@@ -7,6 +7,7 @@ import pandas as pd
 import pytest
 
 from qsm import cad, printing
+from qsm.kinematics import DESIGN_COLUMNS
 
 SMALL = [0.30, 0.10, 0.30, 0.15, 0.36, 0.12]  # upper arm 0.56 m: fits 600 x 350 x 350 mm
 LARGE = [0.40, 0.12, 0.40, 0.20, 0.48, 0.16]  # upper arm 0.73 m: does not fit
@@ -36,7 +37,7 @@ def table() -> pd.DataFrame:
     ]
     recs = []
     for d, eta, t1, t2, feas, st in rows:
-        rec = {f"{n}_m": v for n, v in zip(printing.DESIGN_NAMES, d, strict=True)}
+        rec = dict(zip(DESIGN_COLUMNS, d, strict=True))
         rec.update(
             eta_true=eta, tau1_true_Nm=t1, tau2_true_Nm=t2, feasible=feas, dynamics_status=st
         )

@@ -119,7 +119,8 @@ def test_infeasible_reasons():
     ratios = feasible_ratios(24, 1)[0]
     slices = slice_workspace(ratios, OP, DISK.angle)
     assert minimal_scale(slices, 0.1, 0.2, 2.0).reason == "task disk covers the base"
-    assert not minimal_scale(slices, DISK.distance, DISK.radius, scale_max=0.01).feasible
+    low = minimal_scale(slices, DISK.distance, DISK.radius, scale_max=0.01)
+    assert not low.feasible and low.reason.startswith("scale.max_m below")
     with pytest.raises(ValueError, match="does not close"):
         slice_workspace([0.6, 0.3, 0.3, 1.2, 0.4], OP)
 

@@ -30,14 +30,13 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
 from qsm.duty import Duty, duty_cycle
-from qsm.kinematics import DESIGN_NAMES, as_design, pose
+from qsm.kinematics import DESIGN_COLUMNS, as_design, pose
 from qsm.mjcf import JOINT_NAMES, model_spec
 
 log = logging.getLogger(__name__)
 
 # |sin| of the transmission angle at D below which a mechanism is reported as singular
 MIN_SIN_TRANSMISSION = 1e-3
-DESIGN_COLUMNS: tuple[str, ...] = tuple(f"{n}_m" for n in DESIGN_NAMES)
 RESULT_KEYS: tuple[str, ...] = (
     "tau1_Nm",
     "tau2_Nm",

@@ -27,6 +27,8 @@ from numpy.typing import ArrayLike, NDArray
 
 DESIGN_NAMES: tuple[str, ...] = ("l1", "l2", "l3", "l4", "ee_x", "ee_y")
 RATIO_NAMES: tuple[str, ...] = DESIGN_NAMES[1:]
+#: Table columns of the 6 scaled lengths (m).
+DESIGN_COLUMNS: tuple[str, ...] = tuple(f"{name}_m" for name in DESIGN_NAMES)
 
 
 def as_design(design: ArrayLike) -> NDArray[np.float64]:

@@ -38,6 +38,7 @@ class FitSettings:
     safety_margin: float = 0.0
     resolution: Resolution = field(default_factory=Resolution)
     n_scan: int = 128
+    min_transmission_angle_deg: float = 0.0
 
     @classmethod
     def from_sections(
@@ -46,8 +47,10 @@ class FitSettings:
         task_points: Sequence[Sequence[float]],
         scale: Mapping[str, Any],
         workspace: Mapping[str, Any],
+        filters: Mapping[str, Any] | None = None,
     ) -> FitSettings:
-        """Build from the config sections (validated, defaults filled) and ``task.points``."""
+        """Build from the config sections (validated, defaults filled) and ``task.points``;
+        ``filters`` (optional) adds the transmission-angle limit for checks outside Stage 1."""
         return cls(
             op=OperatingRange.from_degrees(
                 operating_range["theta1_deg"], operating_range["theta2_min_deg"]
@@ -57,6 +60,7 @@ class FitSettings:
             safety_margin=float(scale["safety_margin_m"]),
             resolution=Resolution(int(workspace["n_delta"]), int(workspace["n_levels"])),
             n_scan=int(workspace["n_scan"]),
+            min_transmission_angle_deg=float((filters or {}).get("min_transmission_angle_deg", 0)),
         )
 
 

@@ -29,7 +29,7 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.cad import DEFAULT_CAD, CadSettings, MassProperties
+from qsm.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
 from qsm.duty import minimum_jerk
 from qsm.dynamics import MIN_SIN_TRANSMISSION, inverse_dynamics, loop_state
 from qsm.inverse_kinematics import THETA1_RANGE_DEG, THETA2_MIN_DEG, joint_path
@@ -46,8 +46,12 @@ class PayloadSettings:
     segment_duration_s: duration of each point-to-point move, default 1.5 s.
     dwell_s: hold at each task point (and before the first move), default 0.5 s.
     return_to_start: move back to the first point at the end, default True.
-    kp_Nm_rad, kd_Nms_rad: PD gains per motor, default (400, 200) and (20, 10).
+    kp_Nm_rad, kd_Nms_rad: PD gains per motor, default (2000, 1000) N m/rad and (60, 30) N m s/rad
+        (stiff, as geared stepper drives are).
     tracking_tolerance_deg: largest allowed motor tracking error, default 0.5 deg.
+    plant_mass_error: the simulated links and payload are this fraction heavier than the model
+        that gives the feed-forward torques (mass and inertia), default 0.15, so the test checks
+        the controller against a model error, not only the integrator.
     theta1_range_deg, theta2_min_deg: operating range for the IK, default (45, 180), -37.5.
     """
 
@@ -57,9 +61,10 @@ class PayloadSettings:
     segment_duration_s: float = 1.5
     dwell_s: float = 0.5
     return_to_start: bool = True
-    kp_Nm_rad: tuple[float, float] = (400.0, 200.0)
-    kd_Nms_rad: tuple[float, float] = (20.0, 10.0)
+    kp_Nm_rad: tuple[float, float] = (2000.0, 1000.0)
+    kd_Nms_rad: tuple[float, float] = (60.0, 30.0)
     tracking_tolerance_deg: float = 0.5
+    plant_mass_error: float = 0.15
     theta1_range_deg: tuple[float, float] = THETA1_RANGE_DEG
     theta2_min_deg: float = THETA2_MIN_DEG
 
@@ -105,6 +110,22 @@ def reference_trajectory(
     )
 
 
+def _plant(
+    design: NDArray[np.float64],
+    cad: CadSettings,
+    props: dict[str, MassProperties] | None,
+    s: PayloadSettings,
+) -> mujoco.MjModel:
+    """The simulated mechanism: links and payload ``plant_mass_error`` heavier than modelled."""
+    factor = 1.0 + s.plant_mass_error
+    nominal = mass_properties(design, cad) if props is None else props
+    heavier = {
+        name: MassProperties(p.mass_kg * factor, p.com_m, np.asarray(p.inertia_kg_m2) * factor)
+        for name, p in nominal.items()
+    }
+    return model_spec(design, cad, s.payload_kg * factor, heavier).compile()
+
+
 def payload_test(
     design: ArrayLike,
     points: ArrayLike,
@@ -143,9 +164,10 @@ def payload_test(
     if state.sin_transmission.min() < MIN_SIN_TRANSMISSION:
         raise ValueError("reference passes through a transmission singularity")
     tau_ff = inverse_dynamics(model, d, state).tau
-    data = mujoco.MjData(model)
+    plant = _plant(d, cad, props, s)
+    data = mujoco.MjData(plant)
     data.qpos[:], data.qvel[:] = state.q[0], state.qd[0]
-    mujoco.mj_forward(model, data)
+    mujoco.mj_forward(plant, data)
     kp, kd = np.asarray(s.kp_Nm_rad, float), np.asarray(s.kd_Nms_rad, float)
     limit = np.asarray(s.torque_limits_Nm, float)
     n = len(t)
@@ -158,9 +180,9 @@ def payload_test(
         req[k] = tau_ff[k] + kp * (th[k] - q) + kd * (dth[k] - dq)
         data.ctrl[:] = np.clip(req[k], -limit, limit)
         applied[k] = data.ctrl
-        mujoco.mj_step(model, data)
+        mujoco.mj_step(plant, data)
         q_act[k + 1] = data.qpos[[0, 2]]
-    req[-1] = tau_ff[-1] + kp * (th[-1] - q_act[-1])
+    req[-1] = tau_ff[-1] + kp * (th[-1] - q_act[-1]) + kd * (dth[-1] - data.qvel[[0, 2]])
     applied[-1] = np.clip(req[-1], -limit, limit)
     err = np.degrees(np.abs(q_act - th))
     over = np.abs(req) > limit

@@ -28,11 +28,10 @@ import pandas as pd
 from numpy.typing import ArrayLike
 
 from qsm.cad import DEFAULT_CAD, CadError, CadSettings, link_outlines
-from qsm.kinematics import DESIGN_NAMES
+from qsm.kinematics import DESIGN_COLUMNS
 
 BUILD_VOLUME_MM: tuple[float, float, float] = (600.0, 350.0, 350.0)
 RULES: tuple[str, ...] = ("min_tau1", "min_tau2", "min_torque_sum", "min_eta", "knee")
-DESIGN_COLUMNS: tuple[str, ...] = tuple(f"{n}_m" for n in DESIGN_NAMES)
 OBJECTIVES: tuple[str, ...] = ("eta_true", "tau1_true_Nm", "tau2_true_Nm")
 
 

@@ -20,9 +20,9 @@ from sklearn.metrics import mean_squared_error, r2_score
 from sklearn.model_selection import train_test_split
 from sklearn.neural_network import MLPRegressor
 
-from qsm.kinematics import DESIGN_NAMES
+from qsm.kinematics import DESIGN_COLUMNS
 
-INPUTS: tuple[str, ...] = tuple(f"{name}_m" for name in DESIGN_NAMES)
+INPUTS: tuple[str, ...] = DESIGN_COLUMNS
 OUTPUTS: tuple[str, ...] = ("eta", "tau1_Nm", "tau2_Nm")
 SHORT: dict[str, str] = {"eta": "eta", "tau1_Nm": "tau1", "tau2_Nm": "tau2"}
 FORMAT = "qsm-surrogate/1"

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -11,8 +12,8 @@ from pymoo.indicators.hv import HV
 from qsm.cad import CadSettings
 from qsm.duty import Duty
 from qsm.dynamics import evaluate_mechanism
-from qsm.filters import crank_rocker
-from qsm.kinematics import loop_closes_everywhere
+from qsm.filters import crank_rocker, transmission_ok
+from qsm.kinematics import RATIO_NAMES, loop_closes_everywhere
 from qsm.mechanisms import FitSettings
 from qsm.surrogate import INPUTS
 from qsm.workspace import containment_margin, slice_workspace
@@ -20,12 +21,14 @@ from qsm.workspace import containment_margin, slice_workspace
 TRUE_COLUMNS: dict[str, str] = {
     "crank_rocker": "l3 + l2 < l1 + l4 (-)",
     "loop_closes": "the loop closes over the whole operating range (-)",
+    "transmission_ok": "the transmission angle stays within filters.min_transmission_angle_deg (-)",
     "task_contained": "the workspace at this scale holds the task disk (-)",
-    "feasible": "all three (-)",
+    "feasible": "all of the above (-)",
     "eta_true": "task-disk area / true workspace area at the design's scale (-)",
     "tau1_true_Nm": "peak |tau1| over the duty from the MuJoCo dynamics (N m)",
     "tau2_true_Nm": "peak |tau2| over the duty from the MuJoCo dynamics (N m)",
     "dynamics_status": "status of the dynamics (ok or the failure)",
+    "in_table1": "every ratio to l1 lies within sampling.bounds, where the data were sampled (-)",
 }
 
 
@@ -37,6 +40,9 @@ def verify_design(
     out: dict[str, Any] = dict.fromkeys(TRUE_COLUMNS, np.nan)
     out["crank_rocker"] = bool(crank_rocker(ratios[None])[0])
     out["loop_closes"] = bool(loop_closes_everywhere(ratios, fit.op.delta_max))
+    out["transmission_ok"] = bool(
+        transmission_ok(ratios[None], fit.op, fit.min_transmission_angle_deg)[0]
+    )
     out["task_contained"] = False
     out["dynamics_status"] = "not run: loop does not close"
     if out["loop_closes"]:
@@ -50,16 +56,31 @@ def verify_design(
         dyn = evaluate_mechanism(design, duty, cad, payload_kg)
         out["tau1_true_Nm"], out["tau2_true_Nm"] = dyn["tau1_Nm"], dyn["tau2_Nm"]
         out["dynamics_status"] = dyn["status"]
-    out["feasible"] = out["crank_rocker"] and out["loop_closes"] and out["task_contained"]
+    out["feasible"] = all(
+        out[k] for k in ("crank_rocker", "loop_closes", "transmission_ok", "task_contained")
+    )
     return out
 
 
 def verify_front(
-    pareto: pd.DataFrame, fit: FitSettings, duty: Duty, cad: CadSettings, payload_kg: float
+    pareto: pd.DataFrame,
+    fit: FitSettings,
+    duty: Duty,
+    cad: CadSettings,
+    payload_kg: float,
+    ratio_bounds: Mapping[str, Sequence[float]],
 ) -> pd.DataFrame:
-    """``pareto`` (lengths and predictions) with the true values beside the predictions."""
-    rows = [verify_design(d, fit, duty, cad, payload_kg) for d in pareto[list(INPUTS)].to_numpy()]
-    return pd.concat([pareto.reset_index(drop=True), pd.DataFrame(rows)], axis=1)
+    """``pareto`` (lengths and predictions) with the true values beside the predictions, and
+    whether each design's ratios lie within ``ratio_bounds`` (Table 1, where the data were
+    sampled)."""
+    lengths = pareto[list(INPUTS)].to_numpy()
+    rows = [verify_design(d, fit, duty, cad, payload_kg) for d in lengths]
+    table = pd.concat([pareto.reset_index(drop=True), pd.DataFrame(rows)], axis=1)
+    ratios = lengths[:, 1:] / lengths[:, :1]
+    lo = np.array([ratio_bounds[n][0] for n in RATIO_NAMES])
+    hi = np.array([ratio_bounds[n][1] for n in RATIO_NAMES])
+    table["in_table1"] = np.all((ratios >= lo - 1e-12) & (ratios <= hi + 1e-12), axis=1)
+    return table
 
 
 def summary(table: pd.DataFrame) -> dict[str, Any]:
@@ -68,10 +89,12 @@ def summary(table: pd.DataFrame) -> dict[str, Any]:
     out: dict[str, Any] = {
         "n": len(table),
         "feasible_share": float(table["feasible"].mean()) if len(table) else float("nan"),
+        "in_table1_share": float(table["in_table1"].mean()) if len(table) else float("nan"),
         "n_feasible_with_dynamics": int(ok.sum()),
         "infeasible_reasons": {
             "crank_rocker": int((~table["crank_rocker"]).sum()),
             "loop_open": int((~table["loop_closes"]).sum()),
+            "transmission_angle": int((table["loop_closes"] & ~table["transmission_ok"]).sum()),
             "task_not_contained": int((table["loop_closes"] & ~table["task_contained"]).sum()),
         },
         "median_rel_error": {},

@@ -264,13 +264,17 @@ def minimal_scale(
     if disk_radius >= centre_distance:
         return Fit(np.nan, False, "task disk covers the base")
     lo = (centre_distance + disk_radius) / slices.rho_max  # disk must reach no further out
-    hi = min(scale_max, (centre_distance - disk_radius) / slices.rho_min)
-    if lo > hi:
+    hi_geometry = (centre_distance - disk_radius) / slices.rho_min  # nor further in
+    if lo > hi_geometry:
         return Fit(np.nan, False, "workspace too thin for the task disk")
+    if lo > scale_max:
+        return Fit(np.nan, False, "scale.max_m below the smallest scale that could hold the task")
+    hi = min(scale_max, hi_geometry)
     scan = np.linspace(lo, hi, n_scan)
     ok = containment_margin(slices, scan, centre_distance, disk_radius) >= 0.0
     if not ok.any():
-        return Fit(np.nan, False, "no scale up to scale.max_m holds the task")
+        where = "up to scale.max_m " if hi_geometry > scale_max else ""
+        return Fit(np.nan, False, f"no scale {where}holds the task")
     first = int(np.argmax(ok))
     if first == 0:
         return Fit(float(lo), True, "")

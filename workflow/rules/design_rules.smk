@@ -15,10 +15,14 @@ rule sobol:
             f"{RESULTS}/figures/sobol.png", caption="../report/sobol.rst", category="5. Design rules"
         ),
     params:
-        design_rules=config["design_rules"],
+        code=code("sobol.py"),
+        sobol_n=config["design_rules"]["sobol_n"],
+        seed=config["design_rules"]["seed"],
         bounds=config["optimization"]["bounds"],
     log:
         f"{RESULTS}/logs/sobol.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/sobol.tsv"
     conda:
         ENV
     script:
@@ -39,7 +43,9 @@ rule decision_trees:
             category="5. Design rules",
         ),
     params:
-        design_rules=config["design_rules"],
+        code=code("decision_trees.py"),
+        tree_depth=config["design_rules"]["tree_depth"],
+        seed=config["design_rules"]["seed"],
     log:
         f"{RESULTS}/logs/decision_trees.log",
     conda:
@@ -59,6 +65,7 @@ rule correlations:
             category="5. Design rules",
         ),
     params:
+        code=code("correlations.py"),
         alpha=config["design_rules"]["alpha"],
     log:
         f"{RESULTS}/logs/correlations.log",
@@ -74,11 +81,12 @@ rule eta_derivatives_shard:
     output:
         f"{RULES_DIR}/eta_derivatives/shard-{{shard}}.parquet",
     params:
+        code=code("eta_derivatives_shard.py"),
         shards=config["design_rules"]["shards"],
         step=config["design_rules"]["derivative_step"],
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
-        workspace=config["workspace"],
+        resolution={k: config["workspace"][k] for k in ("n_delta", "n_levels")},
     wildcard_constraints:
         shard=r"\d+",
     log:
@@ -101,6 +109,8 @@ rule eta_derivatives:
             caption="../report/eta_derivatives.rst",
             category="5. Design rules",
         ),
+    params:
+        code=code("eta_derivatives.py"),
     log:
         f"{RESULTS}/logs/eta_derivatives.log",
     conda:
@@ -116,6 +126,7 @@ rule design_rules_summary:
         correlations=rules.correlations.output.table,
         derivatives=rules.eta_derivatives.output.table,
         pareto=primary_front("pareto.parquet"),
+        dataset=rules.gather_dataset.output.dataset,
     output:
         summary=report(
             f"{RULES_DIR}/summary.md",
@@ -124,6 +135,7 @@ rule design_rules_summary:
         ),
         table=f"{RULES_DIR}/findings.parquet",
     params:
+        code=code("design_rules_summary.py"),
         alpha=config["design_rules"]["alpha"],
         primary=config["optimization"]["formulation"],
     log:

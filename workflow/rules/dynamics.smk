@@ -14,6 +14,7 @@ rule dynamics:
     output:
         f"{RESULTS}/dynamics/shard-{{shard}}.parquet",
     params:
+        code=code("dynamics_shard.py"),
         shards=config["dynamics"]["shards"],
         duty=config["dynamics"]["duty"],
         operating_range=config["operating_range"],
@@ -39,6 +40,7 @@ rule gather_dataset:
         dataset=f"{RESULTS}/dataset.parquet",
         status=f"{RESULTS}/dynamics/status.json",
     params:
+        code=code("gather_dataset.py"),
         settings=stage2_settings(),
     log:
         f"{RESULTS}/logs/gather_dataset.log",
@@ -57,6 +59,8 @@ rule plot_dynamics:
             caption="../report/performance.rst",
             category="2. Dynamics",
         ),
+    params:
+        code=code("plot_dynamics.py"),
     log:
         f"{RESULTS}/logs/plot_dynamics.log",
     conda:

@@ -13,6 +13,7 @@ rule sample:
     output:
         f"{RESULTS}/mechanisms/samples.parquet",
     params:
+        code=code("sample.py"),
         sampling=config["sampling"],
     log:
         f"{RESULTS}/logs/sample.log",
@@ -29,6 +30,7 @@ rule filter_kinematics:
         candidates=f"{RESULTS}/mechanisms/candidates.parquet",
         counts=f"{RESULTS}/mechanisms/kinematic_filters.json",
     params:
+        code=code("filter_kinematics.py"),
         operating_range=config["operating_range"],
         filters=config["filters"],
     log:
@@ -45,11 +47,12 @@ rule fit_task:
     output:
         f"{RESULTS}/mechanisms/fits/shard-{{shard}}.parquet",
     params:
+        code=code("fit_task.py"),
         shards=config["workspace"]["shards"],
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
         scale=config["scale"],
-        workspace=config["workspace"],
+        workspace=fit_workspace(),
     wildcard_constraints:
         shard=r"\d+",
     log:
@@ -70,6 +73,7 @@ rule select_mechanisms:
         mechanisms=f"{RESULTS}/mechanisms/mechanisms.parquet",
         report=f"{RESULTS}/mechanisms/filter_report.json",
     params:
+        code=code("select_mechanisms.py"),
         n_mechanisms=config["sampling"]["n_mechanisms"],
         settings=stage1_settings(),
     log:
@@ -95,6 +99,7 @@ rule plot_mechanisms:
             category="1. Mechanisms",
         ),
     params:
+        code=code("plot_mechanisms.py"),
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
         figures=config["figures"],

@@ -37,13 +37,15 @@ rule optimize:
             subcategory="paper formulation",
         ),
     params:
+        code=code("optimize.py"),
         formulation="paper",
         optimization=optimization_settings(),
         ratio_bounds=config["sampling"]["bounds"],
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
         scale=config["scale"],
-        workspace=config["workspace"],
+        workspace=fit_workspace(),
+        filters=config["filters"],
     log:
         f"{RESULTS}/logs/optimize.log",
     benchmark:
@@ -78,13 +80,15 @@ use rule optimize as optimize_ratios with:
             subcategory="ratios formulation",
         ),
     params:
+        code=code("optimize.py"),
         formulation="ratios",
         optimization=optimization_settings(),
         ratio_bounds=config["sampling"]["bounds"],
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
         scale=config["scale"],
-        workspace=config["workspace"],
+        workspace=fit_workspace(),
+        filters=config["filters"],
     log:
         f"{RESULTS}/logs/optimize_ratios.log",
     benchmark:
@@ -98,13 +102,16 @@ rule verify_pareto:
         table=f"{OPT}/verification.parquet",
         summary=f"{OPT}/verification.json",
     params:
+        code=code("verify_pareto.py"),
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
         scale=config["scale"],
-        workspace=config["workspace"],
+        workspace=fit_workspace(),
+        filters=config["filters"],
         cad=config["cad"],
         duty=config["dynamics"]["duty"],
         payload_kg=config["task"]["payload_kg"],
+        ratio_bounds=config["sampling"]["bounds"],
     log:
         f"{RESULTS}/logs/verify_pareto.log",
     benchmark:
@@ -140,6 +147,7 @@ rule compare_fronts:
         ),
         data=f"{OPT}/comparison.json",
     params:
+        code=code("compare_fronts.py"),
         primary=config["optimization"]["formulation"],
     log:
         f"{RESULTS}/logs/compare_fronts.log",

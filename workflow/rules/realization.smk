@@ -17,6 +17,7 @@ rule select_design:
             category="6. Realisation",
         ),
     params:
+        code=code("select_design.py"),
         printing=config["printing"],
         cad=config["cad"],
         primary=config["optimization"]["formulation"],
@@ -49,6 +50,7 @@ rule topology_optimize:
             category="6. Realisation",
         ),
     params:
+        code=code("topology_optimize.py"),
         topology=config["topology"],
         cad=config["cad"],
         duty=config["dynamics"]["duty"],
@@ -77,6 +79,7 @@ rule payload_test:
             category="6. Realisation",
         ),
     params:
+        code=code("payload_test.py"),
         payload_test=config["payload_test"],
         cad=config["cad"],
         task_points=config["task"]["points"],

@@ -25,6 +25,7 @@ rule train_surrogate:
             category="3. Surrogate",
         ),
     params:
+        code=code("train_surrogate.py"),
         surrogate=config["surrogate"],
     log:
         f"{RESULTS}/logs/train_surrogate.log",

@@ -6,17 +6,17 @@ from qsm.logs import logged
 from qsm.optimize import PREDICTION_COLUMNS
 from qsm.rule_plots import trees_figure
 from qsm.tables import read_table, write_table
-from qsm.trees import OBJECTIVES, fit_tree, mining_designs, rule_sentence
+from qsm.trees import FEATURES_MM, OBJECTIVES, fit_tree, mining_designs, rule_sentence
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params.design_rules  # noqa: F821
+    p = snakemake.params  # noqa: F821
     inp = snakemake.input  # noqa: F821
     out = snakemake.output  # noqa: F821
     designs = mining_designs(
         read_table(inp.pareto, PREDICTION_COLUMNS), read_table(inp.generations, PREDICTION_COLUMNS)
     )
     write_table(designs, out.designs)
-    trees = [fit_tree(designs, obj, p["tree_depth"], p["seed"]) for obj in OBJECTIVES]
+    trees = [fit_tree(designs, obj, p.tree_depth, p.seed) for obj in OBJECTIVES]
     splits = {}
     with open(out.rules, "w") as fh:
         for rules in trees:
@@ -32,5 +32,8 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
             }
             log.info("%s", sentence)
     with open(out.first_splits, "w") as fh:
-        json.dump({"n_designs": len(designs), "first_splits": splits}, fh, indent=2)
+        n_unique = len(designs.drop_duplicates(subset=list(FEATURES_MM)))
+        json.dump(
+            {"n_designs": len(designs), "n_unique": n_unique, "first_splits": splits}, fh, indent=2
+        )
     trees_figure(trees, out.figure)

@@ -2,6 +2,7 @@
 
 import json
 
+from qsm.dataset import DATASET_COLUMNS, ok_rows
 from qsm.findings import Evidence, findings, summary_markdown
 from qsm.logs import logged
 from qsm.tables import read_meta, read_table, write_table
@@ -16,9 +17,11 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         n_sobol=read_meta(inp.sobol)["n_evaluations"],
         first_splits={k: v["variable"] for k, v in trees["first_splits"].items()},
         n_designs=trees["n_designs"],
+        n_unique=trees["n_unique"],
         correlations=read_table(inp.correlations),
         gradients=read_table(inp.derivatives),
         pareto=read_table(inp.pareto),
+        dataset=ok_rows(read_table(inp.dataset, DATASET_COLUMNS)),
     )
     table = findings(evidence, p.alpha)
     write_table(table, snakemake.output.table)  # noqa: F821

@@ -16,7 +16,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     op = OperatingRange.from_degrees(
         p.operating_range["theta1_deg"], p.operating_range["theta2_min_deg"]
     )
-    res = Resolution(p.workspace["n_delta"], p.workspace["n_levels"])
+    res = Resolution(p.resolution["n_delta"], p.resolution["n_levels"])
     grads = eta_gradients(rows, op, min_enclosing_circle(p.task_points), res, p.step)
     write_table(grads, snakemake.output[0])  # noqa: F821
     log.info("shard %d of %d: derivatives of %d mechanisms", shard, p.shards, len(grads))

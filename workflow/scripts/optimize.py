@@ -13,7 +13,9 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     out = snakemake.output  # noqa: F821
     model = load(snakemake.input.model)  # noqa: F821
     dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))  # noqa: F821
-    fit = FitSettings.from_sections(p.operating_range, p.task_points, p.scale, p.workspace)
+    fit = FitSettings.from_sections(
+        p.operating_range, p.task_points, p.scale, p.workspace, p.filters
+    )
     every = max(1, p.optimization["generations"] // 10)
 
     def progress(generation: int, hypervolume: float) -> None:

@@ -28,6 +28,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         kp_Nm_rad=tuple(s["kp_Nm_rad"]),
         kd_Nms_rad=tuple(s["kd_Nms_rad"]),
         tracking_tolerance_deg=s["tracking_tolerance_deg"],
+        plant_mass_error=s["plant_mass_error"],
         theta1_range_deg=tuple(p.operating_range["theta1_deg"]),
         theta2_min_deg=p.operating_range["theta2_min_deg"],
     )

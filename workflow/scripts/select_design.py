@@ -7,8 +7,7 @@ import matplotlib.pyplot as plt
 from qsm.dataset import cad_settings
 from qsm.logs import logged
 from qsm.plots import draw_design
-from qsm.printing import select_design
-from qsm.realization import candidates, selection_record
+from qsm.realization import select_printable, selection_record
 from qsm.tables import read_table
 from qsm.task import min_enclosing_circle
 from qsm.workspace import OperatingRange
@@ -17,16 +16,15 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
     inp = snakemake.input  # noqa: F821
     out = snakemake.output  # noqa: F821
-    pool = candidates({"paper": read_table(inp.paper), "ratios": read_table(inp.ratios)}, p.primary)
+    fronts = {"paper": read_table(inp.paper), "ratios": read_table(inp.ratios)}
     rule = p.printing["selection_rule"]
-    row = select_design(pool, rule, cad_settings(p.cad), tuple(p.printing["build_volume_mm"]))
+    row, fallback = select_printable(
+        fronts, p.primary, rule, cad_settings(p.cad), tuple(p.printing["build_volume_mm"])
+    )
     record = selection_record(row)
-    if record["formulation"] != p.primary:
-        log.warning(
-            "no printable feasible design on the %s front; chose from %s",
-            p.primary,
-            record["formulation"],
-        )
+    record["fallback"] = fallback
+    if fallback:
+        log.warning("chose from the %s front because %s", record["formulation"], fallback)
     with open(out.selected, "w") as fh:
         json.dump(record, fh, indent=2)
     op = OperatingRange.from_degrees(

@@ -22,8 +22,8 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         list(DESIGN_NAMES),
         list(zip(lo, hi, strict=True)),
         OUTPUTS,
-        p.design_rules["sobol_n"],
-        p.design_rules["seed"],
+        p.sobol_n,
+        p.seed,
     )
     write_table(result.indices, out.indices, {"n_evaluations": result.n_evaluations})
     sobol_figure(result.indices, OUTPUTS, out.figure)

@@ -15,9 +15,11 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
     out = snakemake.output  # noqa: F821
     pareto = read_table(snakemake.input.pareto, [*INPUTS, *PREDICTION_COLUMNS])  # noqa: F821
-    fit = FitSettings.from_sections(p.operating_range, p.task_points, p.scale, p.workspace)
+    fit = FitSettings.from_sections(
+        p.operating_range, p.task_points, p.scale, p.workspace, p.filters
+    )
     duty = duty_cycle(duty_settings(p.duty, p.operating_range))
-    table = verify_front(pareto, fit, duty, cad_settings(p.cad), p.payload_kg)
+    table = verify_front(pareto, fit, duty, cad_settings(p.cad), p.payload_kg, p.ratio_bounds)
     result = summary(table)
     write_table(table, out.table, {"columns": TRUE_COLUMNS})
     with open(out.summary, "w") as fh:
