@@ -25,9 +25,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-# peak speed and acceleration of a unit minimum-jerk move of unit duration
+# peak speed of a unit minimum-jerk move of unit duration
 MIN_JERK_PEAK_SPEED = 1.875
-MIN_JERK_PEAK_ACCEL = 10.0 / np.sqrt(3.0)
 
 
 @dataclass(frozen=True)

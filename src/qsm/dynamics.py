@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
 from qsm.duty import Duty, duty_cycle
-from qsm.kinematics import DESIGN_COLUMNS, as_design, pose
+from qsm.kinematics import DESIGN_COLUMNS, as_design, perp, pose
 from qsm.mjcf import JOINT_NAMES, model_spec
 
 log = logging.getLogger(__name__)
@@ -76,10 +76,6 @@ class LoopState(NamedTuple):
     closes: NDArray[np.bool_]
 
 
-def _perp(w: NDArray[np.float64]) -> NDArray[np.float64]:
-    return np.stack([-w[..., 1], w[..., 0]], axis=-1)
-
-
 def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
     return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
 
@@ -108,18 +104,18 @@ def _loop_state(
     e1 = np.stack([np.cos(th[:, 0]), np.sin(th[:, 0])], axis=-1)
     e2 = np.stack([np.cos(th[:, 1]), np.sin(th[:, 1])], axis=-1)
     # M [phi_dot, psi_dot] = C_dot - B_dot with columns a = -l4 perp(u), b = -l3 perp(v)
-    a, b = -l4 * _perp(u), -l3 * _perp(v)
+    a, b = -l4 * perp(u), -l3 * perp(v)
     det = _cross(a, b)
 
     def solve(rhs: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         return _cross(rhs, b) / det, _cross(a, rhs) / det
 
-    phi_1, psi_1 = solve(-l1 * _perp(e1))  # d/dtheta1
-    phi_2, psi_2 = solve(l2 * _perp(e2))  # d/dtheta2
+    phi_1, psi_1 = solve(-l1 * perp(e1))  # d/dtheta1
+    phi_2, psi_2 = solve(l2 * perp(e2))  # d/dtheta2
     phi_d = phi_1 * dth[:, 0] + phi_2 * dth[:, 1]
     psi_d = psi_1 * dth[:, 0] + psi_2 * dth[:, 1]
-    b_dd = l1 * (ddth[:, :1] * _perp(e1) - dth[:, :1] ** 2 * e1)
-    c_dd = l2 * (ddth[:, 1:] * _perp(e2) - dth[:, 1:] ** 2 * e2)
+    b_dd = l1 * (ddth[:, :1] * perp(e1) - dth[:, :1] ** 2 * e1)
+    c_dd = l2 * (ddth[:, 1:] * perp(e2) - dth[:, 1:] ** 2 * e2)
     phi_dd, psi_dd = solve(
         c_dd - b_dd - l4 * phi_d[:, None] ** 2 * u - l3 * psi_d[:, None] ** 2 * v
     )
@@ -176,7 +172,7 @@ def inverse_dynamics(model: mujoco.MjModel, design: ArrayLike, state: LoopState)
         model.opt.disableflags = flags
     tau = np.einsum("nij,ni->nj", state.G, qfrc)
     d = as_design(design)
-    a, b = d[3] * _perp(state.rocker_dir), d[2] * _perp(state.coupler_dir)
+    a, b = d[3] * perp(state.rocker_dir), d[2] * perp(state.coupler_dir)
     det = _cross(a, b)
     f1, f2 = qfrc[:, 1], qfrc[:, 3]  # rows of the passive joints: a . lambda = f1, b . lambda = f2
     lam = np.column_stack(

@@ -10,8 +10,8 @@ import numpy as np
 from qsm.dataset import cad_settings, duty_settings
 from qsm.duty import duty_cycle
 from qsm.dynamics import evaluate_mechanism
-from qsm.filters import crank_rocker, transmission_ok
-from qsm.kinematics import DESIGN_NAMES, RATIO_NAMES, loop_closes_everywhere
+from qsm.filters import kinematic_checks
+from qsm.kinematics import DESIGN_NAMES, RATIO_NAMES
 from qsm.mechanisms import FitSettings, fit_design
 
 
@@ -30,13 +30,10 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     checks = {
-        "crank_rocker": bool(crank_rocker(r[None])[0]),
-        "loop_closes": bool(loop_closes_everywhere(r, settings.op.delta_max)),
-        "transmission_angle_ok": bool(
-            transmission_ok(r[None], settings.op, config["filters"]["min_transmission_angle_deg"])[
-                0
-            ]
-        ),
+        name: bool(ok[0])
+        for name, ok in kinematic_checks(
+            r, settings.op, config["filters"]["min_transmission_angle_deg"]
+        ).items()
     }
     out: dict[str, Any] = {"ratios": dict(zip(RATIO_NAMES, r.tolist(), strict=True)), **checks}
     out["task_disk"] = {"centre_m": list(settings.disk.centre), "radius_m": settings.disk.radius}

@@ -24,6 +24,22 @@ def transmission_ok(ratios: np.ndarray, op: OperatingRange, min_angle_deg: float
     return (lo >= m) & (hi <= np.pi - m)
 
 
+def kinematic_checks(
+    ratios: np.ndarray, op: OperatingRange, min_transmission_angle_deg: float
+) -> dict[str, np.ndarray]:
+    """Each kinematic condition of Stage 1 for ratios (N, 5), in filter order.
+
+    ``crank_rocker``: the paper's l3 + l2 < l1 + l4; ``loop_closes``: the loop closes at every
+    pose of ``op``; ``transmission_ok``: the optional transmission-angle limit.
+    """
+    r = np.atleast_2d(ratios)
+    return {
+        "crank_rocker": crank_rocker(r),
+        "loop_closes": loop_closes_everywhere(r, op.delta_max),
+        "transmission_ok": transmission_ok(r, op, min_transmission_angle_deg),
+    }
+
+
 def kinematic_filters(
     samples: pd.DataFrame, op: OperatingRange, min_transmission_angle_deg: float
 ) -> tuple[pd.DataFrame, dict[str, int]]:
@@ -33,10 +49,11 @@ def kinematic_filters(
     range (|l3 - l4| <= |BC| <= l3 + l4); the optional transmission-angle limit.
     """
     ratios = samples[list(RATIO_NAMES)].to_numpy()
-    keep = crank_rocker(ratios)
-    counts = {"samples": len(samples), "crank_rocker": int(keep.sum())}
-    keep &= loop_closes_everywhere(ratios, op.delta_max)
-    counts["loop_closes"] = int(keep.sum())
-    keep &= transmission_ok(ratios, op, min_transmission_angle_deg)
-    counts["transmission_angle"] = int(keep.sum())
+    checks = kinematic_checks(ratios, op, min_transmission_angle_deg)
+    keep = np.ones(len(samples), dtype=bool)
+    counts = {"samples": len(samples)}
+    steps = ("crank_rocker", "loop_closes", "transmission_angle")  # filter_report.json keys
+    for step, ok in zip(steps, checks.values(), strict=True):
+        keep &= ok
+        counts[step] = int(keep.sum())
     return samples.loc[keep].reset_index(drop=True), counts

@@ -88,6 +88,12 @@ class LoopPose(NamedTuple):
     closes: NDArray[np.bool_]
 
 
+def perp(v: ArrayLike) -> NDArray[np.float64]:
+    """Plane vectors (..., 2) rotated by +90 degrees."""
+    w = np.asarray(v, dtype=float)
+    return np.stack([-w[..., 1], w[..., 0]], axis=-1)
+
+
 def _dir(angle: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
 

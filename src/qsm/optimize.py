@@ -28,8 +28,8 @@ from pymoo.core.problem import Problem
 from pymoo.indicators.hv import HV
 from pymoo.optimize import minimize
 
-from qsm.filters import crank_rocker, transmission_ok
-from qsm.kinematics import RATIO_NAMES, design_from_ratios, loop_closes_everywhere
+from qsm.filters import kinematic_checks
+from qsm.kinematics import RATIO_NAMES, design_from_ratios
 from qsm.mechanisms import FitSettings, fit_design
 from qsm.surrogate import INPUTS, Surrogate
 
@@ -115,8 +115,8 @@ class RatiosProblem(Problem):
         n = len(ratios)
         scale = np.full(n, np.nan)
         eta = np.full(n, np.nan)
-        ok = crank_rocker(ratios) & loop_closes_everywhere(ratios, self.fit.op.delta_max)
-        ok &= transmission_ok(ratios, self.fit.op, self.fit.min_transmission_angle_deg)
+        checks = kinematic_checks(ratios, self.fit.op, self.fit.min_transmission_angle_deg)
+        ok = np.logical_and.reduce(list(checks.values()))
         for i in np.flatnonzero(ok):
             result = fit_design(ratios[i], self.fit)
             if result["feasible"]:

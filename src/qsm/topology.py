@@ -54,7 +54,7 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.cad import CadSettings, MassProperties, link_outlines, mass_properties
 from qsm.duty import Duty
 from qsm.dynamics import inverse_dynamics, loop_state
-from qsm.kinematics import as_design
+from qsm.kinematics import as_design, perp
 from qsm.mjcf import GRAVITY_M_S2, model_spec
 
 OPTIMISED_LINKS: tuple[str, ...] = ("lower_arm", "upper_arm")
@@ -411,10 +411,6 @@ def _rot(angle: float) -> NDArray[np.float64]:
     return np.array([[c, -s], [s, c]])
 
 
-def _perp(v: NDArray[np.float64]) -> NDArray[np.float64]:
-    return np.array([-v[1], v[0]])
-
-
 def joint_points(design: ArrayLike) -> dict[str, dict[str, NDArray[np.float64]]]:
     """Joint positions (m) in the link frames of the two optimised links."""
     l1, _l2, _l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
@@ -459,11 +455,11 @@ def peak_loads(
         phi_d = state.qd[k, 0] + state.qd[k, 1]
         phi_dd = state.qdd[k, 0] + state.qdd[k, 1]
         e1 = np.array([math.cos(t1), math.sin(t1)])
-        a_b = l1 * (ddt1 * _perp(e1) - dt1**2 * e1)
+        a_b = l1 * (ddt1 * perp(e1) - dt1**2 * e1)
 
         def accel(local: NDArray[np.float64], phi=phi, phi_d=phi_d, phi_dd=phi_dd, a_b=a_b):
             r = _rot(phi) @ local
-            return a_b + phi_dd * _perp(r) - phi_d**2 * r
+            return a_b + phi_dd * perp(r) - phi_d**2 * r
 
         lam = inv.coupler_force[k]  # on the coupler at D from the upper arm (world)
         f_payload = payload_kg * (gvec - accel(pts["upper_arm"]["E"]))

@@ -12,8 +12,8 @@ from pymoo.indicators.hv import HV
 from qsm.cad import CadSettings
 from qsm.duty import Duty
 from qsm.dynamics import evaluate_mechanism
-from qsm.filters import crank_rocker, transmission_ok
-from qsm.kinematics import RATIO_NAMES, loop_closes_everywhere
+from qsm.filters import kinematic_checks
+from qsm.kinematics import RATIO_NAMES
 from qsm.mechanisms import FitSettings
 from qsm.surrogate import INPUTS
 from qsm.workspace import containment_margin, slice_workspace
@@ -38,11 +38,8 @@ def verify_design(
     """True kinematics and dynamics of one design (6 lengths, m) at its own scale l1."""
     ratios = design[1:] / design[0]
     out: dict[str, Any] = dict.fromkeys(TRUE_COLUMNS, np.nan)
-    out["crank_rocker"] = bool(crank_rocker(ratios[None])[0])
-    out["loop_closes"] = bool(loop_closes_everywhere(ratios, fit.op.delta_max))
-    out["transmission_ok"] = bool(
-        transmission_ok(ratios[None], fit.op, fit.min_transmission_angle_deg)[0]
-    )
+    checks = kinematic_checks(ratios, fit.op, fit.min_transmission_angle_deg)
+    out.update({name: bool(ok[0]) for name, ok in checks.items()})
     out["task_contained"] = False
     out["dynamics_status"] = "not run: loop does not close"
     if out["loop_closes"]:
