@@ -26,6 +26,12 @@ def finished(run, tmp_path):
         ("sampling: {bounds: {l3: [1.3, 0.8]}}", "config key 'sampling.bounds.l3': min 1.3"),
         ("dynamics: {shards: 0}", "config key 'dynamics.shards': 0 is less than the minimum of 1"),
         ("optimization: {formulation: best}", "config key 'optimization.formulation'"),
+        ("task: {points: [[-0.6, 0.1]]}", "config key 'task.points': the points span a circle"),
+        ("task: {points: [[-0.6, .nan], [-0.5, 0.1]]}", "config key 'task.points': every"),
+        (
+            "optimization: {formulation: paper, formulations: [ratios]}",
+            "config key 'optimization.formulation': 'paper' is not among",
+        ),
     ],
 )
 def test_bad_config_names_the_key_and_keeps_results(finished, tmp_path, text, message):

@@ -23,7 +23,7 @@ def test_second_run_does_nothing(run):
 
 def test_generations_rerun_only_the_optimisation_and_after(run, tmp_path):
     jobs = planned_jobs(run, configs=override(tmp_path, "optimization: {generations: 16}"))
-    assert {"optimize", "optimize_ratios", "verify_pareto", "compare_fronts"} <= set(jobs)
+    assert jobs["optimize"] == 2 and jobs["verify_pareto"] == 2 and "compare_fronts" in jobs
     assert not (STAGE1 | STAGE2 | STAGE3 | {"sobol", "eta_derivatives"}) & set(jobs)
 
 
@@ -40,9 +40,23 @@ def test_payload_reruns_dynamics_but_not_the_workspace(run, tmp_path):
 
 
 def test_choosing_the_primary_front_does_not_rerun_the_optimisation(run, tmp_path):
-    jobs = planned_jobs(run, configs=override(tmp_path, "optimization: {formulation: ratios}"))
+    jobs = planned_jobs(run, configs=override(tmp_path, "optimization: {formulation: paper}"))
     assert "decision_trees" in jobs and "design_rules_summary" in jobs
-    assert not {"optimize", "optimize_ratios", "verify_pareto", "train_surrogate"} & set(jobs)
+    assert not {"optimize", "verify_pareto", "train_surrogate"} & set(jobs)
+
+
+def test_g11_switch_reruns_only_the_paper_front(run, tmp_path):
+    text = "optimization: {constraints: {containment: false}}"
+    jobs = planned_jobs(run, configs=override(tmp_path, text))
+    assert jobs["optimize"] == 1 and jobs["verify_pareto"] == 1
+    assert not (STAGE1 | STAGE2 | STAGE3) & set(jobs)
+
+
+def test_printer_reruns_the_optimisation_when_g12_is_on(run, tmp_path):
+    text = "printing: {build_volume_mm: [700, 400, 400]}"
+    jobs = planned_jobs(run, configs=override(tmp_path, text))
+    assert jobs["optimize"] == 2 and "select_design" in jobs
+    assert not (STAGE1 | STAGE2 | STAGE3) & set(jobs)
 
 
 def test_forcerun_until_reruns_one_rule_alone(run):

@@ -20,7 +20,7 @@ def test_local_cluster_profile_runs_the_whole_dag(run, tmp_path):
     out = snakemake(work, "--profile", "profiles/local-cluster")
     assert "steps (100%) done" in out.stdout + out.stderr
     assert list((work / ".snakemake/local-cluster").glob("*.exit"))  # jobs went through submit.sh
-    for name in ("dataset.parquet", "optimization/pareto.parquet"):
+    for name in ("dataset.parquet", "optimization/ratios/pareto.parquet"):
         pd.testing.assert_frame_equal(
             read_table(work / "results" / name), read_table(run / "results" / name)
         )

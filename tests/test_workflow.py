@@ -1,5 +1,6 @@
 """Snakemake itself on config/test.yaml: outputs, their provenance and shard-count invariance."""
 
+import copy
 import json
 
 import numpy as np
@@ -139,7 +140,7 @@ def test_surrogate_outputs(run):
     assert "| test | all |" in (run / "results/surrogate/metrics.md").read_text()
 
 
-@pytest.mark.parametrize("formulation", ["", "ratios/"])
+@pytest.mark.parametrize("formulation", ["paper", "ratios"])
 def test_verification_matches_a_direct_reevaluation(run, formulation):
     config = effective_config(run)
     folder = run / "results/optimization" / formulation
@@ -148,6 +149,7 @@ def test_verification_matches_a_direct_reevaluation(run, formulation):
     assert len(table) == len(pareto) > 0
     pd.testing.assert_frame_equal(table[list(pareto.columns)], pareto)
     stored = json.loads((folder / "verification.json").read_text())
+    assert stored.pop("formulation") == formulation and "g1..g10" in stored.pop("constraints")
     assert json.dumps(stored, sort_keys=True) == json.dumps(summary(table), sort_keys=True)
     fit = FitSettings.from_sections(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
@@ -158,10 +160,22 @@ def test_verification_matches_a_direct_reevaluation(run, formulation):
         direct = verify_design(design, fit, duty, cad_settings(config["cad"]), 5.0)
         for key in ("feasible", "eta_true", "tau1_true_Nm", "tau2_true_Nm"):
             assert direct[key] == pytest.approx(row[key], rel=1e-12, nan_ok=True)
-    if formulation == "ratios/":  # exact Stage 1: every design holds the task at its scale
+    assert stored["holds_task_share"] == table["task_contained"].mean()
+    cad = cad_settings(config["cad"])
+    volume = tuple(config["printing"]["build_volume_mm"])
+    printable = [all_links_fit(d, cad, volume) for d in table[list(INPUTS)].to_numpy(float)]
+    assert stored["printable_share"] == pytest.approx(np.mean(printable))
+    # g11 and g12 on by default: the test run's fronts truly hold the task and can be printed
+    assert stored["holds_task_share"] == 1.0 and stored["printable_share"] == 1.0
+    if formulation == "ratios":  # exact Stage 1: every design holds the task at its scale
         assert table["feasible"].all()
         row = table.iloc[0]
-        again = evaluate_ratios(row[["l2", "l3", "l4", "ee_x", "ee_y"]].to_numpy(float), config)
+        # the ratios formulation fits the scale to the task disk grown by the g11 tolerance
+        grown = copy.deepcopy(config)
+        grown["scale"]["safety_margin_m"] += config["optimization"]["constraints"][
+            "containment_tolerance_m"
+        ]
+        again = evaluate_ratios(row[["l2", "l3", "l4", "ee_x", "ee_y"]].to_numpy(float), grown)
         assert again["scale"] == pytest.approx(row["scale_m"], rel=1e-9)
         assert again["eta"] == pytest.approx(row["eta_true"], rel=1e-9)
         assert again["tau1_Nm"] == pytest.approx(row["tau1_true_Nm"], rel=1e-9)
@@ -175,8 +189,9 @@ def test_design_rules_outputs(run):
     n = config["design_rules"]["sobol_n"]
     assert read_meta(rules / "sobol.parquet")["n_evaluations"] == n * (2 * 6 + 2)
     designs = read_table(rules / "designs_400.parquet")
-    pareto = read_table(run / "results/optimization/pareto.parquet")
-    gens = read_table(run / "results/optimization/last_generations.parquet")
+    front = run / "results/optimization" / config["optimization"]["formulation"]
+    pareto = read_table(front / "pareto.parquet")
+    gens = read_table(front / "last_generations.parquet")
     assert len(designs) == len(pareto) + len(gens)  # 400 with the paper's population
     assert gens["generation"].nunique() == 3
     splits = json.loads((rules / "tree_first_splits.json").read_text())
@@ -200,6 +215,7 @@ def test_realisation_outputs(run):
     selected = json.loads((real / "selected.json").read_text())
     design = np.array(selected["design_m"])
     assert selected["feasible"] and selected["dynamics_status"] == "ok"
+    assert selected["printable"] and selected["source"] == config["optimization"]["formulation"]
     assert all_links_fit(
         design, cad_settings(config["cad"]), tuple(config["printing"]["build_volume_mm"])
     )
@@ -246,3 +262,31 @@ def test_report_and_lint(run, tmp_path):
     lint = snakemake(work, "--lint")
     assert "Congratulations" in lint.stdout + lint.stderr
     assert "Lints for" not in lint.stdout + lint.stderr
+
+
+def test_a_task_nothing_printable_holds_completes_with_the_verdict(tmp_path):
+    """A far, large task: every design is too long for the printer; the run still completes,
+    realises the best truly feasible design and says plainly that it is not printable."""
+    work = copy_workflow(tmp_path / "far")
+    far = tmp_path / "far.yaml"
+    far.write_text("task: {points: [[-1.15, 0.0], [-0.75, 0.0], [-0.95, 0.15]], payload_kg: 10}")
+    snakemake(work, configs=(str(far),))
+    selected = json.loads((work / "results/realization/selected.json").read_text())
+    assert selected["printable"] is False and selected["feasible"]
+    assert selected["verdict"].startswith("NOT PRINTABLE")
+    assert len(selected["fallback"]) == 3  # both fronts and the dataset had nothing printable
+    needed = selected["printing_advice"]["needed_volume_mm"]
+    assert needed[0] > 600  # the longest link exceeds the printer's longest side
+    cad = cad_settings(effective_config(work)["cad"])
+    assert not all_links_fit(np.array(selected["design_m"]), cad, (600, 350, 350))
+    checks = json.loads((work / "results/realization/stl_check.json").read_text())
+    assert not all(c["fits_build_volume"] for c in checks["before"].values())
+    summary_md = (work / "results/summary.md").read_text()
+    assert "verdict: NOT PRINTABLE" in summary_md
+    for name in ("paper", "ratios"):
+        verification = json.loads(
+            (work / f"results/optimization/{name}/verification.json").read_text()
+        )
+        assert verification["printable_share"] == 0.0
+        assert verification["holds_task_share"] == 1.0
+        assert "g12 dropped" in verification["constraints"]

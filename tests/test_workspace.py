@@ -127,7 +127,7 @@ def test_infeasible_reasons():
 
 def test_union_and_margin_of_hand_made_arcs():
     """Arcs from different branches can overlap: the union and the centred margin chain them."""
-    from qsm.workspace import _margin_about_zero, _union_length
+    from qsm.workspace import margin_about_zero, _union_length
 
     # per level (column): intervals (rows) [start, end]
     starts = np.array([[-0.3, -0.3, 0.2, -1.0], [0.05, 0.5, 0.3, -0.5], [0.35, 0.6, 0.4, 0.9]])
@@ -136,4 +136,4 @@ def test_union_and_margin_of_hand_made_arcs():
     # level 0: [-0.3, 0.1] + [0.05, 0.4] + [0.35, 0.9] chain to [-0.3, 0.9] -> margin 0.3
     # level 1: [-0.3, 0.1] then a gap -> margin 0.1; level 2: 0 not covered -> -1
     # level 3: [-0.5, 0.7] holds 0 -> margin 0.5
-    np.testing.assert_allclose(_margin_about_zero(starts, ends), [0.3, 0.1, -1.0, 0.5])
+    np.testing.assert_allclose(margin_about_zero(starts, ends), [0.3, 0.1, -1.0, 0.5])

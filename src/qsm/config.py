@@ -12,7 +12,10 @@ from pathlib import Path
 from typing import Any
 
 import jsonschema
+import numpy as np
 import yaml
+
+from qsm.task import min_enclosing_circle
 
 SCHEMA_FILE = "config.schema.yaml"
 
@@ -75,6 +78,13 @@ def validate_config(config: dict[str, Any]) -> dict[str, Any]:
         raise ConfigError(
             f"config key 'operating_range.theta1_deg': min {lo} is not below max {hi}"
         )
+    _check_task(config["task"]["points"])
+    opt = config["optimization"]
+    if opt["formulation"] not in opt["formulations"]:
+        raise ConfigError(
+            f"config key 'optimization.formulation': '{opt['formulation']}' is not among "
+            f"optimization.formulations = {opt['formulations']}"
+        )
     sampling = config["sampling"]
     if sampling["n_mechanisms"] > sampling["n_samples"]:
         raise ConfigError(
@@ -82,6 +92,26 @@ def validate_config(config: dict[str, Any]) -> dict[str, Any]:
             f"sampling.n_samples = {sampling['n_samples']}"
         )
     return config
+
+
+#: Smallest radius (m) of the task circle: below it eta (task area / workspace area) is ~0.
+MIN_TASK_RADIUS_M = 1e-3
+
+
+def _check_task(points: list[list[float]]) -> None:
+    """Finite task points spanning a circle of at least :data:`MIN_TASK_RADIUS_M`."""
+    p = np.asarray(points, dtype=float)
+    if not np.isfinite(p).all():
+        raise ConfigError("config key 'task.points': every coordinate must be a finite number")
+    radius = min_enclosing_circle(p).radius
+    if radius < MIN_TASK_RADIUS_M:
+        raise ConfigError(
+            f"config key 'task.points': the points span a circle of radius {radius:.2g} m "
+            f"(a single point); eta = task area / workspace area would be zero for every design "
+            f"and could not rank them. Give the region the tool must cover: at least two points "
+            f"{2e3 * MIN_TASK_RADIUS_M:g} mm or more apart (e.g. the point and the edge of its "
+            f"positioning tolerance)"
+        )
 
 
 def load_config(path: str | Path | None = None) -> dict[str, Any]:

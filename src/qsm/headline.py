@@ -43,14 +43,15 @@ def headline_markdown(
         f"(all {r2['all']:.4f}; paper 0.98700); fit {metrics['fit_seconds']:.1f} s.",
         "",
         "## Stage 4: optimisation, checked against the physics",
-        "| front | designs | truly hold the task | median error eta / tau1 / tau2 | true HV |",
-        "| --- | --- | --- | --- | --- |",
+        "| front | constraints | designs | truly hold the task | printable "
+        "| median error eta / tau1 / tau2 | true HV |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
     ]
     for name, e in comparison["fronts"].items():
         err = " / ".join(_pct(e["median_rel_error"][k]) for k in ("eta", "tau1", "tau2"))
         lines.append(
-            f"| {name} | {e['n']} | {_pct(e['feasible_share'])} | {err} "
-            f"| {e['true_hypervolume']:.3f} |"
+            f"| {name} | {e['constraints']} | {e['n']} | {_pct(e['holds_task_share'])} "
+            f"| {_pct(e['printable_share'])} | {err} | {e['true_hypervolume']:.3f} |"
         )
     agree = int((findings["agree"] == "agree").sum())
     lines += [
@@ -60,9 +61,13 @@ def headline_markdown(
         "(results/design_rules/summary.md).",
         "",
         "## Stage 6: realisation",
-        f"- selected ({selected['selection_rule']}, {selected['formulation']} front, "
-        f"{selected['n_candidates']} printable candidates): l1 {selected['scale_m']:.3f} m, "
-        f"eta {selected['eta_true']:.3f}.",
+        f"- selected ({selected['selection_rule']}, from the {selected['source']}"
+        f"{'' if selected['source'] == 'dataset' else ' front'}, "
+        f"{selected['n_candidates']} candidates): l1 {selected['scale_m']:.3f} m, "
+        f"eta {selected['eta_true']:.3f}, true peak torques {selected['tau1_true_Nm']:.1f} / "
+        f"{selected['tau2_true_Nm']:.1f} N m.",
+        f"- verdict: {selected['verdict']}",
+        *(f"- fell back past: {line}" for line in selected["fallback"]),
     ]
     for key in ("tau1_Nm", "tau2_Nm"):
         b, a = torques["before"][key], torques["after"][key]

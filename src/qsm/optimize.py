@@ -1,4 +1,5 @@
-"""Stage 4: NSGA-II (pymoo) on the surrogate with the paper's constraints g1..g10 (Section 2.4).
+"""Stage 4: NSGA-II (pymoo) on the surrogate with the paper's constraints g1..g10 (Section 2.4)
+and two of ours, g11 (the task lies in the workspace) and g12 (every link fits the printer).
 
 Objectives, all minimised: (eta', tau1', tau2'), the surrogate's predictions. Constraints in
 pymoo's ``G <= 0`` form:
@@ -8,15 +9,23 @@ pymoo's ``G <= 0`` form:
 * g5..g10: each prediction within mean +- z std of its training labels (z = 1.95)
   ->  ``(mean - z std) - y'`` and ``y' - (mean + z std)``.
 
+* g11 (paper formulation, ``constraints.containment``): the task disk lies in the workspace at
+  scale l1 with ``containment_tolerance_m`` of arc to spare (:mod:`qsm.constraints`, metres);
+* g12 (every formulation, ``constraints.printable``): every link's box fits the build volume
+  (:mod:`qsm.constraints`, millimetres).
+
+With both switches off the paper formulation is the paper's g1..g10 exactly.
+
 Two formulations: ``paper`` optimises the 6 scaled lengths (the scale l1 free, as in the paper);
 ``ratios`` optimises the 5 ratios in Table 1 and computes the scale and eta exactly with Stage 1
-(task containment guaranteed), taking only the torques from the surrogate.
+(task containment guaranteed by the scale, so it has no g11), taking only the torques from the
+surrogate.
 """
 
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -28,13 +37,15 @@ from pymoo.core.problem import Problem
 from pymoo.indicators.hv import HV
 from pymoo.optimize import minimize
 
+from qsm.cad import CadSettings
+from qsm.constraints import containment_margin_m, printability_violation_mm
+from qsm.dataset import cad_settings
 from qsm.filters import kinematic_checks
 from qsm.kinematics import RATIO_NAMES, design_from_ratios
 from qsm.mechanisms import FitSettings, fit_design
 from qsm.surrogate import INPUTS, Surrogate
 
-N_CONSTRAINTS = 10
-CONSTRAINT_NAMES: tuple[str, ...] = (
+PAPER_CONSTRAINTS: tuple[str, ...] = (
     "g1_eta_positive",
     "g2_tau1_positive",
     "g3_tau2_positive",
@@ -46,6 +57,73 @@ CONSTRAINT_NAMES: tuple[str, ...] = (
     "g9_tau2_low",
     "g10_tau2_high",
 )
+G11 = "g11_task_contained"
+G12 = "g12_printable"
+
+
+@dataclass(frozen=True)
+class ExtraConstraints:
+    """g11 and g12: which are on and what they need.
+
+    ``containment`` (g11, paper formulation only) with ``tolerance_m`` of arc to spare (m) on the
+    task disk of ``fit`` (the ratios formulation holds the task by its scale, fitted to the disk
+    grown by ``tolerance_m``); ``printable`` (g12) for the link section ``cad`` and the printer
+    ``volume_mm`` (W, L, H in mm).
+    """
+
+    containment: bool
+    printable: bool
+    fit: FitSettings
+    cad: CadSettings
+    volume_mm: tuple[float, float, float]
+    tolerance_m: float = 0.001
+
+    @classmethod
+    def from_settings(cls, settings: Mapping[str, Any], fit: FitSettings) -> ExtraConstraints:
+        """From the rule's ``constraints`` params: ``containment``, ``printable`` and, when on,
+        ``tolerance_m``, ``cad`` (config section) and ``build_volume_mm``."""
+        printable = bool(settings["printable"])
+        return cls(
+            containment=bool(settings["containment"]),
+            printable=printable,
+            fit=fit,
+            cad=cad_settings(settings["cad"]) if printable else CadSettings(),
+            volume_mm=tuple(settings.get("build_volume_mm", (600.0, 350.0, 350.0))),
+            tolerance_m=float(settings.get("tolerance_m", 0.0)),
+        )
+
+    def names(self, formulation: str) -> tuple[str, ...]:
+        """Constraint columns of ``formulation`` in order: g1..g10, then g11 and g12 if on."""
+        extra = (G11,) if self.containment and formulation == "paper" else ()
+        return PAPER_CONSTRAINTS + extra + ((G12,) if self.printable else ())
+
+    def label(self, formulation: str) -> str:
+        """Human-readable constraint set, e.g. 'g1..g10 (the paper's) + g12 printable'."""
+        names = self.names(formulation)
+        text = "g1..g10 (the paper's)"
+        spare = f"{1e3 * self.tolerance_m:g} mm to spare"
+        if G11 in names:
+            text += f" + g11 task contained ({spare})"
+        elif formulation == "ratios":
+            text += f" + task contained by the scale ({spare})"
+        if G12 in names:
+            volume = " x ".join(f"{v:g}" for v in self.volume_mm)
+            text += f" + g12 printable on {volume} mm"
+        return text
+
+    def columns(self, formulation: str, design: NDArray[np.float64]) -> list[NDArray]:
+        """The g11 / g12 columns (``G <= 0``) for scaled designs (N, 6)."""
+        cols = []
+        if self.containment and formulation == "paper":
+            disk = self.fit.disk
+            inflated = type(disk)(disk.centre, disk.radius + self.fit.safety_margin)
+            margin = containment_margin_m(
+                design, self.fit.op, inflated, self.fit.resolution.n_delta
+            )
+            cols.append(self.tolerance_m - margin)
+        if self.printable:
+            cols.append(printability_violation_mm(design, self.cad, self.volume_mm))
+        return cols
 
 
 @dataclass(frozen=True)
@@ -75,27 +153,53 @@ def paper_constraints(
     return np.column_stack(cols)
 
 
-class PaperProblem(Problem):
-    """The paper's problem over the 6 scaled lengths, vectorised over the population."""
+class _SurrogateProblem(Problem):
+    """NSGA-II on the surrogate with g1..g10 and, as ``extra`` says, g11 / g12."""
 
-    def __init__(self, model: Surrogate, lower: NDArray, upper: NDArray, stats: LabelStats) -> None:
-        super().__init__(n_var=6, n_obj=3, n_ieq_constr=N_CONSTRAINTS, xl=lower, xu=upper)
+    formulation = ""
+
+    def __init__(
+        self,
+        model: Surrogate,
+        lower: NDArray,
+        upper: NDArray,
+        stats: LabelStats,
+        extra: ExtraConstraints | None = None,
+    ) -> None:
+        n_constr = len(extra.names(self.formulation)) if extra else len(PAPER_CONSTRAINTS)
+        super().__init__(n_var=len(lower), n_obj=3, n_ieq_constr=n_constr, xl=lower, xu=upper)
         self.model = model
         self.stats = stats
+        self.extra = extra
+
+    def with_extra(self, design: NDArray, g: NDArray) -> NDArray:
+        """``g`` (g1..g10) with the g11 / g12 columns of the scaled designs appended."""
+        if self.extra is None:
+            return g
+        return np.column_stack([g, *self.extra.columns(self.formulation, design)])
+
+
+class PaperProblem(_SurrogateProblem):
+    """The paper's problem over the 6 scaled lengths, vectorised over the population; g11 and g12
+    as ``extra`` says (none: the paper's g1..g10 exactly)."""
+
+    formulation = "paper"
 
     def _evaluate(self, x: NDArray, out: dict, *args: Any, **kwargs: Any) -> None:
         pred = self.model.predict(x)
         out["F"] = pred
-        out["G"] = paper_constraints(x, pred, self.stats)
+        out["G"] = self.with_extra(x, paper_constraints(x, pred, self.stats))
 
 
-class RatiosProblem(Problem):
+class RatiosProblem(_SurrogateProblem):
     """Ratios (5) in Table 1; scale and eta exact from Stage 1, torques from the surrogate.
 
     A design whose loop does not close or whose workspace holds the task at no scale is made
     infeasible through g4 (violation 1), with finite stand-in objectives (eta = 1, torques at the
-    training means).
+    training means). ``extra`` adds g12 if on (g11 holds by construction).
     """
+
+    formulation = "ratios"
 
     def __init__(
         self,
@@ -104,10 +208,9 @@ class RatiosProblem(Problem):
         upper: NDArray,
         stats: LabelStats,
         fit: FitSettings,
+        extra: ExtraConstraints | None = None,
     ) -> None:
-        super().__init__(n_var=5, n_obj=3, n_ieq_constr=N_CONSTRAINTS, xl=lower, xu=upper)
-        self.model = model
-        self.stats = stats
+        super().__init__(model, lower, upper, stats, extra)
         self.fit = fit
 
     def designs(self, ratios: NDArray) -> tuple[NDArray, NDArray, NDArray]:
@@ -132,7 +235,7 @@ class RatiosProblem(Problem):
         g = paper_constraints(design, pred, self.stats)
         g[:, 3] = np.where(feasible, g[:, 3], 1.0)
         out["F"] = pred
-        out["G"] = g
+        out["G"] = self.with_extra(design, g)
 
 
 @dataclass
@@ -174,6 +277,15 @@ class OptimisationResult:
     hypervolume: list[float]
 
 
+class InfeasibleProblem(RuntimeError):
+    """NSGA-II ended with no feasible design; ``least`` is the smallest violation of each
+    constraint in the last population (0 where some design met it)."""
+
+    def __init__(self, least: NDArray[np.float64]) -> None:
+        super().__init__("NSGA-II found no feasible design")
+        self.least = least
+
+
 def run_nsga2(
     problem: Problem,
     pop_size: int,
@@ -193,7 +305,8 @@ def run_nsga2(
         verbose=False,
     )
     if result.opt is None or result.X is None:
-        raise RuntimeError("NSGA-II found no feasible design")
+        g = recorder.populations[-1]["G"]
+        raise InfeasibleProblem(np.clip(g, 0.0, None).min(axis=0))
     return OptimisationResult(
         pareto_x=np.atleast_2d(result.opt.get("X")),
         pareto_f=np.atleast_2d(result.opt.get("F")),
@@ -228,6 +341,7 @@ class FrontTables:
     pareto: pd.DataFrame
     last_generations: pd.DataFrame
     hypervolume: pd.DataFrame
+    constraints: str = ""
 
 
 def _design_table(design: NDArray, objectives: NDArray) -> pd.DataFrame:
@@ -247,34 +361,54 @@ def optimise(
     section: Mapping[str, Any],
     fit: FitSettings,
     ratio_bounds: Mapping[str, Any],
+    extra: ExtraConstraints | None = None,
     progress: Callable[[int, float], None] | None = None,
 ) -> FrontTables:
     """Run NSGA-II in the given formulation (``paper`` or ``ratios``) and tabulate the results.
 
     ``dataset`` (status-ok rows) gives the paper formulation's bounds (unless ``section["bounds"]``
-    overrides them) and the objective range that normalises the hypervolume.
+    overrides them) and the objective range that normalises the hypervolume. ``extra`` switches
+    g11 / g12 on (None: the paper's g1..g10 only).
     """
     stats = LabelStats.of(model, section["z"])
     labels = dataset[["eta", "tau1_Nm", "tau2_Nm"]].to_numpy()
     objective_range = (labels.min(axis=0), labels.max(axis=0))
-    problem: Problem
     if formulation == "paper":
         lo, hi = bounds_from(dataset, INPUTS, section["bounds"])
-        problem = PaperProblem(model, lo, hi, stats)
     elif formulation == "ratios":
         lo = np.array([ratio_bounds[n][0] for n in RATIO_NAMES], dtype=float)
         hi = np.array([ratio_bounds[n][1] for n in RATIO_NAMES], dtype=float)
-        problem = RatiosProblem(model, lo, hi, stats, fit)
+        if extra is not None:  # the scale holds the task disk grown by the tolerance
+            fit = replace(fit, safety_margin=fit.safety_margin + extra.tolerance_m)
     else:
-        raise ValueError(f"config key 'optimization.formulation': unknown '{formulation}'")
-    result = run_nsga2(
-        problem,
-        section["pop_size"],
-        section["generations"],
-        section["seed"],
-        objective_range,
-        progress,
-    )
+        raise ValueError(f"config key 'optimization.formulations': unknown '{formulation}'")
+
+    def make(extra: ExtraConstraints | None) -> Problem:
+        if formulation == "paper":
+            return PaperProblem(model, lo, hi, stats, extra)
+        return RatiosProblem(model, lo, hi, stats, fit, extra)
+
+    def run(problem: Problem) -> OptimisationResult:
+        n_gen, seed = section["generations"], section["seed"]
+        return run_nsga2(problem, section["pop_size"], n_gen, seed, objective_range, progress)
+
+    label = extra.label(formulation) if extra is not None else "g1..g10 (the paper's)"
+    problem = make(extra)
+    try:
+        result = run(problem)
+    except InfeasibleProblem as exc:
+        if extra is None or not extra.printable:
+            raise
+        # no design met g12 (a far task, a small printer): optimise without it, and say so
+        excess = float(exc.least[extra.names(formulation).index(G12)])
+        extra = replace(extra, printable=False)
+        problem = make(extra)
+        result = run(problem)
+        label = (
+            f"{extra.label(formulation)}; g12 dropped: no design printable on "
+            f"{' x '.join(f'{v:g}' for v in extra.volume_mm)} mm (least excess in the last "
+            f"generation {excess:.0f} mm)"
+        )
 
     def lengths(x: NDArray) -> NDArray:
         return problem.designs(x)[0] if isinstance(problem, RatiosProblem) else x
@@ -286,6 +420,7 @@ def optimise(
         table = _design_table(lengths(pop["X"]), pop["F"])
         table.insert(0, "generation", first + offset)
         table["feasible"] = np.all(pop["G"] <= 0, axis=1)
+        table["constraint_violation"] = np.clip(pop["G"], 0.0, None).sum(axis=1)
         generations.append(table)
     history = pd.DataFrame(
         {
@@ -293,4 +428,4 @@ def optimise(
             "hypervolume": result.hypervolume,
         }
     )
-    return FrontTables(pareto, pd.concat(generations, ignore_index=True), history)
+    return FrontTables(pareto, pd.concat(generations, ignore_index=True), history, label)

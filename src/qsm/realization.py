@@ -10,36 +10,8 @@ import numpy as np
 import pandas as pd
 import trimesh
 
-from qsm.cad import CadSettings, MassProperties
+from qsm.cad import MassProperties
 from qsm.kinematics import DESIGN_COLUMNS
-from qsm.printing import select_design
-
-
-def select_printable(
-    fronts: Mapping[str, pd.DataFrame],
-    primary: str,
-    rule: str,
-    cad: CadSettings,
-    volume_mm: tuple[float, float, float],
-) -> tuple[pd.Series, str]:
-    """The design chosen by ``rule`` on the ``primary`` front; the other fronts are tried, in
-    order, only when the primary one has no printable, truly feasible design.
-
-    Returns the row (tagged with ``formulation``) and why a fallback happened ('' if none).
-    """
-    reasons = []
-    for name in [primary, *(k for k in fronts if k != primary)]:
-        try:
-            row = select_design(fronts[name], rule, cad, volume_mm)
-        except ValueError as exc:
-            reasons.append(f"{name} front: {exc}")
-            continue
-        row["formulation"] = name
-        return row, "; ".join(reasons)
-    raise ValueError(
-        "no printable design on any front (config key 'printing.build_volume_mm'): "
-        + "; ".join(reasons)
-    )
 
 
 def selection_record(row: pd.Series) -> dict[str, Any]:

@@ -69,13 +69,16 @@ class Slices:
     ``rho`` are the circle radii (midpoints of ``n_levels`` equal bins from ``rho_min`` to
     ``rho_max``), ``covered`` the angular length of ``U(rho)`` (rad) and ``margin`` the
     half-width of the arc of ``U(rho)`` centred on the reference polar angle (rad, -1 where that
-    angle is not covered).
+    angle is not covered) on the circles ``margin_rho``: ``rho`` with ``rho_min`` and ``rho_max``
+    added, so that the margin near the workspace's inner and outer edges is interpolated towards
+    its value on the edge rather than held at the outermost midpoint's.
     """
 
     rho_min: float
     rho_max: float
     rho: NDArray[np.float64]
     covered: NDArray[np.float64]
+    margin_rho: NDArray[np.float64]
     margin: NDArray[np.float64]
 
     @property
@@ -91,17 +94,16 @@ def arcs(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Radius and polar-angle interval ``[lo, hi]`` of the workspace arcs at ``n_delta`` deltas.
 
-    Returns ``(rho, lo, hi)`` each of shape (n_delta,), angles unwrapped (rad); NaN where the loop
-    does not close.
+    ``ratios`` is (..., 5); returns ``(rho, lo, hi)`` each of shape (..., n_delta), angles
+    unwrapped (rad); NaN where the loop does not close.
     """
-    r = np.asarray(ratios, dtype=float)
+    r = np.asarray(ratios, dtype=float)[..., None, :]
     delta = np.linspace(0.0, op.delta_max, n_delta)
-    rel, _ = relative_arm_angle(r[None, :], delta)
-    alpha0 = -np.arctan2(r[4], r[3])
-    w = 1.0 + np.hypot(r[3], r[4]) * np.exp(1j * (rel + alpha0))
-    rho = np.abs(w)
-    beta = np.unwrap(np.angle(w))
-    return rho, op.theta1_lower(delta) + beta, op.theta1_max + beta
+    rel, _ = relative_arm_angle(r, delta)
+    alpha0 = -np.arctan2(r[..., 4], r[..., 3])
+    w = 1.0 + np.hypot(r[..., 3], r[..., 4]) * np.exp(1j * (rel + alpha0))
+    beta = np.unwrap(np.angle(w), axis=-1)
+    return np.abs(w), op.theta1_lower(delta) + beta, op.theta1_max + beta
 
 
 def slice_workspace(
@@ -122,14 +124,17 @@ def slice_workspace(
     k = resolution.n_levels
     levels = rho_min + (np.arange(k) + 0.5) * (rho_max - rho_min) / k
 
-    starts, ends = _interval_per_level(rho, lo, hi, levels)
-    starts, ends = _wrap_about(starts, ends, reference_angle)
+    margin_rho = np.concatenate([[rho_min], levels, [rho_max]])
+    starts, ends = _interval_per_level(rho, lo, hi, margin_rho)
+    starts, ends = wrap_about(starts, ends, reference_angle)
+    covered = _union_length(starts, ends)
     return Slices(
         rho_min=rho_min,
         rho_max=rho_max,
         rho=levels,
-        covered=_union_length(starts, ends),
-        margin=_margin_about_zero(starts, ends),
+        covered=covered[1:-1],
+        margin_rho=margin_rho,
+        margin=margin_about_zero(starts, ends),
     )
 
 
@@ -164,7 +169,7 @@ def _interval_per_level(
     return starts, ends
 
 
-def _wrap_about(
+def wrap_about(
     starts: NDArray[np.float64], ends: NDArray[np.float64], centre: float
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Express arcs relative to ``centre`` on [-pi, pi], splitting an arc that crosses pi.
@@ -195,7 +200,7 @@ def _union_length(starts: NDArray[np.float64], ends: NDArray[np.float64]) -> NDA
     return np.sum(np.clip(e - np.maximum(s, previous), 0.0, None), axis=0)
 
 
-def _margin_about_zero(
+def margin_about_zero(
     starts: NDArray[np.float64], ends: NDArray[np.float64]
 ) -> NDArray[np.float64]:
     """Half-width of the largest arc centred on 0 inside the union; -1 where 0 is not covered."""
@@ -233,7 +238,7 @@ def containment_margin(
     radii = centre_distance - disk_radius * np.cos(np.linspace(0.0, np.pi, n_radii))
     need = disk_arc_half_width(radii, centre_distance, disk_radius)[None, :]
     unit = radii[None, :] / s
-    have = np.interp(unit, slices.rho, slices.margin)
+    have = np.interp(unit, slices.margin_rho, slices.margin)
     have = np.where((unit < slices.rho_min) | (unit > slices.rho_max), -1.0, have)
     return np.min(have - need, axis=1)
 

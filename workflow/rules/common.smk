@@ -28,14 +28,28 @@ def stage2_settings():
 
 
 def optimization_settings():
-    """What an NSGA-II run uses; the choice of the primary front is not among it."""
-    return {k: v for k, v in config["optimization"].items() if k != "formulation"}
+    """What every NSGA-II run uses: not the choice or list of fronts, nor g11 / g12."""
+    skip = ("formulation", "formulations", "constraints")
+    return {k: v for k, v in config["optimization"].items() if k not in skip}
+
+
+def constraint_settings(formulation):
+    """g11 / g12 as they apply to ``formulation``, with what each needs (nothing when off)."""
+    section = config["optimization"]["constraints"]
+    out = {"containment": False, "printable": section["printable"]}
+    if formulation == "ratios" or section["containment"]:
+        out.update(
+            containment=formulation == "paper",
+            tolerance_m=section["containment_tolerance_m"],
+        )
+    if section["printable"]:
+        out.update(cad=config["cad"], build_volume_mm=config["printing"]["build_volume_mm"])
+    return out
 
 
 def primary_front(name):
     """A file of the front that feeds the later stages (optimization.formulation)."""
-    sub = "" if config["optimization"]["formulation"] == "paper" else "ratios/"
-    return f"{RESULTS}/optimization/{sub}{name}"
+    return f"{RESULTS}/optimization/{config['optimization']['formulation']}/{name}"
 
 
 def code(script):

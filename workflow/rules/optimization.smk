@@ -1,13 +1,16 @@
-# Stage 4: NSGA-II on the surrogate (paper and ratios formulations), checked against the physics.
+# Stage 4: NSGA-II on the surrogate, one folder per formulation, checked against the physics.
 
 OPT = f"{RESULTS}/optimization"
+FORMULATIONS = config["optimization"]["formulations"]
 STAGE4_OUTPUTS = [
-    f"{OPT}/verification.json",
-    f"{OPT}/ratios/verification.json",
+    *expand(f"{OPT}/{{formulation}}/verification.json", formulation=FORMULATIONS),
+    *expand(f"{RESULTS}/figures/{{formulation}}/pareto_3d.png", formulation=FORMULATIONS),
     f"{OPT}/comparison.md",
-    f"{RESULTS}/figures/pareto_3d.png",
-    f"{RESULTS}/figures/ratios/pareto_3d.png",
 ]
+
+
+wildcard_constraints:
+    formulation="paper|ratios",
 
 
 rule optimize:
@@ -15,31 +18,32 @@ rule optimize:
         model=rules.train_surrogate.output.model,
         dataset=rules.gather_dataset.output.dataset,
     output:
-        pareto=f"{OPT}/pareto.parquet",
-        generations=f"{OPT}/last_generations.parquet",
-        hypervolume=f"{OPT}/hypervolume.parquet",
+        pareto=f"{OPT}/{{formulation}}/pareto.parquet",
+        generations=f"{OPT}/{{formulation}}/last_generations.parquet",
+        hypervolume=f"{OPT}/{{formulation}}/hypervolume.parquet",
         front_3d=report(
-            f"{RESULTS}/figures/pareto_3d.png",
+            f"{RESULTS}/figures/{{formulation}}/pareto_3d.png",
             caption="../report/pareto.rst",
             category="4. Optimisation",
-            subcategory="paper formulation",
+            subcategory="{formulation} formulation",
         ),
         front_pairs=report(
-            f"{RESULTS}/figures/pareto_pairs.png",
+            f"{RESULTS}/figures/{{formulation}}/pareto_pairs.png",
             caption="../report/pareto.rst",
             category="4. Optimisation",
-            subcategory="paper formulation",
+            subcategory="{formulation} formulation",
         ),
         designs=report(
-            f"{RESULTS}/figures/pareto_designs.png",
+            f"{RESULTS}/figures/{{formulation}}/pareto_designs.png",
             caption="../report/pareto_designs.rst",
             category="4. Optimisation",
-            subcategory="paper formulation",
+            subcategory="{formulation} formulation",
         ),
     params:
         code=code("optimize.py"),
-        formulation="paper",
+        formulation=lambda w: w.formulation,
         optimization=optimization_settings(),
+        constraints=lambda w: constraint_settings(w.formulation),
         ratio_bounds=config["sampling"]["bounds"],
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
@@ -47,60 +51,21 @@ rule optimize:
         workspace=fit_workspace(),
         filters=config["filters"],
     log:
-        f"{RESULTS}/logs/optimize.log",
+        f"{RESULTS}/logs/optimize/{{formulation}}.log",
     benchmark:
-        f"{RESULTS}/benchmarks/optimize.tsv"
+        f"{RESULTS}/benchmarks/optimize/{{formulation}}.tsv"
     conda:
         ENV
     script:
         "../scripts/optimize.py"
 
 
-use rule optimize as optimize_ratios with:
-    output:
-        pareto=f"{OPT}/ratios/pareto.parquet",
-        generations=f"{OPT}/ratios/last_generations.parquet",
-        hypervolume=f"{OPT}/ratios/hypervolume.parquet",
-        front_3d=report(
-            f"{RESULTS}/figures/ratios/pareto_3d.png",
-            caption="../report/pareto.rst",
-            category="4. Optimisation",
-            subcategory="ratios formulation",
-        ),
-        front_pairs=report(
-            f"{RESULTS}/figures/ratios/pareto_pairs.png",
-            caption="../report/pareto.rst",
-            category="4. Optimisation",
-            subcategory="ratios formulation",
-        ),
-        designs=report(
-            f"{RESULTS}/figures/ratios/pareto_designs.png",
-            caption="../report/pareto_designs.rst",
-            category="4. Optimisation",
-            subcategory="ratios formulation",
-        ),
-    params:
-        code=code("optimize.py"),
-        formulation="ratios",
-        optimization=optimization_settings(),
-        ratio_bounds=config["sampling"]["bounds"],
-        operating_range=config["operating_range"],
-        task_points=config["task"]["points"],
-        scale=config["scale"],
-        workspace=fit_workspace(),
-        filters=config["filters"],
-    log:
-        f"{RESULTS}/logs/optimize_ratios.log",
-    benchmark:
-        f"{RESULTS}/benchmarks/optimize_ratios.tsv"
-
-
 rule verify_pareto:
     input:
         pareto=rules.optimize.output.pareto,
     output:
-        table=f"{OPT}/verification.parquet",
-        summary=f"{OPT}/verification.json",
+        table=f"{OPT}/{{formulation}}/verification.parquet",
+        summary=f"{OPT}/{{formulation}}/verification.json",
     params:
         code=code("verify_pareto.py"),
         operating_range=config["operating_range"],
@@ -112,32 +77,20 @@ rule verify_pareto:
         duty=config["dynamics"]["duty"],
         payload_kg=config["task"]["payload_kg"],
         ratio_bounds=config["sampling"]["bounds"],
+        build_volume_mm=config["printing"]["build_volume_mm"],
     log:
-        f"{RESULTS}/logs/verify_pareto.log",
+        f"{RESULTS}/logs/verify_pareto/{{formulation}}.log",
     benchmark:
-        f"{RESULTS}/benchmarks/verify_pareto.tsv"
+        f"{RESULTS}/benchmarks/verify_pareto/{{formulation}}.tsv"
     conda:
         ENV
     script:
         "../scripts/verify_pareto.py"
 
 
-use rule verify_pareto as verify_pareto_ratios with:
-    input:
-        pareto=rules.optimize_ratios.output.pareto,
-    output:
-        table=f"{OPT}/ratios/verification.parquet",
-        summary=f"{OPT}/ratios/verification.json",
-    log:
-        f"{RESULTS}/logs/verify_pareto_ratios.log",
-    benchmark:
-        f"{RESULTS}/benchmarks/verify_pareto_ratios.tsv"
-
-
 rule compare_fronts:
     input:
-        paper=rules.verify_pareto.output.table,
-        ratios=rules.verify_pareto_ratios.output.table,
+        fronts=expand(f"{OPT}/{{formulation}}/verification.parquet", formulation=FORMULATIONS),
         dataset=rules.gather_dataset.output.dataset,
     output:
         summary=report(
@@ -148,6 +101,7 @@ rule compare_fronts:
         data=f"{OPT}/comparison.json",
     params:
         code=code("compare_fronts.py"),
+        formulations=FORMULATIONS,
         primary=config["optimization"]["formulation"],
     log:
         f"{RESULTS}/logs/compare_fronts.log",

@@ -7,8 +7,8 @@ STAGE6_OUTPUTS = [f"{REAL}/torques.json", f"{REAL}/payload_test.json"]
 
 rule select_design:
     input:
-        paper=rules.verify_pareto.output.table,
-        ratios=rules.verify_pareto_ratios.output.table,
+        fronts=expand(f"{OPT}/{{formulation}}/verification.parquet", formulation=FORMULATIONS),
+        dataset=rules.gather_dataset.output.dataset,
     output:
         selected=f"{REAL}/selected.json",
         figure=report(
@@ -21,6 +21,7 @@ rule select_design:
         printing=config["printing"],
         cad=config["cad"],
         primary=config["optimization"]["formulation"],
+        formulations=FORMULATIONS,
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
     log:

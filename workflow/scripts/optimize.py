@@ -1,9 +1,9 @@
-"""Rules optimize and optimize_ratios: NSGA-II on the surrogate; tables and figures."""
+"""Rule optimize: NSGA-II on the surrogate in one formulation; tables and figures."""
 
 from qsm.dataset import DATASET_COLUMNS, ok_rows
 from qsm.logs import logged
 from qsm.mechanisms import FitSettings
-from qsm.optimize import optimise
+from qsm.optimize import ExtraConstraints, optimise
 from qsm.plots import pareto_figures, representatives_figure
 from qsm.surrogate import load
 from qsm.tables import read_table, write_table
@@ -22,8 +22,16 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         if generation % every == 0:
             log.info("generation %d: hypervolume %.4f", generation, hypervolume)
 
-    tables = optimise(p.formulation, model, dataset, p.optimization, fit, p.ratio_bounds, progress)
-    meta = {"formulation": p.formulation, "settings": dict(p.optimization)}
+    extra = ExtraConstraints.from_settings(p.constraints, fit)
+    log.info("%s formulation, constraints: %s", p.formulation, extra.label(p.formulation))
+    tables = optimise(
+        p.formulation, model, dataset, p.optimization, fit, p.ratio_bounds, extra, progress
+    )
+    meta = {
+        "formulation": p.formulation,
+        "constraints": tables.constraints,
+        "settings": dict(p.optimization),
+    }
     write_table(tables.pareto, out.pareto, meta)
     write_table(tables.last_generations, out.generations, meta)
     write_table(tables.hypervolume, out.hypervolume, meta)
@@ -32,3 +40,4 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         tables.pareto, fit.op, fit.disk, p.optimization["n_representatives"], out.designs
     )
     log.info("%s formulation: %d Pareto designs", p.formulation, len(tables.pareto))
+    log.info("constraints met: %s", tables.constraints)

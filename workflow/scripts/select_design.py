@@ -1,13 +1,14 @@
-"""Rule select_design: the printable, truly feasible Pareto design chosen by the config's rule."""
+"""Rule select_design: the design to realise, printable if any is, truly feasible always."""
 
 import json
 
 import matplotlib.pyplot as plt
 
-from qsm.dataset import cad_settings
+from qsm.dataset import DATASET_COLUMNS, cad_settings, ok_rows
 from qsm.logs import logged
 from qsm.plots import draw_design
-from qsm.realization import select_printable, selection_record
+from qsm.realization import selection_record
+from qsm.selection import advice_sentences, choose_design, printing_advice
 from qsm.tables import read_table
 from qsm.task import min_enclosing_circle
 from qsm.workspace import OperatingRange
@@ -16,15 +17,30 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
     inp = snakemake.input  # noqa: F821
     out = snakemake.output  # noqa: F821
-    fronts = {"paper": read_table(inp.paper), "ratios": read_table(inp.ratios)}
+    fronts = {name: read_table(path) for name, path in zip(p.formulations, inp.fronts, strict=True)}
+    dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
     rule = p.printing["selection_rule"]
-    row, fallback = select_printable(
-        fronts, p.primary, rule, cad_settings(p.cad), tuple(p.printing["build_volume_mm"])
-    )
+    cad = cad_settings(p.cad)
+    volume = tuple(p.printing["build_volume_mm"])
+    disk = min_enclosing_circle(p.task_points)
+    row, how = choose_design(fronts, p.primary, dataset, rule, cad, volume)
     record = selection_record(row)
-    record["fallback"] = fallback
-    if fallback:
-        log.warning("chose from the %s front because %s", record["formulation"], fallback)
+    record.update(how)
+    for line in how["fallback"]:
+        log.warning("skipped: %s", line)
+    if not how["printable"]:
+        advice = printing_advice(record["design_m"], cad, volume, disk)
+        record["printing_advice"] = advice
+        record["verdict"] = (
+            "NOT PRINTABLE on the configured printer: no design of the fronts or the dataset fits "
+            "it. What would change that: " + "; ".join(advice_sentences(advice, cad)) + "."
+        )
+        log.warning(record["verdict"])
+    else:
+        record["verdict"] = (
+            f"printable on {' x '.join(f'{v:g}' for v in volume)} mm, chosen from the "
+            f"{how['source']} {'designs' if how['source'] == 'dataset' else 'front'}"
+        )
     with open(out.selected, "w") as fh:
         json.dump(record, fh, indent=2)
     op = OperatingRange.from_degrees(
@@ -32,11 +48,12 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     )
     fig, ax = plt.subplots(figsize=(6, 6))
     title = (
-        f"selected ({rule}, {record['formulation']} front): l1 {record['scale_m']:.3f} m\n"
+        f"selected ({rule}, {record['formulation']}"
+        f"{'' if how['printable'] else ', NOT PRINTABLE'}): l1 {record['scale_m']:.3f} m\n"
         f"eta {record['eta_true']:.3f}, tau1 {record['tau1_true_Nm']:.1f} N m, "
         f"tau2 {record['tau2_true_Nm']:.1f} N m"
     )
-    draw_design(ax, record["design_m"], op, min_enclosing_circle(p.task_points), title)
+    draw_design(ax, record["design_m"], op, disk, title)
     fig.savefig(out.figure, dpi=110, bbox_inches="tight")
     plt.close(fig)
-    log.info("selected %s among %d candidates", record["design_m"], record["n_candidates"])
+    log.info("selected %s: %s", record["design_m"], record["verdict"])

@@ -1,4 +1,4 @@
-"""Rules verify_pareto and verify_pareto_ratios: the Pareto designs under the true physics."""
+"""Rule verify_pareto: one formulation's Pareto designs under the true physics."""
 
 import json
 
@@ -8,20 +8,30 @@ from qsm.logs import logged
 from qsm.mechanisms import FitSettings
 from qsm.optimize import PREDICTION_COLUMNS
 from qsm.surrogate import INPUTS
-from qsm.tables import read_table, write_table
+from qsm.tables import read_meta, read_table, write_table
 from qsm.verify import TRUE_COLUMNS, summary, verify_front
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
     out = snakemake.output  # noqa: F821
-    pareto = read_table(snakemake.input.pareto, [*INPUTS, *PREDICTION_COLUMNS])  # noqa: F821
+    path = snakemake.input.pareto  # noqa: F821
+    pareto = read_table(path, [*INPUTS, *PREDICTION_COLUMNS])
+    meta = read_meta(path)
     fit = FitSettings.from_sections(
         p.operating_range, p.task_points, p.scale, p.workspace, p.filters
     )
     duty = duty_cycle(duty_settings(p.duty, p.operating_range))
-    table = verify_front(pareto, fit, duty, cad_settings(p.cad), p.payload_kg, p.ratio_bounds)
-    result = summary(table)
-    write_table(table, out.table, {"columns": TRUE_COLUMNS})
+    table = verify_front(
+        pareto, fit, duty, cad_settings(p.cad), p.payload_kg, p.ratio_bounds, p.build_volume_mm
+    )
+    result = {"formulation": meta.get("formulation"), "constraints": meta.get("constraints")}
+    result.update(summary(table))
+    write_table(table, out.table, {"columns": TRUE_COLUMNS, **result})
     with open(out.summary, "w") as fh:
         json.dump(result, fh, indent=2)
-    log.info("verification: %s", result)
+    log.info(
+        "%d designs: %.0f %% truly hold the task, %.0f %% printable",
+        result["n"],
+        100 * result["holds_task_share"],
+        100 * result["printable_share"],
+    )

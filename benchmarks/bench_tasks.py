@@ -1,0 +1,183 @@
+"""Run the whole workflow on a suite of tasks and tabulate what each front delivers.
+
+Each task (points, payload) runs in a fresh copy of the workflow at a reduced size (``--samples``
+LHS samples, ``--mechanisms`` mechanisms; default 30,000 / 2,000), everything else from
+config/config.yaml, on the real 600 x 350 x 350 mm printer. Per task it prints one table row:
+feasible mechanisms; per front the share of Pareto designs that truly hold the task and the share
+that is printable; the selected design (printable or not, its true peak torques); wall time. A
+run that stops (a rejected config, a task nothing holds) shows its error instead.
+
+    python benchmarks/bench_tasks.py [--tasks default near_light ...] [--out tasks.json]
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+from typing import Any
+
+import yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+
+#: name: (what it exercises, task points in m, payload in kg)
+TASKS: dict[str, tuple[str, list[list[float]], float]] = {
+    "default": (
+        "palletising cell 0.62 m out, 0.11 m circle",
+        [[-0.53, 0.17], [-0.70, 0.02], [-0.60, 0.02], [-0.70, 0.12], [-0.60, 0.12]],
+        5.0,
+    ),
+    "near_light": ("0.35 m out, 0.04 m circle, 1 kg", [[-0.38, 0.05], [-0.30, 0.05]], 1.0),
+    "far_heavy": (
+        "1.0 m out, 0.2 m circle, 10 kg",
+        [[-1.15, 0.0], [-0.75, 0.0], [-0.95, 0.15]],
+        10.0,
+    ),
+    "above_wide": (
+        "high on the left (polar 115 deg), 0.15 m circle, 3 kg",
+        [[-0.35, 0.55], [-0.15, 0.65], [-0.25, 0.42]],
+        3.0,
+    ),
+    "below_heavy": (
+        "below the base (polar 215 deg), 0.08 m circle, 8 kg",
+        [[-0.55, -0.30], [-0.45, -0.42]],
+        8.0,
+    ),
+    "single_point": ("one point", [[-0.6, 0.1]], 5.0),
+    "impossible": (
+        "a circle round the base, which nothing can hold",
+        [[-0.5, 0.0], [0.5, 0.0]],
+        5.0,
+    ),
+}
+
+
+def copy_workflow(dest: Path) -> None:
+    """What a run needs: Snakefile, workflow, config, src."""
+    shutil.copy2(ROOT / "Snakefile", dest / "Snakefile")
+    for name in ("workflow", "config", "src"):
+        shutil.copytree(
+            ROOT / name,
+            dest / name,
+            symlinks=True,
+            ignore=shutil.ignore_patterns("__pycache__", "*.egg-info"),
+        )
+
+
+def row(work: Path, name: str) -> dict[str, Any]:
+    """Figures of a finished run."""
+    res = work / "results"
+    filters = json.loads((res / "mechanisms/filter_report.json").read_text())
+    fronts = json.loads((res / "optimization/comparison.json").read_text())["fronts"]
+    selected = json.loads((res / "realization/selected.json").read_text())
+    return {
+        "task": name,
+        "feasible_mechanisms": filters["task_fits"],
+        "samples": filters["samples"],
+        "fronts": {
+            k: {
+                "holds_task": v["holds_task_share"],
+                "printable": v["printable_share"],
+                "feasible_and_printable": v["feasible_and_printable_share"],
+                "median_rel_error": v["median_rel_error"],
+                "true_hypervolume": v["true_hypervolume"],
+            }
+            for k, v in fronts.items()
+        },
+        "selected": {
+            "source": selected["source"],
+            "printable": selected["printable"],
+            "tau1_true_Nm": selected["tau1_true_Nm"],
+            "tau2_true_Nm": selected["tau2_true_Nm"],
+            "scale_m": selected["scale_m"],
+            "needed_volume_mm": selected.get("printing_advice", {}).get("needed_volume_mm"),
+        },
+    }
+
+
+def run_task(name: str, samples: int, mechanisms: int, cores: int) -> dict[str, Any]:
+    """Run the default target for one task in a fresh directory; its row or its error."""
+    _, points, payload = TASKS[name]
+    with tempfile.TemporaryDirectory(prefix=f"qsm-task-{name}-") as tmp:
+        work = Path(tmp)
+        copy_workflow(work)
+        overlay = {
+            "sampling": {"n_samples": samples, "n_mechanisms": mechanisms},
+            "task": {"points": points, "payload_kg": payload},
+        }
+        (work / "task.yaml").write_text(yaml.safe_dump(overlay))
+        cmd = [sys.executable, "-m", "snakemake", "--cores", str(cores)]
+        cmd += ["--configfile", "config/config.yaml", "task.yaml"]
+        start = time.perf_counter()
+        out = subprocess.run(cmd, cwd=work, capture_output=True, text=True, check=False)
+        wall = time.perf_counter() - start
+        if out.returncode != 0:
+            text = out.stdout + out.stderr
+            error = next(
+                (line.strip() for line in text.splitlines() if "task.points" in line),
+                text.strip().splitlines()[-1] if text.strip() else "failed",
+            )
+            return {"task": name, "error": error, "wall_s": wall}
+        result = row(work, name)
+        result["wall_s"] = wall
+        return result
+
+
+def markdown(rows: list[dict[str, Any]]) -> str:
+    """One table row per task."""
+    lines = [
+        "| task | what | feasible mechanisms | paper: hold task / printable "
+        "| ratios: hold task / printable | selected: source, printable, tau1 / tau2 (N m) "
+        "| wall (s) |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for r in rows:
+        what = TASKS[r["task"]][0] + f", {TASKS[r['task']][2]:g} kg"
+        if "error" in r:
+            lines.append(
+                f"| {r['task']} | {what} | stopped: {r['error']} | | | | {r['wall_s']:.0f} |"
+            )
+            continue
+        cells = []
+        for front in ("paper", "ratios"):
+            f = r["fronts"].get(front)
+            cells.append(
+                f"{100 * f['holds_task']:.0f} % / {100 * f['printable']:.0f} %" if f else "-"
+            )
+        s = r["selected"]
+        sel = (
+            f"{s['source']}, {'printable' if s['printable'] else 'NOT printable'}, "
+            f"{s['tau1_true_Nm']:.1f} / {s['tau2_true_Nm']:.1f}"
+        )
+        lines.append(
+            f"| {r['task']} | {what} | {r['feasible_mechanisms']:,} of {r['samples']:,} "
+            f"| {cells[0]} | {cells[1]} | {sel} | {r['wall_s']:.0f} |"
+        )
+    return "\n".join(lines)
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--tasks", nargs="+", default=list(TASKS), choices=list(TASKS))
+    parser.add_argument("--samples", type=int, default=30_000)
+    parser.add_argument("--mechanisms", type=int, default=2_000)
+    parser.add_argument("--cores", type=int, default=2)
+    parser.add_argument("--out", type=Path, help="also write the rows as JSON here")
+    args = parser.parse_args()
+    rows = []
+    for name in args.tasks:
+        rows.append(run_task(name, args.samples, args.mechanisms, args.cores))
+        print(f"{name}: {json.dumps(rows[-1])}", flush=True)
+    print(markdown(rows))
+    if args.out:
+        args.out.write_text(json.dumps(rows, indent=2))
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,180 @@
+"""The design to realise, on any task: printable if anything is, and truly feasible always.
+
+Order of the search (:func:`choose_design`), each step applying the selection rule of
+:func:`qsm.printing.select_design` to its candidates:
+
+1. the printable, truly feasible designs of the primary front (``optimization.formulation``);
+2. the same on the other fronts, in order;
+3. the printable designs of the dataset (every one truly holds the task, with true dynamics);
+4. without any printable design: the truly feasible designs of the primary front, the other
+   fronts, then the dataset, marked *not printable*, with what it would take to print them
+   (:func:`printing_advice`).
+
+Every step that is skipped is recorded with its counts, so the output says why it fell back.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+import pandas as pd
+
+from qsm.cad import CadSettings
+from qsm.constraints import (
+    box_excess_mm,
+    link_boxes_mm,
+    printability_violation_mm,
+    smallest_build_volume_mm,
+)
+from qsm.kinematics import DESIGN_COLUMNS
+from qsm.printing import OBJECTIVES, all_links_fit, select_design
+from qsm.task import Disk
+
+
+class NoFeasibleDesign(ValueError):
+    """Neither a front nor the dataset holds a truly feasible design."""
+
+
+def dataset_candidates(dataset: pd.DataFrame) -> pd.DataFrame:
+    """Dataset rows (every one holds the task at its scale) in the shape of a verified front."""
+    out = dataset.loc[:, ["mechanism_id", *DESIGN_COLUMNS]].copy()
+    out["scale_m"] = dataset["scale_m"]
+    out["eta_true"] = dataset["eta"]
+    out["tau1_true_Nm"] = dataset["tau1_Nm"]
+    out["tau2_true_Nm"] = dataset["tau2_Nm"]
+    out["feasible"] = True
+    out["dynamics_status"] = dataset["status"]
+    return out.reset_index(drop=True)
+
+
+def _feasible(table: pd.DataFrame) -> pd.DataFrame:
+    ok = table[table["feasible"].astype(bool) & table["dynamics_status"].eq("ok")]
+    return ok[np.isfinite(ok.loc[:, list(OBJECTIVES)].to_numpy(float)).all(axis=1)]
+
+
+def _printable(table: pd.DataFrame, cad: CadSettings, volume_mm: tuple[float, ...]) -> pd.Series:
+    """Whether every link fits, decided by :func:`qsm.printing.all_links_fit` on the outlines
+    (the closed-form boxes only pre-screen the designs clearly too large)."""
+    designs = table.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)
+    near = printability_violation_mm(designs, cad, volume_mm) <= 0.5
+    fits = np.zeros(len(table), dtype=bool)
+    fits[near] = [all_links_fit(d, cad, volume_mm) for d in designs[near]]
+    return pd.Series(fits, index=table.index)
+
+
+def choose_design(
+    fronts: Mapping[str, pd.DataFrame],
+    primary: str,
+    dataset: pd.DataFrame,
+    rule: str,
+    cad: CadSettings,
+    volume_mm: tuple[float, float, float],
+) -> tuple[pd.Series, dict[str, Any]]:
+    """The design to realise (see the module docstring) and how it was found.
+
+    Returns the row and ``{"source", "printable", "fallback"}``: the front or ``dataset`` it came
+    from, whether it fits the printer, and one line per skipped step with its counts.
+    """
+    sources = {name: fronts[name] for name in [primary, *(k for k in fronts if k != primary)]}
+    sources["dataset"] = dataset_candidates(dataset)
+    feasible = {name: _feasible(table) for name, table in sources.items()}
+    skipped: list[str] = []
+    for name, table in feasible.items():
+        fits = _printable(table, cad, volume_mm)
+        what = "front" if name != "dataset" else "designs"
+        if fits.any():
+            row = select_design(table[fits], rule, cad, volume_mm)
+            return _tag(row, name, True), {"source": name, "printable": True, "fallback": skipped}
+        skipped.append(
+            f"{name} {what}: {len(sources[name])} designs, {len(table)} truly feasible, "
+            f"0 printable on {' x '.join(f'{v:g}' for v in volume_mm)} mm"
+        )
+    for name, table in feasible.items():
+        if len(table):
+            row = select_design(table, rule, cad, (np.inf, np.inf, np.inf))
+            return _tag(row, name, False), {"source": name, "printable": False, "fallback": skipped}
+    raise NoFeasibleDesign(
+        "no truly feasible design on any front nor in the dataset: " + "; ".join(skipped)
+    )
+
+
+def _tag(row: pd.Series, source: str, printable: bool) -> pd.Series:
+    row = row.copy()
+    row["formulation"] = source
+    row["printable"] = printable
+    return row
+
+
+def printing_advice(
+    design: np.ndarray, cad: CadSettings, volume_mm: tuple[float, float, float], disk: Disk
+) -> dict[str, Any]:
+    """What would make ``design`` (6 lengths, m) printable, each with numbers for this design.
+
+    ``needed_volume_mm``: the smallest build volume (sorted, mm); ``scale_factor``: the largest
+    factor k <= 1 with k x design printable (None if none) and the task it then holds (the task
+    disk scaled by k about the base: containment does not depend on the scale);
+    ``max_boss_radius_mm``: the largest boss radius that lets every link fit with the bar width
+    unchanged (None if even width_m / 2 is too large).
+    """
+    d = np.asarray(design, dtype=float)
+    vol = np.sort(np.asarray(volume_mm, dtype=float))
+    out: dict[str, Any] = {
+        "needed_volume_mm": smallest_build_volume_mm(d, cad)[0].tolist(),
+        "build_volume_mm": [float(v) for v in volume_mm],
+    }
+    if box_excess_mm(d * 1e-6, cad, volume_mm)[0] > 0:  # the bosses or the plate alone
+        out["scale_factor"] = None
+    else:  # the boxes grow with the scale: bisect for the largest factor that fits
+        lo, hi = 1e-6, 1.0
+        for _ in range(60):
+            mid = 0.5 * (lo + hi)
+            fits = box_excess_mm(d * mid, cad, volume_mm)[0] <= 0
+            lo, hi = (mid, hi) if fits else (lo, mid)
+        out["scale_factor"] = lo
+        out["scaled_l1_m"] = float(lo * d[0])
+        out["scaled_task_distance_m"] = lo * disk.distance
+        out["scaled_task_radius_m"] = lo * disk.radius
+    boxes = link_boxes_mm(d, cad)[0]  # (4, 3): x, y, thickness
+    bare = np.sort(np.column_stack([boxes[:, :2] - 2e3 * cad.boss_radius_m, boxes[:, 2]]), axis=1)
+    # with boss radius r (mm) a link's in-plane sides are bare + 2 r; the largest r that fits
+    limits = []
+    for link in bare:
+        best = 0.0
+        for r in np.linspace(1e3 * cad.width_m / 2, 1e3 * cad.boss_radius_m, 201)[::-1]:
+            sides = np.sort(np.concatenate([link[1:] + 2 * r, [1e3 * cad.thickness_m]]))
+            if np.all(sides <= vol + 1e-9):
+                best = r
+                break
+        limits.append(best)
+    r_max = min(limits)
+    out["max_boss_radius_mm"] = float(r_max) if r_max > 1e3 * cad.width_m / 2 else None
+    return out
+
+
+def advice_sentences(advice: Mapping[str, Any], cad: CadSettings) -> list[str]:
+    """The advice as plain sentences, every number from ``advice``."""
+    need = " x ".join(f"{v:.0f}" for v in advice["needed_volume_mm"])
+    have = " x ".join(f"{v:g}" for v in advice["build_volume_mm"])
+    lines = [f"a printer of at least {need} mm (configured: {have} mm)"]
+    k = advice.get("scale_factor")
+    if k is not None:
+        lines.append(
+            f"a nearer, smaller task: this design scaled by {k:.3f} (l1 "
+            f"{advice['scaled_l1_m']:.3f} m) fits and holds the task circle scaled by the same "
+            f"factor towards the base (centre {advice['scaled_task_distance_m']:.3f} m from the "
+            f"base, radius {advice['scaled_task_radius_m']:.3f} m)"
+        )
+    r = advice.get("max_boss_radius_mm")
+    if r is not None:
+        lines.append(
+            f"a thinner section: joint bosses of radius {r:.1f} mm or less (cad.boss_radius_m, "
+            f"now {1e3 * cad.boss_radius_m:g} mm)"
+        )
+    else:
+        lines.append(
+            "no thinner section: with the smallest bosses the bar width allows "
+            f"(cad.width_m / 2 = {500 * cad.width_m:g} mm) a link still exceeds the printer"
+        )
+    return lines

@@ -1,0 +1,86 @@
+"""The choice of the design to realise on any task: fallbacks, the not-printable verdict and the
+advice's numbers, checked by hand and against the box check."""
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from qsm.cad import CadSettings
+from qsm.constraints import box_excess_mm
+from qsm.kinematics import DESIGN_COLUMNS
+from qsm.selection import NoFeasibleDesign, advice_sentences, choose_design, printing_advice
+from qsm.task import Disk
+
+CAD = CadSettings()
+PRINTER = (600.0, 350.0, 350.0)
+SMALL = [0.30, 0.10, 0.30, 0.15, 0.36, 0.12]  # upper arm 560 mm long: fits
+LARGE = [0.40, 0.12, 0.40, 0.20, 0.48, 0.16]  # upper arm 730 mm long: does not fit
+
+
+def front(designs, feasible, tau1):
+    table = pd.DataFrame(designs, columns=list(DESIGN_COLUMNS))
+    table["scale_m"] = table["l1_m"]
+    table["eta_true"] = 0.1
+    table["tau1_true_Nm"] = tau1
+    table["tau2_true_Nm"] = 10.0
+    table["feasible"] = feasible
+    table["dynamics_status"] = "ok"
+    return table
+
+
+def dataset(designs, tau1):
+    table = pd.DataFrame(designs, columns=list(DESIGN_COLUMNS))
+    table["mechanism_id"] = np.arange(len(table))
+    table["scale_m"] = table["l1_m"]
+    table["eta"], table["tau1_Nm"], table["tau2_Nm"], table["status"] = 0.1, tau1, 10.0, "ok"
+    return table
+
+
+def test_primary_front_first():
+    fronts = {"ratios": front([SMALL, LARGE], True, [50.0, 40.0]), "paper": front([SMALL], True, 1)}
+    row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0), "min_tau1", CAD, PRINTER)
+    assert how == {"source": "ratios", "printable": True, "fallback": []}
+    assert row["tau1_true_Nm"] == 50.0  # the larger design has less torque but does not fit
+
+
+def test_falls_back_to_the_other_front_then_the_dataset():
+    fronts = {"ratios": front([SMALL], False, 5.0), "paper": front([LARGE], True, 5.0)}
+    row, how = choose_design(fronts, "ratios", dataset([SMALL], 70.0), "knee", CAD, PRINTER)
+    assert how["source"] == "dataset" and how["printable"]
+    assert how["fallback"][0].startswith("ratios front: 1 designs, 0 truly feasible")
+    assert how["fallback"][1].startswith("paper front: 1 designs, 1 truly feasible, 0 printable")
+    assert row["tau1_true_Nm"] == 70.0
+
+
+def test_nothing_printable_gives_the_best_feasible_design_marked():
+    fronts = {"ratios": front([LARGE, LARGE], True, [30.0, 20.0])}
+    row, how = choose_design(fronts, "ratios", dataset([LARGE], 1.0), "min_tau1", CAD, PRINTER)
+    assert how["source"] == "ratios" and not how["printable"] and len(how["fallback"]) == 2
+    assert row["tau1_true_Nm"] == 20.0
+
+
+def test_nothing_feasible_anywhere_raises():
+    fronts = {"ratios": front([SMALL], False, 5.0)}
+    with pytest.raises(NoFeasibleDesign, match="ratios front: 1 designs, 0 truly feasible"):
+        choose_design(fronts, "ratios", dataset([], 1.0).iloc[:0], "knee", CAD, PRINTER)
+
+
+def test_advice_by_hand():
+    # the upper arm is the longest part: l4 + ee_x + 2 r = 200 + 480 + 50 = 730 mm
+    disk = Disk((-0.9, 0.1), 0.2)
+    advice = printing_advice(np.array(LARGE), CAD, PRINTER, disk)
+    np.testing.assert_allclose(advice["needed_volume_mm"], [730, 210, 20])
+    k = (600 - 50) / (730 - 50)  # the bosses do not scale
+    assert advice["scale_factor"] == pytest.approx(k, rel=1e-9)
+    assert advice["scaled_task_distance_m"] == pytest.approx(k * disk.distance)
+    assert box_excess_mm(np.array(LARGE) * k * 1.001, CAD, PRINTER)[0] > 0
+    assert advice["max_boss_radius_mm"] is None  # 730 - 50 = 680 mm of bare link > 600 mm
+    text = " ".join(advice_sentences(advice, CAD))
+    assert "at least 730 x 210 x 20 mm" in text and f"scaled by {k:.3f}" in text
+
+
+def test_advice_finds_the_boss_radius_that_fits():
+    # SMALL's upper arm is 150 + 360 = 510 mm between its outer joints: on a 555 mm printer
+    # bosses of radius up to (555 - 510) / 2 = 22.5 mm let it fit (it has 25 mm)
+    advice = printing_advice(np.array(SMALL), CAD, (555.0, 350.0, 350.0), Disk((-0.6, 0), 0.1))
+    assert advice["max_boss_radius_mm"] == pytest.approx(22.5, abs=0.03)
