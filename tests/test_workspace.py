@@ -127,7 +127,7 @@ def test_infeasible_reasons():
 
 def test_union_and_margin_of_hand_made_arcs():
     """Arcs from different branches can overlap: the union and the centred margin chain them."""
-    from qsm.workspace import margin_about_zero, _union_length
+    from qsm.workspace import _union_length, margin_about_zero
 
     # per level (column): intervals (rows) [start, end]
     starts = np.array([[-0.3, -0.3, 0.2, -1.0], [0.05, 0.5, 0.3, -0.5], [0.35, 0.6, 0.4, 0.9]])

@@ -35,10 +35,10 @@ from qsm.kinematics import as_design
 from qsm.task import Disk
 from qsm.workspace import (
     OperatingRange,
-    margin_about_zero,
-    wrap_about,
     arcs,
     disk_arc_half_width,
+    margin_about_zero,
+    wrap_about,
 )
 
 #: Violation (m) given to a design whose loop does not close over the operating range.
