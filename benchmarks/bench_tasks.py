@@ -33,19 +33,19 @@ TASKS: dict[str, tuple[str, list[list[float]], float]] = {
         [[-0.53, 0.17], [-0.70, 0.02], [-0.60, 0.02], [-0.70, 0.12], [-0.60, 0.12]],
         5.0,
     ),
-    "near_light": ("0.35 m out, 0.04 m circle, 1 kg", [[-0.38, 0.05], [-0.30, 0.05]], 1.0),
+    "near_light": ("0.35 m out, 0.04 m circle", [[-0.38, 0.05], [-0.30, 0.05]], 1.0),
     "far_heavy": (
-        "1.0 m out, 0.2 m circle, 10 kg",
+        "1.0 m out, 0.2 m circle",
         [[-1.15, 0.0], [-0.75, 0.0], [-0.95, 0.15]],
         10.0,
     ),
     "above_wide": (
-        "high on the left (polar 115 deg), 0.15 m circle, 3 kg",
+        "high on the left (polar 112 deg), 0.13 m circle",
         [[-0.35, 0.55], [-0.15, 0.65], [-0.25, 0.42]],
         3.0,
     ),
     "below_heavy": (
-        "below the base (polar 215 deg), 0.08 m circle, 8 kg",
+        "below the base (polar 216 deg), 0.08 m circle",
         [[-0.55, -0.30], [-0.45, -0.42]],
         8.0,
     ),
@@ -132,9 +132,9 @@ def run_task(name: str, samples: int, mechanisms: int, cores: int) -> dict[str, 
 def markdown(rows: list[dict[str, Any]]) -> str:
     """One table row per task."""
     lines = [
-        "| task | what | feasible mechanisms | paper: hold task / printable "
-        "| ratios: hold task / printable | selected: source, printable, tau1 / tau2 (N m) "
-        "| wall (s) |",
+        "| task | what | feasible mechanisms | paper: hold task / printable / true HV "
+        "| ratios: hold task / printable / true HV "
+        "| selected: source, printable, tau1 / tau2 (N m) | wall (s) |",
         "| --- | --- | --- | --- | --- | --- | --- |",
     ]
     for r in rows:
@@ -148,7 +148,10 @@ def markdown(rows: list[dict[str, Any]]) -> str:
         for front in ("paper", "ratios"):
             f = r["fronts"].get(front)
             cells.append(
-                f"{100 * f['holds_task']:.0f} % / {100 * f['printable']:.0f} %" if f else "-"
+                f"{100 * f['holds_task']:.0f} % / {100 * f['printable']:.0f} % / "
+                f"{f['true_hypervolume']:.3f}"
+                if f
+                else "-"
             )
         s = r["selected"]
         sel = (

@@ -40,7 +40,7 @@ def test_payload_reruns_dynamics_but_not_the_workspace(run, tmp_path):
 
 
 def test_choosing_the_primary_front_does_not_rerun_the_optimisation(run, tmp_path):
-    jobs = planned_jobs(run, configs=override(tmp_path, "optimization: {formulation: paper}"))
+    jobs = planned_jobs(run, configs=override(tmp_path, "optimization: {formulation: ratios}"))
     assert "decision_trees" in jobs and "design_rules_summary" in jobs
     assert not {"optimize", "verify_pareto", "train_surrogate"} & set(jobs)
 
