@@ -1,5 +1,6 @@
 # qsm-design: generative design of quasi-serial manipulators (Lee, Yang, Kang).
 # The logic lives in the `qsm` package (src/qsm); rules are in workflow/rules, one file per stage.
+import os
 import sys
 from pathlib import Path
 
@@ -14,10 +15,15 @@ sys.path.insert(0, str(Path(workflow.basedir) / "src"))
 
 from qsm.config import validate_config  # noqa: E402
 
+# Jobs draw figures without a display; the library leaves the backend to its caller.
+os.environ.setdefault("MPLBACKEND", "Agg")
+
+
 configfile: "config/config.yaml"
 
 
 report: "workflow/report/workflow.rst"
+
 
 validate_config(config)
 
@@ -33,6 +39,7 @@ include: "workflow/rules/summary.smk"
 
 
 rule all:
+    default_target: True
     input:
         STAGE1_OUTPUTS,
         STAGE2_OUTPUTS,
@@ -41,4 +48,3 @@ rule all:
         STAGE5_OUTPUTS,
         STAGE6_OUTPUTS,
         f"{RESULTS}/summary.md",
-    default_target: True

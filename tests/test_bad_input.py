@@ -27,6 +27,7 @@ def finished(run, tmp_path):
         ("dynamics: {shards: 0}", "config key 'dynamics.shards': 0 is less than the minimum of 1"),
         ("optimization: {formulation: best}", "config key 'optimization.formulation'"),
         ("task: {points: [[-0.6, 0.1]]}", "config key 'task.points': the points span a circle"),
+        ("cad: {width_m: 5.0}", "config key 'cad.boss_radius_m': 0.025 m must exceed half"),
         ("task: {points: [[-0.6, .nan], [-0.5, 0.1]]}", "config key 'task.points': every"),
         (
             "optimization: {formulation: paper, formulations: [ratios]}",

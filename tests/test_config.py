@@ -28,6 +28,32 @@ def test_shipped_configs_are_valid_and_config_yaml_spells_out_the_defaults():
     validate_config(test)
 
 
+def _schema_keys(props, prefix=""):
+    out = set()
+    for name, prop in props.items():
+        if prop.get("type") == "object" and "properties" in prop:
+            out |= _schema_keys(prop["properties"], f"{prefix}{name}.")
+        else:
+            out.add(prefix + name)
+    return out
+
+
+def _keys(mapping, prefix=""):
+    out = set()
+    for name, value in mapping.items():
+        out |= _keys(value, f"{prefix}{name}.") if isinstance(value, dict) else {prefix + name}
+    return out
+
+
+def test_config_yaml_names_every_key_of_the_schema():
+    """A user finds every key in config/config.yaml, each with a comment on its section."""
+    text = (ROOT / "config" / "config.yaml").read_text()
+    assert _keys(yaml.safe_load(text)) == _schema_keys(schema()["properties"])
+    for line in text.splitlines():  # every section and key line has its comment
+        if line.strip() and not line.lstrip().startswith(("#", "- ")):
+            assert "#" in line, line
+
+
 def test_workflow_schema_is_the_package_schema():
     shipped = yaml.safe_load((ROOT / "workflow" / "schemas" / "config.schema.yaml").read_text())
     assert shipped == schema()
@@ -49,6 +75,16 @@ def test_workflow_schema_is_the_package_schema():
         ({"task": {"payload_kg": -1}}, "'task.payload_kg'"),
         ({"workspace": {"shards": 0}}, "'workspace.shards'"),
         ({"scale": {"safety_margin_m": -0.1}}, "'scale.safety_margin_m'"),
+        ({"task": {"points": [[-0.6, 0.1]]}}, "'task.points': the points span a circle"),
+        ({"task": {"points": [[-0.6, 0.1], [-0.6, 0.1]]}}, "'task.points': the points span"),
+        ({"task": {"points": [[float("nan"), 0.1], [-0.5, 0.1]]}}, "'task.points': every"),
+        ({"task": {"points": [[float("inf"), 0.1], [-0.5, 0.1]]}}, "'task.points': every"),
+        ({"payload_test": {"gripper_kg": 6.0}}, "'payload_test.gripper_kg': 6.0 kg exceeds"),
+        ({"optimization": {"formulations": ["ratios"]}}, "'optimization.formulation'"),
+        ({"cad": {"width_m": 5.0}}, "'cad.boss_radius_m': 0.025 m must exceed half"),
+        ({"cad": {"boss_radius_m": 2.0}}, "'cad.boss_radius_m': bosses of radius 2.0 m"),
+        ({"cad": {"thickness_m": float("nan")}}, "'cad.thickness_m': nan is not a finite"),
+        ({"scale": {"max_m": float("inf")}}, "'scale.max_m': inf is not a finite"),
     ],
 )
 def test_errors_name_the_key(config, key):

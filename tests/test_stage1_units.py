@@ -148,3 +148,19 @@ def test_cli_reports_infeasible_designs_and_bad_input(tmp_path):
     bad.write_text("task:\n  payload_kg: heavy\n")
     out = run_cli("evaluate", "--ratios", "0.3", "1.0", "0.5", "1.2", "0.4", "--config", str(bad))
     assert out.returncode == 2 and "task.payload_kg" in out.stderr
+
+
+@pytest.mark.parametrize(
+    ("args", "message"),
+    [
+        (["--ratios", "0.3", "1.0", "0.5", "1.2", "nan"], "--ratios: ratios must be finite and"),
+        (["--ratios", "-0.3", "1.0", "0.5", "1.2", "0.4"], "--ratios: ratios must be finite and"),
+        (["--ratios", "0.3", "1.0", "0.5", "1.2", "0.4", "--task-points", "-0.6", "0.1"],
+         "--task-points: config key 'task.points': the points span a circle"),
+        (["--ratios", "0.3", "1.0", "0.5", "1.2", "0.4", "--task-points", "-0.6", "nan", "0", "1"],
+         "--task-points: config key 'task.points': every coordinate must be a finite"),
+    ],
+)  # fmt: skip
+def test_cli_names_the_bad_argument(args, message):
+    out = run_cli("evaluate", *args)
+    assert out.returncode == 2 and message in out.stderr and not out.stdout

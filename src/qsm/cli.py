@@ -9,9 +9,9 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from qsm.cad import export_stl
-from qsm.config import ConfigError, load_config
+from qsm.config import ConfigError, load_config, validate_config
 from qsm.dataset import cad_settings
-from qsm.evaluate import evaluate_ratios
+from qsm.evaluate import checked_ratios, evaluate_ratios
 from qsm.kinematics import DESIGN_NAMES
 from qsm.mechanisms import MECHANISM_COLUMNS
 from qsm.mjcf import mjcf_xml
@@ -77,10 +77,18 @@ def main(argv: Sequence[str] | None = None) -> int:
             if len(pts) % 2:
                 raise ConfigError("--task-points takes pairs of numbers: x1 y1 x2 y2 ...")
             config["task"]["points"] = [pts[i : i + 2] for i in range(0, len(pts), 2)]
+            try:
+                validate_config(config)
+            except ConfigError as exc:
+                raise ConfigError(f"--task-points: {exc}") from exc
         if args.command == "export-mjcf":
             result = _export(args, config)
         else:
-            result = evaluate_ratios(args.ratios, config)
+            try:
+                ratios = checked_ratios(args.ratios)
+            except ValueError as exc:
+                raise ValueError(f"--ratios: {exc}") from exc
+            result = evaluate_ratios(ratios, config)
     except (ConfigError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2

@@ -5,6 +5,7 @@ from __future__ import annotations
 import copy
 import hashlib
 import json
+import math
 from collections.abc import Iterator, Mapping
 from functools import cache
 from importlib import resources
@@ -78,7 +79,15 @@ def validate_config(config: dict[str, Any]) -> dict[str, Any]:
         raise ConfigError(
             f"config key 'operating_range.theta1_deg': min {lo} is not below max {hi}"
         )
+    _check_finite(config)
     _check_task(config["task"]["points"])
+    _check_cad(config)
+    gripper, payload = config["payload_test"]["gripper_kg"], config["task"]["payload_kg"]
+    if gripper > payload:
+        raise ConfigError(
+            f"config key 'payload_test.gripper_kg': {gripper} kg exceeds the whole payload "
+            f"task.payload_kg = {payload} kg"
+        )
     opt = config["optimization"]
     if opt["formulation"] not in opt["formulations"]:
         raise ConfigError(
@@ -100,10 +109,7 @@ MIN_TASK_RADIUS_M = 1e-3
 
 def _check_task(points: list[list[float]]) -> None:
     """Finite task points spanning a circle of at least :data:`MIN_TASK_RADIUS_M`."""
-    p = np.asarray(points, dtype=float)
-    if not np.isfinite(p).all():
-        raise ConfigError("config key 'task.points': every coordinate must be a finite number")
-    radius = min_enclosing_circle(p).radius
+    radius = min_enclosing_circle(np.asarray(points, dtype=float)).radius
     if radius < MIN_TASK_RADIUS_M:
         raise ConfigError(
             f"config key 'task.points': the points span a circle of radius {radius:.2g} m "
@@ -111,6 +117,39 @@ def _check_task(points: list[list[float]]) -> None:
             f"and could not rank them. Give the region the tool must cover: at least two points "
             f"{2e3 * MIN_TASK_RADIUS_M:g} mm or more apart (e.g. the point and the edge of its "
             f"positioning tolerance)"
+        )
+
+
+def _check_finite(value: Any, path: tuple[str, ...] = ()) -> None:
+    """Every number in the config is finite (JSON schema bounds let NaN through)."""
+    if isinstance(value, dict):
+        for key, item in value.items():
+            _check_finite(item, (*path, str(key)))
+    elif isinstance(value, list):
+        for k, item in enumerate(value):
+            _check_finite(item, (*path, str(k)))
+    elif isinstance(value, float) and not math.isfinite(value):
+        if path[:2] == ("task", "points"):
+            raise ConfigError("config key 'task.points': every coordinate must be a finite number")
+        raise ConfigError(f"config key '{_key(path)}': {value} is not a finite number")
+
+
+def _check_cad(config: dict[str, Any]) -> None:
+    """A section that some design of the sampled ranges, at the largest scale, can carry."""
+    cad = config["cad"]
+    if not cad["boss_radius_m"] > cad["width_m"] / 2:
+        raise ConfigError(
+            f"config key 'cad.boss_radius_m': {cad['boss_radius_m']} m must exceed half the bar "
+            f"width cad.width_m = {cad['width_m']} m"
+        )
+    bounds, scale = config["sampling"]["bounds"], config["scale"]["max_m"]
+    shortest_bar = scale * min(1.0, bounds["l2"][1], bounds["l3"][1])
+    needed = 2 * math.sqrt(cad["boss_radius_m"] ** 2 - (cad["width_m"] / 2) ** 2)
+    if shortest_bar <= needed:
+        raise ConfigError(
+            f"config key 'cad.boss_radius_m': bosses of radius {cad['boss_radius_m']} m on bars "
+            f"{cad['width_m']} m wide need links longer than {needed:.3g} m, but at scale.max_m "
+            f"the sampled ranges give a crank or coupler of at most {shortest_bar:.3g} m"
         )
 
 

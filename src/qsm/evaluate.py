@@ -15,6 +15,19 @@ from qsm.kinematics import DESIGN_NAMES, RATIO_NAMES
 from qsm.mechanisms import FitSettings, fit_design
 
 
+def checked_ratios(ratios: Sequence[float]) -> np.ndarray:
+    """The 5 ratios as an array; ``ValueError`` naming any that is not finite and positive."""
+    r = np.asarray(ratios, dtype=float)
+    if r.shape != (len(RATIO_NAMES),):
+        raise ValueError(f"give the 5 ratios {', '.join(RATIO_NAMES)}; got {r.size} values")
+    bad = [
+        f"{n}={v}" for n, v in zip(RATIO_NAMES, r, strict=True) if not (np.isfinite(v) and v > 0)
+    ]
+    if bad:
+        raise ValueError(f"ratios must be finite and positive: {', '.join(bad)}")
+    return r
+
+
 def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[str, Any]:
     """Stages 1 and 2 for one unit design ``(l2, l3, l4, ee_x, ee_y)`` under a validated config.
 
@@ -23,9 +36,7 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
     ``tau2_Nm`` and ``dynamics_status``; values that do not exist for an infeasible design are
     None.
     """
-    r = np.asarray(ratios, dtype=float)
-    if r.shape != (len(RATIO_NAMES),):
-        raise ValueError(f"give the 5 ratios {', '.join(RATIO_NAMES)}; got {r.size} values")
+    r = checked_ratios(ratios)
     settings = FitSettings.from_sections(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )

@@ -241,9 +241,6 @@ def summary(result: dict[str, Any]) -> dict[str, Any]:
 def plot_payload_test(result: dict[str, Any], path: str | Path) -> Path:
     """Figure: motor angles (reference and simulated), requested torques with the limits, and the
     tracking error over time."""
-    import matplotlib
-
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     t = result["t_s"]

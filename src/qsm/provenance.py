@@ -2,7 +2,8 @@
 
 Snakemake reruns a rule when its script changes, not when a module the script imports does. A
 rule that passes ``source_hash(script)`` as a param is rerun when any ``qsm`` module it reaches
-through its imports changes, and only then.
+through its imports changes, and only then. Absolute and relative imports count, and so does the
+``__init__.py`` of every package on the way (Python runs it on import).
 """
 
 from __future__ import annotations
@@ -15,44 +16,70 @@ from pathlib import Path
 PACKAGE_DIR = Path(__file__).resolve().parent
 
 
-def _qsm_imports(path: Path) -> set[str]:
-    """Names of the ``qsm`` modules that the Python file ``path`` imports."""
+def _package_of(path: Path, package_dir: Path) -> list[str] | None:
+    """Dotted package (as parts) that the file ``path`` belongs to, None outside the package."""
+    try:
+        rel = path.resolve().relative_to(package_dir.parent)
+    except ValueError:
+        return None
+    return list(rel.parts[:-1])
+
+
+def _qsm_imports(path: Path, package_dir: Path) -> set[str]:
+    """Dotted names of the ``qsm`` modules (and their parent packages) that ``path`` imports."""
+    root = package_dir.name
+    package = _package_of(path, package_dir)
     names = set()
     for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
-        if isinstance(node, ast.ImportFrom) and node.module and node.module.split(".")[0] == "qsm":
-            names.add(node.module)
-            names.update(f"{node.module}.{alias.name}" for alias in node.names)
+        modules: list[str] = []
+        if isinstance(node, ast.ImportFrom):
+            if node.level:  # relative: resolve against the file's package
+                if package is None or node.level > len(package):
+                    continue
+                base = package[: len(package) - node.level + 1]
+                module = ".".join(base + ([node.module] if node.module else []))
+            else:
+                module = node.module or ""
+            modules = [module, *(f"{module}.{alias.name}" for alias in node.names)]
         elif isinstance(node, ast.Import):
-            names.update(a.name for a in node.names if a.name.split(".")[0] == "qsm")
+            modules = [alias.name for alias in node.names]
+        for module in modules:
+            parts = module.split(".")
+            if parts[0] == root:
+                names.update(".".join(parts[: k + 1]) for k in range(len(parts)))
     return names
 
 
-def _module_file(name: str) -> Path | None:
-    parts = name.split(".")[1:]
-    candidate = PACKAGE_DIR.joinpath(*parts).with_suffix(".py") if parts else None
-    return candidate if candidate is not None and candidate.exists() else None
+def _module_file(name: str, package_dir: Path) -> Path | None:
+    """The source file of a dotted ``qsm`` name: a module, a package's ``__init__.py``, or None
+    (a function or class imported from a module)."""
+    path = package_dir.joinpath(*name.split(".")[1:])
+    for candidate in (path.with_suffix(".py"), path / "__init__.py"):
+        if candidate.exists():
+            return candidate
+    return None
 
 
 @cache
-def module_closure(script: str) -> tuple[Path, ...]:
+def module_closure(script: str, package_dir: Path = PACKAGE_DIR) -> tuple[Path, ...]:
     """The ``qsm`` source files that ``script`` reaches through its imports, sorted."""
     seen: set[Path] = set()
     todo = [Path(script)]
     while todo:
         path = todo.pop()
-        for name in _qsm_imports(path):
-            found = _module_file(name)
+        for name in _qsm_imports(path, package_dir):
+            found = _module_file(name, package_dir)
             if found is not None and found not in seen:
                 seen.add(found)
                 todo.append(found)
     return tuple(sorted(seen))
 
 
-def source_hash(script: str | Path) -> str:
+def source_hash(script: str | Path, package_dir: Path = PACKAGE_DIR) -> str:
     """Short SHA-256 of the ``qsm`` sources that ``script`` depends on (config values reach the
     rules as params of their own, so the schema is not part of it)."""
     digest = hashlib.sha256()
-    for path in module_closure(str(script)):
-        digest.update(path.name.encode())
+    for path in module_closure(str(script), package_dir):
+        digest.update(str(path.relative_to(package_dir)).encode())
         digest.update(path.read_bytes())
     return digest.hexdigest()[:16]

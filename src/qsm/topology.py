@@ -44,8 +44,8 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+import matplotlib
 import numpy as np
-import pymoto as pym
 import scipy.sparse as sps
 import shapely
 import trimesh
@@ -56,6 +56,14 @@ from qsm.duty import Duty
 from qsm.dynamics import inverse_dynamics, loop_state
 from qsm.kinematics import as_design, perp
 from qsm.mjcf import GRAVITY_M_S2, model_spec
+
+# pymoto 2.0.1 calls matplotlib.use("TkAgg") when imported, which takes a notebook's backend away
+# and fails without a display once pyplot is loaded: make that call a no-op while importing it.
+_use, matplotlib.use = matplotlib.use, lambda *args, **kwargs: None
+try:
+    import pymoto as pym
+finally:
+    matplotlib.use = _use
 
 OPTIMISED_LINKS: tuple[str, ...] = ("lower_arm", "upper_arm")
 
@@ -715,9 +723,6 @@ def torques_before_after(
 
 def plot_links(result: TopologyResult, path: str | Path) -> Path:
     """Figure of the optimised density fields with the CAD outline and the printed outline."""
-    import matplotlib
-
-    matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
     n = len(result.links)

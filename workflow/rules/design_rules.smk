@@ -12,19 +12,21 @@ rule sobol:
     output:
         indices=f"{RULES_DIR}/sobol.parquet",
         figure=report(
-            f"{RESULTS}/figures/sobol.png", caption="../report/sobol.rst", category="5. Design rules"
+            f"{RESULTS}/figures/sobol.png",
+            caption="../report/sobol.rst",
+            category="5. Design rules",
         ),
-    params:
-        code=code("sobol.py"),
-        sobol_n=config["design_rules"]["sobol_n"],
-        seed=config["design_rules"]["seed"],
-        bounds=config["optimization"]["bounds"],
     log:
         f"{RESULTS}/logs/sobol.log",
     benchmark:
         f"{RESULTS}/benchmarks/sobol.tsv"
     conda:
         ENV
+    params:
+        code=code("sobol.py"),
+        sobol_n=config["design_rules"]["sobol_n"],
+        seed=config["design_rules"]["seed"],
+        bounds=config["optimization"]["bounds"],
     script:
         "../scripts/sobol.py"
 
@@ -42,14 +44,14 @@ rule decision_trees:
             caption="../report/decision_trees.rst",
             category="5. Design rules",
         ),
-    params:
-        code=code("decision_trees.py"),
-        tree_depth=config["design_rules"]["tree_depth"],
-        seed=config["design_rules"]["seed"],
     log:
         f"{RESULTS}/logs/decision_trees.log",
     conda:
         ENV
+    params:
+        code=code("decision_trees.py"),
+        tree_depth=config["design_rules"]["tree_depth"],
+        seed=config["design_rules"]["seed"],
     script:
         "../scripts/decision_trees.py"
 
@@ -64,13 +66,13 @@ rule correlations:
             caption="../report/correlations.rst",
             category="5. Design rules",
         ),
-    params:
-        code=code("correlations.py"),
-        alpha=config["design_rules"]["alpha"],
     log:
         f"{RESULTS}/logs/correlations.log",
     conda:
         ENV
+    params:
+        code=code("correlations.py"),
+        alpha=config["design_rules"]["alpha"],
     script:
         "../scripts/correlations.py"
 
@@ -80,6 +82,14 @@ rule eta_derivatives_shard:
         rules.select_mechanisms.output.mechanisms,
     output:
         f"{RULES_DIR}/eta_derivatives/shard-{{shard}}.parquet",
+    log:
+        f"{RESULTS}/logs/eta_derivatives/shard-{{shard}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/eta_derivatives/shard-{{shard}}.tsv"
+    wildcard_constraints:
+        shard=r"\d+",
+    conda:
+        ENV
     params:
         code=code("eta_derivatives_shard.py"),
         shards=config["design_rules"]["shards"],
@@ -87,14 +97,6 @@ rule eta_derivatives_shard:
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
         resolution={k: config["workspace"][k] for k in ("n_delta", "n_levels")},
-    wildcard_constraints:
-        shard=r"\d+",
-    log:
-        f"{RESULTS}/logs/eta_derivatives/shard-{{shard}}.log",
-    benchmark:
-        f"{RESULTS}/benchmarks/eta_derivatives/shard-{{shard}}.tsv"
-    conda:
-        ENV
     script:
         "../scripts/eta_derivatives_shard.py"
 
@@ -109,12 +111,12 @@ rule eta_derivatives:
             caption="../report/eta_derivatives.rst",
             category="5. Design rules",
         ),
-    params:
-        code=code("eta_derivatives.py"),
     log:
         f"{RESULTS}/logs/eta_derivatives.log",
     conda:
         ENV
+    params:
+        code=code("eta_derivatives.py"),
     script:
         "../scripts/eta_derivatives.py"
 
@@ -134,13 +136,13 @@ rule design_rules_summary:
             category="5. Design rules",
         ),
         table=f"{RULES_DIR}/findings.parquet",
-    params:
-        code=code("design_rules_summary.py"),
-        alpha=config["design_rules"]["alpha"],
-        primary=config["optimization"]["formulation"],
     log:
         f"{RESULTS}/logs/design_rules_summary.log",
     conda:
         ENV
+    params:
+        code=code("design_rules_summary.py"),
+        alpha=config["design_rules"]["alpha"],
+        primary=config["optimization"]["formulation"],
     script:
         "../scripts/design_rules_summary.py"

@@ -13,6 +13,14 @@ rule dynamics:
         rules.select_mechanisms.output.mechanisms,
     output:
         f"{RESULTS}/dynamics/shard-{{shard}}.parquet",
+    log:
+        f"{RESULTS}/logs/dynamics/shard-{{shard}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/dynamics/shard-{{shard}}.tsv"
+    wildcard_constraints:
+        shard=r"\d+",
+    conda:
+        ENV
     params:
         code=code("dynamics_shard.py"),
         shards=config["dynamics"]["shards"],
@@ -20,14 +28,6 @@ rule dynamics:
         operating_range=config["operating_range"],
         cad=config["cad"],
         payload_kg=config["task"]["payload_kg"],
-    wildcard_constraints:
-        shard=r"\d+",
-    log:
-        f"{RESULTS}/logs/dynamics/shard-{{shard}}.log",
-    benchmark:
-        f"{RESULTS}/benchmarks/dynamics/shard-{{shard}}.tsv"
-    conda:
-        ENV
     script:
         "../scripts/dynamics_shard.py"
 
@@ -39,13 +39,13 @@ rule gather_dataset:
     output:
         dataset=f"{RESULTS}/dataset.parquet",
         status=f"{RESULTS}/dynamics/status.json",
-    params:
-        code=code("gather_dataset.py"),
-        settings=stage2_settings(),
     log:
         f"{RESULTS}/logs/gather_dataset.log",
     conda:
         ENV
+    params:
+        code=code("gather_dataset.py"),
+        settings=stage2_settings(),
     script:
         "../scripts/gather_dataset.py"
 
@@ -59,11 +59,11 @@ rule plot_dynamics:
             caption="../report/performance.rst",
             category="2. Dynamics",
         ),
-    params:
-        code=code("plot_dynamics.py"),
     log:
         f"{RESULTS}/logs/plot_dynamics.log",
     conda:
         ENV
+    params:
+        code=code("plot_dynamics.py"),
     script:
         "../scripts/plot_dynamics.py"

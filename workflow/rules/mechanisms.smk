@@ -12,13 +12,13 @@ STAGE1_OUTPUTS = [
 rule sample:
     output:
         f"{RESULTS}/mechanisms/samples.parquet",
-    params:
-        code=code("sample.py"),
-        sampling=config["sampling"],
     log:
         f"{RESULTS}/logs/sample.log",
     conda:
         ENV
+    params:
+        code=code("sample.py"),
+        sampling=config["sampling"],
     script:
         "../scripts/sample.py"
 
@@ -29,14 +29,14 @@ rule filter_kinematics:
     output:
         candidates=f"{RESULTS}/mechanisms/candidates.parquet",
         counts=f"{RESULTS}/mechanisms/kinematic_filters.json",
-    params:
-        code=code("filter_kinematics.py"),
-        operating_range=config["operating_range"],
-        filters=config["filters"],
     log:
         f"{RESULTS}/logs/filter_kinematics.log",
     conda:
         ENV
+    params:
+        code=code("filter_kinematics.py"),
+        operating_range=config["operating_range"],
+        filters=config["filters"],
     script:
         "../scripts/filter_kinematics.py"
 
@@ -46,6 +46,14 @@ rule fit_task:
         rules.filter_kinematics.output.candidates,
     output:
         f"{RESULTS}/mechanisms/fits/shard-{{shard}}.parquet",
+    log:
+        f"{RESULTS}/logs/fit_task/shard-{{shard}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/fit_task/shard-{{shard}}.tsv"
+    wildcard_constraints:
+        shard=r"\d+",
+    conda:
+        ENV
     params:
         code=code("fit_task.py"),
         shards=config["workspace"]["shards"],
@@ -53,14 +61,6 @@ rule fit_task:
         task_points=config["task"]["points"],
         scale=config["scale"],
         workspace=fit_workspace(),
-    wildcard_constraints:
-        shard=r"\d+",
-    log:
-        f"{RESULTS}/logs/fit_task/shard-{{shard}}.log",
-    benchmark:
-        f"{RESULTS}/benchmarks/fit_task/shard-{{shard}}.tsv"
-    conda:
-        ENV
     script:
         "../scripts/fit_task.py"
 
@@ -72,14 +72,14 @@ rule select_mechanisms:
     output:
         mechanisms=f"{RESULTS}/mechanisms/mechanisms.parquet",
         report=f"{RESULTS}/mechanisms/filter_report.json",
-    params:
-        code=code("select_mechanisms.py"),
-        n_mechanisms=config["sampling"]["n_mechanisms"],
-        settings=stage1_settings(),
     log:
         f"{RESULTS}/logs/select_mechanisms.log",
     conda:
         ENV
+    params:
+        code=code("select_mechanisms.py"),
+        n_mechanisms=config["sampling"]["n_mechanisms"],
+        settings=stage1_settings(),
     script:
         "../scripts/select_mechanisms.py"
 
@@ -98,14 +98,14 @@ rule plot_mechanisms:
             caption="../report/scale_eta.rst",
             category="1. Mechanisms",
         ),
+    log:
+        f"{RESULTS}/logs/plot_mechanisms.log",
+    conda:
+        ENV
     params:
         code=code("plot_mechanisms.py"),
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
         figures=config["figures"],
-    log:
-        f"{RESULTS}/logs/plot_mechanisms.log",
-    conda:
-        ENV
     script:
         "../scripts/plot_mechanisms.py"

@@ -39,6 +39,12 @@ rule optimize:
             category="4. Optimisation",
             subcategory="{formulation} formulation",
         ),
+    log:
+        f"{RESULTS}/logs/optimize/{{formulation}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/optimize/{{formulation}}.tsv"
+    conda:
+        ENV
     params:
         code=code("optimize.py"),
         formulation=lambda w: w.formulation,
@@ -50,12 +56,6 @@ rule optimize:
         scale=config["scale"],
         workspace=fit_workspace(),
         filters=config["filters"],
-    log:
-        f"{RESULTS}/logs/optimize/{{formulation}}.log",
-    benchmark:
-        f"{RESULTS}/benchmarks/optimize/{{formulation}}.tsv"
-    conda:
-        ENV
     script:
         "../scripts/optimize.py"
 
@@ -66,6 +66,12 @@ rule verify_pareto:
     output:
         table=f"{OPT}/{{formulation}}/verification.parquet",
         summary=f"{OPT}/{{formulation}}/verification.json",
+    log:
+        f"{RESULTS}/logs/verify_pareto/{{formulation}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/verify_pareto/{{formulation}}.tsv"
+    conda:
+        ENV
     params:
         code=code("verify_pareto.py"),
         operating_range=config["operating_range"],
@@ -78,12 +84,6 @@ rule verify_pareto:
         payload_kg=config["task"]["payload_kg"],
         ratio_bounds=config["sampling"]["bounds"],
         build_volume_mm=config["printing"]["build_volume_mm"],
-    log:
-        f"{RESULTS}/logs/verify_pareto/{{formulation}}.log",
-    benchmark:
-        f"{RESULTS}/benchmarks/verify_pareto/{{formulation}}.tsv"
-    conda:
-        ENV
     script:
         "../scripts/verify_pareto.py"
 
@@ -99,13 +99,13 @@ rule compare_fronts:
             category="4. Optimisation",
         ),
         data=f"{OPT}/comparison.json",
-    params:
-        code=code("compare_fronts.py"),
-        formulations=FORMULATIONS,
-        primary=config["optimization"]["formulation"],
     log:
         f"{RESULTS}/logs/compare_fronts.log",
     conda:
         ENV
+    params:
+        code=code("compare_fronts.py"),
+        formulations=FORMULATIONS,
+        primary=config["optimization"]["formulation"],
     script:
         "../scripts/compare_fronts.py"

@@ -16,6 +16,10 @@ rule select_design:
             caption="../report/selected_design.rst",
             category="6. Realisation",
         ),
+    log:
+        f"{RESULTS}/logs/select_design.log",
+    conda:
+        ENV
     params:
         code=code("select_design.py"),
         printing=config["printing"],
@@ -24,10 +28,6 @@ rule select_design:
         formulations=FORMULATIONS,
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
-    log:
-        f"{RESULTS}/logs/select_design.log",
-    conda:
-        ENV
     script:
         "../scripts/select_design.py"
 
@@ -50,6 +50,12 @@ rule topology_optimize:
             caption="../report/topology_links.rst",
             category="6. Realisation",
         ),
+    log:
+        f"{RESULTS}/logs/topology_optimize.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/topology_optimize.tsv"
+    conda:
+        ENV
     params:
         code=code("topology_optimize.py"),
         topology=config["topology"],
@@ -58,12 +64,6 @@ rule topology_optimize:
         operating_range=config["operating_range"],
         payload_kg=config["task"]["payload_kg"],
         build_volume_mm=config["printing"]["build_volume_mm"],
-    log:
-        f"{RESULTS}/logs/topology_optimize.log",
-    benchmark:
-        f"{RESULTS}/benchmarks/topology_optimize.tsv"
-    conda:
-        ENV
     script:
         "../scripts/topology_optimize.py"
 
@@ -79,17 +79,18 @@ rule payload_test:
             caption="../report/payload_test.rst",
             category="6. Realisation",
         ),
-    params:
-        code=code("payload_test.py"),
-        payload_test=config["payload_test"],
-        cad=config["cad"],
-        task_points=config["task"]["points"],
-        operating_range=config["operating_range"],
     log:
         f"{RESULTS}/logs/payload_test.log",
     benchmark:
         f"{RESULTS}/benchmarks/payload_test.tsv"
     conda:
         ENV
+    params:
+        code=code("payload_test.py"),
+        payload_test=config["payload_test"],
+        payload_kg=config["task"]["payload_kg"],
+        cad=config["cad"],
+        task_points=config["task"]["points"],
+        operating_range=config["operating_range"],
     script:
         "../scripts/payload_test.py"

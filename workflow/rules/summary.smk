@@ -13,11 +13,11 @@ rule summary:
         payload=rules.payload_test.output.result,
     output:
         report(f"{RESULTS}/summary.md", caption="../report/summary.rst", category="0. Summary"),
-    params:
-        code=code("summary.py"),
     log:
         f"{RESULTS}/logs/summary.log",
     conda:
         ENV
+    params:
+        code=code("summary.py"),
     script:
         "../scripts/summary.py"

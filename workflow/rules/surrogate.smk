@@ -24,14 +24,14 @@ rule train_surrogate:
             caption="../report/surrogate_parity.rst",
             category="3. Surrogate",
         ),
-    params:
-        code=code("train_surrogate.py"),
-        surrogate=config["surrogate"],
     log:
         f"{RESULTS}/logs/train_surrogate.log",
     benchmark:
         f"{RESULTS}/benchmarks/train_surrogate.tsv"
     conda:
         ENV
+    params:
+        code=code("train_surrogate.py"),
+        surrogate=config["surrogate"],
     script:
         "../scripts/train_surrogate.py"

@@ -1,0 +1,65 @@
+"""Rerun tracking: the library sources a script reaches, through every kind of import."""
+
+from pathlib import Path
+
+from qsm.provenance import PACKAGE_DIR, module_closure, source_hash
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def make_package(tmp_path: Path) -> Path:
+    """A package ``qsm`` with a subpackage, absolute and relative imports, and an unused module."""
+    pkg = tmp_path / "qsm"
+    (pkg / "sub").mkdir(parents=True)
+    files = {
+        "__init__.py": "",
+        "a.py": "from .b import x\n",
+        "b.py": "x = 1\n",
+        "unused.py": "y = 2\n",
+        "sub/__init__.py": "from . import d\n",
+        "sub/c.py": "from ..a import x\nimport numpy\n",
+        "sub/d.py": "z = 3\n",
+    }
+    for name, text in files.items():
+        (pkg / name).write_text(text)
+    return pkg
+
+
+def test_relative_imports_and_package_inits_are_followed(tmp_path):
+    pkg = make_package(tmp_path)
+    script = tmp_path / "script.py"
+    script.write_text("from qsm.sub.c import x\n")
+    found = {str(p.relative_to(pkg)) for p in module_closure(str(script), pkg)}
+    assert found == {"__init__.py", "a.py", "b.py", "sub/__init__.py", "sub/c.py", "sub/d.py"}
+
+
+def test_editing_a_package_init_changes_the_hash(tmp_path):
+    pkg = make_package(tmp_path)
+    script = tmp_path / "script.py"
+    script.write_text("import qsm.sub.c\n")
+    before = source_hash(script, pkg)
+    (pkg / "unused.py").write_text("y = 3\n")
+    module_closure.cache_clear()
+    assert source_hash(script, pkg) == before  # not imported: no rerun
+    (pkg / "sub" / "__init__.py").write_text("from . import d\n# edited\n")
+    module_closure.cache_clear()
+    assert source_hash(script, pkg) != before
+
+
+def test_every_workflow_script_depends_on_the_package_init():
+    for script in (ROOT / "workflow" / "scripts").glob("*.py"):
+        assert PACKAGE_DIR / "__init__.py" in module_closure(str(script)), script.name
+
+
+def test_importing_the_figure_modules_leaves_matplotlib_backend_alone():
+    """A notebook keeps its backend: no qsm module calls matplotlib.use at import."""
+    import subprocess
+    import sys
+
+    code = (
+        "import matplotlib; matplotlib.use('svg'); "
+        "import qsm.plots, qsm.rule_plots, qsm.payload, qsm.topology; "
+        "print(matplotlib.get_backend())"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "svg"
