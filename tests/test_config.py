@@ -79,7 +79,6 @@ def test_workflow_schema_is_the_package_schema():
         ({"task": {"points": [[-0.6, 0.1], [-0.6, 0.1]]}}, "'task.points': the points span"),
         ({"task": {"points": [[float("nan"), 0.1], [-0.5, 0.1]]}}, "'task.points': every"),
         ({"task": {"points": [[float("inf"), 0.1], [-0.5, 0.1]]}}, "'task.points': every"),
-        ({"payload_test": {"gripper_kg": 6.0}}, "'payload_test.gripper_kg': 6.0 kg exceeds"),
         ({"optimization": {"formulations": ["ratios"]}}, "'optimization.formulation'"),
         ({"cad": {"width_m": 5.0}}, "'cad.boss_radius_m': 0.025 m must exceed half"),
         ({"cad": {"boss_radius_m": 2.0}}, "'cad.boss_radius_m': bosses of radius 2.0 m"),

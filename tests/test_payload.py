@@ -60,3 +60,36 @@ def test_fails_when_the_limit_is_below_the_required_torque() -> None:
 def test_unreachable_task_point_is_an_error() -> None:
     with pytest.raises(ValueError, match="point"):
         payload.payload_test(DESIGN, [[-0.62, 0.20], [2.0, 2.0]])
+
+
+def test_motor_inertia_gives_the_kinetic_energy_mujoco_computes() -> None:
+    """0.5 v^T M v equals MuJoCo's own kinetic energy of the loop-consistent motion."""
+    import mujoco
+
+    from qsm.dynamics import loop_state
+    from qsm.mjcf import model_spec
+
+    model = model_spec(DESIGN, payload_kg=5.0).compile()
+    model.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
+    theta = np.radians([100.0, 20.0])
+    inertia = payload.motor_inertia(model, DESIGN, theta)
+    np.testing.assert_allclose(inertia, inertia.T, rtol=1e-6)
+    data = mujoco.MjData(model)
+    for v in ([1.0, 0.0], [0.0, 1.0], [0.7, -1.3]):
+        state = loop_state(DESIGN, theta[None], np.array([v]), np.zeros((1, 2)))
+        data.qpos[:], data.qvel[:] = state.q[0], state.qd[0]
+        mujoco.mj_forward(model, data)
+        assert data.energy[1] == pytest.approx(0.5 * np.dot(v, inertia @ v), rel=1e-6)
+
+
+def test_a_small_light_arm_passes_with_the_default_settings() -> None:
+    """The crank of a 0.2 m arm carrying 1 kg has so little inertia that the default gains,
+    stepped at the model's time step, diverged (837 N m requested); the step is cut instead."""
+    small = np.array([0.2149, 0.0700, 0.2485, 0.1111, 0.1744, 0.0720])
+    res = payload.payload_test(
+        small, [[-0.38, 0.05], [-0.30, 0.05]], settings=payload.PayloadSettings(payload_kg=1.0)
+    )
+    assert res["passed"], res["reason"]
+    assert res["substeps"] > 1 and max(res["peak_torque_Nm"]) < 10.0
+    big = payload.payload_test(DESIGN, POINTS, settings=payload.PayloadSettings(**FAST))
+    assert big["substeps"] == 1  # the default design keeps the model's step

@@ -283,6 +283,8 @@ def test_a_task_nothing_printable_holds_completes_with_the_verdict(tmp_path):
     assert not all(c["fits_build_volume"] for c in checks["before"].values())
     summary_md = (work / "results/summary.md").read_text()
     assert "verdict: NOT PRINTABLE" in summary_md
+    payload = json.loads((work / "results/realization/payload_test.json").read_text())
+    assert payload["payload_kg"] == 10.0  # the task's payload, not the paper's 5 kg
     for name in ("paper", "ratios"):
         verification = json.loads(
             (work / f"results/optimization/{name}/verification.json").read_text()

@@ -82,12 +82,6 @@ def validate_config(config: dict[str, Any]) -> dict[str, Any]:
     _check_finite(config)
     _check_task(config["task"]["points"])
     _check_cad(config)
-    gripper, payload = config["payload_test"]["gripper_kg"], config["task"]["payload_kg"]
-    if gripper > payload:
-        raise ConfigError(
-            f"config key 'payload_test.gripper_kg': {gripper} kg exceeds the whole payload "
-            f"task.payload_kg = {payload} kg"
-        )
     opt = config["optimization"]
     if opt["formulation"] not in opt["formulations"]:
         raise ConfigError(

@@ -1,4 +1,4 @@
-"""Rule payload_test: forward simulation of the optimised design carrying object and gripper."""
+"""Rule payload_test: forward simulation of the optimised design carrying the task payload."""
 
 import json
 
@@ -19,8 +19,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         props = props_from_json(json.load(fh))
     s = p.payload_test
     settings = PayloadSettings(
-        object_kg=p.payload_kg - s["gripper_kg"],
-        gripper_kg=s["gripper_kg"],
+        payload_kg=p.payload_kg,
         torque_limits_Nm=tuple(s["torque_limits_Nm"]),
         segment_duration_s=s["segment_duration_s"],
         dwell_s=s["dwell_s"],
