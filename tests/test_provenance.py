@@ -63,3 +63,16 @@ def test_importing_the_figure_modules_leaves_matplotlib_backend_alone():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "svg"
+
+
+def test_the_public_api_is_importable_from_qsm_without_loading_mujoco():
+    import subprocess
+    import sys
+
+    code = (
+        "import sys, qsm; assert 'mujoco' not in sys.modules; "
+        "from qsm import end_effector, joint_torques, evaluate_ratios, load_config, "
+        "load_surrogate, choose_design, printing_advice; print(len(qsm.__all__))"
+    )
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "9"

@@ -96,3 +96,9 @@ def test_log_transform_needs_positive_labels():
     x = np.ones((10, 6))
     with pytest.raises(ValueError, match="positive"):
         train(x, -np.ones((10, 3)), SurrogateSettings(output_transform="log"))
+
+
+def test_unknown_output_transform_is_rejected():
+    """'lg' once meant no transform, silently."""
+    with pytest.raises(ValueError, match=r"surrogate\.output_transform: 'lg'"):
+        SurrogateSettings(output_transform="lg")

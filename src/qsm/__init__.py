@@ -1,8 +1,44 @@
 """qsm: generative design of quasi-serial manipulators (Lee, Yang, Kang), as a plain library.
 
 The Snakemake workflow in this repository calls these functions; tests and notebooks use them
-directly. Submodules: ``kinematics``, ``workspace``, ``task``, ``sampling``, ``filters``,
-``mechanisms``, ``config``, ``tables``, ``evaluate``, ``plots``.
+directly. The names a notebook needs are importable from ``qsm`` itself (loaded on first use, so
+``import qsm`` stays cheap):
+
+* :func:`end_effector` (kinematics), :func:`joint_torques` (closed-chain MuJoCo dynamics);
+* :func:`evaluate_ratios` (Stages 1 and 2 for one unit design), :func:`load_config`;
+* :func:`load_surrogate` (a trained MLP), :func:`choose_design` (the design to realise),
+  :func:`printing_advice`;
+* :func:`containment_margin_m`, :func:`printability_violation_mm` (constraints g11 and g12).
 """
 
+from __future__ import annotations
+
+from importlib import import_module
+from typing import Any
+
 __version__ = "0.1.0"
+
+_EXPORTS: dict[str, tuple[str, str]] = {
+    "end_effector": ("qsm.kinematics", "end_effector"),
+    "joint_torques": ("qsm.dynamics", "joint_torques"),
+    "evaluate_ratios": ("qsm.evaluate", "evaluate_ratios"),
+    "load_config": ("qsm.config", "load_config"),
+    "load_surrogate": ("qsm.surrogate", "load"),
+    "choose_design": ("qsm.selection", "choose_design"),
+    "printing_advice": ("qsm.selection", "printing_advice"),
+    "containment_margin_m": ("qsm.constraints", "containment_margin_m"),
+    "printability_violation_mm": ("qsm.constraints", "printability_violation_mm"),
+}
+__all__ = sorted(_EXPORTS)
+
+
+def __getattr__(name: str) -> Any:
+    try:
+        module, attr = _EXPORTS[name]
+    except KeyError:
+        raise AttributeError(f"module 'qsm' has no attribute {name!r}") from None
+    return getattr(import_module(module), attr)
+
+
+def __dir__() -> list[str]:
+    return sorted([*globals(), *__all__])

@@ -26,6 +26,7 @@ INPUTS: tuple[str, ...] = DESIGN_COLUMNS
 OUTPUTS: tuple[str, ...] = ("eta", "tau1_Nm", "tau2_Nm")
 SHORT: dict[str, str] = {"eta": "eta", "tau1_Nm": "tau1", "tau2_Nm": "tau2"}
 FORMAT = "qsm-surrogate/1"
+OUTPUT_TRANSFORMS: tuple[str, ...] = ("none", "log")
 
 
 @dataclass(frozen=True)
@@ -43,6 +44,13 @@ class SurrogateSettings:
     output_transform: str = "none"
     test_fraction: float = 0.2
     seed: int = 0
+
+    def __post_init__(self) -> None:
+        if self.output_transform not in OUTPUT_TRANSFORMS:
+            raise ValueError(
+                f"surrogate.output_transform: {self.output_transform!r} is not one of "
+                f"{', '.join(OUTPUT_TRANSFORMS)}"
+            )
 
     @classmethod
     def from_section(cls, section: Mapping[str, Any]) -> SurrogateSettings:
