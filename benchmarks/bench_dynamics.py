@@ -15,8 +15,8 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pandas as pd
 
-from qsm import cad, duty, dynamics, kinematics, mjcf
-from qsm.kinematics import DESIGN_COLUMNS
+from qsm.physics import cad, duty, dynamics, kinematics, mjcf
+from qsm.physics.kinematics import DESIGN_COLUMNS
 
 PAPER_MECHANISMS = 11_080
 LOW = np.array([0.18, 0.8, 0.3, 1.0, 0.2])
@@ -35,7 +35,7 @@ def random_designs(n: int, seed: int) -> np.ndarray:
 
 
 def stage_times(designs: np.ndarray, d: duty.Duty, payload_kg: float) -> dict[str, float]:
-    """Mean ms per mechanism of each step of :func:`qsm.dynamics.evaluate_mechanism`."""
+    """Mean ms per mechanism of each step of :func:`qsm.physics.dynamics.evaluate_mechanism`."""
     steps = dict.fromkeys(("cad", "loop_kinematics", "model_build", "inverse_dynamics"), 0.0)
     settings = cad.DEFAULT_CAD
     for design in designs:

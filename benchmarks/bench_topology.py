@@ -8,7 +8,8 @@ import time
 
 import numpy as np
 
-from qsm import cad, duty, payload, topology
+from qsm.physics import cad, duty
+from qsm.realisation import payload, topology
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])  # m
 POINTS = [[-0.62, 0.20], [-0.82, 0.02], [-0.70, 0.02], [-0.82, 0.14], [-0.70, 0.14]]

@@ -19,9 +19,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from reference_workspace import pixel_area
 
 from qsm.config import load_config
-from qsm.kinematics import design_from_ratios, loop_closes_everywhere
-from qsm.mechanisms import FitSettings, fit_design
-from qsm.workspace import Resolution, slice_workspace
+from qsm.mechanisms.scale import FitSettings, fit_design
+from qsm.physics.kinematics import design_from_ratios, loop_closes_everywhere
+from qsm.physics.workspace import Resolution, slice_workspace
 
 
 def main() -> None:

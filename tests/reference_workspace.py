@@ -4,16 +4,17 @@ A point P is reachable iff some pose puts the end effector there. The upper arm 
 |P - B| = hypot(EE_x, EE_y) with B on the circle of radius l1: at most two theta1. Each fixes the
 upper arm, hence D, and C lies on both |C| = l2 and |C - D| = l3: at most two theta2. A candidate
 counts if it is in the operating range and the forward kinematics (the assembly branch of
-qsm.kinematics.pose) puts D where the candidate has it. Counting pixels of a fine grid gives an
-area estimate that shares nothing with the slicing of qsm.workspace but the forward model.
+qsm.physics.kinematics.pose) puts D where the candidate has it. Counting pixels of a fine grid
+gives an
+area estimate that shares nothing with the slicing of qsm.physics.workspace but the forward model.
 """
 
 from __future__ import annotations
 
 import numpy as np
 
-from qsm.kinematics import pose
-from qsm.workspace import OperatingRange
+from qsm.physics.kinematics import pose
+from qsm.physics.workspace import OperatingRange
 
 
 def _circle_intersections(c0, r0, c1, r1):

@@ -82,10 +82,10 @@ def test_every_rule_gets_its_config_through_params():
 
 def test_editing_a_library_module_reruns_exactly_the_rules_that_import_it(run, tmp_path):
     work = copy_run(run, tmp_path / "edited")
-    module = work / "src/qsm/findings.py"
+    module = work / "src/qsm/design_rules/findings.py"
     module.write_text(module.read_text() + "\n# an edit\n")
     jobs = planned_jobs(work)
     assert set(jobs) - {"all"} == {"design_rules_summary", "summary"}
-    kinematics = work / "src/qsm/kinematics.py"
+    kinematics = work / "src/qsm/physics/kinematics.py"
     kinematics.write_text(kinematics.read_text() + "\n# an edit\n")
     assert {"sample", "fit_task", "dynamics", "payload_test"} <= set(planned_jobs(work))

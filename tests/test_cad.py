@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from qsm import cad
+from qsm.physics import cad
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 

@@ -1,32 +1,32 @@
 """g11 (task containment, m) and g12 (printability, mm) against hand-computed cases and
 independent references: point membership by inverse kinematics, Stage 1's containment test and
-the box check of qsm.printing on the link outlines."""
+the box check of qsm.realisation.printing on the link outlines."""
 
 import numpy as np
 import pytest
 from reference_workspace import reachable
 
-from qsm.cad import CadSettings
-from qsm.constraints import (
+from qsm.mechanisms.filters import kinematic_checks
+from qsm.mechanisms.scale import FitSettings
+from qsm.optimisation.constraints import (
     OPEN_LOOP_VIOLATION_M,
     containment_margin_m,
     link_boxes_mm,
     printability_violation_mm,
     smallest_build_volume_mm,
 )
-from qsm.filters import kinematic_checks
-from qsm.mechanisms import FitSettings
-from qsm.optimize import (
+from qsm.optimisation.nsga import (
     ExtraConstraints,
     LabelStats,
     PaperProblem,
     RatiosProblem,
     paper_constraints,
 )
-from qsm.printing import all_links_fit
-from qsm.printing import link_boxes_mm as outline_boxes_mm
-from qsm.task import Disk, min_enclosing_circle
-from qsm.workspace import OperatingRange, containment_margin, slice_workspace
+from qsm.physics.cad import CadSettings
+from qsm.physics.task import Disk, min_enclosing_circle
+from qsm.physics.workspace import OperatingRange, containment_margin, slice_workspace
+from qsm.realisation.printing import all_links_fit
+from qsm.realisation.printing import link_boxes_mm as outline_boxes_mm
 
 OP = OperatingRange.from_degrees([45.0, 180.0], -37.5)
 DISK = min_enclosing_circle([[-0.53, 0.17], [-0.70, 0.02], [-0.60, 0.02], [-0.70, 0.12]])

@@ -10,12 +10,18 @@ import pandas as pd
 import pytest
 
 from qsm.config import load_config
-from qsm.dataset import DYNAMICS_COLUMNS, DatasetError, cad_settings, duty_settings, gather
-from qsm.duty import duty_cycle
-from qsm.dynamics import joint_torques, loop_state
-from qsm.kinematics import DESIGN_NAMES, pose
-from qsm.mechanisms import MECHANISM_COLUMNS
-from qsm.tables import write_table
+from qsm.mechanisms.dataset import (
+    DYNAMICS_COLUMNS,
+    DatasetError,
+    cad_settings,
+    duty_settings,
+    gather,
+)
+from qsm.mechanisms.scale import MECHANISM_COLUMNS
+from qsm.physics.duty import duty_cycle
+from qsm.physics.dynamics import joint_torques, loop_state
+from qsm.physics.kinematics import DESIGN_NAMES, pose
+from qsm.workflow.tables import write_table
 
 
 def mechanisms(ids):

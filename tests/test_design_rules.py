@@ -7,13 +7,19 @@ import pandas as pd
 import pytest
 from SALib.test_functions import Ishigami
 
-from qsm.eta_derivatives import eta_gradient, true_eta
-from qsm.findings import Evidence, findings, summary_markdown
-from qsm.kinematics import DESIGN_NAMES
-from qsm.sensitivity import ranking, sobol_indices
-from qsm.task import Disk
-from qsm.trees import FEATURES_MM, correlations, fit_tree, mining_designs, rule_sentence
-from qsm.workspace import OperatingRange, Resolution
+from qsm.design_rules.eta_derivatives import eta_gradient, true_eta
+from qsm.design_rules.findings import Evidence, findings, summary_markdown
+from qsm.design_rules.sensitivity import ranking, sobol_indices
+from qsm.design_rules.trees import (
+    FEATURES_MM,
+    correlations,
+    fit_tree,
+    mining_designs,
+    rule_sentence,
+)
+from qsm.physics.kinematics import DESIGN_NAMES
+from qsm.physics.task import Disk
+from qsm.physics.workspace import OperatingRange, Resolution
 
 OP = OperatingRange.from_degrees([45.0, 180.0], -37.5)
 DISK = Disk((-0.72, 0.11), 0.1345)

@@ -9,8 +9,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm import duty, dynamics, kinematics, mjcf
-from qsm.kinematics import DESIGN_COLUMNS
+from qsm.physics import duty, dynamics, kinematics, mjcf
+from qsm.physics.kinematics import DESIGN_COLUMNS
 
 G = mjcf.GRAVITY_M_S2
 # (l1, l2, l3, l4, ee_x, ee_y) in m; the loop closes over the whole operating range

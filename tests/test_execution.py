@@ -10,7 +10,7 @@ import pandas as pd
 import pytest
 from workflow_helpers import copy_workflow, snakemake
 
-from qsm.tables import read_table
+from qsm.workflow.tables import read_table
 
 pytestmark = pytest.mark.workflow
 

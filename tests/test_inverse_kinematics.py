@@ -1,4 +1,5 @@
-"""Analytic inverse kinematics: round trip with qsm.kinematics.pose, range, unreachable points."""
+"""Analytic inverse kinematics: round trip with qsm.physics.kinematics.pose, the range and
+unreachable points."""
 
 from __future__ import annotations
 
@@ -7,8 +8,8 @@ import math
 import numpy as np
 import pytest
 
-from qsm import inverse_kinematics as ik
-from qsm import kinematics
+from qsm.physics import inverse_kinematics as ik
+from qsm.physics import kinematics
 
 DESIGNS = np.array([[0.40, 0.12, 0.40, 0.20, 0.48, 0.16], [0.5, 0.15, 0.5, 0.22, 0.6, 0.2]])
 

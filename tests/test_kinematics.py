@@ -3,7 +3,7 @@
 import numpy as np
 import pytest
 
-from qsm.kinematics import (
+from qsm.physics.kinematics import (
     design_from_ratios,
     end_effector,
     loop_closes_everywhere,

@@ -4,9 +4,15 @@ import numpy as np
 import pytest
 
 from qsm.config import load_config
-from qsm.mechanisms import FitSettings, fit_design
-from qsm.optimize import LabelStats, PaperProblem, RatiosProblem, paper_constraints, run_nsga2
-from qsm.surrogate import SurrogateSettings, train
+from qsm.mechanisms.scale import FitSettings, fit_design
+from qsm.optimisation.nsga import (
+    LabelStats,
+    PaperProblem,
+    RatiosProblem,
+    paper_constraints,
+    run_nsga2,
+)
+from qsm.surrogate.model import SurrogateSettings, train
 
 
 def test_constraints_by_hand():

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from qsm import payload
+from qsm.realisation import payload
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])
 POINTS = [[-0.62, 0.20], [-0.82, 0.02], [-0.70, 0.14]]
@@ -66,8 +66,8 @@ def test_motor_inertia_gives_the_kinetic_energy_mujoco_computes() -> None:
     """0.5 v^T M v equals MuJoCo's own kinetic energy of the loop-consistent motion."""
     import mujoco
 
-    from qsm.dynamics import loop_state
-    from qsm.mjcf import model_spec
+    from qsm.physics.dynamics import loop_state
+    from qsm.physics.mjcf import model_spec
 
     model = model_spec(DESIGN, payload_kg=5.0).compile()
     model.opt.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY

@@ -2,7 +2,7 @@
 
 from pathlib import Path
 
-from qsm.provenance import PACKAGE_DIR, module_closure, source_hash
+from qsm.workflow.provenance import PACKAGE_DIR, module_closure, source_hash
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -58,7 +58,8 @@ def test_importing_the_figure_modules_leaves_matplotlib_backend_alone():
 
     code = (
         "import matplotlib; matplotlib.use('svg'); "
-        "import qsm.plots, qsm.rule_plots, qsm.payload, qsm.topology; "
+        "import qsm.report.figures, qsm.design_rules.plots, qsm.realisation.payload; "
+        "import qsm.realisation.topology; "
         "print(matplotlib.get_backend())"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

@@ -5,11 +5,16 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm.cad import CadSettings
-from qsm.constraints import box_excess_mm
-from qsm.kinematics import DESIGN_COLUMNS
-from qsm.selection import NoFeasibleDesign, advice_sentences, choose_design, printing_advice
-from qsm.task import Disk
+from qsm.optimisation.constraints import box_excess_mm
+from qsm.physics.cad import CadSettings
+from qsm.physics.kinematics import DESIGN_COLUMNS
+from qsm.physics.task import Disk
+from qsm.realisation.selection import (
+    NoFeasibleDesign,
+    advice_sentences,
+    choose_design,
+    printing_advice,
+)
 
 CAD = CadSettings()
 PRINTER = (600.0, 350.0, 350.0)

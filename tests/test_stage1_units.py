@@ -9,13 +9,13 @@ import pandas as pd
 import pytest
 
 from qsm.config import load_config
-from qsm.filters import kinematic_filters
-from qsm.kinematics import RATIO_NAMES, pose
-from qsm.mechanisms import FitSettings, fit_designs, select_mechanisms
-from qsm.sampling import latin_hypercube
-from qsm.sharding import shard_slice
-from qsm.tables import TableError, read_meta, read_table, write_table
-from qsm.workspace import OperatingRange
+from qsm.mechanisms.filters import kinematic_filters
+from qsm.mechanisms.sampling import latin_hypercube
+from qsm.mechanisms.scale import FitSettings, fit_designs, select_mechanisms
+from qsm.physics.kinematics import RATIO_NAMES, pose
+from qsm.physics.workspace import OperatingRange
+from qsm.workflow.sharding import shard_slice
+from qsm.workflow.tables import TableError, read_meta, read_table, write_table
 
 OP = OperatingRange.from_degrees([45.0, 180.0], -37.5)
 BOUNDS = load_config()["sampling"]["bounds"]

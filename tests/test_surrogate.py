@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from qsm.config import load_config
-from qsm.surrogate import (
+from qsm.surrogate.model import (
     Surrogate,
     SurrogateSettings,
     load,

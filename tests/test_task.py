@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from qsm.config import load_config
-from qsm.task import _circumcircle, min_enclosing_circle
+from qsm.physics.task import _circumcircle, min_enclosing_circle
 
 
 def brute_force_radius(points):

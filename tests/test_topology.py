@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 import shapely
 
-from qsm import cad, duty, topology
+from qsm.physics import cad, duty
+from qsm.realisation import topology
 
 SETTINGS = topology.TopologySettings(volume_fraction=0.5, max_iterations=60, cell_size_m=0.01)
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])

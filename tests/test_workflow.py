@@ -11,18 +11,18 @@ import yaml
 from workflow_helpers import copy_run, copy_workflow, planned_jobs, snakemake
 
 from qsm.config import settings_hash, validate_config
-from qsm.dataset import DATASET_COLUMNS, cad_settings, duty_settings
-from qsm.duty import duty_cycle
 from qsm.evaluate import evaluate_ratios
-from qsm.filters import kinematic_filters
-from qsm.mechanisms import MECHANISM_COLUMNS, FitSettings
-from qsm.printing import all_links_fit
-from qsm.sampling import latin_hypercube
-from qsm.surrogate import INPUTS
-from qsm.surrogate import load as load_surrogate
-from qsm.tables import read_meta, read_table
-from qsm.verify import summary, verify_design
-from qsm.workspace import OperatingRange
+from qsm.mechanisms.dataset import DATASET_COLUMNS, cad_settings, duty_settings
+from qsm.mechanisms.filters import kinematic_filters
+from qsm.mechanisms.sampling import latin_hypercube
+from qsm.mechanisms.scale import MECHANISM_COLUMNS, FitSettings
+from qsm.optimisation.verify import summary, verify_design
+from qsm.physics.duty import duty_cycle
+from qsm.physics.workspace import OperatingRange
+from qsm.realisation.printing import all_links_fit
+from qsm.surrogate.model import INPUTS
+from qsm.surrogate.model import load as load_surrogate
+from qsm.workflow.tables import read_meta, read_table
 
 pytestmark = pytest.mark.workflow
 

@@ -4,9 +4,9 @@ import numpy as np
 import pytest
 from reference_workspace import pixel_area, reachable
 
-from qsm.kinematics import design_from_ratios, loop_closes_everywhere
-from qsm.task import Disk
-from qsm.workspace import (
+from qsm.physics.kinematics import design_from_ratios, loop_closes_everywhere
+from qsm.physics.task import Disk
+from qsm.physics.workspace import (
     OperatingRange,
     Resolution,
     containment_margin,
@@ -127,7 +127,7 @@ def test_infeasible_reasons():
 
 def test_union_and_margin_of_hand_made_arcs():
     """Arcs from different branches can overlap: the union and the centred margin chain them."""
-    from qsm.workspace import _union_length, margin_about_zero
+    from qsm.physics.workspace import _union_length, margin_about_zero
 
     # per level (column): intervals (rows) [start, end]
     starts = np.array([[-0.3, -0.3, 0.2, -1.0], [0.05, 0.5, 0.3, -0.5], [0.35, 0.6, 0.4, 0.9]])

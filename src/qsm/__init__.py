@@ -19,15 +19,15 @@ from typing import Any
 __version__ = "0.1.0"
 
 _EXPORTS: dict[str, tuple[str, str]] = {
-    "end_effector": ("qsm.kinematics", "end_effector"),
-    "joint_torques": ("qsm.dynamics", "joint_torques"),
+    "end_effector": ("qsm.physics.kinematics", "end_effector"),
+    "joint_torques": ("qsm.physics.dynamics", "joint_torques"),
     "evaluate_ratios": ("qsm.evaluate", "evaluate_ratios"),
     "load_config": ("qsm.config", "load_config"),
-    "load_surrogate": ("qsm.surrogate", "load"),
-    "choose_design": ("qsm.selection", "choose_design"),
-    "printing_advice": ("qsm.selection", "printing_advice"),
-    "containment_margin_m": ("qsm.constraints", "containment_margin_m"),
-    "printability_violation_mm": ("qsm.constraints", "printability_violation_mm"),
+    "load_surrogate": ("qsm.surrogate.model", "load"),
+    "choose_design": ("qsm.realisation.selection", "choose_design"),
+    "printing_advice": ("qsm.realisation.selection", "printing_advice"),
+    "containment_margin_m": ("qsm.optimisation.constraints", "containment_margin_m"),
+    "printability_violation_mm": ("qsm.optimisation.constraints", "printability_violation_mm"),
 }
 __all__ = sorted(_EXPORTS)
 

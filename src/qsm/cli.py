@@ -8,14 +8,14 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from qsm.cad import export_stl
 from qsm.config import ConfigError, load_config, validate_config
-from qsm.dataset import cad_settings
 from qsm.evaluate import checked_ratios, evaluate_ratios
-from qsm.kinematics import DESIGN_NAMES
-from qsm.mechanisms import MECHANISM_COLUMNS
-from qsm.mjcf import mjcf_xml
-from qsm.tables import read_table
+from qsm.mechanisms.dataset import cad_settings
+from qsm.mechanisms.scale import MECHANISM_COLUMNS
+from qsm.physics.cad import export_stl
+from qsm.physics.kinematics import DESIGN_NAMES
+from qsm.physics.mjcf import mjcf_xml
+from qsm.workflow.tables import read_table
 
 
 def _parser() -> argparse.ArgumentParser:

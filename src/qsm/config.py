@@ -16,7 +16,7 @@ import jsonschema
 import numpy as np
 import yaml
 
-from qsm.task import min_enclosing_circle
+from qsm.physics.task import min_enclosing_circle
 
 SCHEMA_FILE = "config.schema.yaml"
 

@@ -7,12 +7,12 @@ from typing import Any
 
 import numpy as np
 
-from qsm.dataset import cad_settings, duty_settings
-from qsm.duty import duty_cycle
-from qsm.dynamics import evaluate_mechanism
-from qsm.filters import kinematic_checks
-from qsm.kinematics import DESIGN_NAMES, RATIO_NAMES
-from qsm.mechanisms import FitSettings, fit_design
+from qsm.mechanisms.dataset import cad_settings, duty_settings
+from qsm.mechanisms.filters import kinematic_checks
+from qsm.mechanisms.scale import FitSettings, fit_design
+from qsm.physics.duty import duty_cycle
+from qsm.physics.dynamics import evaluate_mechanism
+from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
 
 
 def checked_ratios(ratios: Sequence[float]) -> np.ndarray:

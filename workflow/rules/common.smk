@@ -1,5 +1,5 @@
 # Shared definitions: the conda environment, code provenance and the settings rules depend on.
-from qsm.provenance import source_hash
+from qsm.workflow.provenance import source_hash
 
 ENV = "../envs/qsm.yaml"
 RESULTS = "results"

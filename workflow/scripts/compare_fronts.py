@@ -2,10 +2,10 @@
 
 import json
 
-from qsm.dataset import DATASET_COLUMNS, ok_rows
-from qsm.logs import logged
-from qsm.tables import read_meta, read_table
-from qsm.verify import compare, comparison_markdown
+from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.optimisation.verify import compare, comparison_markdown
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_meta, read_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     inp = snakemake.input  # noqa: F821

@@ -1,9 +1,9 @@
 """Rule correlations: Spearman and Pearson coefficients on the 400 designs."""
 
-from qsm.logs import logged
-from qsm.rule_plots import correlation_figure
-from qsm.tables import read_table, write_table
-from qsm.trees import FEATURES_MM, OBJECTIVES, correlations
+from qsm.design_rules.plots import correlation_figure
+from qsm.design_rules.trees import FEATURES_MM, OBJECTIVES, correlations
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     alpha = snakemake.params.alpha  # noqa: F821

@@ -2,11 +2,11 @@
 
 import json
 
-from qsm.logs import logged
-from qsm.optimize import PREDICTION_COLUMNS
-from qsm.rule_plots import trees_figure
-from qsm.tables import read_table, write_table
-from qsm.trees import FEATURES_MM, OBJECTIVES, fit_tree, mining_designs, rule_sentence
+from qsm.design_rules.plots import trees_figure
+from qsm.design_rules.trees import FEATURES_MM, OBJECTIVES, fit_tree, mining_designs, rule_sentence
+from qsm.optimisation.nsga import PREDICTION_COLUMNS
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

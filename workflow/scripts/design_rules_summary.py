@@ -2,10 +2,10 @@
 
 import json
 
-from qsm.dataset import DATASET_COLUMNS, ok_rows
-from qsm.findings import Evidence, findings, summary_markdown
-from qsm.logs import logged
-from qsm.tables import read_meta, read_table, write_table
+from qsm.design_rules.findings import Evidence, findings, summary_markdown
+from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_meta, read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

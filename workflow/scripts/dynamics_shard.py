@@ -1,9 +1,9 @@
 """Rule dynamics: closed-chain inverse dynamics of one shard of the mechanisms."""
 
-from qsm.dataset import cad_settings, duty_settings, evaluate_shard, status_counts
-from qsm.logs import logged
-from qsm.mechanisms import MECHANISM_COLUMNS
-from qsm.tables import read_table, write_table
+from qsm.mechanisms.dataset import cad_settings, duty_settings, evaluate_shard, status_counts
+from qsm.mechanisms.scale import MECHANISM_COLUMNS
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

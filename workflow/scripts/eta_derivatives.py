@@ -2,9 +2,9 @@
 
 import pandas as pd
 
-from qsm.logs import logged
-from qsm.rule_plots import derivatives_figure
-from qsm.tables import read_table, write_table
+from qsm.design_rules.plots import derivatives_figure
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     grads = pd.concat([read_table(f) for f in snakemake.input], ignore_index=True)  # noqa: F821

@@ -1,12 +1,12 @@
 """Rule eta_derivatives_shard: d eta / d x of the true eta for one shard of the mechanisms."""
 
-from qsm.eta_derivatives import eta_gradients
-from qsm.logs import logged
-from qsm.mechanisms import MECHANISM_COLUMNS
-from qsm.sharding import shard_slice
-from qsm.tables import read_table, write_table
-from qsm.task import min_enclosing_circle
-from qsm.workspace import OperatingRange, Resolution
+from qsm.design_rules.eta_derivatives import eta_gradients
+from qsm.mechanisms.scale import MECHANISM_COLUMNS
+from qsm.physics.task import min_enclosing_circle
+from qsm.physics.workspace import OperatingRange, Resolution
+from qsm.workflow.logs import logged
+from qsm.workflow.sharding import shard_slice
+from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

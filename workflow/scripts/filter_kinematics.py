@@ -2,11 +2,11 @@
 
 import json
 
-from qsm.filters import kinematic_filters
-from qsm.kinematics import RATIO_NAMES
-from qsm.logs import logged
-from qsm.tables import read_table, write_table
-from qsm.workspace import OperatingRange
+from qsm.mechanisms.filters import kinematic_filters
+from qsm.physics.kinematics import RATIO_NAMES
+from qsm.physics.workspace import OperatingRange
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

@@ -1,10 +1,10 @@
 """Rule fit_task: workspace, minimal scale factor and eta for one shard of the candidates."""
 
-from qsm.kinematics import RATIO_NAMES
-from qsm.logs import logged
-from qsm.mechanisms import FitSettings, fit_designs
-from qsm.sharding import shard_slice
-from qsm.tables import read_table, write_table
+from qsm.mechanisms.scale import FitSettings, fit_designs
+from qsm.physics.kinematics import RATIO_NAMES
+from qsm.workflow.logs import logged
+from qsm.workflow.sharding import shard_slice
+from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

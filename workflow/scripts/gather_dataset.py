@@ -3,11 +3,11 @@
 import json
 
 from qsm.config import settings_hash
-from qsm.dataset import DATASET_COLUMNS, gather, status_counts
-from qsm.dynamics import RESULT_KEYS
-from qsm.logs import logged
-from qsm.mechanisms import MECHANISM_COLUMNS
-from qsm.tables import read_table, write_table
+from qsm.mechanisms.dataset import DATASET_COLUMNS, gather, status_counts
+from qsm.mechanisms.scale import MECHANISM_COLUMNS
+from qsm.physics.dynamics import RESULT_KEYS
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

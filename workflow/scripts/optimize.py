@@ -1,12 +1,12 @@
 """Rule optimize: NSGA-II on the surrogate in one formulation; tables and figures."""
 
-from qsm.dataset import DATASET_COLUMNS, ok_rows
-from qsm.logs import logged
-from qsm.mechanisms import FitSettings
-from qsm.optimize import ExtraConstraints, optimise
-from qsm.plots import pareto_figures, representatives_figure
-from qsm.surrogate import load
-from qsm.tables import read_table, write_table
+from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.mechanisms.scale import FitSettings
+from qsm.optimisation.nsga import ExtraConstraints, optimise
+from qsm.report.figures import pareto_figures, representatives_figure
+from qsm.surrogate.model import load
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

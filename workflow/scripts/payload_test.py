@@ -4,10 +4,10 @@ import json
 
 import numpy as np
 
-from qsm.dataset import cad_settings
-from qsm.logs import logged
-from qsm.payload import PayloadSettings, payload_test, plot_payload_test, summary
-from qsm.realization import props_from_json
+from qsm.mechanisms.dataset import cad_settings
+from qsm.realisation.export import props_from_json
+from qsm.realisation.payload import PayloadSettings, payload_test, plot_payload_test, summary
+from qsm.workflow.logs import logged
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

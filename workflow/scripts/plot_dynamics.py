@@ -1,9 +1,9 @@
 """Rule plot_dynamics: eta against the motor torques, coloured by scale (paper Fig. 11)."""
 
-from qsm.dataset import DATASET_COLUMNS, ok_rows
-from qsm.logs import logged
-from qsm.plots import performance_figure
-from qsm.tables import read_table
+from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.report.figures import performance_figure
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     dataset = read_table(snakemake.input[0], DATASET_COLUMNS)  # noqa: F821

@@ -1,11 +1,11 @@
 """Rule plot_mechanisms: example designs with workspace and task, scale and eta distributions."""
 
-from qsm.logs import logged
-from qsm.mechanisms import MECHANISM_COLUMNS
-from qsm.plots import distributions_figure, examples_figure
-from qsm.tables import read_table
-from qsm.task import min_enclosing_circle
-from qsm.workspace import OperatingRange
+from qsm.mechanisms.scale import MECHANISM_COLUMNS
+from qsm.physics.task import min_enclosing_circle
+from qsm.physics.workspace import OperatingRange
+from qsm.report.figures import distributions_figure, examples_figure
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

@@ -1,9 +1,9 @@
 """Rule sample: Latin-hypercube samples of the unit-mechanism ratios."""
 
 from qsm.config import settings_hash
-from qsm.logs import logged
-from qsm.sampling import latin_hypercube
-from qsm.tables import write_table
+from qsm.mechanisms.sampling import latin_hypercube
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     sampling = snakemake.params.sampling  # noqa: F821

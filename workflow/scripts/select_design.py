@@ -4,14 +4,14 @@ import json
 
 import matplotlib.pyplot as plt
 
-from qsm.dataset import DATASET_COLUMNS, cad_settings, ok_rows
-from qsm.logs import logged
-from qsm.plots import draw_design
-from qsm.realization import selection_record
-from qsm.selection import advice_sentences, choose_design, printing_advice
-from qsm.tables import read_table
-from qsm.task import min_enclosing_circle
-from qsm.workspace import OperatingRange
+from qsm.mechanisms.dataset import DATASET_COLUMNS, cad_settings, ok_rows
+from qsm.physics.task import min_enclosing_circle
+from qsm.physics.workspace import OperatingRange
+from qsm.realisation.export import selection_record
+from qsm.realisation.selection import advice_sentences, choose_design, printing_advice
+from qsm.report.figures import draw_design
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

@@ -5,9 +5,9 @@ import json
 import pandas as pd
 
 from qsm.config import settings_hash
-from qsm.logs import logged
-from qsm.mechanisms import MECHANISM_COLUMNS, fit_counts, select_mechanisms
-from qsm.tables import read_table, write_table
+from qsm.mechanisms.scale import MECHANISM_COLUMNS, fit_counts, select_mechanisms
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

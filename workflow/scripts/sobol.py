@@ -1,13 +1,13 @@
 """Rule sobol: Sobol indices of the surrogate's eta, tau1, tau2 over the optimisation bounds."""
 
-from qsm.dataset import DATASET_COLUMNS, ok_rows
-from qsm.kinematics import DESIGN_NAMES
-from qsm.logs import logged
-from qsm.optimize import bounds_from
-from qsm.rule_plots import sobol_figure
-from qsm.sensitivity import sobol_indices
-from qsm.surrogate import INPUTS, load
-from qsm.tables import read_table, write_table
+from qsm.design_rules.plots import sobol_figure
+from qsm.design_rules.sensitivity import sobol_indices
+from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.optimisation.nsga import bounds_from
+from qsm.physics.kinematics import DESIGN_NAMES
+from qsm.surrogate.model import INPUTS, load
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table, write_table
 
 OUTPUTS = ["eta", "tau1", "tau2"]
 

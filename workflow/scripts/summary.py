@@ -2,9 +2,9 @@
 
 import json
 
-from qsm.headline import headline_markdown
-from qsm.logs import logged
-from qsm.tables import read_table
+from qsm.report.headline import headline_markdown
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     inp = snakemake.input  # noqa: F821

@@ -4,12 +4,17 @@ import json
 
 import numpy as np
 
-from qsm.cad import link_meshes
-from qsm.dataset import cad_settings, duty_settings
-from qsm.duty import duty_cycle
-from qsm.logs import logged
-from qsm.realization import export_stls, props_to_json, torques_markdown
-from qsm.topology import TopologySettings, optimise_links, plot_links, torques_before_after
+from qsm.mechanisms.dataset import cad_settings, duty_settings
+from qsm.physics.cad import link_meshes
+from qsm.physics.duty import duty_cycle
+from qsm.realisation.export import export_stls, props_to_json, torques_markdown
+from qsm.realisation.topology import (
+    TopologySettings,
+    optimise_links,
+    plot_links,
+    torques_before_after,
+)
+from qsm.workflow.logs import logged
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

@@ -2,11 +2,11 @@
 
 import json
 
-from qsm.dataset import DATASET_COLUMNS, ok_rows
-from qsm.logs import logged
-from qsm.plots import parity_figure
-from qsm.surrogate import INPUTS, OUTPUTS, SurrogateSettings, metrics_markdown, train
-from qsm.tables import read_table
+from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.report.figures import parity_figure
+from qsm.surrogate.model import INPUTS, OUTPUTS, SurrogateSettings, metrics_markdown, train
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     out = snakemake.output  # noqa: F821

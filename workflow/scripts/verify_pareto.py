@@ -2,14 +2,14 @@
 
 import json
 
-from qsm.dataset import cad_settings, duty_settings
-from qsm.duty import duty_cycle
-from qsm.logs import logged
-from qsm.mechanisms import FitSettings
-from qsm.optimize import PREDICTION_COLUMNS
-from qsm.surrogate import INPUTS
-from qsm.tables import read_meta, read_table, write_table
-from qsm.verify import TRUE_COLUMNS, summary, verify_front
+from qsm.mechanisms.dataset import cad_settings, duty_settings
+from qsm.mechanisms.scale import FitSettings
+from qsm.optimisation.nsga import PREDICTION_COLUMNS
+from qsm.optimisation.verify import TRUE_COLUMNS, summary, verify_front
+from qsm.physics.duty import duty_cycle
+from qsm.surrogate.model import INPUTS
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_meta, read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821

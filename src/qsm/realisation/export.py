@@ -10,8 +10,8 @@ import numpy as np
 import pandas as pd
 import trimesh
 
-from qsm.cad import MassProperties
-from qsm.kinematics import DESIGN_COLUMNS
+from qsm.physics.cad import MassProperties
+from qsm.physics.kinematics import DESIGN_COLUMNS
 
 
 def selection_record(row: pd.Series) -> dict[str, Any]:

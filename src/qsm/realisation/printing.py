@@ -27,8 +27,8 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike
 
-from qsm.cad import DEFAULT_CAD, CadError, CadSettings, link_outlines
-from qsm.kinematics import DESIGN_COLUMNS
+from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, link_outlines
+from qsm.physics.kinematics import DESIGN_COLUMNS
 
 BUILD_VOLUME_MM: tuple[float, float, float] = (600.0, 350.0, 350.0)
 RULES: tuple[str, ...] = ("min_tau1", "min_tau2", "min_torque_sum", "min_eta", "knee")
@@ -52,7 +52,7 @@ def fits_build_volume(
     """Per link: ``{"fits": bool, "dims_mm": (x, y, thickness)}``; a link fits when its sorted
     bounding-box dimensions do not exceed the sorted build volume ``volume_mm``.
 
-    Raises :class:`qsm.cad.CadError` when the section does not fit the design at all.
+    Raises :class:`qsm.physics.cad.CadError` when the section does not fit the design at all.
     """
     vol = np.sort(np.asarray(volume_mm, dtype=float))
     out = {}

@@ -5,8 +5,8 @@ from __future__ import annotations
 import numpy as np
 import pandas as pd
 
-from qsm.kinematics import RATIO_NAMES, loop_closes_everywhere, transmission_angle_range
-from qsm.workspace import OperatingRange
+from qsm.physics.kinematics import RATIO_NAMES, loop_closes_everywhere, transmission_angle_range
+from qsm.physics.workspace import OperatingRange
 
 
 def crank_rocker(ratios: np.ndarray) -> np.ndarray:

@@ -10,9 +10,10 @@ pymoo's ``G <= 0`` form:
   ->  ``(mean - z std) - y'`` and ``y' - (mean + z std)``.
 
 * g11 (paper formulation, ``constraints.containment``): the task disk lies in the workspace at
-  scale l1 with ``containment_tolerance_m`` of arc to spare (:mod:`qsm.constraints`, metres);
+  scale l1 with ``containment_tolerance_m`` of arc to spare (:mod:`qsm.optimisation.constraints`,
+  metres);
 * g12 (every formulation, ``constraints.printable``): every link's box fits the build volume
-  (:mod:`qsm.constraints`, millimetres).
+  (:mod:`qsm.optimisation.constraints`, millimetres).
 
 With both switches off the paper formulation is the paper's g1..g10 exactly.
 
@@ -37,13 +38,13 @@ from pymoo.core.problem import Problem
 from pymoo.indicators.hv import HV
 from pymoo.optimize import minimize
 
-from qsm.cad import CadSettings
-from qsm.constraints import containment_margin_m, printability_violation_mm
-from qsm.dataset import cad_settings
-from qsm.filters import kinematic_checks
-from qsm.kinematics import RATIO_NAMES, design_from_ratios
-from qsm.mechanisms import FitSettings, fit_design
-from qsm.surrogate import INPUTS, Surrogate
+from qsm.mechanisms.dataset import cad_settings
+from qsm.mechanisms.filters import kinematic_checks
+from qsm.mechanisms.scale import FitSettings, fit_design
+from qsm.optimisation.constraints import containment_margin_m, printability_violation_mm
+from qsm.physics.cad import CadSettings
+from qsm.physics.kinematics import RATIO_NAMES, design_from_ratios
+from qsm.surrogate.model import INPUTS, Surrogate
 
 PAPER_CONSTRAINTS: tuple[str, ...] = (
     "g1_eta_positive",

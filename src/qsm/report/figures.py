@@ -12,9 +12,9 @@ from matplotlib.axes import Axes
 from matplotlib.tri import Triangulation
 from numpy.typing import NDArray
 
-from qsm.kinematics import DESIGN_NAMES, pose
-from qsm.task import Disk
-from qsm.workspace import OperatingRange
+from qsm.physics.kinematics import DESIGN_NAMES, pose
+from qsm.physics.task import Disk
+from qsm.physics.workspace import OperatingRange
 
 
 def draw_design(

@@ -1,4 +1,5 @@
-"""Analytic inverse kinematics of the quasi-serial mechanism (inverse of qsm.kinematics.pose).
+"""Analytic inverse kinematics of the quasi-serial mechanism (inverse of
+qsm.physics.kinematics.pose).
 
 For an end-effector point P (m, base frame):
 
@@ -9,7 +10,8 @@ For an end-effector point P (m, base frame):
 3. C on |C| = l2 and |C - D| = l3 gives up to two theta2.
 
 A candidate is kept when it lies in the operating range (theta1_min <= theta1 <= theta1_max,
-theta2_min <= theta2 <= theta1) and on the assembly branch of :func:`qsm.kinematics.pose`, i.e.
+theta2_min <= theta2 <= theta1) and on the assembly branch of :func:`qsm.physics.kinematics.pose`,
+i.e.
 ``pose(design, theta1, theta2)`` closes and reproduces D (the other circle intersection is the
 mirror assembly). Angles are in radians, wrapped to (-pi, pi].
 """
@@ -21,7 +23,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.kinematics import as_design, pose
+from qsm.physics.kinematics import as_design, pose
 
 THETA1_RANGE_DEG = (45.0, 180.0)
 THETA2_MIN_DEG = -37.5
@@ -54,7 +56,8 @@ def _circle_intersections(
 
 def all_solutions(design: ArrayLike, point: ArrayLike) -> NDArray[np.float64]:
     """Every (theta1, theta2) (k, 2) in rad, wrapped to (-pi, pi], on the assembly branch of
-    :func:`qsm.kinematics.pose` that places the end effector at ``point`` (m); operating range
+    :func:`qsm.physics.kinematics.pose` that places the end effector at ``point`` (m); operating
+    range
     not applied."""
     d = as_design(design)
     if d.ndim != 1:
@@ -104,7 +107,8 @@ def joint_angles(
     """Motor angles (theta1, theta2) in rad placing the end effector of ``design`` at ``point`` (m).
 
     Among the solutions in the operating range on the assembly branch of
-    :func:`qsm.kinematics.pose`, returns the one closest (in joint space) to ``prefer`` (rad) when
+    :func:`qsm.physics.kinematics.pose`, returns the one closest (in joint space) to ``prefer``
+    (rad) when
     given, else the one with the largest transmission margin (largest theta1 on a tie). Raises
     ``ValueError`` naming the point when none exists.
     """

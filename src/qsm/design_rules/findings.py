@@ -8,8 +8,8 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from qsm.sensitivity import ranking
-from qsm.trees import OBJECTIVES as OBJ
+from qsm.design_rules.sensitivity import ranking
+from qsm.design_rules.trees import OBJECTIVES as OBJ
 
 # Why a finding may not carry over, said when it does not (the paper's models, duty, link
 # sections and task are not published, so ours differ).

@@ -14,7 +14,7 @@ closed chain (its soft constraint force is zero on a consistent trajectory). Ins
    qfrc = S^T tau + Jc^T lambda.
 
 Sign: tau_i is the torque motor i applies to its own link (lower arm, crank) about +z
-(counter-clockwise positive); both motor joints are absolute angles (see :mod:`qsm.mjcf`).
+(counter-clockwise positive); both motor joints are absolute angles (see :mod:`qsm.physics.mjcf`).
 """
 
 from __future__ import annotations
@@ -28,10 +28,10 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
-from qsm.duty import Duty, duty_cycle
-from qsm.kinematics import DESIGN_COLUMNS, as_design, perp, pose
-from qsm.mjcf import JOINT_NAMES, model_spec
+from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
+from qsm.physics.duty import Duty, duty_cycle
+from qsm.physics.kinematics import DESIGN_COLUMNS, as_design, perp, pose
+from qsm.physics.mjcf import JOINT_NAMES, model_spec
 
 log = logging.getLogger(__name__)
 
@@ -61,7 +61,8 @@ class LoopState(NamedTuple):
     """Loop-consistent joint state for motor samples (N of them).
 
     q, qd, qdd: (N, 4) positions (rad), velocities (rad/s), accelerations (rad/s^2) of the joints
-    in :data:`qsm.mjcf.JOINT_NAMES` order; G: (N, 4, 2) dq/dtheta; rocker_dir, coupler_dir: (N, 2)
+    in :data:`qsm.physics.mjcf.JOINT_NAMES` order; G: (N, 4, 2) dq/dtheta; rocker_dir, coupler_dir:
+    (N, 2)
     unit vectors dir(phi) and dir(psi); sin_transmission: (N,) |sin| of the transmission angle at
     D; closes: (N,) whether the loop closes (other fields are NaN where it does not).
     """
@@ -145,7 +146,7 @@ class InverseResult(NamedTuple):
 
 
 def inverse_dynamics(model: mujoco.MjModel, design: ArrayLike, state: LoopState) -> InverseResult:
-    """Closed-chain inverse dynamics of ``model`` (from :func:`qsm.mjcf.build_model` for
+    """Closed-chain inverse dynamics of ``model`` (from :func:`qsm.physics.mjcf.build_model` for
     ``design``) on the loop-consistent ``state`` (:func:`loop_state`).
 
     Runs ``mj_inverse`` on the open tree (the loop equality is disabled during the call and the
@@ -193,9 +194,10 @@ def joint_torques(
     """Motor torques (N, 2) in N m for motor angles, rates, accelerations (N, 2) in rad, rad/s,
     rad/s^2 of one design (6 lengths, m) with a payload (kg) at E.
 
-    Links use the default :class:`qsm.cad.CadSettings` section, with ``link_density`` (kg/m^3)
+    Links use the default :class:`qsm.physics.cad.CadSettings` section, with ``link_density``
+    (kg/m^3)
     replacing the default material when given. Rows where the loop does not close are NaN;
-    raises :class:`qsm.cad.CadError` when the section does not fit the design.
+    raises :class:`qsm.physics.cad.CadError` when the section does not fit the design.
     """
     settings = DEFAULT_CAD if link_density is None else CadSettings(density_kg_m3=link_density)
     state = loop_state(design, theta, dtheta, ddtheta)
@@ -287,7 +289,8 @@ def evaluate_table(
 
     Returns one row per input row, in the same order and with the same index, holding
     ``mechanism_id`` (when ``df`` has it) and the :data:`RESULT_KEYS` columns. ``duty`` defaults to
-    :func:`qsm.duty.duty_cycle` with default settings. Progress is logged every ``log_every`` rows.
+    :func:`qsm.physics.duty.duty_cycle` with default settings. Progress is logged every
+    ``log_every`` rows.
     """
     duty = duty_cycle() if duty is None else duty
     designs = df.loc[:, list(DESIGN_COLUMNS)].to_numpy(dtype=float)

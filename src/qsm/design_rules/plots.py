@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 from sklearn.tree import plot_tree
 
-from qsm.trees import TreeRules
+from qsm.design_rules.trees import TreeRules
 
 
 def sobol_figure(indices: pd.DataFrame, outputs: Sequence[str], path: str | Path) -> None:

@@ -2,15 +2,16 @@
 
 The paper grips a 3 kg object with a 2 kg gripper (5 kg at the end effector) and drives the arm
 through the task with motors geared to 150 N m and 100 N m (NEMA 17 + 50:1 gear and belt). Here the
-closed-chain MuJoCo model (:mod:`qsm.mjcf`, optionally with the optimised link mass properties)
+closed-chain MuJoCo model (:mod:`qsm.physics.mjcf`, optionally with the optimised link mass
+properties)
 is simulated forward:
 
 * reference: the task points in order (and back to the first when ``return_to_start``), each
-  solved by :mod:`qsm.inverse_kinematics` (solution closest to the previous one), joined by
+  solved by :mod:`qsm.physics.inverse_kinematics` (solution closest to the previous one), joined by
   rest-to-rest minimum-jerk segments in joint space of ``segment_duration_s``, each followed by
   a ``dwell_s`` hold (the test starts with one hold at the first point);
 * control: feed-forward torques from the closed-chain inverse dynamics
-  (:func:`qsm.dynamics.inverse_dynamics`, same model and properties) plus joint PD feedback
+  (:func:`qsm.physics.dynamics.inverse_dynamics`, same model and properties) plus joint PD feedback
   ``kp (theta_ref - theta) + kd (dtheta_ref - dtheta)``; the *requested* torque is clamped to the
   motor limits before it is applied;
 * integration: the PD torque is applied explicitly, which is stable only while
@@ -34,12 +35,12 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
-from qsm.duty import minimum_jerk
-from qsm.dynamics import MIN_SIN_TRANSMISSION, inverse_dynamics, loop_state
-from qsm.inverse_kinematics import THETA1_RANGE_DEG, THETA2_MIN_DEG, joint_path
-from qsm.kinematics import as_design, pose
-from qsm.mjcf import model_spec
+from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
+from qsm.physics.duty import minimum_jerk
+from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, inverse_dynamics, loop_state
+from qsm.physics.inverse_kinematics import THETA1_RANGE_DEG, THETA2_MIN_DEG, joint_path
+from qsm.physics.kinematics import as_design, pose
+from qsm.physics.mjcf import model_spec
 
 
 @dataclass(frozen=True)

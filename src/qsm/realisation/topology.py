@@ -7,11 +7,11 @@ domains and loads, runs the optimality-criteria (OC) update and turns the result
 Problem per link (plane stress, plate thickness = the CAD thickness, ABS-M30):
 
 * design domain: a regular grid of square cells (``cell_size_m``) over the link's bounding box in
-  its link frame (:mod:`qsm.cad`); cells whose centre lies outside the CAD outline are void
+  its link frame (:mod:`qsm.physics.cad`); cells whose centre lies outside the CAD outline are void
   (passive, density ``min_density``), cells within ``boss_radius_m`` of a joint are solid
   (passive, density 1); the rest is designable;
 * supports and loads, quasi-static at the two duty samples of peak |tau1| and peak |tau2|
-  (two load cases, compliance summed), from :func:`qsm.dynamics.inverse_dynamics`:
+  (two load cases, compliance summed), from :func:`qsm.physics.dynamics.inverse_dynamics`:
 
   - upper arm: boss B clamped (a pin plus the small residual moment of the arm's own weight and
     inertia, which the FE model does not apply as a body load); at D the force of the coupler on
@@ -29,7 +29,8 @@ Problem per link (plane stress, plate thickness = the CAD thickness, ABS-M30):
 The optimised density field is thresholded at ``threshold``; the union of the solid cells
 (shapely), closed by half a cell, clipped to the CAD outline and joined with the boss discs, is
 extruded by trimesh into a watertight plate whose ``mass_properties`` replace the link's
-:class:`qsm.cad.MassProperties`. The load check re-solves both load cases on the printed plate
+:class:`qsm.physics.cad.MassProperties`. The load check re-solves both load cases on the printed
+plate
 (rasterised as the covered fraction of each cell, stiffness proportional to it): the compliance,
 and the peak von Mises stress of the cells at least half filled (element averages) must stay within
 ``allowable_stress_pa = yield_strength_pa / safety_factor``.
@@ -51,11 +52,11 @@ import shapely
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.cad import CadSettings, MassProperties, link_outlines, mass_properties
-from qsm.duty import Duty
-from qsm.dynamics import inverse_dynamics, loop_state
-from qsm.kinematics import as_design, perp
-from qsm.mjcf import GRAVITY_M_S2, model_spec
+from qsm.physics.cad import CadSettings, MassProperties, link_outlines, mass_properties
+from qsm.physics.duty import Duty
+from qsm.physics.dynamics import inverse_dynamics, loop_state
+from qsm.physics.kinematics import as_design, perp
+from qsm.physics.mjcf import GRAVITY_M_S2, model_spec
 
 # pymoto 2.0.1 calls matplotlib.use("TkAgg") when imported, which takes a notebook's backend away
 # and fails without a display once pyplot is loaded: make that call a no-op while importing it.

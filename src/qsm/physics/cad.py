@@ -10,7 +10,7 @@ Each link is a flat plate of constant thickness: a 2D outline made of straight b
 * the trimesh solid (for STL export) is the extrusion of the same polygon, one watertight body whose
   ``mass_properties`` agree with the analytic values to rounding.
 
-Link frames (also the MuJoCo body frames of :mod:`qsm.mjcf`), x-y is the mechanism plane:
+Link frames (also the MuJoCo body frames of :mod:`qsm.physics.mjcf`), x-y is the mechanism plane:
 
 * ``lower_arm``: origin at A, +x towards B, length l1;
 * ``crank``:     origin at A, +x towards C, length l2;
@@ -35,7 +35,7 @@ import shapely
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.kinematics import as_design
+from qsm.physics.kinematics import as_design
 
 LINK_NAMES: tuple[str, ...] = ("lower_arm", "crank", "coupler", "upper_arm")
 ABS_M30_DENSITY_KG_M3 = 1040.0

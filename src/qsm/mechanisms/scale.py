@@ -11,9 +11,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.kinematics import DESIGN_NAMES, RATIO_NAMES
-from qsm.task import Disk, min_enclosing_circle
-from qsm.workspace import OperatingRange, Resolution, minimal_scale, slice_workspace
+from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
+from qsm.physics.task import Disk, min_enclosing_circle
+from qsm.physics.workspace import OperatingRange, Resolution, minimal_scale, slice_workspace
 
 log = logging.getLogger(__name__)
 

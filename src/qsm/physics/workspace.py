@@ -26,7 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.kinematics import relative_arm_angle
+from qsm.physics.kinematics import relative_arm_angle
 
 TWO_PI = 2.0 * np.pi
 

@@ -15,9 +15,9 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from qsm.kinematics import DESIGN_NAMES
-from qsm.task import Disk
-from qsm.workspace import OperatingRange, Resolution, slice_workspace
+from qsm.physics.kinematics import DESIGN_NAMES
+from qsm.physics.task import Disk
+from qsm.physics.workspace import OperatingRange, Resolution, slice_workspace
 
 log = logging.getLogger(__name__)
 

@@ -13,7 +13,7 @@ import hashlib
 from functools import cache
 from pathlib import Path
 
-PACKAGE_DIR = Path(__file__).resolve().parent
+PACKAGE_DIR = Path(__file__).resolve().parents[1]  # src/qsm
 
 
 def _package_of(path: Path, package_dir: Path) -> list[str] | None:

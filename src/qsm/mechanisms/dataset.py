@@ -8,11 +8,11 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.cad import CadSettings
-from qsm.duty import DutySettings, duty_cycle
-from qsm.dynamics import RESULT_KEYS, evaluate_table
-from qsm.mechanisms import MECHANISM_COLUMNS
-from qsm.sharding import shard_slice
+from qsm.mechanisms.scale import MECHANISM_COLUMNS
+from qsm.physics.cad import CadSettings
+from qsm.physics.duty import DutySettings, duty_cycle
+from qsm.physics.dynamics import RESULT_KEYS, evaluate_table
+from qsm.workflow.sharding import shard_slice
 
 #: Columns that Stage 2 adds to the mechanism table, with units.
 DYNAMICS_COLUMNS: dict[str, str] = {

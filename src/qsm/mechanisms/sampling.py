@@ -8,7 +8,7 @@ import numpy as np
 import pandas as pd
 from scipy.stats import qmc
 
-from qsm.kinematics import RATIO_NAMES
+from qsm.physics.kinematics import RATIO_NAMES
 
 
 def latin_hypercube(

@@ -4,7 +4,8 @@ Both are vectorised over a population of scaled designs (N, 6) and return a cont
 positive where the constraint is violated, so that NSGA-II can climb towards feasibility.
 
 **g11, task containment** (metres). It uses Stage 1's slicing of the workspace into circles about
-the base (:mod:`qsm.workspace`), but evaluates it directly on the circles the task disk needs at
+the base (:mod:`qsm.physics.workspace`), but evaluates it directly on the circles the task disk
+needs at
 the design's own scale ``l1``: a disk of centre distance ``d`` and radius ``r`` lies in the
 workspace iff on every circle of radius ``R`` in ``[d - r, d + r]`` the disk's arc, of half-width
 ``w(R)``, lies in the workspace's arc union ``U(R / l1)`` around the task's polar angle. The
@@ -18,9 +19,11 @@ g11 = ``tolerance - min over R of the margin``: a design holds the task with at 
 ``tolerance`` metres of arc to spare on every circle.
 
 **g12, printability** (millimetres). A link fits when its bounding box in the link frame
-(:func:`link_boxes_mm`, the same boxes :mod:`qsm.printing` measures on the outlines), sorted, is
+(:func:`link_boxes_mm`, the same boxes :mod:`qsm.realisation.printing` measures on the outlines),
+sorted, is
 no larger than the sorted build volume. g12 = the largest excess over every link and dimension;
-a design whose section does not fit its links at all (:class:`qsm.cad.CadError`) also violates
+a design whose section does not fit its links at all (:class:`qsm.physics.cad.CadError`) also
+violates
 it, by how much a bar is too short.
 """
 
@@ -29,11 +32,11 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.cad import CadSettings
-from qsm.filters import kinematic_checks
-from qsm.kinematics import as_design
-from qsm.task import Disk
-from qsm.workspace import (
+from qsm.mechanisms.filters import kinematic_checks
+from qsm.physics.cad import CadSettings
+from qsm.physics.kinematics import as_design
+from qsm.physics.task import Disk
+from qsm.physics.workspace import (
     OperatingRange,
     arcs,
     disk_arc_half_width,
@@ -124,7 +127,8 @@ def containment_margin_m(
 def link_boxes_mm(designs: ArrayLike, cad: CadSettings) -> NDArray[np.float64]:
     """Bounding boxes (N, 4, 3) in mm of the links (:data:`LINK_ORDER`) in their link frames.
 
-    Closed form of the outlines of :mod:`qsm.cad`: a bar of length L with bosses of radius r is
+    Closed form of the outlines of :mod:`qsm.physics.cad`: a bar of length L with bosses of radius
+    r is
     ``(L + 2 r) x 2 r``; the upper arm spans ``l4 + EE_x + 2 r`` along its x axis and
     ``EE_y + 2 r`` across; every plate is ``thickness`` thick.
     """
@@ -149,7 +153,8 @@ def printability_violation_mm(
 ) -> NDArray[np.float64]:
     """g12: largest excess (mm) of a link's sorted box over the sorted build volume, per design.
 
-    Also positive when the section is too large for a link (:class:`qsm.cad.CadError`): by how
+    Also positive when the section is too large for a link (:class:`qsm.physics.cad.CadError`): by
+    how
     much (mm) the shortest bar falls short of holding its two bosses.
     """
     d = np.atleast_2d(as_design(designs))

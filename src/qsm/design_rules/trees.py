@@ -10,7 +10,7 @@ import pandas as pd
 from scipy import stats
 from sklearn.tree import DecisionTreeRegressor, export_text
 
-from qsm.kinematics import DESIGN_NAMES
+from qsm.physics.kinematics import DESIGN_NAMES
 
 #: Objectives as the optimiser saw them (surrogate predictions) and their display names.
 OBJECTIVES: dict[str, str] = {"eta_pred": "eta", "tau1_pred_Nm": "tau1", "tau2_pred_Nm": "tau2"}

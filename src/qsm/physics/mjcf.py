@@ -11,13 +11,14 @@ Kinematic tree (all hinges about +z, gravity (0, -9.81, 0), x-y is the mechanism
 
 The loop is closed by an equality ``connect`` between the sites ``d_coupler`` and ``d_upper`` (D on
 each body); ``site1``/``site2`` are used because a body+anchor connect infers the anchor at qpos0,
-where the loop is open. Body frames are the link frames of :mod:`qsm.cad`; every body carries an
+where the loop is open. Body frames are the link frames of :mod:`qsm.physics.cad`; every body
+carries an
 explicit inertial from the CAD mass properties, the payload is a point mass at E merged into the
 upper arm's inertial (site ``payload`` marks E). Geoms are visual only (no collisions), so the
 model compiles in well under a millisecond. Motors ``motor1``/``motor2`` apply torque (N m) to
 ``theta1``/``theta2``. The equality uses stiff settings (solref 0.002, solimp 0.99 0.999 0.001) and
 the option block a 0.5 ms implicitfast step, which a forward simulation needs to track the closed
-chain; inverse dynamics (:mod:`qsm.dynamics`) does not depend on them.
+chain; inverse dynamics (:mod:`qsm.physics.dynamics`) does not depend on them.
 """
 
 from __future__ import annotations
@@ -28,8 +29,8 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike
 
-from qsm.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
-from qsm.kinematics import as_design
+from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
+from qsm.physics.kinematics import as_design
 
 GRAVITY_M_S2 = 9.81
 TIMESTEP_S = 0.0005
@@ -81,7 +82,8 @@ def model_spec(
     payload_kg: float = 0.0,
     props: dict[str, MassProperties] | None = None,
 ) -> mujoco.MjSpec:
-    """MjSpec of the mechanism; ``props`` (link mass properties) default to :mod:`qsm.cad`'s."""
+    """MjSpec of the mechanism; ``props`` (link mass properties) default to
+    :mod:`qsm.physics.cad`'s."""
     l1, l2, l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
     if props is None:
         props = mass_properties(design, settings)

@@ -9,21 +9,21 @@ import numpy as np
 import pandas as pd
 from pymoo.indicators.hv import HV
 
-from qsm.cad import CadSettings
-from qsm.constraints import (
+from qsm.mechanisms.filters import kinematic_checks
+from qsm.mechanisms.scale import FitSettings
+from qsm.optimisation.constraints import (
     containment_margin_m,
     printability_violation_mm,
     smallest_build_volume_mm,
 )
-from qsm.duty import Duty
-from qsm.dynamics import evaluate_mechanism
-from qsm.filters import kinematic_checks
-from qsm.kinematics import RATIO_NAMES
-from qsm.mechanisms import FitSettings
-from qsm.printing import all_links_fit
-from qsm.surrogate import INPUTS
-from qsm.task import Disk
-from qsm.workspace import slice_workspace
+from qsm.physics.cad import CadSettings
+from qsm.physics.duty import Duty
+from qsm.physics.dynamics import evaluate_mechanism
+from qsm.physics.kinematics import RATIO_NAMES
+from qsm.physics.task import Disk
+from qsm.physics.workspace import slice_workspace
+from qsm.realisation.printing import all_links_fit
+from qsm.surrogate.model import INPUTS
 
 #: Circles through the task disk on which containment is verified (g11 uses 64).
 VERIFY_RADII = 128
@@ -34,7 +34,7 @@ TRUE_COLUMNS: dict[str, str] = {
     "transmission_ok": "the transmission angle stays within filters.min_transmission_angle_deg (-)",
     "containment_margin_m": "smallest arc-length slack of the task disk in the workspace at this "
     "scale, on 128 of the disk's own circles with twice the delta samples of the "
-    "optimisation (qsm.constraints; m, < 0: not held)",
+    "optimisation (qsm.optimisation.constraints; m, < 0: not held)",
     "task_contained": "the workspace at this scale holds the task disk: margin >= 0 (-)",
     "feasible": "all of the above (-)",
     "eta_true": "task-disk area / true workspace area at the design's scale (-)",

@@ -1,7 +1,7 @@
 """The design to realise, on any task: printable if anything is, and truly feasible always.
 
 Order of the search (:func:`choose_design`), each step applying the selection rule of
-:func:`qsm.printing.select_design` to its candidates:
+:func:`qsm.realisation.printing.select_design` to its candidates:
 
 1. the printable, truly feasible designs of the primary front (``optimization.formulation``);
 2. the same on the other fronts, in order;
@@ -21,16 +21,16 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.cad import CadSettings
-from qsm.constraints import (
+from qsm.optimisation.constraints import (
     box_excess_mm,
     link_boxes_mm,
     printability_violation_mm,
     smallest_build_volume_mm,
 )
-from qsm.kinematics import DESIGN_COLUMNS
-from qsm.printing import OBJECTIVES, all_links_fit, select_design
-from qsm.task import Disk
+from qsm.physics.cad import CadSettings
+from qsm.physics.kinematics import DESIGN_COLUMNS
+from qsm.physics.task import Disk
+from qsm.realisation.printing import OBJECTIVES, all_links_fit, select_design
 
 
 class NoFeasibleDesign(ValueError):
@@ -55,7 +55,8 @@ def _feasible(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def _printable(table: pd.DataFrame, cad: CadSettings, volume_mm: tuple[float, ...]) -> pd.Series:
-    """Whether every link fits, decided by :func:`qsm.printing.all_links_fit` on the outlines
+    """Whether every link fits, decided by :func:`qsm.realisation.printing.all_links_fit` on the
+    outlines
     (the closed-form boxes only pre-screen the designs clearly too large)."""
     designs = table.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)
     near = printability_violation_mm(designs, cad, volume_mm) <= 0.5

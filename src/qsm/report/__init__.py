@@ -1,0 +1,1 @@
+"""Figures and the Markdown summary of a run."""

@@ -1,0 +1,1 @@
+"""Stage 3: the MLP surrogate of (eta, tau1, tau2)."""

@@ -1,0 +1,1 @@
+"""Workflow plumbing: Parquet tables, logs, sharding and code provenance for reruns."""
