@@ -15,7 +15,7 @@ from qsm.optimisation.constraints import (
     printability_violation_mm,
     smallest_build_volume_mm,
 )
-from qsm.optimisation.nsga import (
+from qsm.optimisation.problems import (
     ExtraConstraints,
     LabelStats,
     PaperProblem,

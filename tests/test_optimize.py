@@ -5,13 +5,8 @@ import pytest
 
 from qsm.config import load_config
 from qsm.mechanisms.scale import FitSettings, fit_design
-from qsm.optimisation.nsga import (
-    LabelStats,
-    PaperProblem,
-    RatiosProblem,
-    paper_constraints,
-    run_nsga2,
-)
+from qsm.optimisation.nsga import run_nsga2
+from qsm.optimisation.problems import LabelStats, PaperProblem, RatiosProblem, paper_constraints
 from qsm.surrogate.model import SurrogateSettings, train
 
 

@@ -7,27 +7,27 @@ import pytest
 import shapely
 
 from qsm.physics import cad, duty
-from qsm.realisation import topology
+from qsm.realisation import fe, geometry, simp, topology
 
-SETTINGS = topology.TopologySettings(volume_fraction=0.5, max_iterations=60, cell_size_m=0.01)
+SETTINGS = fe.TopologySettings(volume_fraction=0.5, max_iterations=60, cell_size_m=0.01)
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])
 
 
-def cantilever(nx: int = 60, ny: int = 20, h: float = 0.01) -> topology.FeProblem:
+def cantilever(nx: int = 60, ny: int = 20, h: float = 0.01) -> fe.FeProblem:
     """Left edge clamped, downward tip load at mid-height of the right edge."""
-    grid = topology.Grid((0.0, 0.0), h, nx, ny)
+    grid = fe.Grid((0.0, 0.0), h, nx, ny)
     nodes = grid.node_positions()
     left = np.flatnonzero(nodes[:, 0] <= 1e-12)
     fixed = np.concatenate([2 * left, 2 * left + 1])
-    f = topology.nodal_forces(grid, [((nx * h, ny * h / 2), (0.0, -100.0))], 0.5 * h)
+    f = fe.nodal_forces(grid, [((nx * h, ny * h / 2), (0.0, -100.0))], 0.5 * h)
     design = np.ones((ny, nx), bool)
-    return topology.FeProblem(grid, fixed, f[:, None], design, ~design, 0.02)
+    return fe.FeProblem(grid, fixed, f[:, None], design, ~design, 0.02)
 
 
 def test_cantilever_compliance_volume_and_layout() -> None:
     problem = cantilever()
-    res = topology.simp(problem, SETTINGS)
-    uniform = topology.analyse(problem, np.full((20, 60), 0.5), SETTINGS).compliance_J
+    res = simp.simp(problem, SETTINGS)
+    uniform = fe.analyse(problem, np.full((20, 60), 0.5), SETTINGS).compliance_J
     assert res.history_J[0] == pytest.approx(uniform, rel=1e-6)  # starts from the uniform design
     print(f"cantilever: compliance {uniform:.4g} -> {res.history_J[-1]:.4g} J, {res.iterations} it")
     assert res.history_J[-1] < 0.4 * uniform
@@ -43,14 +43,14 @@ def test_cantilever_compliance_volume_and_layout() -> None:
 
 
 def test_extruded_cells_are_watertight_with_the_cell_mass() -> None:
-    grid = topology.Grid((-0.1, 0.05), 0.004, 40, 12)
+    grid = fe.Grid((-0.1, 0.05), 0.004, 40, 12)
     rng = np.random.default_rng(3)
     mask = rng.random((12, 40)) > 0.45  # random cells: holes, islands and diagonal touches
-    geom = topology.cells_to_geometry(grid, mask)
+    geom = geometry.cells_to_geometry(grid, mask)
     assert geom.area == pytest.approx(mask.sum() * grid.h**2, rel=1e-9)
-    mesh = topology.extrude(geom, 0.02)
+    mesh = geometry.extrude(geom, 0.02)
     assert mesh.is_watertight and mesh.is_volume
-    props = topology.mesh_mass_properties(mesh, 1040.0)
+    props = geometry.mesh_mass_properties(mesh, 1040.0)
     cell_mass = mask.sum() * grid.h**2 * 0.02 * 1040.0
     # the 10 um dilation that makes the rings manifold adds perimeter x 10 um of area
     assert props.mass_kg == pytest.approx(cell_mass, rel=0.02)
@@ -60,15 +60,15 @@ def test_extruded_cells_are_watertight_with_the_cell_mass() -> None:
 def test_mesh_mass_properties_match_the_exact_polygon_moments() -> None:
     outline = cad.link_outlines(DESIGN)["upper_arm"]
     exact = cad.polygon_mass_properties(outline, 0.02, 1040.0)
-    mesh = topology.extrude(shapely.Polygon(outline), 0.02, dilate_m=0.0)
-    props = topology.mesh_mass_properties(mesh, 1040.0)
+    mesh = geometry.extrude(shapely.Polygon(outline), 0.02, dilate_m=0.0)
+    props = geometry.mesh_mass_properties(mesh, 1040.0)
     assert props.mass_kg == pytest.approx(exact.mass_kg, rel=1e-9)
     np.testing.assert_allclose(props.com_m, exact.com_m, atol=1e-9)
     np.testing.assert_allclose(props.inertia_kg_m2, exact.inertia_kg_m2, atol=1e-9)
 
 
 def test_link_optimisation_lightens_links_and_lowers_torques(tmp_path) -> None:
-    coarse = topology.TopologySettings(volume_fraction=0.6, cell_size_m=0.005, max_iterations=40)
+    coarse = fe.TopologySettings(volume_fraction=0.6, cell_size_m=0.005, max_iterations=40)
     cs = cad.CadSettings()
     d = duty.duty_cycle(
         duty.DutySettings(

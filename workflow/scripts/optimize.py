@@ -2,7 +2,8 @@
 
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.mechanisms.scale import FitSettings
-from qsm.optimisation.nsga import ExtraConstraints, optimise
+from qsm.optimisation.nsga import optimise
+from qsm.optimisation.problems import ExtraConstraints
 from qsm.report.figures import pareto_figures, representatives_figure
 from qsm.surrogate.model import load
 from qsm.workflow.logs import logged

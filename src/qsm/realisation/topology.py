@@ -38,481 +38,36 @@ and the peak von Mises stress of the cells at least half filled (element average
 
 from __future__ import annotations
 
-import math
 import time
-import warnings
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-import matplotlib
 import numpy as np
-import scipy.sparse as sps
 import shapely
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.cad import CadSettings, MassProperties, link_outlines, mass_properties
+from qsm.physics.cad import CadSettings, MassProperties, mass_properties
 from qsm.physics.duty import Duty
 from qsm.physics.dynamics import inverse_dynamics, loop_state
-from qsm.physics.kinematics import as_design, perp
-from qsm.physics.mjcf import GRAVITY_M_S2, model_spec
-
-# pymoto 2.0.1 calls matplotlib.use("TkAgg") when imported, which takes a notebook's backend away
-# and fails without a display once pyplot is loaded: make that call a no-op while importing it.
-_use, matplotlib.use = matplotlib.use, lambda *args, **kwargs: None
-try:
-    import pymoto as pym
-finally:
-    matplotlib.use = _use
-
-OPTIMISED_LINKS: tuple[str, ...] = ("lower_arm", "upper_arm")
-
-
-@dataclass(frozen=True)
-class TopologySettings:
-    """SIMP settings (SI units).
-
-    volume_fraction: target filled fraction of the designable cells, default 0.6 (at 0.5 the
-        upper arm of the example design exceeds the stress limit in a thin member).
-    cell_size_m: side of the square FE cells, default 4 mm.
-    max_iterations: OC iterations, default 80; stops earlier when the largest density change
-        falls below ``change_tol`` (default 0.01).
-    penal: SIMP exponent, default 3. filter_radius_cells: density filter radius, default 1.5.
-    move: OC move limit, default 0.2. min_density: void stiffness factor, default 1e-9.
-    youngs_modulus_pa, poisson_ratio: ABS-M30, default 2.2 GPa and 0.35.
-    yield_strength_pa: ABS-M30 tensile strength (XZ), default 31 MPa; safety_factor default 2.
-    threshold: density above which a cell is solid in the printed part, default 0.5.
-    """
-
-    volume_fraction: float = 0.6
-    cell_size_m: float = 0.004
-    max_iterations: int = 80
-    change_tol: float = 0.01
-    penal: float = 3.0
-    filter_radius_cells: float = 1.5
-    move: float = 0.2
-    min_density: float = 1e-9
-    youngs_modulus_pa: float = 2.2e9
-    poisson_ratio: float = 0.35
-    yield_strength_pa: float = 31e6
-    safety_factor: float = 2.0
-    threshold: float = 0.5
-
-    def __post_init__(self) -> None:
-        if not 0.0 < self.volume_fraction <= 1.0:
-            raise ValueError("volume_fraction must be in (0, 1]")
-        if self.cell_size_m <= 0 or self.max_iterations < 1 or self.penal < 1:
-            raise ValueError("need cell_size_m > 0, max_iterations >= 1, penal >= 1")
-        if not 0.0 < self.threshold < 1.0:
-            raise ValueError("threshold must be in (0, 1)")
-
-    @property
-    def allowable_stress_pa(self) -> float:
-        """Allowed peak von Mises stress (Pa)."""
-        return self.yield_strength_pa / self.safety_factor
-
-
-DEFAULT_TOPOLOGY = TopologySettings()
-
-
-# ----------------------------------------------------------------------------- grid and FE
-
-
-@dataclass(frozen=True)
-class Grid:
-    """A regular grid of ``nx`` x ``ny`` square cells of side ``h`` (m) whose lower-left corner is
-    ``origin`` (m, link frame). Cell (i, j) is element ``j * nx + i`` (pyMOTO's numbering); fields
-    of shape (ny, nx) are indexed [j, i]."""
-
-    origin: tuple[float, float]
-    h: float
-    nx: int
-    ny: int
-
-    def cell_centres(self) -> NDArray[np.float64]:
-        """(ny, nx, 2) cell centres (m)."""
-        x = self.origin[0] + (np.arange(self.nx) + 0.5) * self.h
-        y = self.origin[1] + (np.arange(self.ny) + 0.5) * self.h
-        return np.stack(np.meshgrid(x, y, indexing="xy"), axis=-1)
-
-    def node_positions(self) -> NDArray[np.float64]:
-        """(n_nodes, 2) node positions (m) in pyMOTO node order (x fastest)."""
-        x = self.origin[0] + np.arange(self.nx + 1) * self.h
-        y = self.origin[1] + np.arange(self.ny + 1) * self.h
-        xx, yy = np.meshgrid(x, y, indexing="xy")
-        return np.column_stack([xx.ravel(), yy.ravel()])
-
-    def domain(self, thickness_m: float) -> pym.VoxelDomain:
-        """pyMOTO domain with this grid's cell size (and plate thickness as the 2D depth)."""
-        return pym.VoxelDomain(self.nx, self.ny, unitx=self.h, unity=self.h, unitz=thickness_m)
-
-
-def grid_for_box(lo: ArrayLike, hi: ArrayLike, h: float) -> Grid:
-    """Smallest grid of cells of side ``h`` (m) covering the box [lo, hi] (m), centred on it."""
-    lo, hi = np.asarray(lo, dtype=float), np.asarray(hi, dtype=float)
-    n = np.maximum(np.ceil((hi - lo) / h - 1e-9).astype(int), 1)
-    origin = (lo + hi) / 2 - n * h / 2
-    return Grid((float(origin[0]), float(origin[1])), float(h), int(n[0]), int(n[1]))
-
-
-def nodes_within(grid: Grid, centre: ArrayLike, radius: float) -> NDArray[np.int_]:
-    """Node numbers within ``radius`` (m) of ``centre`` (m); at least the nearest node."""
-    d = np.linalg.norm(grid.node_positions() - np.asarray(centre, dtype=float), axis=1)
-    inside = np.flatnonzero(d <= radius)
-    return inside if inside.size else np.array([int(np.argmin(d))])
-
-
-def nodal_forces(grid: Grid, loads: list[tuple[ArrayLike, ArrayLike]], radius: float) -> NDArray:
-    """Global force vector (2 n_nodes,) from point loads ``(point_m, force_N)`` each spread
-    uniformly over the nodes within ``radius`` (m) of its point."""
-    f = np.zeros(2 * (grid.nx + 1) * (grid.ny + 1))
-    for point, force in loads:
-        nodes = nodes_within(grid, point, radius)
-        fv = np.asarray(force, dtype=float) / len(nodes)
-        np.add.at(f, 2 * nodes, fv[0])
-        np.add.at(f, 2 * nodes + 1, fv[1])
-    return f
-
-
-def clamped_dofs(grid: Grid, centre: ArrayLike, radius: float) -> NDArray[np.int_]:
-    """Both dofs of every node within ``radius`` (m) of ``centre`` (m)."""
-    nodes = nodes_within(grid, centre, radius)
-    return np.concatenate([2 * nodes, 2 * nodes + 1])
-
-
-@dataclass(frozen=True)
-class FeProblem:
-    """A plane-stress problem on ``grid``: ``fixed`` dofs, ``forces`` (2 n_nodes, n_cases) in N,
-    ``design`` (ny, nx) bool designable cells, ``solid`` (ny, nx) bool cells kept solid (others
-    that are neither are void), plate ``thickness_m``."""
-
-    grid: Grid
-    fixed: NDArray[np.int_]
-    forces: NDArray[np.float64]
-    design: NDArray[np.bool_]
-    solid: NDArray[np.bool_]
-    thickness_m: float
-
-
-@dataclass(frozen=True)
-class FeResult:
-    """Compliance (J, summed over load cases), per-case compliances, peak and 99th-percentile
-    von Mises stress (Pa) over solid cells, the element stresses (ny, nx) of the worst case."""
-
-    compliance_J: float
-    case_compliance_J: NDArray[np.float64]
-    max_von_mises_pa: float
-    p99_von_mises_pa: float
-    von_mises_pa: NDArray[np.float64]
-
-
-def _von_mises(s: NDArray[np.float64]) -> NDArray[np.float64]:
-    sxx, syy, txy = s
-    return np.sqrt(sxx**2 + syy**2 - sxx * syy + 3 * txy**2)
-
-
-def _stiffness(
-    dom: pym.VoxelDomain, problem: FeProblem, s: TopologySettings
-) -> pym.AssembleStiffness:
-    """pyMOTO's plane-stress stiffness assembly for ``problem`` with the settings' material."""
-    return pym.AssembleStiffness(
-        dom,
-        bc=problem.fixed,
-        e_modulus=s.youngs_modulus_pa,
-        poisson_ratio=s.poisson_ratio,
-        plane="stress",
-        matrix_type=sps.csc_matrix,
-    )
-
-
-def analyse(
-    problem: FeProblem, density: ArrayLike, settings: TopologySettings, penal: float | None = None
-) -> FeResult:
-    """Linear static analysis of ``density`` (ny, nx) with SIMP stiffness (pyMOTO assembly);
-    ``penal`` overrides the settings' exponent (1: stiffness proportional to cell fill)."""
-    g, s = problem.grid, settings
-    dom = g.domain(problem.thickness_m)
-    rho = np.asarray(density, dtype=float).ravel()
-    scale = s.min_density + (1 - s.min_density) * rho ** (s.penal if penal is None else penal)
-    K = _stiffness(dom, problem, s)(scale)
-    u = pym.LinSolve(hermitian=True)(K, problem.forces)
-    u = np.atleast_2d(u.T).T
-    per_case = np.einsum("ik,ik->k", u, problem.forces)
-    stress = pym.Stress(
-        dom, e_modulus=s.youngs_modulus_pa, poisson_ratio=s.poisson_ratio, plane="stress"
-    )
-    vm = np.stack([_von_mises(stress(u[:, k])) for k in range(u.shape[1])])  # solid-material
-    solid_cells = rho >= 0.5
-    worst = vm.max(axis=0)
-    vals = worst[solid_cells] if solid_cells.any() else np.zeros(1)
-    return FeResult(
-        float(per_case.sum()),
-        per_case,
-        float(vals.max()),
-        float(np.percentile(vals, 99)),
-        np.where(solid_cells, worst, 0.0).reshape(g.ny, g.nx),
-    )
-
-
-@dataclass(frozen=True)
-class SimpResult:
-    """Physical (filtered) density (ny, nx), compliance history (J) and final volume fraction of
-    the designable cells, and the iteration count."""
-
-    density: NDArray[np.float64]
-    history_J: NDArray[np.float64]
-    volume_fraction: float
-    iterations: int
-
-
-def simp(problem: FeProblem, settings: TopologySettings = DEFAULT_TOPOLOGY) -> SimpResult:
-    """Minimum-compliance SIMP with OC updates on ``problem`` (pyMOTO network for the analysis and
-    the sensitivities); passive solid/void cells are overwritten after the filter."""
-    g, s = problem.grid, settings
-    dom = g.domain(problem.thickness_m)
-    design = problem.design.ravel()
-    solid = problem.solid.ravel() & ~design
-    void = ~design & ~solid
-    if not design.any():
-        raise ValueError("the problem has no designable cells")
-    n_design = int(design.sum())
-    x0 = np.where(solid, 1.0, 0.0)
-    x0[design] = s.volume_fraction
-    sx = pym.Signal("x", state=x0)
-    sf = pym.Signal("f", state=problem.forces)
-    passive = np.flatnonzero(~design)
-    passive_value = np.where(solid[passive], 1.0, 0.0)
-    filt = pym.DensityFilter(dom, radius=s.filter_radius_cells)
-    with warnings.catch_warnings():
-        warnings.simplefilter("ignore", sps.SparseEfficiencyWarning)
-        with pym.Network() as net:
-            xf = filt(sx)
-            xphys = pym.SetValue(passive, passive_value)(xf)
-            xs = pym.MathExpression(f"{s.min_density} + {1 - s.min_density}*inp0^{s.penal}")(xphys)
-            K = _stiffness(dom, problem, s)(xs)
-            u = pym.LinSolve(hermitian=True)(K, sf)
-            c = pym.EinSum("ij,ij->")(u, sf)
-        target = s.volume_fraction * n_design
-        filt_h = sps.csr_matrix(filt.H)
-        filt_hs = np.asarray(filt.H.sum(axis=1)).ravel()
-        x = x0.copy()
-        history = []
-        it = 0
-        for it in range(1, s.max_iterations + 1):  # noqa: B007
-            net.response()
-            net.reset()
-            c.sensitivity = 1.0
-            net.sensitivity()
-            history.append(float(c.state))
-            dc = np.minimum(np.asarray(sx.sensitivity), 0.0)
-            lo = np.maximum(0.0, x - s.move)
-            hi = np.minimum(1.0, x + s.move)
-            l1, l2 = 0.0, max(float(-dc.min()), 1e-300) * 1e6  # xn = lo at l2
-            xn = x
-            for _ in range(100):
-                lm = 0.5 * (l1 + l2)
-                xn = np.clip(x * np.sqrt(-dc / lm), lo, hi)
-                xn[~design] = x0[~design]
-                vol = (filt_h @ xn / filt_hs)[design].sum()  # physical volume
-                if vol > target:
-                    l1 = lm
-                else:
-                    l2 = lm
-                if (l2 - l1) <= 1e-6 * (l1 + l2):
-                    break
-            change = float(np.abs(xn - x).max())
-            x = xn
-            sx.state = x
-            if change < s.change_tol:
-                break
-        net.response()
-        history.append(float(c.state))
-    rho = np.asarray(xphys.state, dtype=float)
-    rho[void] = 0.0
-    return SimpResult(
-        rho.reshape(g.ny, g.nx),
-        np.asarray(history),
-        float(rho[design].sum() / n_design),
-        it,
-    )
-
-
-# ----------------------------------------------------------------------------- solids
-
-
-def cells_to_geometry(grid: Grid, mask: ArrayLike) -> shapely.Geometry:
-    """Union (m, link frame) of the cells where ``mask`` (ny, nx) is true (exact, may contain
-    pinch points where cells touch diagonally; :func:`extrude` removes them)."""
-    m = np.asarray(mask, dtype=bool)
-    j, i = np.nonzero(m)
-    if j.size == 0:
-        return shapely.Polygon()
-    x0 = grid.origin[0] + i * grid.h
-    y0 = grid.origin[1] + j * grid.h
-    return shapely.union_all(shapely.box(x0, y0, x0 + grid.h, y0 + grid.h))
-
-
-def cell_fill(grid: Grid, geom: shapely.Geometry) -> NDArray[np.float64]:
-    """Fraction (ny, nx) of each cell covered by ``geom`` (rasterisation of a printed outline)."""
-    j, i = np.mgrid[0 : grid.ny, 0 : grid.nx]
-    x0 = grid.origin[0] + i.ravel() * grid.h
-    y0 = grid.origin[1] + j.ravel() * grid.h
-    boxes = shapely.box(x0, y0, x0 + grid.h, y0 + grid.h)
-    area = shapely.area(shapely.intersection(boxes, geom))
-    return np.clip(area / grid.h**2, 0.0, 1.0).reshape(grid.ny, grid.nx)
-
-
-def _polygons(geom: shapely.Geometry) -> list[shapely.Polygon]:
-    if geom.is_empty:
-        return []
-    if isinstance(geom, shapely.Polygon):
-        return [geom]
-    return [p for p in getattr(geom, "geoms", []) if isinstance(p, shapely.Polygon)]
-
-
-def extrude(geom: shapely.Geometry, thickness_m: float, dilate_m: float = 1e-5) -> trimesh.Trimesh:
-    """Watertight plate (m) extruding every polygon of ``geom`` symmetrically about z = 0.
-
-    The outline is first dilated by ``dilate_m`` (default 10 um: about +0.2 % area for the link
-    plates) and snapped to a 1 um grid, which turns the pinch points of diagonally touching cells
-    and rings that touch at a vertex into short necks, so every edge of the solid is manifold.
-    """
-    if dilate_m > 0:
-        geom = geom.buffer(dilate_m, join_style="mitre")
-    geom = shapely.set_precision(geom, min(1e-6, dilate_m / 5) if dilate_m > 0 else 0.0)
-    parts = [
-        trimesh.creation.extrude_polygon(
-            shapely.geometry.polygon.orient(p, 1.0), thickness_m, mid_plane=True, engine="earcut"
-        )
-        for p in _polygons(geom)
-    ]
-    if not parts:
-        raise ValueError("nothing to extrude")
-    return trimesh.util.concatenate(parts) if len(parts) > 1 else parts[0]
-
-
-def mesh_mass_properties(mesh: trimesh.Trimesh, density_kg_m3: float) -> MassProperties:
-    """Mass properties of a watertight mesh (m) about its centre of mass, link-frame axes."""
-    mesh.density = density_kg_m3
-    return MassProperties(
-        float(mesh.mass),
-        np.asarray(mesh.center_mass, dtype=float),
-        np.asarray(mesh.moment_inertia, dtype=float),
-    )
-
-
-# ----------------------------------------------------------------------------- link problems
-
-
-@dataclass(frozen=True)
-class LinkLoads:
-    """Link-frame joint loads of one load case: ``clamp`` (joint name), and ``forces`` mapping a
-    joint name to a force (N, link frame); ``label`` names the duty sample."""
-
-    label: str
-    clamp: str
-    forces: dict[str, NDArray[np.float64]]
-
-
-def _rot(angle: float) -> NDArray[np.float64]:
-    c, s = math.cos(angle), math.sin(angle)
-    return np.array([[c, -s], [s, c]])
-
-
-def joint_points(design: ArrayLike) -> dict[str, dict[str, NDArray[np.float64]]]:
-    """Joint positions (m) in the link frames of the two optimised links."""
-    l1, _l2, _l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
-    return {
-        "lower_arm": {"A": np.zeros(2), "B": np.array([l1, 0.0])},
-        "upper_arm": {
-            "B": np.zeros(2),
-            "D": np.array([-l4, 0.0]),
-            "E": np.array([ee_x, -ee_y]),
-        },
-    }
-
-
-def peak_loads(
-    design: ArrayLike,
-    cad: CadSettings,
-    payload_kg: float,
-    duty: Duty,
-    props: dict[str, MassProperties] | None = None,
-) -> dict[str, list[LinkLoads]]:
-    """Joint loads of the lower and upper arm (link frames) at the duty samples of peak |tau1| and
-    peak |tau2|, from the closed-chain inverse dynamics (see the module docstring)."""
-    d = as_design(design)
-    l1 = float(d[0])
-    props = mass_properties(d, cad) if props is None else props
-    model = model_spec(d, cad, payload_kg, props).compile()
-    state = loop_state(d, duty.theta, duty.dtheta, duty.ddtheta)
-    if not state.closes.all():
-        raise ValueError("the loop does not close over the whole duty")
-    inv = inverse_dynamics(model, d, state)
-    gvec = np.array([0.0, -GRAVITY_M_S2])
-    pts = joint_points(d)
-    m_u, com_u = props["upper_arm"].mass_kg, props["upper_arm"].com_m[:2]
-    out: dict[str, list[LinkLoads]] = {"lower_arm": [], "upper_arm": []}
-    peaks = {
-        "peak_tau1": int(np.nanargmax(np.abs(inv.tau[:, 0]))),
-        "peak_tau2": int(np.nanargmax(np.abs(inv.tau[:, 1]))),
-    }
-    for label, k in peaks.items():
-        t1, dt1, ddt1 = duty.theta[k, 0], duty.dtheta[k, 0], duty.ddtheta[k, 0]
-        phi = t1 + state.q[k, 1]
-        phi_d = state.qd[k, 0] + state.qd[k, 1]
-        phi_dd = state.qdd[k, 0] + state.qdd[k, 1]
-        e1 = np.array([math.cos(t1), math.sin(t1)])
-        a_b = l1 * (ddt1 * perp(e1) - dt1**2 * e1)
-
-        def accel(local: NDArray[np.float64], phi=phi, phi_d=phi_d, phi_dd=phi_dd, a_b=a_b):
-            r = _rot(phi) @ local
-            return a_b + phi_dd * perp(r) - phi_d**2 * r
-
-        lam = inv.coupler_force[k]  # on the coupler at D from the upper arm (world)
-        f_payload = payload_kg * (gvec - accel(pts["upper_arm"]["E"]))
-        f_b_upper = m_u * accel(com_u) - m_u * gvec + lam - f_payload  # on upper arm at B
-        to_upper, to_lower = _rot(-phi), _rot(-t1)
-        out["upper_arm"].append(
-            LinkLoads(label, "B", {"D": to_upper @ -lam, "E": to_upper @ f_payload})
-        )
-        out["lower_arm"].append(LinkLoads(label, "A", {"B": to_lower @ -f_b_upper}))
-    return out
-
-
-def link_problem(
-    design: ArrayLike,
-    cad: CadSettings,
-    link: str,
-    cases: list[LinkLoads],
-    settings: TopologySettings = DEFAULT_TOPOLOGY,
-) -> tuple[FeProblem, shapely.Polygon]:
-    """FE problem of ``link`` ('lower_arm' or 'upper_arm') and its CAD outline polygon."""
-    outline = shapely.Polygon(link_outlines(design, cad)[link])
-    pts = joint_points(design)[link]
-    lo, hi = np.asarray(outline.bounds[:2]), np.asarray(outline.bounds[2:])
-    grid = grid_for_box(lo, hi, settings.cell_size_m)
-    centres = grid.cell_centres()
-    inside = shapely.contains_xy(outline, centres[..., 0], centres[..., 1])
-    r = cad.boss_radius_m
-    solid = np.zeros_like(inside)
-    for p in pts.values():
-        solid |= np.linalg.norm(centres - p, axis=-1) <= r
-    solid &= inside
-    design_cells = inside & ~solid
-    clamps = {c.clamp for c in cases}
-    if len(clamps) != 1:
-        raise ValueError(f"load cases of {link} clamp different joints {clamps}")
-    fixed = clamped_dofs(grid, pts[clamps.pop()], r)
-    forces = np.column_stack(
-        [nodal_forces(grid, [(pts[j], f) for j, f in c.forces.items()], r) for c in cases]
-    )
-    forces[fixed] = 0.0
-    return FeProblem(grid, fixed, forces, design_cells, solid, cad.thickness_m), outline
-
-
-# ----------------------------------------------------------------------------- driver
+from qsm.physics.kinematics import as_design
+from qsm.physics.mjcf import model_spec
+from qsm.realisation.fe import (
+    DEFAULT_TOPOLOGY,
+    Grid,
+    TopologySettings,
+    analyse,
+)
+from qsm.realisation.geometry import (
+    cell_fill,
+    cells_to_geometry,
+    extrude,
+    mesh_mass_properties,
+    polygons,
+)
+from qsm.realisation.loads import OPTIMISED_LINKS, LinkLoads, joint_points, link_problem, peak_loads
+from qsm.realisation.simp import simp
 
 
 @dataclass
@@ -617,7 +172,7 @@ def printed_geometry(
             .buffer(-0.5 * grid.h, quad_segs=2)
         )
         geom = shapely.make_valid(shapely.union_all([cells.intersection(outline), *bosses]))
-        keep = [p for p in _polygons(geom) if any(p.intersects(b) for b in bosses)]
+        keep = [p for p in polygons(geom) if any(p.intersects(b) for b in bosses)]
         geom = shapely.union_all(keep)
         if any(all(p.intersects(b) for b in bosses) for p in keep):
             break
@@ -733,7 +288,7 @@ def plot_links(result: TopologyResult, path: str | Path) -> Path:
         extent = (g.origin[0], g.origin[0] + g.nx * g.h, g.origin[1], g.origin[1] + g.ny * g.h)
         ax.imshow(res.density, origin="lower", extent=extent, cmap="Greys", vmin=0, vmax=1)
         ax.plot(*res.outline.T, color="tab:blue", lw=0.8, label="CAD outline")
-        for i, poly in enumerate(_polygons(res.polygon)):
+        for i, poly in enumerate(polygons(res.polygon)):
             ax.plot(
                 *np.asarray(poly.exterior.coords).T,
                 color="tab:red",

@@ -1,0 +1,234 @@
+"""Stage 4: NSGA-II (pymoo) on the surrogate with the paper's constraints g1..g10 (Section 2.4)
+and two of ours, g11 (the task lies in the workspace) and g12 (every link fits the printer).
+
+Objectives, all minimised: (eta', tau1', tau2'), the surrogate's predictions. Constraints in
+pymoo's ``G <= 0`` form:
+
+* g1..g3: eta' > 0, tau1' > 0, tau2' > 0  ->  ``-eta'``, ``-tau1'``, ``-tau2'``;
+* g4: crank-rocker l3 + l2 < l1 + l4      ->  ``l3 + l2 - l1 - l4``;
+* g5..g10: each prediction within mean +- z std of its training labels (z = 1.95)
+  ->  ``(mean - z std) - y'`` and ``y' - (mean + z std)``.
+
+* g11 (paper formulation, ``constraints.containment``): the task disk lies in the workspace at
+  scale l1 with ``containment_tolerance_m`` of arc to spare (:mod:`qsm.optimisation.constraints`,
+  metres);
+* g12 (every formulation, ``constraints.printable``): every link's box fits the build volume
+  (:mod:`qsm.optimisation.constraints`, millimetres).
+
+With both switches off the paper formulation is the paper's g1..g10 exactly.
+
+Two formulations: ``paper`` optimises the 6 scaled lengths (the scale l1 free, as in the paper);
+``ratios`` optimises the 5 ratios in Table 1 and computes the scale and eta exactly with Stage 1
+(task containment guaranteed by the scale, so it has no g11), taking only the torques from the
+surrogate.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+from pymoo.core.problem import Problem
+
+from qsm.mechanisms.dataset import cad_settings
+from qsm.mechanisms.filters import kinematic_checks
+from qsm.mechanisms.scale import FitSettings, fit_design
+from qsm.optimisation.constraints import containment_margin_m, printability_violation_mm
+from qsm.physics.cad import CadSettings
+from qsm.physics.kinematics import design_from_ratios
+from qsm.surrogate.model import Surrogate
+
+PAPER_CONSTRAINTS: tuple[str, ...] = (
+    "g1_eta_positive",
+    "g2_tau1_positive",
+    "g3_tau2_positive",
+    "g4_crank_rocker",
+    "g5_eta_low",
+    "g6_eta_high",
+    "g7_tau1_low",
+    "g8_tau1_high",
+    "g9_tau2_low",
+    "g10_tau2_high",
+)
+G11 = "g11_task_contained"
+G12 = "g12_printable"
+
+
+@dataclass(frozen=True)
+class ExtraConstraints:
+    """g11 and g12: which are on and what they need.
+
+    ``containment`` (g11, paper formulation only) with ``tolerance_m`` of arc to spare (m) on the
+    task disk of ``fit`` (the ratios formulation holds the task by its scale, fitted to the disk
+    grown by ``tolerance_m``); ``printable`` (g12) for the link section ``cad`` and the printer
+    ``volume_mm`` (W, L, H in mm).
+    """
+
+    containment: bool
+    printable: bool
+    fit: FitSettings
+    cad: CadSettings
+    volume_mm: tuple[float, float, float]
+    tolerance_m: float = 0.001
+
+    @classmethod
+    def from_settings(cls, settings: Mapping[str, Any], fit: FitSettings) -> ExtraConstraints:
+        """From the rule's ``constraints`` params: ``containment``, ``printable`` and, when on,
+        ``tolerance_m``, ``cad`` (config section) and ``build_volume_mm``."""
+        printable = bool(settings["printable"])
+        return cls(
+            containment=bool(settings["containment"]),
+            printable=printable,
+            fit=fit,
+            cad=cad_settings(settings["cad"]) if printable else CadSettings(),
+            volume_mm=tuple(settings.get("build_volume_mm", (600.0, 350.0, 350.0))),
+            tolerance_m=float(settings.get("tolerance_m", 0.0)),
+        )
+
+    def names(self, formulation: str) -> tuple[str, ...]:
+        """Constraint columns of ``formulation`` in order: g1..g10, then g11 and g12 if on."""
+        extra = (G11,) if self.containment and formulation == "paper" else ()
+        return PAPER_CONSTRAINTS + extra + ((G12,) if self.printable else ())
+
+    def label(self, formulation: str) -> str:
+        """Human-readable constraint set, e.g. 'g1..g10 (the paper's) + g12 printable'."""
+        names = self.names(formulation)
+        text = "g1..g10 (the paper's)"
+        spare = f"{1e3 * self.tolerance_m:g} mm to spare"
+        if G11 in names:
+            text += f" + g11 task contained ({spare})"
+        elif formulation == "ratios":
+            text += f" + task contained by the scale ({spare})"
+        if G12 in names:
+            volume = " x ".join(f"{v:g}" for v in self.volume_mm)
+            text += f" + g12 printable on {volume} mm"
+        return text
+
+    def columns(self, formulation: str, design: NDArray[np.float64]) -> list[NDArray]:
+        """The g11 / g12 columns (``G <= 0``) for scaled designs (N, 6)."""
+        cols = []
+        if self.containment and formulation == "paper":
+            disk = self.fit.disk
+            inflated = type(disk)(disk.centre, disk.radius + self.fit.safety_margin)
+            margin = containment_margin_m(
+                design, self.fit.op, inflated, self.fit.resolution.n_delta
+            )
+            cols.append(self.tolerance_m - margin)
+        if self.printable:
+            cols.append(printability_violation_mm(design, self.cad, self.volume_mm))
+        return cols
+
+
+@dataclass(frozen=True)
+class LabelStats:
+    """Mean and standard deviation of the training labels (eta, tau1, tau2) and z."""
+
+    mean: NDArray[np.float64]
+    std: NDArray[np.float64]
+    z: float = 1.95
+
+    @classmethod
+    def of(cls, model: Surrogate, z: float) -> LabelStats:
+        """The statistics of the labels ``model`` was trained on."""
+        return cls(model.label_mean, model.label_std, z)
+
+
+def paper_constraints(
+    design: NDArray[np.float64], pred: NDArray[np.float64], stats: LabelStats
+) -> NDArray[np.float64]:
+    """g1..g10 as ``G <= 0`` for designs (N, 6) of lengths and predictions (N, 3)."""
+    l1, l2, l3, l4 = design[:, 0], design[:, 1], design[:, 2], design[:, 3]
+    lo = stats.mean - stats.z * stats.std
+    hi = stats.mean + stats.z * stats.std
+    cols = [-pred[:, 0], -pred[:, 1], -pred[:, 2], l3 + l2 - l1 - l4]
+    for j in range(3):
+        cols += [lo[j] - pred[:, j], pred[:, j] - hi[j]]
+    return np.column_stack(cols)
+
+
+class _SurrogateProblem(Problem):
+    """NSGA-II on the surrogate with g1..g10 and, as ``extra`` says, g11 / g12."""
+
+    formulation = ""
+
+    def __init__(
+        self,
+        model: Surrogate,
+        lower: NDArray,
+        upper: NDArray,
+        stats: LabelStats,
+        extra: ExtraConstraints | None = None,
+    ) -> None:
+        n_constr = len(extra.names(self.formulation)) if extra else len(PAPER_CONSTRAINTS)
+        super().__init__(n_var=len(lower), n_obj=3, n_ieq_constr=n_constr, xl=lower, xu=upper)
+        self.model = model
+        self.stats = stats
+        self.extra = extra
+
+    def with_extra(self, design: NDArray, g: NDArray) -> NDArray:
+        """``g`` (g1..g10) with the g11 / g12 columns of the scaled designs appended."""
+        if self.extra is None:
+            return g
+        return np.column_stack([g, *self.extra.columns(self.formulation, design)])
+
+
+class PaperProblem(_SurrogateProblem):
+    """The paper's problem over the 6 scaled lengths, vectorised over the population; g11 and g12
+    as ``extra`` says (none: the paper's g1..g10 exactly)."""
+
+    formulation = "paper"
+
+    def _evaluate(self, x: NDArray, out: dict, *args: Any, **kwargs: Any) -> None:
+        pred = self.model.predict(x)
+        out["F"] = pred
+        out["G"] = self.with_extra(x, paper_constraints(x, pred, self.stats))
+
+
+class RatiosProblem(_SurrogateProblem):
+    """Ratios (5) in Table 1; scale and eta exact from Stage 1, torques from the surrogate.
+
+    A design whose loop does not close or whose workspace holds the task at no scale is made
+    infeasible through g4 (violation 1), with finite stand-in objectives (eta = 1, torques at the
+    training means). ``extra`` adds g12 if on (g11 holds by construction).
+    """
+
+    formulation = "ratios"
+
+    def __init__(
+        self,
+        model: Surrogate,
+        lower: NDArray,
+        upper: NDArray,
+        stats: LabelStats,
+        fit: FitSettings,
+        extra: ExtraConstraints | None = None,
+    ) -> None:
+        super().__init__(model, lower, upper, stats, extra)
+        self.fit = fit
+
+    def designs(self, ratios: NDArray) -> tuple[NDArray, NDArray, NDArray]:
+        """Scaled designs (N, 6), exact eta (N,) and a feasibility mask for ratios (N, 5)."""
+        n = len(ratios)
+        scale = np.full(n, np.nan)
+        eta = np.full(n, np.nan)
+        checks = kinematic_checks(ratios, self.fit.op, self.fit.min_transmission_angle_deg)
+        ok = np.logical_and.reduce(list(checks.values()))
+        for i in np.flatnonzero(ok):
+            result = fit_design(ratios[i], self.fit)
+            if result["feasible"]:
+                scale[i], eta[i] = result["scale_m"], result["eta"]
+        feasible = np.isfinite(scale)
+        return design_from_ratios(ratios, np.where(feasible, scale, 1.0)), eta, feasible
+
+    def _evaluate(self, x: NDArray, out: dict, *args: Any, **kwargs: Any) -> None:
+        design, eta, feasible = self.designs(x)
+        pred = self.model.predict(design)
+        pred[:, 0] = np.where(feasible, eta, 1.0)
+        pred[~feasible, 1:] = self.stats.mean[1:]
+        g = paper_constraints(design, pred, self.stats)
+        g[:, 3] = np.where(feasible, g[:, 3], 1.0)
+        out["F"] = pred
+        out["G"] = self.with_extra(design, g)
