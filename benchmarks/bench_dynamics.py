@@ -1,4 +1,9 @@
-"""Per-mechanism cost of the dynamics stage (CAD, model build, inverse dynamics) and a projection.
+"""Per-mechanism cost of the dynamics stage (CAD, model build, inverse dynamics), its multiple of
+MuJoCo's own floor, and a projection.
+
+The floor is measured in the same process: one ``mj_inverse`` call on a prebuilt model and a
+fixed state, timed over many repeats, times the number of duty samples. No implementation of the
+stage can beat it with one ``mj_inverse`` per sample.
 
 Run: ``python benchmarks/bench_dynamics.py [--designs 200] [--seed 0]``. Random designs: ratios
 l2 in [0.18, 0.6], l3 [0.8, 1.3], l4 [0.3, 0.6], ee_x [1.0, 1.4], ee_y [0.2, 0.7] and scale l1 in
@@ -53,6 +58,23 @@ def stage_times(designs: np.ndarray, d: duty.Duty, payload_kg: float) -> dict[st
     return {k: 1e3 * v / len(designs) for k, v in steps.items()}
 
 
+def mujoco_floor_ms(design: np.ndarray, d: duty.Duty, payload_kg: float, repeats: int) -> float:
+    """ms for ``len(d.theta)`` calls of ``mj_inverse`` on a prebuilt model of ``design``."""
+    import mujoco
+
+    model = mjcf.model_spec(design, cad.DEFAULT_CAD, payload_kg).compile()
+    model.opt.disableflags |= mujoco.mjtDisableBit.mjDSBL_EQUALITY
+    data = mujoco.MjData(model)
+    state = dynamics.loop_state(design, d.theta[:1], d.dtheta[:1], d.ddtheta[:1])
+    data.qpos[:], data.qvel[:], data.qacc[:] = state.q[0], state.qd[0], state.qdd[0]
+    mujoco.mj_inverse(model, data)  # warm up
+    t0 = time.perf_counter()
+    for _ in range(repeats):
+        mujoco.mj_inverse(model, data)
+    per_call = (time.perf_counter() - t0) / repeats
+    return 1e3 * per_call * len(d.theta)
+
+
 def _table_chunk(designs: np.ndarray) -> pd.DataFrame:
     df = pd.DataFrame(designs, columns=list(DESIGN_COLUMNS))
     return dynamics.evaluate_table(df, duty.duty_cycle(), payload_kg=5.0)
@@ -79,6 +101,12 @@ def main() -> None:
     print(f"evaluate_table, 1 process: {1e3 * serial:.3f} ms/mechanism, status counts:")
     print(out["status"].value_counts().to_string())
     print(f"  -> {PAPER_MECHANISMS} mechanisms on 2 cores: {serial * PAPER_MECHANISMS / 2:.1f} s")
+    floor = np.median([mujoco_floor_ms(x, d, 5.0, 20_000) for x in designs[:5]])
+    print(
+        f"MuJoCo floor ({len(d.theta)} x mj_inverse on a prebuilt model): {floor:.3f} ms/mechanism;"
+        f" the stage takes {1e3 * serial / floor:.2f} x the floor, inverse dynamics alone "
+        f"{steps['inverse_dynamics'] / floor:.2f} x"
+    )
 
     with ProcessPoolExecutor(2) as pool:
         list(pool.map(_table_chunk, [designs[:2], designs[2:4]]))  # start the workers

@@ -2,7 +2,7 @@
 
 MuJoCo's inverse dynamics with the loop equality active does not give the motor torques of a
 closed chain (its soft constraint force is zero on a consistent trajectory). Instead
-(README, Stage 2):
+(docs/stages.md, Stage 2):
 
 1. the passive joint angles, velocities and accelerations follow analytically from the loop
    closure B - l4 dir(phi) = C + l3 dir(psi) (phi: upper arm, psi: coupler CD) and its first and

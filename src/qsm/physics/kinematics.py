@@ -11,8 +11,8 @@ Frame (the seed's): the base joint A is the origin, gravity is -y.
 
 zeta is the *signed* angle from BA to BC. The seed writes it as an unsigned arccos, which picks the
 mirror assembly when theta1 - theta2 > 180 deg (allowed by the operating range, up to 217.5 deg) and
-then violates |CD| = l3; the signed angle keeps the assembly mode continuous (README: The
-mechanism).
+then violates |CD| = l3; the signed angle keeps the assembly mode continuous (docs/stages.md:
+The mechanism).
 
 A design is the vector of the 6 lengths ``(l1, l2, l3, l4, ee_x, ee_y)``; every function accepts a
 single design of shape (6,) or a batch of shape (N, 6) and broadcasts it against the joint angles.
