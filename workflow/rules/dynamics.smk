@@ -28,6 +28,7 @@ rule dynamics:
         operating_range=config["operating_range"],
         cad=config["cad"],
         payload_kg=config["task"]["payload_kg"],
+    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/dynamics_shard.py"
 
@@ -46,6 +47,7 @@ rule gather_dataset:
     params:
         code=code("gather_dataset.py"),
         settings=stage2_settings(),
+    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/gather_dataset.py"
 

@@ -56,6 +56,7 @@ rule optimize:
         scale=config["scale"],
         workspace=fit_workspace(),
         filters=config["filters"],
+    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/optimize.py"
 
@@ -84,6 +85,7 @@ rule verify_pareto:
         payload_kg=config["task"]["payload_kg"],
         ratio_bounds=config["sampling"]["bounds"],
         build_volume_mm=config["printing"]["build_volume_mm"],
+    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/verify_pareto.py"
 

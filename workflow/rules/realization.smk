@@ -28,6 +28,7 @@ rule select_design:
         formulations=FORMULATIONS,
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
+    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/select_design.py"
 
@@ -64,6 +65,7 @@ rule topology_optimize:
         operating_range=config["operating_range"],
         payload_kg=config["task"]["payload_kg"],
         build_volume_mm=config["printing"]["build_volume_mm"],
+    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/topology_optimize.py"
 
@@ -92,5 +94,6 @@ rule payload_test:
         cad=config["cad"],
         task_points=config["task"]["points"],
         operating_range=config["operating_range"],
+    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/payload_test.py"

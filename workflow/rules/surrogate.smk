@@ -33,5 +33,6 @@ rule train_surrogate:
     params:
         code=code("train_surrogate.py"),
         surrogate=config["surrogate"],
+    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/train_surrogate.py"
