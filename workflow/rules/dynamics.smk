@@ -19,6 +19,7 @@ rule dynamics:
         f"{RESULTS}/benchmarks/dynamics/shard-{{shard}}.tsv"
     wildcard_constraints:
         shard=r"\d+",
+    priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV
     params:
@@ -28,7 +29,6 @@ rule dynamics:
         operating_range=config["operating_range"],
         cad=config["cad"],
         payload_kg=config["task"]["payload_kg"],
-    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/dynamics_shard.py"
 
@@ -42,12 +42,12 @@ rule gather_dataset:
         status=f"{RESULTS}/dynamics/status.json",
     log:
         f"{RESULTS}/logs/gather_dataset.log",
+    priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV
     params:
         code=code("gather_dataset.py"),
         settings=stage2_settings(),
-    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/gather_dataset.py"
 

@@ -43,6 +43,7 @@ rule optimize:
         f"{RESULTS}/logs/optimize/{{formulation}}.log",
     benchmark:
         f"{RESULTS}/benchmarks/optimize/{{formulation}}.tsv"
+    priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV
     params:
@@ -56,7 +57,6 @@ rule optimize:
         scale=config["scale"],
         workspace=fit_workspace(),
         filters=config["filters"],
-    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/optimize.py"
 
@@ -71,6 +71,7 @@ rule verify_pareto:
         f"{RESULTS}/logs/verify_pareto/{{formulation}}.log",
     benchmark:
         f"{RESULTS}/benchmarks/verify_pareto/{{formulation}}.tsv"
+    priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV
     params:
@@ -85,7 +86,6 @@ rule verify_pareto:
         payload_kg=config["task"]["payload_kg"],
         ratio_bounds=config["sampling"]["bounds"],
         build_volume_mm=config["printing"]["build_volume_mm"],
-    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/verify_pareto.py"
 

@@ -18,6 +18,7 @@ rule select_design:
         ),
     log:
         f"{RESULTS}/logs/select_design.log",
+    priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV
     params:
@@ -28,7 +29,6 @@ rule select_design:
         formulations=FORMULATIONS,
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
-    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/select_design.py"
 
@@ -55,6 +55,7 @@ rule topology_optimize:
         f"{RESULTS}/logs/topology_optimize.log",
     benchmark:
         f"{RESULTS}/benchmarks/topology_optimize.tsv"
+    priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV
     params:
@@ -65,7 +66,6 @@ rule topology_optimize:
         operating_range=config["operating_range"],
         payload_kg=config["task"]["payload_kg"],
         build_volume_mm=config["printing"]["build_volume_mm"],
-    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/topology_optimize.py"
 
@@ -85,6 +85,7 @@ rule payload_test:
         f"{RESULTS}/logs/payload_test.log",
     benchmark:
         f"{RESULTS}/benchmarks/payload_test.tsv"
+    priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV
     params:
@@ -94,6 +95,5 @@ rule payload_test:
         cad=config["cad"],
         task_points=config["task"]["points"],
         operating_range=config["operating_range"],
-    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/payload_test.py"

@@ -28,11 +28,11 @@ rule train_surrogate:
         f"{RESULTS}/logs/train_surrogate.log",
     benchmark:
         f"{RESULTS}/benchmarks/train_surrogate.tsv"
+    priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV
     params:
         code=code("train_surrogate.py"),
         surrogate=config["surrogate"],
-    priority: 10  # the critical path: ahead of the design-rule shards
     script:
         "../scripts/train_surrogate.py"
