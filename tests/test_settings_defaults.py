@@ -1,0 +1,50 @@
+"""The settings dataclasses' defaults agree with the config schema, the defaults a run uses.
+
+Notebook calls take the dataclass defaults, the workflow the schema's: a test keeps them one.
+"""
+
+import dataclasses
+
+import pytest
+
+from qsm.config import load_config
+from qsm.physics.cad import CadSettings
+from qsm.physics.duty import DutySettings
+from qsm.physics.workspace import Resolution
+from qsm.realisation.fe import TopologySettings
+from qsm.realisation.payload import PayloadSettings
+from qsm.surrogate.model import SurrogateSettings
+
+CONFIG = load_config()
+
+
+def _plain(value):
+    return list(value) if isinstance(value, tuple) else value
+
+
+@pytest.mark.parametrize(
+    ("cls", "section"),
+    [
+        (CadSettings, CONFIG["cad"]),
+        (DutySettings, CONFIG["dynamics"]["duty"]),
+        (Resolution, CONFIG["workspace"]),
+        (TopologySettings, CONFIG["topology"]),
+        (PayloadSettings, {**CONFIG["payload_test"], "payload_kg": CONFIG["task"]["payload_kg"]}),
+        (SurrogateSettings, CONFIG["surrogate"]),
+    ],
+    ids=lambda v: getattr(v, "__name__", ""),
+)
+def test_dataclass_defaults_equal_the_schema(cls, section):
+    shared = [f for f in dataclasses.fields(cls) if f.name in section]
+    assert len(shared) >= 2, cls
+    for f in shared:
+        assert _plain(f.default) == _plain(section[f.name]), f"{cls.__name__}.{f.name}"
+
+
+def test_operating_range_defaults_equal_the_schema():
+    lo, hi = CONFIG["operating_range"]["theta1_deg"]
+    theta2 = CONFIG["operating_range"]["theta2_min_deg"]
+    duty = DutySettings()
+    assert (duty.theta1_min_deg, duty.theta1_max_deg, duty.theta2_min_deg) == (lo, hi, theta2)
+    payload = PayloadSettings()
+    assert (tuple(payload.theta1_range_deg), payload.theta2_min_deg) == ((lo, hi), theta2)
