@@ -18,6 +18,7 @@ import numpy as np
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from reference_workspace import pixel_area
 
+from qsm import settings
 from qsm.config import load_config
 from qsm.mechanisms.scale import FitSettings, fit_design
 from qsm.physics.kinematics import design_from_ratios, loop_closes_everywhere
@@ -30,10 +31,10 @@ def main() -> None:
     parser.add_argument("--pixels", type=int, default=1500)
     args = parser.parse_args()
     config = load_config()
-    settings = FitSettings.from_sections(
+    fit_settings = settings.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
-    op = settings.op
+    op = fit_settings.op
     rng = np.random.default_rng(0)
     bounds = config["sampling"]["bounds"]
     designs = []
@@ -42,12 +43,12 @@ def main() -> None:
         if r[1] + r[0] < 1 + r[2] and loop_closes_everywhere(r, op.delta_max):
             designs.append(r)
     reference = np.array([pixel_area(design_from_ratios(r), op, args.pixels) for r in designs])
-    for res in (Resolution(361, 300), settings.resolution, Resolution(1441, 1200)):
+    for res in (Resolution(361, 300), fit_settings.resolution, Resolution(1441, 1200)):
         areas = np.array([slice_workspace(r, op, 0.0, res).area for r in designs])
         err = np.abs(areas / reference - 1)
         start = time.perf_counter()
         for r in designs:
-            fit_design(r, FitSettings(op, settings.disk, settings.scale_max, 0.0, res))
+            fit_design(r, FitSettings(op, fit_settings.disk, fit_settings.scale_max, 0.0, res))
         per = (time.perf_counter() - start) / len(designs)
         print(
             f"n_delta={res.n_delta:5d} n_levels={res.n_levels:5d}: area error median "

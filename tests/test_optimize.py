@@ -3,8 +3,9 @@
 import numpy as np
 import pytest
 
+from qsm import settings
 from qsm.config import load_config
-from qsm.mechanisms.scale import FitSettings, fit_design
+from qsm.mechanisms.scale import fit_design
 from qsm.optimisation.nsga import run_nsga2
 from qsm.optimisation.problems import LabelStats, PaperProblem, RatiosProblem, paper_constraints
 from qsm.surrogate.model import SurrogateSettings, train
@@ -60,7 +61,7 @@ def test_same_seed_same_front_and_three_generations_kept(model):
 def test_ratios_problem_uses_the_exact_scale_and_eta(model):
     surrogate, _ = model
     config = load_config()
-    fit = FitSettings.from_sections(
+    fit = settings.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     problem = RatiosProblem(surrogate, np.zeros(5), np.ones(5), LabelStats.of(surrogate, 1.95), fit)

@@ -77,3 +77,41 @@ def test_the_public_api_is_importable_from_qsm_without_loading_mujoco():
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert out.stdout.strip() == "9"
+
+
+def test_deferred_and_type_checking_imports_are_not_followed(tmp_path):
+    """qsm.settings builds heavy dataclasses through imports inside its functions: a script that
+    imports it must not depend on every module those functions could load."""
+    pkg = tmp_path / "qsm"
+    pkg.mkdir()
+    files = {
+        "__init__.py": "",
+        "layer.py": (
+            "from typing import TYPE_CHECKING\n"
+            "try:\n    from .light import a\nexcept ImportError:\n    pass\n"
+            "if TYPE_CHECKING:\n    from .typed import b\n"
+            "def build():\n    from .heavy import c\n    return c\n"
+        ),
+        "light.py": "a = 1\n",
+        "typed.py": "b = 2\n",
+        "heavy.py": "c = 3\n",
+    }
+    for name, text in files.items():
+        (pkg / name).write_text(text)
+    script = tmp_path / "script.py"
+    script.write_text("from qsm.layer import build\n")
+    found = {p.name for p in module_closure(str(script), pkg)}
+    assert found == {"__init__.py", "layer.py", "light.py"}
+
+
+def test_scripts_build_settings_only_through_the_settings_layer():
+    for script in (ROOT / "workflow" / "scripts").glob("*.py"):
+        text = script.read_text()
+        for idiom in (
+            "Settings(",
+            "from_degrees(",
+            "from_section",
+            "cad_settings",
+            "duty_settings",
+        ):
+            assert idiom not in text, f"{script.name} builds settings with {idiom}"

@@ -48,3 +48,21 @@ def test_operating_range_defaults_equal_the_schema():
     assert (duty.theta1_min_deg, duty.theta1_max_deg, duty.theta2_min_deg) == (lo, hi, theta2)
     payload = PayloadSettings()
     assert (tuple(payload.theta1_range_deg), payload.theta2_min_deg) == ((lo, hi), theta2)
+
+
+def test_the_settings_layer_gives_the_default_dataclasses_on_the_default_config():
+    from qsm import settings
+
+    c = CONFIG
+    assert settings.cad(c["cad"]) == CadSettings()
+    assert settings.duty(c["dynamics"]["duty"], c["operating_range"]) == DutySettings()
+    assert settings.topology(c["topology"]) == TopologySettings()
+    assert settings.surrogate(c["surrogate"]) == SurrogateSettings()
+    payload = settings.payload_test(
+        c["payload_test"], c["task"]["payload_kg"], c["operating_range"]
+    )
+    assert payload == PayloadSettings()
+    fit = settings.fit(c["operating_range"], c["task"]["points"], c["scale"], c["workspace"])
+    assert fit.resolution == Resolution() and fit.op == settings.operating_range(
+        c["operating_range"]
+    )

@@ -8,10 +8,11 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from qsm import settings
 from qsm.config import load_config
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube
-from qsm.mechanisms.scale import FitSettings, fit_designs, select_mechanisms
+from qsm.mechanisms.scale import fit_designs, select_mechanisms
 from qsm.physics.kinematics import RATIO_NAMES, pose
 from qsm.physics.workspace import OperatingRange
 from qsm.workflow.sharding import shard_slice
@@ -69,14 +70,14 @@ def test_shard_arguments_are_checked():
 
 def test_selection_does_not_depend_on_sharding():
     config = load_config()
-    settings = FitSettings.from_sections(
+    fit_settings = settings.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     candidates, _ = kinematic_filters(latin_hypercube(600, BOUNDS, seed=9), OP, 0.0)
-    whole = fit_designs(candidates, settings)
+    whole = fit_designs(candidates, fit_settings)
     parts = pd.concat(
         [
-            fit_designs(candidates.iloc[shard_slice(len(candidates), 3, i)], settings)
+            fit_designs(candidates.iloc[shard_slice(len(candidates), 3, i)], fit_settings)
             for i in (2, 0, 1)
         ],
         ignore_index=True,
@@ -112,11 +113,11 @@ def test_cli_evaluate_agrees_with_the_library():
     result = json.loads(out.stdout)
     assert result["feasible"] is True
     config = load_config()
-    settings = FitSettings.from_sections(
+    fit_settings = settings.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     table = pd.DataFrame([[0, 0.3, 1.0, 0.5, 1.2, 0.4]], columns=["sample_id", *RATIO_NAMES])
-    direct = fit_designs(table, settings).iloc[0]
+    direct = fit_designs(table, fit_settings).iloc[0]
     assert result["scale"] == pytest.approx(direct["scale_m"], rel=1e-12)
     assert result["eta"] == pytest.approx(direct["eta"], rel=1e-12)
     assert result["eta"] == pytest.approx(

@@ -10,12 +10,13 @@ import trimesh
 import yaml
 from workflow_helpers import copy_run, copy_workflow, planned_jobs, snakemake
 
+from qsm import settings
 from qsm.config import settings_hash, validate_config
 from qsm.evaluate import evaluate_ratios
-from qsm.mechanisms.dataset import DATASET_COLUMNS, cad_settings, duty_settings
+from qsm.mechanisms.dataset import DATASET_COLUMNS
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube
-from qsm.mechanisms.scale import MECHANISM_COLUMNS, FitSettings
+from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.optimisation.verify import summary, verify_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.workspace import OperatingRange
@@ -151,17 +152,17 @@ def test_verification_matches_a_direct_reevaluation(run, formulation):
     stored = json.loads((folder / "verification.json").read_text())
     assert stored.pop("formulation") == formulation and "g1..g10" in stored.pop("constraints")
     assert json.dumps(stored, sort_keys=True) == json.dumps(summary(table), sort_keys=True)
-    fit = FitSettings.from_sections(
+    fit = settings.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
-    duty = duty_cycle(duty_settings(config["dynamics"]["duty"], config["operating_range"]))
+    duty = duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"]))
     for _, row in table.head(3).iterrows():
         design = row[list(INPUTS)].to_numpy(float)
-        direct = verify_design(design, fit, duty, cad_settings(config["cad"]), 5.0)
+        direct = verify_design(design, fit, duty, settings.cad(config["cad"]), 5.0)
         for key in ("feasible", "eta_true", "tau1_true_Nm", "tau2_true_Nm"):
             assert direct[key] == pytest.approx(row[key], rel=1e-12, nan_ok=True)
     assert stored["holds_task_share"] == table["task_contained"].mean()
-    cad = cad_settings(config["cad"])
+    cad = settings.cad(config["cad"])
     volume = tuple(config["printing"]["build_volume_mm"])
     printable = [all_links_fit(d, cad, volume) for d in table[list(INPUTS)].to_numpy(float)]
     assert stored["printable_share"] == pytest.approx(np.mean(printable))
@@ -217,7 +218,7 @@ def test_realisation_outputs(run):
     assert selected["feasible"] and selected["dynamics_status"] == "ok"
     assert selected["printable"] and selected["source"] == config["optimization"]["formulation"]
     assert all_links_fit(
-        design, cad_settings(config["cad"]), tuple(config["printing"]["build_volume_mm"])
+        design, settings.cad(config["cad"]), tuple(config["printing"]["build_volume_mm"])
     )
     torques = json.loads((real / "torques.json").read_text())
     assert set(torques["before"]) >= {"tau1_Nm", "tau2_Nm"} and set(torques["after"]) >= {
@@ -277,7 +278,7 @@ def test_a_task_nothing_printable_holds_completes_with_the_verdict(tmp_path):
     assert len(selected["fallback"]) == 3  # both fronts and the dataset had nothing printable
     needed = selected["printing_advice"]["needed_volume_mm"]
     assert needed[0] > 600  # the longest link exceeds the printer's longest side
-    cad = cad_settings(effective_config(work)["cad"])
+    cad = settings.cad(effective_config(work)["cad"])
     assert not all_links_fit(np.array(selected["design_m"]), cad, (600, 350, 350))
     checks = json.loads((work / "results/realization/stl_check.json").read_text())
     assert not all(c["fits_build_volume"] for c in checks["before"].values())

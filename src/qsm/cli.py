@@ -8,9 +8,9 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+from qsm import settings
 from qsm.config import ConfigError, load_config, validate_config
 from qsm.evaluate import checked_ratios, evaluate_ratios
-from qsm.mechanisms.dataset import cad_settings
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.cad import export_stl
 from qsm.physics.kinematics import DESIGN_NAMES
@@ -60,7 +60,7 @@ def _export(args: argparse.Namespace, config: dict) -> dict:
     design = row[[f"{n}_m" for n in DESIGN_NAMES]].to_numpy(dtype=float)[0]
     out = Path(args.out or f"results/models/mechanism-{args.id}")
     out.mkdir(parents=True, exist_ok=True)
-    cad = cad_settings(config["cad"])
+    cad = settings.cad(config["cad"])
     xml = out / "model.xml"
     xml.write_text(mjcf_xml(design, cad, config["task"]["payload_kg"]))
     stls = export_stl(design, out / "stl", cad)

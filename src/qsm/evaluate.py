@@ -7,9 +7,9 @@ from typing import Any
 
 import numpy as np
 
-from qsm.mechanisms.dataset import cad_settings, duty_settings
+from qsm import settings
 from qsm.mechanisms.filters import kinematic_checks
-from qsm.mechanisms.scale import FitSettings, fit_design
+from qsm.mechanisms.scale import fit_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import evaluate_mechanism
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
@@ -37,18 +37,21 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
     None.
     """
     r = checked_ratios(ratios)
-    settings = FitSettings.from_sections(
+    fit_settings = settings.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     checks = {
         name: bool(ok[0])
         for name, ok in kinematic_checks(
-            r, settings.op, config["filters"]["min_transmission_angle_deg"]
+            r, fit_settings.op, config["filters"]["min_transmission_angle_deg"]
         ).items()
     }
     out: dict[str, Any] = {"ratios": dict(zip(RATIO_NAMES, r.tolist(), strict=True)), **checks}
-    out["task_disk"] = {"centre_m": list(settings.disk.centre), "radius_m": settings.disk.radius}
-    fit = fit_design(r, settings) if all(checks.values()) else None
+    out["task_disk"] = {
+        "centre_m": list(fit_settings.disk.centre),
+        "radius_m": fit_settings.disk.radius,
+    }
+    fit = fit_design(r, fit_settings) if all(checks.values()) else None
     out["feasible"] = bool(fit and fit["feasible"])
     out["reason"] = (
         fit["reason"] if fit else ", ".join(k for k, ok in checks.items() if not ok) + " failed"
@@ -64,8 +67,8 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
     if out["design_m"] is not None:
         dyn = evaluate_mechanism(
             list(out["design_m"].values()),
-            duty_cycle(duty_settings(config["dynamics"]["duty"], config["operating_range"])),
-            cad_settings(config["cad"]),
+            duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"])),
+            settings.cad(config["cad"]),
             config["task"]["payload_kg"],
         )
         ok = dyn["status"] == "ok"

@@ -1,6 +1,7 @@
 """Rule dynamics: closed-chain inverse dynamics of one shard of the mechanisms."""
 
-from qsm.mechanisms.dataset import cad_settings, duty_settings, evaluate_shard, status_counts
+from qsm import settings
+from qsm.mechanisms.dataset import evaluate_shard, status_counts
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
@@ -13,8 +14,8 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         mechanisms,
         p.shards,
         shard,
-        cad_settings(p.cad),
-        duty_settings(p.duty, p.operating_range),
+        settings.cad(p.cad),
+        settings.duty(p.duty, p.operating_range),
         p.payload_kg,
     )
     log.info(

@@ -1,9 +1,10 @@
 """Rule eta_derivatives_shard: d eta / d x of the true eta for one shard of the mechanisms."""
 
+from qsm import settings
 from qsm.design_rules.eta_derivatives import eta_gradients
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.task import min_enclosing_circle
-from qsm.physics.workspace import OperatingRange, Resolution
+from qsm.physics.workspace import Resolution
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table
@@ -13,9 +14,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     shard = int(snakemake.wildcards.shard)  # noqa: F821
     table = read_table(snakemake.input[0], MECHANISM_COLUMNS)  # noqa: F821
     rows = table.iloc[shard_slice(len(table), p.shards, shard)]
-    op = OperatingRange.from_degrees(
-        p.operating_range["theta1_deg"], p.operating_range["theta2_min_deg"]
-    )
+    op = settings.operating_range(p.operating_range)
     res = Resolution(p.resolution["n_delta"], p.resolution["n_levels"])
     grads = eta_gradients(rows, op, min_enclosing_circle(p.task_points), res, p.step)
     write_table(grads, snakemake.output[0])  # noqa: F821

@@ -2,18 +2,16 @@
 
 import json
 
+from qsm import settings
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.physics.kinematics import RATIO_NAMES
-from qsm.physics.workspace import OperatingRange
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
     samples = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])  # noqa: F821
-    op = OperatingRange.from_degrees(
-        p.operating_range["theta1_deg"], p.operating_range["theta2_min_deg"]
-    )
+    op = settings.operating_range(p.operating_range)
     candidates, counts = kinematic_filters(samples, op, p.filters["min_transmission_angle_deg"])
     for step, n in counts.items():
         log.info("%-20s %7d", step, n)

@@ -1,6 +1,7 @@
 """Rule fit_task: workspace, minimal scale factor and eta for one shard of the candidates."""
 
-from qsm.mechanisms.scale import FitSettings, fit_designs
+from qsm import settings
+from qsm.mechanisms.scale import fit_designs
 from qsm.physics.kinematics import RATIO_NAMES
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
@@ -12,5 +13,5 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     candidates = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])  # noqa: F821
     rows = candidates.iloc[shard_slice(len(candidates), p.shards, shard)]
     log.info("shard %d of %d: %d designs", shard, p.shards, len(rows))
-    settings = FitSettings.from_sections(p.operating_range, p.task_points, p.scale, p.workspace)
-    write_table(fit_designs(rows, settings), snakemake.output[0])  # noqa: F821
+    fit_settings = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace)
+    write_table(fit_designs(rows, fit_settings), snakemake.output[0])  # noqa: F821

@@ -1,9 +1,8 @@
 """Rule optimize: NSGA-II on the surrogate in one formulation; tables and figures."""
 
+from qsm import settings
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
-from qsm.mechanisms.scale import FitSettings
 from qsm.optimisation.nsga import optimise
-from qsm.optimisation.problems import ExtraConstraints
 from qsm.report.figures import pareto_figures, representatives_figure
 from qsm.surrogate.model import load
 from qsm.workflow.logs import logged
@@ -14,16 +13,14 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     out = snakemake.output  # noqa: F821
     model = load(snakemake.input.model)  # noqa: F821
     dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))  # noqa: F821
-    fit = FitSettings.from_sections(
-        p.operating_range, p.task_points, p.scale, p.workspace, p.filters
-    )
+    fit = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
     every = max(1, p.optimization["generations"] // 10)
 
     def progress(generation: int, hypervolume: float) -> None:
         if generation % every == 0:
             log.info("generation %d: hypervolume %.4f", generation, hypervolume)
 
-    extra = ExtraConstraints.from_settings(p.constraints, fit)
+    extra = settings.constraints(p.constraints, fit)
     log.info("%s formulation, constraints: %s", p.formulation, extra.label(p.formulation))
     tables = optimise(
         p.formulation, model, dataset, p.optimization, fit, p.ratio_bounds, extra, progress

@@ -1,8 +1,8 @@
 """Rule plot_mechanisms: example designs with workspace and task, scale and eta distributions."""
 
+from qsm import settings
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.task import min_enclosing_circle
-from qsm.physics.workspace import OperatingRange
 from qsm.report.figures import distributions_figure, examples_figure
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
@@ -11,9 +11,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
     out = snakemake.output  # noqa: F821
     table = read_table(snakemake.input[0], MECHANISM_COLUMNS)  # noqa: F821
-    op = OperatingRange.from_degrees(
-        p.operating_range["theta1_deg"], p.operating_range["theta2_min_deg"]
-    )
+    op = settings.operating_range(p.operating_range)
     disk = min_enclosing_circle(p.task_points)
     examples_figure(table, op, disk, out.examples, p.figures["n_examples"])
     distributions_figure(table, out.distributions)

@@ -4,9 +4,9 @@ import json
 
 import matplotlib.pyplot as plt
 
-from qsm.mechanisms.dataset import DATASET_COLUMNS, cad_settings, ok_rows
+from qsm import settings
+from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.physics.task import min_enclosing_circle
-from qsm.physics.workspace import OperatingRange
 from qsm.realisation.export import selection_record
 from qsm.realisation.selection import advice_sentences, choose_design, printing_advice
 from qsm.report.figures import draw_design
@@ -20,7 +20,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     fronts = {name: read_table(path) for name, path in zip(p.formulations, inp.fronts, strict=True)}
     dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
     rule = p.printing["selection_rule"]
-    cad = cad_settings(p.cad)
+    cad = settings.cad(p.cad)
     volume = tuple(p.printing["build_volume_mm"])
     disk = min_enclosing_circle(p.task_points)
     row, how = choose_design(fronts, p.primary, dataset, rule, cad, volume)
@@ -43,9 +43,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         )
     with open(out.selected, "w") as fh:
         json.dump(record, fh, indent=2)
-    op = OperatingRange.from_degrees(
-        p.operating_range["theta1_deg"], p.operating_range["theta2_min_deg"]
-    )
+    op = settings.operating_range(p.operating_range)
     fig, ax = plt.subplots(figsize=(6, 6))
     title = (
         f"selected ({rule}, {record['formulation']}"

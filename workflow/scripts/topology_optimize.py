@@ -4,12 +4,11 @@ import json
 
 import numpy as np
 
-from qsm.mechanisms.dataset import cad_settings, duty_settings
+from qsm import settings
 from qsm.physics.cad import link_meshes
 from qsm.physics.duty import duty_cycle
 from qsm.realisation.export import export_stls, props_to_json, torques_markdown
 from qsm.realisation.topology import (
-    TopologySettings,
     optimise_links,
     plot_links,
     torques_before_after,
@@ -21,9 +20,9 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     out = snakemake.output  # noqa: F821
     with open(snakemake.input.selected) as fh:  # noqa: F821
         design = np.asarray(json.load(fh)["design_m"])
-    cad = cad_settings(p.cad)
-    duty = duty_cycle(duty_settings(p.duty, p.operating_range))
-    result = optimise_links(design, cad, p.payload_kg, duty, TopologySettings(**p.topology))
+    cad = settings.cad(p.cad)
+    duty = duty_cycle(settings.duty(p.duty, p.operating_range))
+    result = optimise_links(design, cad, p.payload_kg, duty, settings.topology(p.topology))
     torques = torques_before_after(design, cad, p.payload_kg, duty, result.props)
     with open(out.torques, "w") as fh:
         json.dump(torques, fh, indent=2)

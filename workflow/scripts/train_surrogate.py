@@ -2,20 +2,21 @@
 
 import json
 
+from qsm import settings
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.report.figures import parity_figure
-from qsm.surrogate.model import INPUTS, OUTPUTS, SurrogateSettings, metrics_markdown, train
+from qsm.surrogate.model import INPUTS, OUTPUTS, metrics_markdown, train
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     out = snakemake.output  # noqa: F821
-    settings = SurrogateSettings.from_section(snakemake.params.surrogate)  # noqa: F821
+    surrogate_settings = settings.surrogate(snakemake.params.surrogate)  # noqa: F821
     dataset = ok_rows(read_table(snakemake.input[0], DATASET_COLUMNS))  # noqa: F821
     x = dataset[list(INPUTS)].to_numpy()
     y = dataset[list(OUTPUTS)].to_numpy()
-    log.info("training on %d designs (status ok) with %s", len(x), settings)
-    result = train(x, y, settings)
+    log.info("training on %d designs (status ok) with %s", len(x), surrogate_settings)
+    result = train(x, y, surrogate_settings)
     result.model.save(out.model)
     with open(out.metrics, "w") as fh:
         json.dump(result.metrics, fh, indent=2)

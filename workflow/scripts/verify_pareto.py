@@ -2,8 +2,7 @@
 
 import json
 
-from qsm.mechanisms.dataset import cad_settings, duty_settings
-from qsm.mechanisms.scale import FitSettings
+from qsm import settings
 from qsm.optimisation.nsga import PREDICTION_COLUMNS
 from qsm.optimisation.verify import TRUE_COLUMNS, summary, verify_front
 from qsm.physics.duty import duty_cycle
@@ -17,12 +16,10 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     path = snakemake.input.pareto  # noqa: F821
     pareto = read_table(path, [*INPUTS, *PREDICTION_COLUMNS])
     meta = read_meta(path)
-    fit = FitSettings.from_sections(
-        p.operating_range, p.task_points, p.scale, p.workspace, p.filters
-    )
-    duty = duty_cycle(duty_settings(p.duty, p.operating_range))
+    fit = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
+    duty = duty_cycle(settings.duty(p.duty, p.operating_range))
     table = verify_front(
-        pareto, fit, duty, cad_settings(p.cad), p.payload_kg, p.ratio_bounds, p.build_volume_mm
+        pareto, fit, duty, settings.cad(p.cad), p.payload_kg, p.ratio_bounds, p.build_volume_mm
     )
     result = {"formulation": meta.get("formulation"), "constraints": meta.get("constraints")}
     result.update(summary(table))

@@ -2,8 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from typing import Any
+from collections.abc import Sequence
 
 import numpy as np
 import pandas as pd
@@ -39,28 +38,6 @@ assert set(DYNAMICS_COLUMNS) == set(RESULT_KEYS)
 
 class DatasetError(ValueError):
     """The dynamics shards do not cover the mechanisms exactly once."""
-
-
-def cad_settings(section: Mapping[str, Any]) -> CadSettings:
-    """Link section and material from the config section ``cad``."""
-    return CadSettings(
-        width_m=section["width_m"],
-        thickness_m=section["thickness_m"],
-        boss_radius_m=section["boss_radius_m"],
-        density_kg_m3=section["density_kg_m3"],
-        segments_per_circle=section["segments_per_circle"],
-    )
-
-
-def duty_settings(duty: Mapping[str, Any], operating_range: Mapping[str, Any]) -> DutySettings:
-    """The duty from the config sections ``dynamics.duty`` and ``operating_range``."""
-    lo, hi = operating_range["theta1_deg"]
-    return DutySettings(
-        theta1_min_deg=lo,
-        theta1_max_deg=hi,
-        theta2_min_deg=operating_range["theta2_min_deg"],
-        **duty,
-    )
 
 
 def evaluate_shard(

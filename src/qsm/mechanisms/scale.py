@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -12,7 +12,7 @@ import numpy as np
 import pandas as pd
 
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
-from qsm.physics.task import Disk, min_enclosing_circle
+from qsm.physics.task import Disk
 from qsm.physics.workspace import OperatingRange, Resolution, minimal_scale, slice_workspace
 
 log = logging.getLogger(__name__)
@@ -39,29 +39,6 @@ class FitSettings:
     resolution: Resolution = field(default_factory=Resolution)
     n_scan: int = 128
     min_transmission_angle_deg: float = 0.0
-
-    @classmethod
-    def from_sections(
-        cls,
-        operating_range: Mapping[str, Any],
-        task_points: Sequence[Sequence[float]],
-        scale: Mapping[str, Any],
-        workspace: Mapping[str, Any],
-        filters: Mapping[str, Any] | None = None,
-    ) -> FitSettings:
-        """Build from the config sections (validated, defaults filled) and ``task.points``;
-        ``filters`` (optional) adds the transmission-angle limit for checks outside Stage 1."""
-        return cls(
-            op=OperatingRange.from_degrees(
-                operating_range["theta1_deg"], operating_range["theta2_min_deg"]
-            ),
-            disk=min_enclosing_circle(task_points),
-            scale_max=float(scale["max_m"]),
-            safety_margin=float(scale["safety_margin_m"]),
-            resolution=Resolution(int(workspace["n_delta"]), int(workspace["n_levels"])),
-            n_scan=int(workspace["n_scan"]),
-            min_transmission_angle_deg=float((filters or {}).get("min_transmission_angle_deg", 0)),
-        )
 
 
 def fit_design(ratios: Sequence[float], settings: FitSettings) -> dict[str, Any]:

@@ -25,7 +25,6 @@ surrogate.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -33,7 +32,6 @@ import numpy as np
 from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 
-from qsm.mechanisms.dataset import cad_settings
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings, fit_design
 from qsm.optimisation.constraints import containment_margin_m, printability_violation_mm
@@ -73,20 +71,6 @@ class ExtraConstraints:
     cad: CadSettings
     volume_mm: tuple[float, float, float]
     tolerance_m: float = 0.001
-
-    @classmethod
-    def from_settings(cls, settings: Mapping[str, Any], fit: FitSettings) -> ExtraConstraints:
-        """From the rule's ``constraints`` params: ``containment``, ``printable`` and, when on,
-        ``tolerance_m``, ``cad`` (config section) and ``build_volume_mm``."""
-        printable = bool(settings["printable"])
-        return cls(
-            containment=bool(settings["containment"]),
-            printable=printable,
-            fit=fit,
-            cad=cad_settings(settings["cad"]) if printable else CadSettings(),
-            volume_mm=tuple(settings.get("build_volume_mm", (600.0, 350.0, 350.0))),
-            tolerance_m=float(settings.get("tolerance_m", 0.0)),
-        )
 
     def names(self, formulation: str) -> tuple[str, ...]:
         """Constraint columns of ``formulation`` in order: g1..g10, then g11 and g12 if on."""

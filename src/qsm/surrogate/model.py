@@ -52,12 +52,6 @@ class SurrogateSettings:
                 f"{', '.join(OUTPUT_TRANSFORMS)}"
             )
 
-    @classmethod
-    def from_section(cls, section: Mapping[str, Any]) -> SurrogateSettings:
-        values = dict(section)
-        values["hidden_layers"] = tuple(values["hidden_layers"])
-        return cls(**values)
-
 
 @dataclass(frozen=True)
 class Surrogate:

@@ -3,7 +3,9 @@
 Snakemake reruns a rule when its script changes, not when a module the script imports does. A
 rule that passes ``source_hash(script)`` as a param is rerun when any ``qsm`` module it reaches
 through its imports changes, and only then. Absolute and relative imports count, and so does the
-``__init__.py`` of every package on the way (Python runs it on import).
+``__init__.py`` of every package on the way (Python runs it on import). Imports inside functions
+are deferred and not followed (:mod:`qsm.settings` relies on that), nor are ``TYPE_CHECKING``
+blocks.
 """
 
 from __future__ import annotations
@@ -25,12 +27,30 @@ def _package_of(path: Path, package_dir: Path) -> list[str] | None:
     return list(rel.parts[:-1])
 
 
+def _module_level(tree: ast.Module) -> list[ast.stmt]:
+    """Statements run on import: the module body and its ``try``/``if`` blocks, not function
+    bodies (deferred imports) nor ``if TYPE_CHECKING:`` blocks (never run)."""
+    out: list[ast.stmt] = []
+    todo = list(tree.body)
+    while todo:
+        node = todo.pop()
+        out.append(node)
+        if isinstance(node, ast.If):
+            if not (isinstance(node.test, ast.Name) and node.test.id == "TYPE_CHECKING"):
+                todo += node.body + node.orelse
+        elif isinstance(node, ast.Try):
+            todo += node.body + node.orelse + node.finalbody
+            for handler in node.handlers:
+                todo += handler.body
+    return out
+
+
 def _qsm_imports(path: Path, package_dir: Path) -> set[str]:
     """Dotted names of the ``qsm`` modules (and their parent packages) that ``path`` imports."""
     root = package_dir.name
     package = _package_of(path, package_dir)
     names = set()
-    for node in ast.walk(ast.parse(path.read_text(), filename=str(path))):
+    for node in _module_level(ast.parse(path.read_text(), filename=str(path))):
         modules: list[str] = []
         if isinstance(node, ast.ImportFrom):
             if node.level:  # relative: resolve against the file's package

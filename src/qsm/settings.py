@@ -1,0 +1,135 @@
+"""The one settings layer: the validated config's sections as the library's frozen dataclasses.
+
+One function per section; scripts, the command line and ``qsm.evaluate`` build their settings
+here and nowhere else. Each function takes the section(s) as validated by :mod:`qsm.config`
+(every default filled from the schema) and passes every field on, so the schema's defaults are
+the ones a run uses (a test keeps the dataclasses' own defaults, for direct notebook calls, equal
+to them).
+
+The heavier dataclasses are imported inside their functions: a workflow script's rerun hash
+(:mod:`qsm.workflow.provenance`) follows module-level imports, so importing this module does not
+tie every rule to the surrogate, the optimiser, pyMOTO and MuJoCo; each script imports the
+module that uses the settings it builds anyway.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import TYPE_CHECKING, Any
+
+from qsm.mechanisms.scale import FitSettings
+from qsm.physics.task import min_enclosing_circle
+from qsm.physics.workspace import OperatingRange, Resolution
+
+if TYPE_CHECKING:
+    from qsm.optimisation.problems import ExtraConstraints
+    from qsm.physics.cad import CadSettings
+    from qsm.physics.duty import DutySettings
+    from qsm.realisation.fe import TopologySettings
+    from qsm.realisation.payload import PayloadSettings
+    from qsm.surrogate.model import SurrogateSettings
+
+Section = Mapping[str, Any]
+
+
+def operating_range(section: Section) -> OperatingRange:
+    """``operating_range``: motor ranges in radians."""
+    return OperatingRange.from_degrees(section["theta1_deg"], section["theta2_min_deg"])
+
+
+def fit(
+    operating_range_section: Section,
+    task_points: Sequence[Sequence[float]],
+    scale: Section,
+    workspace: Section,
+    filters: Section | None = None,
+) -> FitSettings:
+    """``operating_range``, ``task.points``, ``scale``, ``workspace`` (and ``filters`` for checks
+    outside Stage 1): what the scale-up needs."""
+    return FitSettings(
+        op=operating_range(operating_range_section),
+        disk=min_enclosing_circle(task_points),
+        scale_max=float(scale["max_m"]),
+        safety_margin=float(scale["safety_margin_m"]),
+        resolution=Resolution(int(workspace["n_delta"]), int(workspace["n_levels"])),
+        n_scan=int(workspace["n_scan"]),
+        min_transmission_angle_deg=float((filters or {}).get("min_transmission_angle_deg", 0)),
+    )
+
+
+def cad(section: Section) -> CadSettings:
+    """``cad``: link section and material."""
+    from qsm.physics.cad import CadSettings
+
+    return CadSettings(
+        width_m=section["width_m"],
+        thickness_m=section["thickness_m"],
+        boss_radius_m=section["boss_radius_m"],
+        density_kg_m3=section["density_kg_m3"],
+        segments_per_circle=section["segments_per_circle"],
+    )
+
+
+def duty(section: Section, operating_range_section: Section) -> DutySettings:
+    """``dynamics.duty`` with ``operating_range``: the duty cycle's sampling."""
+    from qsm.physics.duty import DutySettings
+
+    lo, hi = operating_range_section["theta1_deg"]
+    return DutySettings(
+        theta1_min_deg=lo,
+        theta1_max_deg=hi,
+        theta2_min_deg=operating_range_section["theta2_min_deg"],
+        **section,
+    )
+
+
+def surrogate(section: Section) -> SurrogateSettings:
+    """``surrogate``: network and training."""
+    from qsm.surrogate.model import SurrogateSettings
+
+    return SurrogateSettings(**{**section, "hidden_layers": tuple(section["hidden_layers"])})
+
+
+def topology(section: Section) -> TopologySettings:
+    """``topology``: SIMP, material and stress check."""
+    from qsm.realisation.fe import TopologySettings
+
+    return TopologySettings(**section)
+
+
+def payload_test(
+    section: Section, payload_kg: float, operating_range_section: Section
+) -> PayloadSettings:
+    """``payload_test`` with ``task.payload_kg`` and ``operating_range``."""
+    from qsm.realisation.payload import PayloadSettings
+
+    return PayloadSettings(
+        payload_kg=payload_kg,
+        torque_limits_Nm=tuple(section["torque_limits_Nm"]),
+        segment_duration_s=section["segment_duration_s"],
+        dwell_s=section["dwell_s"],
+        return_to_start=section["return_to_start"],
+        kp_Nm_rad=tuple(section["kp_Nm_rad"]),
+        kd_Nms_rad=tuple(section["kd_Nms_rad"]),
+        tracking_tolerance_deg=section["tracking_tolerance_deg"],
+        plant_mass_error=section["plant_mass_error"],
+        theta1_range_deg=tuple(operating_range_section["theta1_deg"]),
+        theta2_min_deg=operating_range_section["theta2_min_deg"],
+    )
+
+
+def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints:
+    """``optimization.constraints`` as one formulation's rule passes it: ``containment``,
+    ``printable`` and, when on, ``tolerance_m``, ``cad`` (section) and ``build_volume_mm``."""
+    from qsm.optimisation.problems import ExtraConstraints
+    from qsm.physics.cad import DEFAULT_CAD
+
+    printable = bool(section["printable"])
+    return ExtraConstraints(
+        containment=bool(section["containment"]),
+        printable=printable,
+        fit=fit_settings,
+        cad=cad(section["cad"]) if printable else DEFAULT_CAD,
+        volume_mm=tuple(section.get("build_volume_mm", (600.0, 350.0, 350.0))),
+        tolerance_m=float(section.get("tolerance_m", 0.0)),
+    )
