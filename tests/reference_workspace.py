@@ -5,8 +5,8 @@ A point P is reachable iff some pose puts the end effector there. The upper arm 
 upper arm, hence D, and C lies on both |C| = l2 and |C - D| = l3: at most two theta2. A candidate
 counts if it is in the operating range and the forward kinematics (the assembly branch of
 qsm.physics.kinematics.pose) puts D where the candidate has it. Counting pixels of a fine grid
-gives an
-area estimate that shares nothing with the slicing of qsm.physics.workspace but the forward model.
+gives an area estimate that shares nothing with the slicing of qsm.physics.workspace but the
+forward model.
 """
 
 from __future__ import annotations

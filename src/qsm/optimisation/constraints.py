@@ -5,26 +5,22 @@ positive where the constraint is violated, so that NSGA-II can climb towards fea
 
 **g11, task containment** (metres). It uses Stage 1's slicing of the workspace into circles about
 the base (:mod:`qsm.physics.workspace`), but evaluates it directly on the circles the task disk
-needs at
-the design's own scale ``l1``: a disk of centre distance ``d`` and radius ``r`` lies in the
+needs at the design's own scale ``l1``: a disk of centre distance ``d`` and radius ``r`` lies in the
 workspace iff on every circle of radius ``R`` in ``[d - r, d + r]`` the disk's arc, of half-width
-``w(R)``, lies in the workspace's arc union ``U(R / l1)`` around the task's polar angle. The
-margin on that circle is ``(h(R) - w(R)) R`` metres of arc, where ``h`` is the half-width of the
-part of ``U`` centred on the task angle; where the task angle is not covered it is
-``-(w(R) + g(R)) R`` with ``g`` the angular gap to the nearest covered arc. Each circle's margin
-is also capped by its signed radial distance (m) to the workspace's radial range (negative
-outside it, where the arcs are measured on the range's edge), so the margin changes continuously
-with the design and has the sign of Stage 1's test.
-g11 = ``tolerance - min over R of the margin``: a design holds the task with at least
-``tolerance`` metres of arc to spare on every circle.
+``w(R)``, lies in the workspace's arc union ``U(R / l1)`` around the task's polar angle. The margin
+on that circle is ``(h(R) - w(R)) R`` metres of arc, where ``h`` is the half-width of the part of
+``U`` centred on the task angle; where the task angle is not covered it is ``-(w(R) + g(R)) R`` with
+``g`` the angular gap to the nearest covered arc. Each circle's margin is also capped by its signed
+radial distance (m) to the workspace's radial range (negative outside it, where the arcs are
+measured on the range's edge), so the margin changes continuously with the design and has the sign
+of Stage 1's test. g11 = ``tolerance - min over R of the margin``: a design holds the task with at
+least ``tolerance`` metres of arc to spare on every circle.
 
 **g12, printability** (millimetres). A link fits when its bounding box in the link frame
 (:func:`link_boxes_mm`, the same boxes :mod:`qsm.realisation.printing` measures on the outlines),
-sorted, is
-no larger than the sorted build volume. g12 = the largest excess over every link and dimension;
-a design whose section does not fit its links at all (:class:`qsm.physics.cad.CadError`) also
-violates
-it, by how much a bar is too short.
+sorted, is no larger than the sorted build volume. g12 = the largest excess over every link and
+dimension; a design whose section does not fit its links at all (:class:`qsm.physics.cad.CadError`)
+also violates it, by how much a bar is too short.
 """
 
 from __future__ import annotations
@@ -46,7 +42,6 @@ from qsm.physics.workspace import (
 
 #: Violation (m) given to a design whose loop does not close over the operating range.
 OPEN_LOOP_VIOLATION_M = 10.0
-LINK_ORDER: tuple[str, ...] = ("lower_arm", "crank", "coupler", "upper_arm")
 
 
 def _arcs_on_circles(
@@ -125,11 +120,11 @@ def containment_margin_m(
 
 
 def link_boxes_mm(designs: ArrayLike, cad: CadSettings) -> NDArray[np.float64]:
-    """Bounding boxes (N, 4, 3) in mm of the links (:data:`LINK_ORDER`) in their link frames.
+    """Bounding boxes (N, 4, 3) in mm of the links (in :data:`qsm.physics.cad.LINK_NAMES` order)
+    in their link frames.
 
-    Closed form of the outlines of :mod:`qsm.physics.cad`: a bar of length L with bosses of radius
-    r is
-    ``(L + 2 r) x 2 r``; the upper arm spans ``l4 + EE_x + 2 r`` along its x axis and
+    Closed form of the outlines of :mod:`qsm.physics.cad`: a bar of length L with bosses of radius r
+    is ``(L + 2 r) x 2 r``; the upper arm spans ``l4 + EE_x + 2 r`` along its x axis and
     ``EE_y + 2 r`` across; every plate is ``thickness`` thick.
     """
     d = np.atleast_2d(as_design(designs))
@@ -154,13 +149,11 @@ def printability_violation_mm(
     """g12: largest excess (mm) of a link's sorted box over the sorted build volume, per design.
 
     Also positive when the section is too large for a link (:class:`qsm.physics.cad.CadError`): by
-    how
-    much (mm) the shortest bar falls short of holding its two bosses.
+    how much (mm) the shortest bar falls short of holding its two bosses.
     """
     d = np.atleast_2d(as_design(designs))
     excess = box_excess_mm(d, cad, volume_mm)
-    r, h = cad.boss_radius_m, cad.width_m / 2
-    x0 = np.sqrt(r * r - h * h)
+    x0, h = cad.boss_overlap_m, cad.width_m / 2
     short = np.column_stack(
         [2 * x0 - d[:, :4].min(axis=1), x0 + h - d[:, 4], x0 + h - d[:, 5]]
     ).max(axis=1)

@@ -9,9 +9,8 @@ pymoo's ``G <= 0`` form:
 * g5..g10: each prediction within mean +- z std of its training labels (z = 1.95)
   ->  ``(mean - z std) - y'`` and ``y' - (mean + z std)``.
 
-* g11 (paper formulation, ``constraints.containment``): the task disk lies in the workspace at
-  scale l1 with ``containment_tolerance_m`` of arc to spare (:mod:`qsm.optimisation.constraints`,
-  metres);
+* g11 (paper formulation, ``constraints.containment``): the task disk lies in the workspace at scale
+  l1 with ``containment_tolerance_m`` of arc to spare (:mod:`qsm.optimisation.constraints`, metres);
 * g12 (every formulation, ``constraints.printable``): every link's box fits the build volume
   (:mod:`qsm.optimisation.constraints`, millimetres).
 

@@ -71,6 +71,12 @@ class CadSettings:
         if self.segments_per_circle < 8:
             raise ValueError("segments_per_circle must be at least 8")
 
+    @property
+    def boss_overlap_m(self) -> float:
+        """Distance (m) from a boss centre to where the bar's edges meet the boss circle: a bar
+        needs more than twice this length, the upper arm's legs more than this + width / 2."""
+        return math.sqrt(self.boss_radius_m**2 - (self.width_m / 2) ** 2)
+
 
 DEFAULT_CAD = CadSettings()
 
@@ -98,7 +104,7 @@ def _bar_outline(length: float, s: CadSettings) -> NDArray[np.float64]:
     """CCW outline of a straight bar from (0, 0) to (length, 0) with bosses at both ends."""
     r, h = s.boss_radius_m, s.width_m / 2
     beta = math.asin(h / r)
-    if not length > 2 * math.sqrt(r * r - h * h):
+    if not length > 2 * s.boss_overlap_m:
         raise CadError(f"bar of length {length:.4g} m is too short for bosses of radius {r} m")
     return np.concatenate(
         [
@@ -112,7 +118,7 @@ def _upper_arm_outline(l4: float, ee_x: float, ee_y: float, s: CadSettings) -> N
     """CCW outline of the L-shaped upper arm: bar D-E' along x, bar E'-E along -y, 3 bosses."""
     r, h, seg = s.boss_radius_m, s.width_m / 2, s.segments_per_circle
     beta = math.asin(h / r)
-    x0 = math.sqrt(r * r - h * h)
+    x0 = s.boss_overlap_m
     if not (l4 > 2 * x0 and ee_x > x0 + h and ee_y > x0 + h):
         raise CadError(
             f"upper arm (l4={l4:.4g}, ee_x={ee_x:.4g}, ee_y={ee_y:.4g} m) is too small for bosses "

@@ -60,11 +60,10 @@ RESULT_KEYS: tuple[str, ...] = (
 class LoopState(NamedTuple):
     """Loop-consistent joint state for motor samples (N of them).
 
-    q, qd, qdd: (N, 4) positions (rad), velocities (rad/s), accelerations (rad/s^2) of the joints
-    in :data:`qsm.physics.mjcf.JOINT_NAMES` order; G: (N, 4, 2) dq/dtheta; rocker_dir, coupler_dir:
-    (N, 2)
-    unit vectors dir(phi) and dir(psi); sin_transmission: (N,) |sin| of the transmission angle at
-    D; closes: (N,) whether the loop closes (other fields are NaN where it does not).
+    q, qd, qdd: (N, 4) positions (rad), velocities (rad/s), accelerations (rad/s^2) of the joints in
+    :data:`qsm.physics.mjcf.JOINT_NAMES` order; G: (N, 4, 2) dq/dtheta; rocker_dir, coupler_dir:
+    (N, 2) unit vectors dir(phi) and dir(psi); sin_transmission: (N,) |sin| of the transmission
+    angle at D; closes: (N,) whether the loop closes (other fields are NaN where it does not).
     """
 
     q: NDArray[np.float64]
@@ -195,8 +194,7 @@ def joint_torques(
     rad/s^2 of one design (6 lengths, m) with a payload (kg) at E.
 
     Links use the default :class:`qsm.physics.cad.CadSettings` section, with ``link_density``
-    (kg/m^3)
-    replacing the default material when given. Rows where the loop does not close are NaN;
+    (kg/m^3) replacing the default material when given. Rows where the loop does not close are NaN;
     raises :class:`qsm.physics.cad.CadError` when the section does not fit the design.
     """
     settings = DEFAULT_CAD if link_density is None else CadSettings(density_kg_m3=link_density)

@@ -57,8 +57,7 @@ def _circle_intersections(
 def all_solutions(design: ArrayLike, point: ArrayLike) -> NDArray[np.float64]:
     """Every (theta1, theta2) (k, 2) in rad, wrapped to (-pi, pi], on the assembly branch of
     :func:`qsm.physics.kinematics.pose` that places the end effector at ``point`` (m); operating
-    range
-    not applied."""
+    range not applied."""
     d = as_design(design)
     if d.ndim != 1:
         raise ValueError("all_solutions takes one design of 6 lengths")
@@ -108,9 +107,8 @@ def joint_angles(
 
     Among the solutions in the operating range on the assembly branch of
     :func:`qsm.physics.kinematics.pose`, returns the one closest (in joint space) to ``prefer``
-    (rad) when
-    given, else the one with the largest transmission margin (largest theta1 on a tie). Raises
-    ``ValueError`` naming the point when none exists.
+    (rad) when given, else the one with the largest transmission margin (largest theta1 on a tie).
+    Raises ``ValueError`` naming the point when none exists.
     """
     sols = all_solutions(design, point)
     ok = sols[in_operating_range(sols, theta1_range_deg, theta2_min_deg)] if len(sols) else sols

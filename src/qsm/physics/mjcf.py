@@ -12,10 +12,9 @@ Kinematic tree (all hinges about +z, gravity (0, -9.81, 0), x-y is the mechanism
 The loop is closed by an equality ``connect`` between the sites ``d_coupler`` and ``d_upper`` (D on
 each body); ``site1``/``site2`` are used because a body+anchor connect infers the anchor at qpos0,
 where the loop is open. Body frames are the link frames of :mod:`qsm.physics.cad`; every body
-carries an
-explicit inertial from the CAD mass properties, the payload is a point mass at E merged into the
-upper arm's inertial (site ``payload`` marks E). Geoms are visual only (no collisions), so the
-model compiles in well under a millisecond. Motors ``motor1``/``motor2`` apply torque (N m) to
+carries an explicit inertial from the CAD mass properties, the payload is a point mass at E merged
+into the upper arm's inertial (site ``payload`` marks E). Geoms are visual only (no collisions), so
+the model compiles in well under a millisecond. Motors ``motor1``/``motor2`` apply torque (N m) to
 ``theta1``/``theta2``. The equality uses stiff settings (solref 0.002, solimp 0.99 0.999 0.001) and
 the option block a 0.5 ms implicitfast step, which a forward simulation needs to track the closed
 chain; inverse dynamics (:mod:`qsm.physics.dynamics`) does not depend on them.

@@ -3,8 +3,7 @@
 The paper grips a 3 kg object with a 2 kg gripper (5 kg at the end effector) and drives the arm
 through the task with motors geared to 150 N m and 100 N m (NEMA 17 + 50:1 gear and belt). Here the
 closed-chain MuJoCo model (:mod:`qsm.physics.mjcf`, optionally with the optimised link mass
-properties)
-is simulated forward:
+properties) is simulated forward:
 
 * reference: the task points in order (and back to the first when ``return_to_start``), each
   solved by :mod:`qsm.physics.inverse_kinematics` (solution closest to the previous one), joined by
@@ -154,12 +153,11 @@ def payload_test(
     ``tracking_tolerance_deg``, ``peak_torque_Nm`` (peak |requested| per motor),
     ``peak_feedforward_Nm``, ``limit_Nm``, ``saturated_fraction`` (of time steps),
     ``point_error_mm`` (end-effector error at the end of each hold, per waypoint),
-    ``waypoints_deg``, ``payload_kg``, ``min_motor_inertia_kg_m2`` (per motor, over the
-    waypoints), ``substeps`` (simulation steps per sample), ``duration_s``, ``reason``; and time
-    series ``t_s`` (N,),
-    ``theta_ref_deg``, ``theta_deg``, ``torque_requested_Nm``, ``torque_applied_Nm`` (N, 2).
-    Raises ``ValueError`` when a point is unreachable in the operating range or the reference
-    path leaves the region where the loop closes.
+    ``waypoints_deg``, ``payload_kg``, ``min_motor_inertia_kg_m2`` (per motor, over the waypoints),
+    ``substeps`` (simulation steps per sample), ``duration_s``, ``reason``; and time series ``t_s``
+    (N,), ``theta_ref_deg``, ``theta_deg``, ``torque_requested_Nm``, ``torque_applied_Nm`` (N, 2).
+    Raises ``ValueError`` when a point is unreachable in the operating range or the reference path
+    leaves the region where the loop closes.
     """
     s = settings
     d = as_design(design)

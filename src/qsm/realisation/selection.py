@@ -15,7 +15,8 @@ Every step that is skipped is recorded with its counts, so the output says why i
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -23,7 +24,6 @@ import pandas as pd
 
 from qsm.optimisation.constraints import (
     box_excess_mm,
-    link_boxes_mm,
     printability_violation_mm,
     smallest_build_volume_mm,
 )
@@ -56,8 +56,7 @@ def _feasible(table: pd.DataFrame) -> pd.DataFrame:
 
 def _printable(table: pd.DataFrame, cad: CadSettings, volume_mm: tuple[float, ...]) -> pd.Series:
     """Whether every link fits, decided by :func:`qsm.realisation.printing.all_links_fit` on the
-    outlines
-    (the closed-form boxes only pre-screen the designs clearly too large)."""
+    outlines (the closed-form boxes only pre-screen the designs clearly too large)."""
     designs = table.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)
     near = printability_violation_mm(designs, cad, volume_mm) <= 0.5
     fits = np.zeros(len(table), dtype=bool)
@@ -116,42 +115,46 @@ def printing_advice(
     ``needed_volume_mm``: the smallest build volume (sorted, mm); ``scale_factor``: the largest
     factor k <= 1 with k x design printable (None if none) and the task it then holds (the task
     disk scaled by k about the base: containment does not depend on the scale);
-    ``max_boss_radius_mm``: the largest boss radius that lets every link fit with the bar width
-    unchanged (None if even width_m / 2 is too large).
+    ``max_boss_radius_mm``: the largest boss radius, at most the configured one, that lets every
+    link fit with the bar width unchanged (None if even width_m / 2 is too large).
     """
     d = np.asarray(design, dtype=float)
-    vol = np.sort(np.asarray(volume_mm, dtype=float))
     out: dict[str, Any] = {
         "needed_volume_mm": smallest_build_volume_mm(d, cad)[0].tolist(),
         "build_volume_mm": [float(v) for v in volume_mm],
     }
-    if box_excess_mm(d * 1e-6, cad, volume_mm)[0] > 0:  # the bosses or the plate alone
-        out["scale_factor"] = None
-    else:  # the boxes grow with the scale: bisect for the largest factor that fits
-        lo, hi = 1e-6, 1.0
-        for _ in range(60):
-            mid = 0.5 * (lo + hi)
-            fits = box_excess_mm(d * mid, cad, volume_mm)[0] <= 0
-            lo, hi = (mid, hi) if fits else (lo, mid)
-        out["scale_factor"] = lo
-        out["scaled_l1_m"] = float(lo * d[0])
-        out["scaled_task_distance_m"] = lo * disk.distance
-        out["scaled_task_radius_m"] = lo * disk.radius
-    boxes = link_boxes_mm(d, cad)[0]  # (4, 3): x, y, thickness
-    bare = np.sort(np.column_stack([boxes[:, :2] - 2e3 * cad.boss_radius_m, boxes[:, 2]]), axis=1)
-    # with boss radius r (mm) a link's in-plane sides are bare + 2 r; the largest r that fits
-    limits = []
-    for link in bare:
-        best = 0.0
-        for r in np.linspace(1e3 * cad.width_m / 2, 1e3 * cad.boss_radius_m, 201)[::-1]:
-            sides = np.sort(np.concatenate([link[1:] + 2 * r, [1e3 * cad.thickness_m]]))
-            if np.all(sides <= vol + 1e-9):
-                best = r
-                break
-        limits.append(best)
-    r_max = min(limits)
-    out["max_boss_radius_mm"] = float(r_max) if r_max > 1e3 * cad.width_m / 2 else None
+
+    def fits_at(k: float) -> bool:  # every link's box grows with the scale k
+        return bool(box_excess_mm(d * k, cad, volume_mm)[0] <= 0)
+
+    k = _largest(fits_at, 1e-6, 1.0)
+    out["scale_factor"] = k
+    if k is not None:
+        out["scaled_l1_m"] = float(k * d[0])
+        out["scaled_task_distance_m"] = k * disk.distance
+        out["scaled_task_radius_m"] = k * disk.radius
+
+    def fits_with(radius_mm: float) -> bool:  # the in-plane sides grow with the boss radius
+        section = replace(cad, boss_radius_m=radius_mm * 1e-3)
+        return bool(box_excess_mm(d, section, volume_mm)[0] <= 0)
+
+    smallest = 500 * cad.width_m * (1 + 1e-9)  # the bosses must be wider than the bar
+    r = _largest(fits_with, smallest, 1e3 * cad.boss_radius_m)
+    out["max_boss_radius_mm"] = r
     return out
+
+
+def _largest(fits: Callable[[float], bool], lo: float, hi: float) -> float | None:
+    """Largest x in [lo, hi] with ``fits(x)`` for a ``fits`` true below some threshold and false
+    above it (bisection to 1e-9 relative); None if ``fits(lo)`` is false."""
+    if not fits(lo):
+        return None
+    if fits(hi):
+        return hi
+    while hi - lo > 1e-9 * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (mid, hi) if fits(mid) else (lo, mid)
+    return lo
 
 
 def advice_sentences(advice: Mapping[str, Any], cad: CadSettings) -> list[str]:

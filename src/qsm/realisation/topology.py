@@ -26,14 +26,13 @@ Problem per link (plane stress, plate thickness = the CAD thickness, ABS-M30):
   to ``volume_fraction`` of them; SIMP penalty ``penal``, density filter radius
   ``filter_radius_cells``, OC move limit ``move``, at most ``max_iterations``.
 
-The optimised density field is thresholded at ``threshold``; the union of the solid cells
-(shapely), closed by half a cell, clipped to the CAD outline and joined with the boss discs, is
-extruded by trimesh into a watertight plate whose ``mass_properties`` replace the link's
+The optimised density field is thresholded at ``threshold``; the union of the solid cells (shapely),
+closed by half a cell, clipped to the CAD outline and joined with the boss discs, is extruded by
+trimesh into a watertight plate whose ``mass_properties`` replace the link's
 :class:`qsm.physics.cad.MassProperties`. The load check re-solves both load cases on the printed
-plate
-(rasterised as the covered fraction of each cell, stiffness proportional to it): the compliance,
-and the peak von Mises stress of the cells at least half filled (element averages) must stay within
-``allowable_stress_pa = yield_strength_pa / safety_factor``.
+plate (rasterised as the covered fraction of each cell, stiffness proportional to it): the
+compliance, and the peak von Mises stress of the cells at least half filled (element averages) must
+stay within ``allowable_stress_pa = yield_strength_pa / safety_factor``.
 """
 
 from __future__ import annotations
@@ -150,12 +149,11 @@ def printed_geometry(
 ) -> tuple[shapely.Geometry, float]:
     """Printed plate outline and the threshold used.
 
-    Solid cells (density >= threshold), closed morphologically by half a cell (bridges
-    diagonally touching cells, rounds the staircase), clipped to the CAD outline, plus the boss
-    discs; pieces
+    Solid cells (density >= threshold), closed morphologically by half a cell (bridges diagonally
+    touching cells, rounds the staircase), clipped to the CAD outline, plus the boss discs; pieces
     not touching a boss are dropped. When the joints are not all in one piece the threshold is
-    lowered in steps of 0.05 (down to 0.05) until they are, so the part always connects its
-    joints (grey members of a not fully converged design are kept rather than cut).
+    lowered in steps of 0.05 (down to 0.05) until they are, so the part always connects its joints
+    (grey members of a not fully converged design are kept rather than cut).
     """
     rho = np.asarray(density)
     bosses = [
