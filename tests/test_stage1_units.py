@@ -12,7 +12,7 @@ from qsm import settings
 from qsm.config import load_config
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube
-from qsm.mechanisms.scale import fit_designs, select_mechanisms
+from qsm.mechanisms.scale import examined_fits, fit_counts, fit_designs, select_mechanisms
 from qsm.physics.kinematics import RATIO_NAMES, pose
 from qsm.physics.workspace import OperatingRange
 from qsm.workflow.sharding import shard_slice
@@ -86,6 +86,32 @@ def test_selection_does_not_depend_on_sharding():
     pd.testing.assert_frame_equal(a, b)
     assert a["mechanism_id"].is_monotonic_increasing and len(a) == 50
     np.testing.assert_allclose(a["l3_m"], a["l3"] * a["scale_m"])
+
+    # shards that stop after 30 feasible designs each give the same selection and counts
+    first = select_mechanisms(whole, 30)
+    for n_shards in (1, 2, 3):
+        stopped = pd.concat(
+            [
+                fit_designs(
+                    candidates.iloc[shard_slice(len(candidates), n_shards, i)],
+                    fit_settings,
+                    stop_after=30,
+                )
+                for i in range(n_shards)
+            ],
+            ignore_index=True,
+        )
+        assert len(stopped) < len(whole)
+        examined = examined_fits(stopped, 30)
+        pd.testing.assert_frame_equal(select_mechanisms(examined, 30), first)
+        counts = fit_counts(examined)
+        assert counts == fit_counts(examined_fits(whole, 30))
+        assert counts["task_fits"] == 30
+        assert (
+            counts["task_fit_examined"] == (whole["sample_id"] <= first["mechanism_id"].max()).sum()
+        )
+    # asking for more than there are examines everything
+    assert fit_counts(examined_fits(whole, 10_000))["task_fit_examined"] == len(whole)
 
 
 def test_tables_keep_metadata_and_name_bad_files(tmp_path):

@@ -11,7 +11,10 @@ from qsm.physics.workspace import (
     Resolution,
     containment_margin,
     minimal_scale,
+    radial_misfit,
     slice_workspace,
+    union_and_margin,
+    unit_area,
 )
 
 pytestmark = pytest.mark.filterwarnings("ignore:invalid value encountered:RuntimeWarning")
@@ -137,3 +140,49 @@ def test_union_and_margin_of_hand_made_arcs():
     # level 1: [-0.3, 0.1] then a gap -> margin 0.1; level 2: 0 not covered -> -1
     # level 3: [-0.5, 0.7] holds 0 -> margin 0.5
     np.testing.assert_allclose(margin_about_zero(starts, ends), [0.3, 0.1, -1.0, 0.5])
+
+
+def _chained_union_and_margin(starts, ends):
+    """Reference: per level, merge the closed intervals one by one in a Python loop."""
+    covered, margin = [], []
+    for s, e in zip(starts.T, ends.T, strict=True):
+        merged = []
+        for a, b in sorted(zip(s, e, strict=True)):
+            if merged and a <= merged[-1][1]:
+                merged[-1][1] = max(merged[-1][1], b)
+            else:
+                merged.append([a, b])
+        covered.append(sum(b - a for a, b in merged))
+        around = [min(b, -a) for a, b in merged if a <= 0.0 <= b]
+        margin.append(around[0] if around else -1.0)
+    return np.array(covered), np.array(margin)
+
+
+def test_union_and_margin_match_a_merge_loop():
+    """Random arcs with shared ends, nesting and touching pieces, as the slicing produces."""
+    rng = np.random.default_rng(4)
+    grid = np.linspace(-3.0, 3.0, 25)  # coarse grid: many exactly touching ends
+    for n in (1, 2, 5, 9):
+        a = rng.choice(grid, size=(n, 400))
+        b = a + rng.choice(grid[12:], size=(n, 400))
+        covered, margin = union_and_margin(a, b)
+        ref_covered, ref_margin = _chained_union_and_margin(a, b)
+        np.testing.assert_allclose(covered, ref_covered, rtol=0, atol=1e-12)
+        np.testing.assert_array_equal(margin, ref_margin)
+        assert (margin == -1.0).any() and (margin > 0.0).any()
+
+
+def test_unit_area_is_the_slices_area_and_radial_misfit_agrees_with_the_scan():
+    """The area without margins is the same number; a design the radii alone rule out is one
+    that the full scan also rejects, for the same reason."""
+    rejected = 0
+    for ratios in feasible_ratios(11, 30):
+        slices = slice_workspace(ratios, OP, DISK.angle)
+        assert unit_area(ratios, OP) == slices.area
+        for radius in (0.05, DISK.radius, 0.3):
+            why = radial_misfit(slices.rho_min, slices.rho_max, DISK.distance, radius, 2.0)
+            fit = minimal_scale(slices, DISK.distance, radius, 2.0)
+            if why:
+                rejected += 1
+                assert not fit.feasible and fit.reason == why
+    assert rejected > 0

@@ -57,6 +57,7 @@ rule fit_task:
     params:
         code=code("fit_task.py"),
         shards=config["workspace"]["shards"],
+        n_mechanisms=config["sampling"]["n_mechanisms"],
         operating_range=config["operating_range"],
         task_points=config["task"]["points"],
         scale=config["scale"],

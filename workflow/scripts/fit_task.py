@@ -14,4 +14,5 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     rows = candidates.iloc[shard_slice(len(candidates), p.shards, shard)]
     log.info("shard %d of %d: %d designs", shard, p.shards, len(rows))
     fit_settings = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace)
-    write_table(fit_designs(rows, fit_settings), snakemake.output[0])  # noqa: F821
+    fits = fit_designs(rows, fit_settings, stop_after=p.n_mechanisms)
+    write_table(fits, snakemake.output[0])  # noqa: F821

@@ -5,7 +5,12 @@ import json
 import pandas as pd
 
 from qsm.config import settings_hash
-from qsm.mechanisms.scale import MECHANISM_COLUMNS, fit_counts, select_mechanisms
+from qsm.mechanisms.scale import (
+    MECHANISM_COLUMNS,
+    examined_fits,
+    fit_counts,
+    select_mechanisms,
+)
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
@@ -15,6 +20,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         [read_table(f, ["sample_id", "feasible", "reason"]) for f in snakemake.input.fits],  # noqa: F821
         ignore_index=True,
     )
+    fits = examined_fits(fits, p.n_mechanisms)
     with open(snakemake.input.counts) as fh:  # noqa: F821
         counts = json.load(fh)
     counts.update(fit_counts(fits))

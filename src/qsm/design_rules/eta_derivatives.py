@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 
 from qsm.physics.kinematics import DESIGN_NAMES
 from qsm.physics.task import Disk
-from qsm.physics.workspace import OperatingRange, Resolution, slice_workspace
+from qsm.physics.workspace import OperatingRange, Resolution, unit_area
 
 log = logging.getLogger(__name__)
 
@@ -26,7 +26,7 @@ def true_eta(design: NDArray[np.float64], op: OperatingRange, disk: Disk, res: R
     """Task-disk area over the workspace area of one design (6 lengths, m); NaN if its loop
     does not close over the whole operating range."""
     try:
-        unit = slice_workspace(design[1:] / design[0], op, 0.0, res).area
+        unit = unit_area(design[1:] / design[0], op, res)
     except ValueError:
         return float("nan")
     return disk.area / (unit * design[0] ** 2)
@@ -44,7 +44,6 @@ def eta_gradient(
     A design on the edge of loop closure, where one step opens the loop, gets the one-sided
     difference of the other step; NaN where neither side closes.
     """
-    centre = true_eta(design, op, disk, res)
     grad = np.empty(6)
     for i in range(6):
         h = rel_step * design[i]
@@ -55,9 +54,9 @@ def eta_gradient(
         if np.isfinite(e_up) and np.isfinite(e_down):
             grad[i] = (e_up - e_down) / (2 * h)
         elif np.isfinite(e_up):
-            grad[i] = (e_up - centre) / h
+            grad[i] = (e_up - true_eta(design, op, disk, res)) / h
         else:
-            grad[i] = (centre - e_down) / h
+            grad[i] = (true_eta(design, op, disk, res) - e_down) / h
     return grad
 
 

@@ -13,7 +13,14 @@ import pandas as pd
 
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
 from qsm.physics.task import Disk
-from qsm.physics.workspace import OperatingRange, Resolution, minimal_scale, slice_workspace
+from qsm.physics.workspace import (
+    OperatingRange,
+    Resolution,
+    arcs,
+    minimal_scale,
+    radial_misfit,
+    slices_of_arcs,
+)
 
 log = logging.getLogger(__name__)
 
@@ -45,20 +52,19 @@ def fit_design(ratios: Sequence[float], settings: FitSettings) -> dict[str, Any]
     """Scale-up of one unit design ``(l2, l3, l4, ee_x, ee_y)``.
 
     Returns ``feasible``, ``reason`` (why not), ``scale_m``, ``workspace_area_unit`` (l1^2),
-    ``workspace_area_m2`` and ``eta`` (NaN when infeasible).
+    ``workspace_area_m2`` and ``eta`` (NaN when infeasible). A design whose workspace radii alone
+    rule the task out is not sliced: its ``workspace_area_unit`` is NaN too.
     """
     disk = settings.disk
-    try:
-        slices = slice_workspace(ratios, settings.op, disk.angle, settings.resolution)
-    except ValueError:
+    rho, lo, hi = arcs(ratios, settings.op, settings.resolution.n_delta)
+    if not np.all(np.isfinite(rho)):
         return _infeasible("loop does not close", np.nan)
-    fit = minimal_scale(
-        slices,
-        disk.distance,
-        disk.radius + settings.safety_margin,
-        settings.scale_max,
-        settings.n_scan,
-    )
+    radius = disk.radius + settings.safety_margin
+    radial = radial_misfit(rho.min(), rho.max(), disk.distance, radius, settings.scale_max)
+    if radial:
+        return _infeasible(radial, np.nan)
+    slices = slices_of_arcs(rho, lo, hi, disk.angle, settings.resolution.n_levels)
+    fit = minimal_scale(slices, disk.distance, radius, settings.scale_max, settings.n_scan)
     if not fit.feasible:
         return _infeasible(fit.reason, slices.area)
     area = slices.area * fit.scale**2
@@ -84,19 +90,49 @@ def _infeasible(reason: str, unit_area: float) -> dict[str, Any]:
 
 
 def fit_designs(
-    designs: pd.DataFrame, settings: FitSettings, log_every: int = 5000
+    designs: pd.DataFrame,
+    settings: FitSettings,
+    stop_after: int | None = None,
+    log_every: int = 5000,
 ) -> pd.DataFrame:
-    """``fit_design`` for every row (columns ``sample_id`` and the ratios), in row order."""
+    """``fit_design`` for the rows (columns ``sample_id`` and the ratios), in row order.
+
+    With ``stop_after``, the rows after the ``stop_after``-th feasible one are not examined and
+    not returned: a shard needs to give no more than the whole selection (see
+    :func:`examined_fits`).
+    """
     ratios = designs[list(RATIO_NAMES)].to_numpy()
     rows = []
+    found = 0
     start = time.perf_counter()
     for i, r in enumerate(ratios, 1):
         rows.append(fit_design(r, settings))
-        if i % log_every == 0 or i == len(ratios):
+        found += rows[-1]["feasible"]
+        done = stop_after is not None and found >= stop_after
+        if i % log_every == 0 or i == len(ratios) or done:
             rate = i / max(time.perf_counter() - start, 1e-9)
             log.info("scaled %d/%d designs (%.0f designs/s)", i, len(ratios), rate)
+        if done:
+            log.info("%d feasible designs found: the remaining rows are not needed", found)
+            break
     fits = pd.DataFrame(rows, columns=list(_infeasible("", 0.0)))
-    return pd.concat([designs[["sample_id", *RATIO_NAMES]].reset_index(drop=True), fits], axis=1)
+    examined = designs[["sample_id", *RATIO_NAMES]].iloc[: len(rows)].reset_index(drop=True)
+    return pd.concat([examined, fits], axis=1)
+
+
+def examined_fits(fits: pd.DataFrame, n_mechanisms: int) -> pd.DataFrame:
+    """The fits of every candidate up to the ``n_mechanisms``-th feasible one in sample order
+    (all of them if fewer are feasible).
+
+    Shards stop after ``n_mechanisms`` feasible designs each, so how far each got depends on the
+    sharding; this prefix does not, and every candidate in it was examined.
+    """
+    fits = fits.sort_values("sample_id")
+    feasible = fits["feasible"].to_numpy(dtype=bool)
+    if feasible.sum() < n_mechanisms:
+        return fits
+    last = int(np.flatnonzero(feasible)[n_mechanisms - 1])
+    return fits.iloc[: last + 1]
 
 
 def select_mechanisms(fits: pd.DataFrame, n_mechanisms: int) -> pd.DataFrame:
@@ -116,9 +152,10 @@ def select_mechanisms(fits: pd.DataFrame, n_mechanisms: int) -> pd.DataFrame:
 
 
 def fit_counts(fits: pd.DataFrame) -> dict[str, Any]:
-    """How many designs fit the task, and how many failed for each reason."""
+    """How many of the examined designs fit the task, and how many failed for each reason."""
     reasons = fits.loc[~fits["feasible"], "reason"].value_counts().sort_index()
     return {
+        "task_fit_examined": len(fits),
         "task_fits": int(fits["feasible"].sum()),
         "task_fit_failures": {str(k): int(v) for k, v in reasons.items()},
     }

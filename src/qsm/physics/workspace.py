@@ -120,22 +120,51 @@ def slice_workspace(
     rho, lo, hi = arcs(ratios, op, resolution.n_delta)
     if not np.all(np.isfinite(rho)):
         raise ValueError("the loop does not close over the whole operating range")
-    rho_min, rho_max = float(rho.min()), float(rho.max())
-    k = resolution.n_levels
-    levels = rho_min + (np.arange(k) + 0.5) * (rho_max - rho_min) / k
+    return slices_of_arcs(rho, lo, hi, reference_angle, resolution.n_levels)
 
+
+def slices_of_arcs(
+    rho: NDArray[np.float64],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    reference_angle: float,
+    n_levels: int,
+) -> Slices:
+    """:class:`Slices` of one design's closed :func:`arcs` on ``n_levels`` circles."""
+    rho_min, rho_max = float(rho.min()), float(rho.max())
+    levels = _levels(rho_min, rho_max, n_levels)
     margin_rho = np.concatenate([[rho_min], levels, [rho_max]])
     starts, ends = _interval_per_level(rho, lo, hi, margin_rho)
     starts, ends = wrap_about(starts, ends, reference_angle)
-    covered = _union_length(starts, ends)
+    covered, margin = union_and_margin(starts, ends)
     return Slices(
         rho_min=rho_min,
         rho_max=rho_max,
         rho=levels,
         covered=covered[1:-1],
         margin_rho=margin_rho,
-        margin=margin_about_zero(starts, ends),
+        margin=margin,
     )
+
+
+def unit_area(
+    ratios: ArrayLike, op: OperatingRange, resolution: Resolution = Resolution()
+) -> float:
+    """Workspace area of the unit design ``ratios`` (units of l1^2): ``slice_workspace(...).area``
+    without the margins. Raises ``ValueError`` if the loop does not close everywhere in ``op``."""
+    rho, lo, hi = arcs(ratios, op, resolution.n_delta)
+    if not np.all(np.isfinite(rho)):
+        raise ValueError("the loop does not close over the whole operating range")
+    rho_min, rho_max = float(rho.min()), float(rho.max())
+    levels = _levels(rho_min, rho_max, resolution.n_levels)
+    starts, ends = wrap_about(*_interval_per_level(rho, lo, hi, levels), 0.0)
+    covered = _union_length(starts, ends)
+    return float(np.sum(levels * covered) * (rho_max - rho_min) / levels.size)
+
+
+def _levels(rho_min: float, rho_max: float, n_levels: int) -> NDArray[np.float64]:
+    """Midpoints of ``n_levels`` equal bins from ``rho_min`` to ``rho_max``."""
+    return rho_min + (np.arange(n_levels) + 0.5) * (rho_max - rho_min) / n_levels
 
 
 def _monotone_pieces(rho: NDArray[np.float64]) -> list[slice]:
@@ -190,13 +219,28 @@ def wrap_about(
     return np.concatenate([s, s2]), np.concatenate([e, e2])
 
 
-def _union_length(starts: NDArray[np.float64], ends: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Length of the union of intervals; intervals along axis 0, levels along axis 1."""
+def _sorted_arcs(
+    starts: NDArray[np.float64], ends: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
+    """Arcs sorted by start along axis 0 (levels along axis 1), with the furthest end reached by
+    the arcs before each (``-inf`` before the first)."""
     order = np.argsort(starts, axis=0)
     s = np.take_along_axis(starts, order, axis=0)
     e = np.take_along_axis(ends, order, axis=0)
     reach = np.maximum.accumulate(e, axis=0)
     previous = np.vstack([np.full((1, s.shape[1]), -np.inf), reach[:-1]])
+    return s, e, previous
+
+
+def _union_length(starts: NDArray[np.float64], ends: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Length of the union of intervals; intervals along axis 0, levels along axis 1."""
+    return _covered(*_sorted_arcs(starts, ends))
+
+
+def _covered(
+    s: NDArray[np.float64], e: NDArray[np.float64], previous: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """Union length of sorted arcs (see :func:`_sorted_arcs`)."""
     return np.sum(np.clip(e - np.maximum(s, previous), 0.0, None), axis=0)
 
 
@@ -204,13 +248,27 @@ def margin_about_zero(
     starts: NDArray[np.float64], ends: NDArray[np.float64]
 ) -> NDArray[np.float64]:
     """Half-width of the largest arc centred on 0 inside the union; -1 where 0 is not covered."""
-    holds_zero = (starts <= 0.0) & (ends >= 0.0)
-    right = np.max(np.where(holds_zero, ends, 0.0), axis=0)
-    left = np.min(np.where(holds_zero, starts, 0.0), axis=0)
-    for _ in range(starts.shape[0]):  # chain overlapping arcs outwards
-        right = np.max(np.where(starts <= right, np.maximum(ends, right), right), axis=0)
-        left = np.min(np.where(ends >= left, np.minimum(starts, left), left), axis=0)
-    return np.where(holds_zero.any(axis=0), np.minimum(right, -left), -1.0)
+    return union_and_margin(starts, ends)[1]
+
+
+def union_and_margin(
+    starts: NDArray[np.float64], ends: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Length of the union of closed intervals and the half-width of its largest arc centred on 0
+    (-1 where 0 is not covered); intervals along axis 0, levels along axis 1.
+
+    After sorting by start, an interval that starts beyond everything before it opens a new
+    connected piece of the union; the piece that holds 0 runs from its first start to its last
+    reach. One sort serves both results.
+    """
+    s, e, previous = _sorted_arcs(starts, ends)
+    covered = _covered(s, e, previous)
+    piece = np.cumsum(s > previous, axis=0)  # 1, 2, ... per connected piece
+    centre_piece = np.max(np.where((s <= 0.0) & (e >= 0.0), piece, 0), axis=0)
+    member = piece == centre_piece
+    left = np.min(np.where(member, s, np.inf), axis=0)
+    right = np.max(np.where(member, e, -np.inf), axis=0)
+    return covered, np.where(centre_piece > 0, np.minimum(right, -left), -1.0)
 
 
 def disk_arc_half_width(
@@ -233,14 +291,28 @@ def containment_margin(
     The disk (centre at ``centre_distance`` from the base along the reference angle of ``slices``,
     radius ``disk_radius``, metres) is contained iff the result is >= 0. Vectorised over ``scale``.
     """
-    s = np.atleast_1d(np.asarray(scale, dtype=float))[:, None]
-    # Chebyshev-spaced radii across the disk: the arc width changes fastest near its ends
-    radii = centre_distance - disk_radius * np.cos(np.linspace(0.0, np.pi, n_radii))
-    need = disk_arc_half_width(radii, centre_distance, disk_radius)[None, :]
-    unit = radii[None, :] / s
-    have = np.interp(unit, slices.margin_rho, slices.margin)
-    have = np.where((unit < slices.rho_min) | (unit > slices.rho_max), -1.0, have)
-    return np.min(have - need, axis=1)
+    return _DiskCheck(slices, centre_distance, disk_radius, n_radii).margin(scale)
+
+
+class _DiskCheck:
+    """:func:`containment_margin` for one design and disk, at any scale: the disk's circles and
+    arc widths are computed once."""
+
+    def __init__(
+        self, slices: Slices, centre_distance: float, disk_radius: float, n_radii: int = 64
+    ) -> None:
+        self.slices = slices
+        # Chebyshev-spaced radii across the disk: the arc width changes fastest near its ends
+        self.radii = centre_distance - disk_radius * np.cos(np.linspace(0.0, np.pi, n_radii))
+        self.need = disk_arc_half_width(self.radii, centre_distance, disk_radius)[None, :]
+
+    def margin(self, scale: ArrayLike) -> NDArray[np.float64]:
+        sl = self.slices
+        s = np.atleast_1d(np.asarray(scale, dtype=float))[:, None]
+        unit = self.radii[None, :] / s
+        have = np.interp(unit, sl.margin_rho, sl.margin)
+        have = np.where((unit < sl.rho_min) | (unit > sl.rho_max), -1.0, have)
+        return np.min(have - self.need, axis=1)
 
 
 @dataclass(frozen=True)
@@ -250,6 +322,21 @@ class Fit:
     scale: float
     feasible: bool
     reason: str
+
+
+def radial_misfit(
+    rho_min: float, rho_max: float, centre_distance: float, disk_radius: float, scale_max: float
+) -> str:
+    """Why no scale up to ``scale_max`` can hold the disk, judged by the workspace's inner and
+    outer radii (``rho_min``, ``rho_max``, units of l1) alone; ``""`` if the radii allow one."""
+    if disk_radius >= centre_distance:
+        return "task disk covers the base"
+    lo = (centre_distance + disk_radius) / rho_max  # disk must reach no further out
+    if lo > (centre_distance - disk_radius) / rho_min:  # nor further in
+        return "workspace too thin for the task disk"
+    if lo > scale_max:
+        return "scale.max_m below the smallest scale that could hold the task"
+    return ""
 
 
 def minimal_scale(
@@ -266,17 +353,15 @@ def minimal_scale(
     crescent), so the admissible range implied by the radii is scanned at ``n_scan`` scales for the
     first one that contains the disk, then the boundary is bisected to ``rel_tol``.
     """
-    if disk_radius >= centre_distance:
-        return Fit(np.nan, False, "task disk covers the base")
+    radial = radial_misfit(slices.rho_min, slices.rho_max, centre_distance, disk_radius, scale_max)
+    if radial:
+        return Fit(np.nan, False, radial)
     lo = (centre_distance + disk_radius) / slices.rho_max  # disk must reach no further out
     hi_geometry = (centre_distance - disk_radius) / slices.rho_min  # nor further in
-    if lo > hi_geometry:
-        return Fit(np.nan, False, "workspace too thin for the task disk")
-    if lo > scale_max:
-        return Fit(np.nan, False, "scale.max_m below the smallest scale that could hold the task")
     hi = min(scale_max, hi_geometry)
+    check = _DiskCheck(slices, centre_distance, disk_radius)
     scan = np.linspace(lo, hi, n_scan)
-    ok = containment_margin(slices, scan, centre_distance, disk_radius) >= 0.0
+    ok = check.margin(scan) >= 0.0
     if not ok.any():
         where = "up to scale.max_m " if hi_geometry > scale_max else ""
         return Fit(np.nan, False, f"no scale {where}holds the task")
@@ -286,7 +371,7 @@ def minimal_scale(
     a, b = scan[first - 1], scan[first]
     while b - a > rel_tol * b:
         mid = 0.5 * (a + b)
-        if containment_margin(slices, mid, centre_distance, disk_radius)[0] >= 0.0:
+        if check.margin(mid)[0] >= 0.0:
             b = mid
         else:
             a = mid

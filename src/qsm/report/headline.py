@@ -29,7 +29,8 @@ def headline_markdown(
         "",
         "## Stage 1: mechanisms",
         f"- {filters['samples']:,} LHS samples; crank-rocker {filters['crank_rocker']:,}; loop "
-        f"closes {filters['loop_closes']:,}; task fits {filters['task_fits']:,}; kept "
+        f"closes {filters['loop_closes']:,}; task fits {filters['task_fits']:,} of the first "
+        f"{filters['task_fit_examined']:,} candidates examined; kept "
         f"{filters['selected']:,} of {filters['requested']:,} requested "
         f"(shortfall {filters['shortfall']}).",
         "",
