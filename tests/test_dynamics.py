@@ -166,3 +166,31 @@ def test_failures_are_reported_not_lost() -> None:
     assert np.all(ok[["tau1_Nm", "tau2_Nm", "coupler_force_peak_N"]] > 0)
     assert np.all(ok["tau1_Nm"] >= ok["tau1_rms_Nm"])
     assert list(out.columns) == ["mechanism_id", *dynamics.RESULT_KEYS]
+
+
+@pytest.mark.parametrize("design", DESIGNS)
+def test_tiled_tree_gives_the_designs_own_model_numbers(design: np.ndarray) -> None:
+    """One mj_inverse call on the tiled model (in chunks beyond its size, with rows where the
+    loop does not close) equals one call per state on the design's compiled model."""
+    from qsm.physics.cad import mass_properties
+    from qsm.physics.tiled import TILE_STATES
+
+    rng = np.random.default_rng(7)
+    n = 2 * TILE_STATES + 37
+    th = random_poses(rng, n)
+    state = dynamics.loop_state(design, th, rng.normal(0, 2, (n, 2)), rng.normal(0, 20, (n, 2)))
+    state = state._replace(closes=np.arange(n) % 50 != 0)  # rows marked open are skipped
+    props = mass_properties(design)
+    own = dynamics.inverse_dynamics(
+        mjcf.model_spec(design, payload_kg=3.0, props=props).compile(), design, state
+    )
+    tiled = dynamics.tree_inverse_dynamics(design, mjcf.body_inertials(design, props, 3.0), state)
+    scale = np.nanmax(np.abs(own.tau))
+    np.testing.assert_allclose(tiled.tau, own.tau, rtol=0, atol=1e-12 * scale)
+    np.testing.assert_allclose(
+        tiled.coupler_force,
+        own.coupler_force,
+        rtol=0,
+        atol=1e-12 * np.nanmax(np.abs(own.coupler_force)),
+    )
+    assert np.array_equal(np.isnan(tiled.tau[:, 0]), ~state.closes)

@@ -8,7 +8,9 @@ closed chain (its soft constraint force is zero on a consistent trajectory). Ins
    closure B - l4 dir(phi) = C + l3 dir(psi) (phi: upper arm, psi: coupler CD) and its first and
    second time derivatives, including the velocity-product (Jdot v) terms;
 2. ``mj_inverse`` on the open tree (equality disabled through ``opt.disableflags``) gives the
-   generalized force ``qfrc`` that the tree needs on that consistent state;
+   generalized force ``qfrc`` that the tree needs on that consistent state; the stage evaluates
+   all of a design's states in one call on a model of many tree copies
+   (:mod:`qsm.physics.tiled`), which gives the numbers of the design's own model;
 3. with G = dq/dtheta (4 x 2) the motor torques are tau = G^T qfrc, and the coupler force lambda
    (force on the coupler at D from the upper arm, the D bearing load) solves the passive rows of
    qfrc = S^T tau + Jc^T lambda.
@@ -31,7 +33,8 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
 from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.kinematics import DESIGN_COLUMNS, as_design, perp, pose
-from qsm.physics.mjcf import JOINT_NAMES, model_spec
+from qsm.physics.mjcf import JOINT_NAMES, body_inertials
+from qsm.physics.tiled import tree_forces
 
 log = logging.getLogger(__name__)
 
@@ -170,6 +173,23 @@ def inverse_dynamics(model: mujoco.MjModel, design: ArrayLike, state: LoopState)
             qfrc[k] = qfrc_inv
     finally:
         model.opt.disableflags = flags
+    return _motor_forces(design, state, qfrc)
+
+
+def tree_inverse_dynamics(
+    design: ArrayLike, bodies: dict[str, Any], state: LoopState
+) -> InverseResult:
+    """:func:`inverse_dynamics` without a model of the design: the open tree's generalized
+    forces come from :func:`qsm.physics.tiled.tree_forces` with ``bodies``
+    (:func:`qsm.physics.mjcf.body_inertials`), all states in one ``mj_inverse`` call."""
+    qfrc = np.full((len(state.q), 4), np.nan)
+    rows = np.flatnonzero(state.closes)
+    qfrc[rows] = tree_forces(bodies, state.q[rows], state.qd[rows], state.qdd[rows])
+    return _motor_forces(design, state, qfrc)
+
+
+def _motor_forces(design: ArrayLike, state: LoopState, qfrc: NDArray[np.float64]) -> InverseResult:
+    """Motor torques tau = G^T qfrc and the coupler force from the passive-joint rows of qfrc."""
     tau = np.einsum("nij,ni->nj", state.G, qfrc)
     d = as_design(design)
     a, b = d[3] * perp(state.rocker_dir), d[2] * perp(state.coupler_dir)
@@ -199,8 +219,8 @@ def joint_torques(
     """
     settings = DEFAULT_CAD if link_density is None else CadSettings(density_kg_m3=link_density)
     state = loop_state(design, theta, dtheta, ddtheta)
-    model = model_spec(design, settings, payload_kg).compile()
-    return inverse_dynamics(model, design, state).tau
+    bodies = body_inertials(design, mass_properties(design, settings), payload_kg)
+    return tree_inverse_dynamics(design, bodies, state).tau
 
 
 def _failure(status: str, reason: str, masses: dict[str, float]) -> dict[str, Any]:
@@ -246,8 +266,7 @@ def evaluate_mechanism(
                 f"|sin transmission angle| = {sin_mu.min():.3g} < {MIN_SIN_TRANSMISSION}",
                 masses,
             )
-        model = model_spec(design, settings, payload_kg, props).compile()
-        inv = inverse_dynamics(model, design, state)
+        inv = tree_inverse_dynamics(design, body_inertials(design, props, payload_kg), state)
         if not (np.isfinite(inv.tau).all() and np.isfinite(inv.coupler_force).all()):
             return _failure("nonfinite", "non-finite torque or coupler force", masses)
     except CadError as exc:

@@ -55,6 +55,26 @@ def add_point_mass(props: MassProperties, mass_kg: float, point_m: ArrayLike) ->
     return MassProperties(float(total), com, inertia)
 
 
+def body_inertials(
+    design: ArrayLike,
+    props: dict[str, MassProperties],
+    payload_kg: float = 0.0,
+) -> dict[str, tuple[tuple[float, float, float], MassProperties]]:
+    """Position in the parent frame (m) and inertial of each body, in tree order (lower_arm,
+    upper_arm, crank, coupler): the links' mass properties, with the payload (kg) merged into the
+    upper arm's at E."""
+    l1, l2, _, _, ee_x, ee_y = (float(v) for v in as_design(design))
+    return {
+        "lower_arm": ((0.0, 0.0, 0.0), props["lower_arm"]),
+        "upper_arm": (
+            (l1, 0.0, 0.0),
+            add_point_mass(props["upper_arm"], payload_kg, [ee_x, -ee_y, 0.0]),
+        ),
+        "crank": ((0.0, 0.0, 0.0), props["crank"]),
+        "coupler": ((l2, 0.0, 0.0), props["coupler"]),
+    }
+
+
 def _set_inertial(body: mujoco.MjsBody, props: MassProperties) -> None:
     i = props.inertia_kg_m2
     body.explicitinertial = True
@@ -95,26 +115,27 @@ def model_spec(
     r, dz = settings.width_m / 2, 1.5 * settings.thickness_m  # visual layers of the two chains
     hinge = {"type": mujoco.mjtJoint.mjJNT_HINGE, "axis": [0.0, 0.0, 1.0]}
 
-    lower = spec.worldbody.add_body(name="lower_arm")
+    bodies = body_inertials(design, props, payload_kg)
+    lower = spec.worldbody.add_body(name="lower_arm", pos=bodies["lower_arm"][0])
     lower.add_joint(name="theta1", **hinge)
-    _set_inertial(lower, props["lower_arm"])
+    _set_inertial(lower, bodies["lower_arm"][1])
     _visual(lower, [(0.0, 0.0), (l1, 0.0)], 0.0, r)
 
-    upper = lower.add_body(name="upper_arm", pos=[l1, 0.0, 0.0])
+    upper = lower.add_body(name="upper_arm", pos=bodies["upper_arm"][0])
     upper.add_joint(name="q_upper", **hinge)
-    _set_inertial(upper, add_point_mass(props["upper_arm"], payload_kg, [ee_x, -ee_y, 0.0]))
+    _set_inertial(upper, bodies["upper_arm"][1])
     _visual(upper, [(-l4, 0.0), (ee_x, 0.0), (ee_x, -ee_y)], 0.0, r)
     upper.add_site(name="d_upper", pos=[-l4, 0.0, 0.0])
     upper.add_site(name="payload", pos=[ee_x, -ee_y, 0.0], size=[2 * r, 0.0, 0.0])
 
-    crank = spec.worldbody.add_body(name="crank")
+    crank = spec.worldbody.add_body(name="crank", pos=bodies["crank"][0])
     crank.add_joint(name="theta2", **hinge)
-    _set_inertial(crank, props["crank"])
+    _set_inertial(crank, bodies["crank"][1])
     _visual(crank, [(0.0, 0.0), (l2, 0.0)], dz, r)
 
-    coupler = crank.add_body(name="coupler", pos=[l2, 0.0, 0.0])
+    coupler = crank.add_body(name="coupler", pos=bodies["coupler"][0])
     coupler.add_joint(name="q_coupler", **hinge)
-    _set_inertial(coupler, props["coupler"])
+    _set_inertial(coupler, bodies["coupler"][1])
     _visual(coupler, [(0.0, 0.0), (l3, 0.0)], dz, r)
     coupler.add_site(name="d_coupler", pos=[l3, 0.0, 0.0])
 
