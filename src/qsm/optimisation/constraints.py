@@ -44,6 +44,29 @@ from qsm.physics.workspace import (
 OPEN_LOOP_VIOLATION_M = 10.0
 
 
+def _crossings(
+    rho: NDArray[np.float64], levels: NDArray[np.float64]
+) -> tuple[NDArray[np.intp], NDArray[np.intp], NDArray[np.intp]]:
+    """Indices (design, segment, level) where segment ``[rho_k, rho_k+1]`` of a design reaches
+    its level ``u`` (``min <= u <= max``), in lexicographic order.
+
+    Each design's levels (N, J) are sorted, so a segment's levels are one run found by binary
+    search, rather than by testing every segment against every level.
+    """
+    n, k = rho.shape[0], rho.shape[1] - 1
+    low = np.minimum(rho[:, :-1], rho[:, 1:])
+    high = np.maximum(rho[:, :-1], rho[:, 1:])
+    first = np.empty((n, k), dtype=np.intp)
+    stop = np.empty((n, k), dtype=np.intp)
+    for i in range(n):
+        first[i] = np.searchsorted(levels[i], low[i], side="left")
+        stop[i] = np.searchsorted(levels[i], high[i], side="right")
+    count = np.maximum(stop - first, 0).ravel()
+    pair = np.repeat(np.arange(n * k), count)
+    offset = np.arange(pair.size) - np.repeat(np.cumsum(count) - count, count)
+    return pair // k, pair % k, first.ravel()[pair] + offset
+
+
 def _arcs_on_circles(
     rho: NDArray[np.float64],
     lo: NDArray[np.float64],
@@ -57,10 +80,7 @@ def _arcs_on_circles(
     ``(starts, ends)`` of shape (M, N * J): at most M arcs per circle, NaN-padded.
     """
     n, j = levels.shape
-    r0, r1 = rho[:, :-1, None], rho[:, 1:, None]
-    u = levels[:, None, :]
-    cross = (np.minimum(r0, r1) <= u) & (u <= np.maximum(r0, r1))
-    design, segment, level = np.nonzero(cross)
+    design, segment, level = _crossings(rho, levels)
     a, b = rho[design, segment], rho[design, segment + 1]
     span = b - a
     t = np.where(span != 0.0, (levels[design, level] - a) / np.where(span != 0, span, 1.0), 0.0)

@@ -307,12 +307,19 @@ class _DiskCheck:
         self.need = disk_arc_half_width(self.radii, centre_distance, disk_radius)[None, :]
 
     def margin(self, scale: ArrayLike) -> NDArray[np.float64]:
-        sl = self.slices
+        """:func:`containment_margin` at each of ``scale`` (m)."""
         s = np.atleast_1d(np.asarray(scale, dtype=float))[:, None]
-        unit = self.radii[None, :] / s
-        have = np.interp(unit, sl.margin_rho, sl.margin)
-        have = np.where((unit < sl.rho_min) | (unit > sl.rho_max), -1.0, have)
-        return np.min(have - self.need, axis=1)
+        return np.min(self._have(self.radii[None, :] / s) - self.need, axis=1)
+
+    def holds(self, scale: float) -> bool:
+        """Whether the disk lies inside the workspace scaled by ``scale`` (m)."""
+        return bool(np.min(self._have(self.radii / scale) - self.need[0]) >= 0.0)
+
+    def _have(self, unit: NDArray[np.float64]) -> NDArray[np.float64]:
+        """Half-width of the workspace arc centred on the task angle at radii ``unit`` (l1);
+        -1 off the workspace (its ``margin_rho`` run from ``rho_min`` to ``rho_max``)."""
+        sl = self.slices
+        return np.interp(unit, sl.margin_rho, sl.margin, left=-1.0, right=-1.0)
 
 
 @dataclass(frozen=True)
@@ -371,7 +378,7 @@ def minimal_scale(
     a, b = scan[first - 1], scan[first]
     while b - a > rel_tol * b:
         mid = 0.5 * (a + b)
-        if check.margin(mid)[0] >= 0.0:
+        if check.holds(mid):
             b = mid
         else:
             a = mid
