@@ -17,19 +17,18 @@ from numpy.typing import NDArray
 
 from qsm.physics.kinematics import DESIGN_NAMES
 from qsm.physics.task import Disk
-from qsm.physics.workspace import OperatingRange, Resolution, unit_area
+from qsm.physics.workspace import OperatingRange, Resolution, unit_areas
 
 log = logging.getLogger(__name__)
 
 
-def true_eta(design: NDArray[np.float64], op: OperatingRange, disk: Disk, res: Resolution) -> float:
-    """Task-disk area over the workspace area of one design (6 lengths, m); NaN if its loop
+def true_etas(
+    designs: NDArray[np.float64], op: OperatingRange, disk: Disk, res: Resolution
+) -> NDArray[np.float64]:
+    """Task-disk area over the workspace area of designs (M, 6 lengths, m); NaN where the loop
     does not close over the whole operating range."""
-    try:
-        unit = unit_area(design[1:] / design[0], op, res)
-    except ValueError:
-        return float("nan")
-    return disk.area / (unit * design[0] ** 2)
+    d = np.atleast_2d(designs)
+    return disk.area / (unit_areas(d[:, 1:] / d[:, :1], op, res) * d[:, 0] ** 2)
 
 
 def eta_gradient(
@@ -44,19 +43,17 @@ def eta_gradient(
     A design on the edge of loop closure, where one step opens the loop, gets the one-sided
     difference of the other step; NaN where neither side closes.
     """
-    grad = np.empty(6)
-    for i in range(6):
-        h = rel_step * design[i]
-        up, down = design.copy(), design.copy()
-        up[i] += h
-        down[i] -= h
-        e_up, e_down = true_eta(up, op, disk, res), true_eta(down, op, disk, res)
-        if np.isfinite(e_up) and np.isfinite(e_down):
-            grad[i] = (e_up - e_down) / (2 * h)
-        elif np.isfinite(e_up):
-            grad[i] = (e_up - true_eta(design, op, disk, res)) / h
-        else:
-            grad[i] = (true_eta(design, op, disk, res) - e_down) / h
+    h = rel_step * design
+    steps = np.diag(h)
+    e_up, e_down = np.split(
+        true_etas(np.vstack([design + steps, design - steps]), op, disk, res), 2
+    )
+    grad = (e_up - e_down) / (2 * h)
+    one_sided = ~(np.isfinite(e_up) & np.isfinite(e_down))
+    if one_sided.any():
+        centre = true_etas(design, op, disk, res)[0]
+        grad = np.where(np.isfinite(e_up), (e_up - centre) / h, (centre - e_down) / h)
+        grad = np.where(one_sided, grad, (e_up - e_down) / (2 * h))
     return grad
 
 

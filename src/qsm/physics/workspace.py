@@ -147,19 +147,21 @@ def slices_of_arcs(
     )
 
 
-def unit_area(
+def unit_areas(
     ratios: ArrayLike, op: OperatingRange, resolution: Resolution = Resolution()
-) -> float:
-    """Workspace area of the unit design ``ratios`` (units of l1^2): ``slice_workspace(...).area``
-    without the margins. Raises ``ValueError`` if the loop does not close everywhere in ``op``."""
-    rho, lo, hi = arcs(ratios, op, resolution.n_delta)
-    if not np.all(np.isfinite(rho)):
-        raise ValueError("the loop does not close over the whole operating range")
-    rho_min, rho_max = float(rho.min()), float(rho.max())
-    levels = _levels(rho_min, rho_max, resolution.n_levels)
-    starts, ends = wrap_about(*_interval_per_level(rho, lo, hi, levels), 0.0)
-    covered = _union_length(starts, ends)
-    return float(np.sum(levels * covered) * (rho_max - rho_min) / levels.size)
+) -> NDArray[np.float64]:
+    """Workspace areas (units of l1^2) of the unit designs ``ratios`` (M, 5): the
+    ``slice_workspace(...).area`` of each, without the margins; NaN where the loop does not close
+    everywhere in ``op``."""
+    rho, lo, hi = arcs(np.atleast_2d(ratios), op, resolution.n_delta)
+    out = np.full(len(rho), np.nan)
+    for i in np.flatnonzero(np.isfinite(rho).all(axis=1)):
+        rho_min, rho_max = float(rho[i].min()), float(rho[i].max())
+        levels = _levels(rho_min, rho_max, resolution.n_levels)
+        starts, ends = wrap_about(*_interval_per_level(rho[i], lo[i], hi[i], levels), 0.0)
+        covered = _union_length(starts, ends)
+        out[i] = np.sum(levels * covered) * (rho_max - rho_min) / levels.size
+    return out
 
 
 def _levels(rho_min: float, rho_max: float, n_levels: int) -> NDArray[np.float64]:
