@@ -10,6 +10,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from numpy.typing import NDArray
 
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
 from qsm.physics.task import Disk
@@ -23,6 +24,9 @@ from qsm.physics.workspace import (
 )
 
 log = logging.getLogger(__name__)
+
+#: Designs whose workspace arcs are computed in one vectorised call.
+ARCS_CHUNK = 256
 
 #: Columns of results/mechanisms/mechanisms.parquet and their units.
 MECHANISM_COLUMNS: dict[str, str] = {
@@ -55,8 +59,17 @@ def fit_design(ratios: Sequence[float], settings: FitSettings) -> dict[str, Any]
     ``workspace_area_m2`` and ``eta`` (NaN when infeasible). A design whose workspace radii alone
     rule the task out is not sliced: its ``workspace_area_unit`` is NaN too.
     """
+    return _fit_arcs(*arcs(ratios, settings.op, settings.resolution.n_delta), settings)
+
+
+def _fit_arcs(
+    rho: NDArray[np.float64],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    settings: FitSettings,
+) -> dict[str, Any]:
+    """:func:`fit_design` from the design's :func:`qsm.physics.workspace.arcs`."""
     disk = settings.disk
-    rho, lo, hi = arcs(ratios, settings.op, settings.resolution.n_delta)
     if not np.all(np.isfinite(rho)):
         return _infeasible("loop does not close", np.nan)
     radius = disk.radius + settings.safety_margin
@@ -105,8 +118,13 @@ def fit_designs(
     rows = []
     found = 0
     start = time.perf_counter()
-    for i, r in enumerate(ratios, 1):
-        rows.append(fit_design(r, settings))
+    for i in range(1, len(ratios) + 1):
+        if (i - 1) % ARCS_CHUNK == 0:  # the arcs of the next rows in one vectorised call
+            chunk = arcs(
+                ratios[i - 1 : i - 1 + ARCS_CHUNK], settings.op, settings.resolution.n_delta
+            )
+        k = (i - 1) % ARCS_CHUNK
+        rows.append(_fit_arcs(chunk[0][k], chunk[1][k], chunk[2][k], settings))
         found += rows[-1]["feasible"]
         done = stop_after is not None and found >= stop_after
         if i % log_every == 0 or i == len(ratios) or done:
