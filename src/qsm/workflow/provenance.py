@@ -45,8 +45,10 @@ def _module_level(tree: ast.Module) -> list[ast.stmt]:
     return out
 
 
-def _qsm_imports(path: Path, package_dir: Path) -> set[str]:
-    """Dotted names of the ``qsm`` modules (and their parent packages) that ``path`` imports."""
+@cache
+def _qsm_imports(path: Path, package_dir: Path) -> frozenset[str]:
+    """Dotted names of the ``qsm`` modules (and their parent packages) that ``path`` imports;
+    each file is parsed once per process (the rules share most of their modules)."""
     root = package_dir.name
     package = _package_of(path, package_dir)
     names = set()
@@ -67,7 +69,7 @@ def _qsm_imports(path: Path, package_dir: Path) -> set[str]:
             parts = module.split(".")
             if parts[0] == root:
                 names.update(".".join(parts[: k + 1]) for k in range(len(parts)))
-    return names
+    return frozenset(names)
 
 
 def _module_file(name: str, package_dir: Path) -> Path | None:
