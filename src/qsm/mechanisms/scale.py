@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -102,6 +102,17 @@ def _infeasible(reason: str, unit_area: float) -> dict[str, Any]:
     }
 
 
+def fit_rows(ratios: NDArray[np.float64], settings: FitSettings) -> Iterator[dict[str, Any]]:
+    """:func:`fit_design` of each row of ``ratios`` (N, 5), lazily, in order; the workspace arcs of
+    :data:`ARCS_CHUNK` rows at a time come from one vectorised call."""
+    for start in range(0, len(ratios), ARCS_CHUNK):
+        rho, lo, hi = arcs(
+            ratios[start : start + ARCS_CHUNK], settings.op, settings.resolution.n_delta
+        )
+        for k in range(len(rho)):
+            yield _fit_arcs(rho[k], lo[k], hi[k], settings)
+
+
 def fit_designs(
     designs: pd.DataFrame,
     settings: FitSettings,
@@ -118,14 +129,9 @@ def fit_designs(
     rows = []
     found = 0
     start = time.perf_counter()
-    for i in range(1, len(ratios) + 1):
-        if (i - 1) % ARCS_CHUNK == 0:  # the arcs of the next rows in one vectorised call
-            chunk = arcs(
-                ratios[i - 1 : i - 1 + ARCS_CHUNK], settings.op, settings.resolution.n_delta
-            )
-        k = (i - 1) % ARCS_CHUNK
-        rows.append(_fit_arcs(chunk[0][k], chunk[1][k], chunk[2][k], settings))
-        found += rows[-1]["feasible"]
+    for i, row in enumerate(fit_rows(ratios, settings), 1):
+        rows.append(row)
+        found += row["feasible"]
         done = stop_after is not None and found >= stop_after
         if i % log_every == 0 or i == len(ratios) or done:
             rate = i / max(time.perf_counter() - start, 1e-9)

@@ -32,7 +32,7 @@ from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 
 from qsm.mechanisms.filters import kinematic_checks
-from qsm.mechanisms.scale import FitSettings, fit_design
+from qsm.mechanisms.scale import FitSettings, fit_rows
 from qsm.optimisation.constraints import containment_margin_m, printability_violation_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import design_from_ratios
@@ -199,8 +199,8 @@ class RatiosProblem(_SurrogateProblem):
         eta = np.full(n, np.nan)
         checks = kinematic_checks(ratios, self.fit.op, self.fit.min_transmission_angle_deg)
         ok = np.logical_and.reduce(list(checks.values()))
-        for i in np.flatnonzero(ok):
-            result = fit_design(ratios[i], self.fit)
+        rows = np.flatnonzero(ok)
+        for i, result in zip(rows, fit_rows(ratios[rows], self.fit), strict=True):
             if result["feasible"]:
                 scale[i], eta[i] = result["scale_m"], result["eta"]
         feasible = np.isfinite(scale)
