@@ -35,6 +35,7 @@ include: "workflow/rules/surrogate.smk"
 include: "workflow/rules/optimization.smk"
 include: "workflow/rules/design_rules.smk"
 include: "workflow/rules/realization.smk"
+include: "workflow/rules/study.smk"
 include: "workflow/rules/summary.smk"
 
 

@@ -4,6 +4,8 @@ import pytest
 import yaml
 from workflow_helpers import ROOT, copy_run, copy_workflow, planned_jobs, snakemake
 
+from qsm.workflow.tables import read_table
+
 pytestmark = pytest.mark.workflow
 
 STAGE1 = {"sample", "filter_kinematics", "fit_task", "select_mechanisms", "plot_mechanisms"}
@@ -89,3 +91,22 @@ def test_editing_a_library_module_reruns_exactly_the_rules_that_import_it(run, t
     kinematics = work / "src/qsm/physics/kinematics.py"
     kinematics.write_text(kinematics.read_text() + "\n# an edit\n")
     assert {"sample", "fit_task", "dynamics", "payload_test"} <= set(planned_jobs(work))
+
+
+def test_turning_the_study_off_reruns_the_summary_alone_and_its_verdicts_follow(run, tmp_path):
+    """The findings table follows the config: without the study no experiment backs a verdict."""
+    configs = override(tmp_path, "study: {enabled: false}")
+    assert planned_jobs(run, configs=configs) == {
+        "design_rules_summary": 1,
+        "summary": 1,
+        "all": 1,
+    }
+    work = copy_run(run, tmp_path / "work")
+    snakemake(work, configs=configs)
+    before = read_table(run / "results/design_rules/findings.parquet")
+    after = read_table(work / "results/design_rules/findings.parquet")
+    assert len(after) == len(before) - 1  # no Table 3 row without its sweep
+    assert (after["experiment"] == "").all()
+    disagree = after["agree"] == "disagree"
+    assert after.loc[disagree, "verdict"].str.startswith("unexplained").all()
+    assert (after.loc[~disagree, "verdict"] == "agrees in this run").all()

@@ -152,11 +152,12 @@ def agreeing_evidence():
     )
 
 
-def test_findings_agree_and_a_disagreement_carries_its_reason():
+def test_findings_agree_and_a_disagreement_carries_its_verdict():
     ev = agreeing_evidence()
     table = findings(ev, alpha=0.05)
     assert len(table) == 10
     assert (table["agree"] == "agree").all(), table
+    assert (table["verdict"] == "agrees in this run").all()
     scale_row = table.set_index("finding").loc[
         "Larger scale factor: lower eta, higher torques (Pareto front)", "this run"
     ]
@@ -165,7 +166,7 @@ def test_findings_agree_and_a_disagreement_carries_its_reason():
     flipped = dataclasses.replace(ev, first_splits={**ev.first_splits, "tau2": "l4"})
     again = findings(flipped, alpha=0.05).set_index("finding")
     row = again.loc["EE_x splits first in every tree"]
-    assert row["agree"] == "disagree" and row["likely reason"]
+    assert row["agree"] == "disagree" and row["verdict"].startswith("unexplained")
 
 
 def test_derivative_at_the_edge_of_loop_closure_is_one_sided():

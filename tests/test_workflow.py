@@ -211,9 +211,18 @@ def test_design_rules_outputs(run):
     assert len(grads) == 100 and grads["mechanism_id"].is_unique
     assert "mechanisms/s" in (run / "results/logs/eta_derivatives/shard-0.log").read_text()
     summary_md = (rules / "summary.md").read_text()
-    rows = [ln for ln in summary_md.splitlines() if ln.startswith("| ") and "---" not in ln]
-    assert len(rows) == 1 + 10  # header and one row per finding of the paper's Section 4
+    findings_md = summary_md.split("## Table 3 sweep")[0]
+    rows = [ln for ln in findings_md.splitlines() if ln.startswith("| ") and "---" not in ln]
+    assert len(rows) == 1 + 11  # header, the paper's Section 4 findings and its Table 3
     assert f"{n * 14:,} surrogate evaluations" in summary_md
+    table = read_table(rules / "findings.parquet")
+    # every verdict rests on an experiment of this run, whose outcome carries its numbers
+    assert not table["verdict"].str.startswith("unexplained").any()
+    assert table["measured outcome"].str.contains(r"\d").all()
+    sweep = read_table(run / "results/study/table3_sweep.parquet")
+    assert list(sweep["payload_kg"]) == config["study"]["payloads_kg"]
+    lengths = read_table(run / "results/study/independent_lengths.parquet")
+    assert 0 < len(lengths) <= config["study"]["n_designs"]
 
 
 def test_realisation_outputs(run):

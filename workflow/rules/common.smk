@@ -60,3 +60,16 @@ def code(script):
 def fit_workspace():
     """The workspace settings of the scale-up (slicing and scale scan), not the shard count."""
     return {k: config["workspace"][k] for k in ("n_delta", "n_levels", "n_scan")}
+
+
+def study_inputs(wildcards):
+    """The study's outputs (workflow/rules/study.smk) for the findings table; none when the
+    study is off."""
+    if not config["study"]["enabled"]:
+        return {}
+    return {
+        "lengths": rules.study_lengths.output.outcome,
+        "table3": rules.study_table3.output.table,
+        "designs": rules.decision_trees.output.designs,
+        "torques": rules.topology_optimize.output.torques,
+    }

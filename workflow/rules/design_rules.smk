@@ -123,6 +123,7 @@ rule eta_derivatives:
 
 rule design_rules_summary:
     input:
+        unpack(study_inputs),
         sobol=rules.sobol.output.indices,
         first_splits=rules.decision_trees.output.first_splits,
         correlations=rules.correlations.output.table,
@@ -144,5 +145,6 @@ rule design_rules_summary:
         code=code("design_rules_summary.py"),
         alpha=config["design_rules"]["alpha"],
         primary=config["optimization"]["formulation"],
+        payload_kg=config["task"]["payload_kg"],
     script:
         "../scripts/design_rules_summary.py"

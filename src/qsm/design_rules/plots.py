@@ -27,9 +27,7 @@ def sobol_figure(indices: pd.DataFrame, outputs: Sequence[str], path: str | Path
         ax.set_title(f"Sobol indices of {out}")
         ax.grid(axis="y", alpha=0.3)
         ax.legend()
-    fig.tight_layout()
-    fig.savefig(path, dpi=110)
-    plt.close(fig)
+    _save(fig, path)
 
 
 def trees_figure(trees: Sequence[TreeRules], path: str | Path) -> None:
@@ -39,9 +37,7 @@ def trees_figure(trees: Sequence[TreeRules], path: str | Path) -> None:
         names = [f"{n} (mm)" for n in ("l1", "l2", "l3", "l4", "ee_x", "ee_y")]
         plot_tree(rules.tree, feature_names=names, filled=True, ax=ax, fontsize=7, precision=3)
         ax.set_title(f"Decision tree of {rules.objective}")
-    fig.tight_layout()
-    fig.savefig(path, dpi=90)
-    plt.close(fig)
+    _save(fig, path, dpi=90)
 
 
 def correlation_figure(
@@ -84,6 +80,57 @@ def derivatives_figure(gradients: pd.DataFrame, path: str | Path) -> None:
     ax.set_ylabel("d eta / d x (1/m)")
     ax.set_title(f"Derivatives of the true eta over {len(gradients)} mechanisms")
     ax.grid(axis="y", alpha=0.3)
+    _save(fig, path)
+
+
+def study_lengths_figure(
+    sample: pd.DataFrame, dataset: pd.DataFrame, outcome: dict, path: str | Path
+) -> None:
+    """The scale-apart-from-ratios experiment: tau1 against EE_x at the minimal scale (the dataset)
+    and at the drawn scales, and the first-order Sobol indices of each output."""
+    fig, axes = plt.subplots(1, 2, figsize=(11, 4))
+    ax = axes[0]
+    ax.scatter(dataset["ee_x_m"], dataset["tau1_Nm"], s=4, alpha=0.3, label="minimal scale")
+    ax.scatter(sample["ee_x_m"], sample["tau1_Nm"], s=4, alpha=0.5, label="scale drawn apart")
+    ax.set_xlabel("EE_x (m)")
+    ax.set_ylabel("peak |tau1| (N m)")
+    ax.legend()
+    ax.grid(alpha=0.3)
+    ax = axes[1]
+    outputs = list(outcome["sobol_s1"])
+    names = list(outcome["sobol_s1"][outputs[0]])
+    pos = np.arange(len(names))
+    width = 0.8 / len(outputs)
+    for k, out in enumerate(outputs):
+        values = [outcome["sobol_s1"][out][n] for n in names]
+        ax.bar(pos + (k - (len(outputs) - 1) / 2) * width, values, width, label=out)
+    ax.set_xticks(pos, names)
+    ax.set_title(f"first-order indices, scale apart from ratios ({outcome['n_designs']} designs)")
+    ax.grid(axis="y", alpha=0.3)
+    ax.legend()
+    _save(fig, path)
+
+
+def table3_figure(
+    sweep: pd.DataFrame, paper_pct: dict[str, float], run_ratio: float, path: str | Path
+) -> None:
+    """Torque reduction by topology optimisation against payload / link mass, with the paper's
+    Table 3 values and this run's ratio marked."""
+    fig, ax = plt.subplots(figsize=(6.5, 4))
+    x = sweep["payload_to_link_mass"]
+    for (key, value), colour in zip(paper_pct.items(), ("tab:blue", "tab:orange"), strict=True):
+        ax.plot(x, sweep[f"{key}_reduction_pct"], "o-", color=colour, label=f"{key} (this design)")
+        ax.axhline(value, color=colour, ls="--", lw=1, label=f"{key} paper {value:.2f} %")
+    ax.axvline(run_ratio, color="grey", lw=1, label=f"this run's payload ({run_ratio:.2f})")
+    ax.set_xlabel("payload / CAD-link mass (-)")
+    ax.set_ylabel("peak-torque reduction (%)")
+    ax.grid(alpha=0.3)
+    ax.legend(fontsize=8)
+    _save(fig, path)
+
+
+def _save(fig: plt.Figure, path: str | Path, dpi: int = 110) -> None:
+    """Lay out, write and close ``fig``."""
     fig.tight_layout()
-    fig.savefig(path, dpi=110)
+    fig.savefig(path, dpi=dpi)
     plt.close(fig)

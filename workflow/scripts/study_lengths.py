@@ -1,0 +1,28 @@
+"""Rule study_lengths: the dataset's designs with the scale drawn apart from their ratios."""
+
+import json
+
+from qsm import settings
+from qsm.design_rules.plots import study_lengths_figure
+from qsm.design_rules.study import INDEPENDENT_COLUMNS, independent_lengths, lengths_outcome
+from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.physics.duty import duty_cycle
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table, write_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    out = snakemake.output  # noqa: F821
+    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))  # noqa: F821
+    duty = duty_cycle(settings.duty(p.duty, p.operating_range))
+    sample = independent_lengths(
+        dataset, p.study["n_designs"], p.study["seed"], duty, settings.cad(p.cad), p.payload_kg
+    )
+    log.info("%d designs re-evaluated at independently drawn scales", len(sample))
+    outcome = lengths_outcome(sample, p.study["seed"], p.tree_depth)
+    write_table(sample, out.table, {"columns": INDEPENDENT_COLUMNS})
+    with open(out.outcome, "w") as fh:
+        json.dump(outcome, fh, indent=2)
+    study_lengths_figure(sample, dataset, outcome, out.figure)
+    for name, ranking in outcome["ranking"].items():
+        log.info("%s: first-order Sobol ranking %s", name, ", ".join(ranking))

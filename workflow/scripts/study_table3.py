@@ -1,0 +1,34 @@
+"""Rule study_table3: Table 3's torque reduction against the payload / link-mass ratio."""
+
+import json
+
+import numpy as np
+
+from qsm import settings
+from qsm.design_rules.plots import table3_figure
+from qsm.design_rules.study import PAPER_TABLE3_PCT, table3_sweep
+from qsm.physics.duty import duty_cycle
+from qsm.realisation.export import props_from_json
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import write_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    out = snakemake.output  # noqa: F821
+    with open(snakemake.input.selected) as fh:  # noqa: F821
+        design = np.asarray(json.load(fh)["design_m"])
+    with open(snakemake.input.links) as fh:  # noqa: F821
+        optimised = props_from_json(json.load(fh))
+    duty = duty_cycle(settings.duty(p.duty, p.operating_range))
+    sweep = table3_sweep(design, settings.cad(p.cad), duty, optimised, p.payloads_kg)
+    write_table(sweep, out.table)
+    run_ratio = p.payload_kg / sweep["link_mass_kg"].iloc[0]
+    table3_figure(sweep, PAPER_TABLE3_PCT, run_ratio, out.figure)
+    for row in sweep.itertuples():
+        log.info(
+            "payload %.2f kg (payload / links %.2f): reduction tau1 %.2f %%, tau2 %.2f %%",
+            row.payload_kg,
+            row.payload_to_link_mass,
+            row.tau1_reduction_pct,
+            row.tau2_reduction_pct,
+        )
