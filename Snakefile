@@ -36,6 +36,7 @@ include: "workflow/rules/optimization.smk"
 include: "workflow/rules/design_rules.smk"
 include: "workflow/rules/realization.smk"
 include: "workflow/rules/summary.smk"
+include: "workflow/rules/exploration.smk"
 
 
 rule all:
@@ -47,4 +48,5 @@ rule all:
         STAGE4_OUTPUTS,
         STAGE5_OUTPUTS,
         STAGE6_OUTPUTS,
+        EXPLORATION_OUTPUTS,
         f"{RESULTS}/summary.md",
