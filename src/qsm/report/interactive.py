@@ -145,10 +145,13 @@ def front_figure(verified: pd.DataFrame, front: str, constraints: str = "") -> g
             "zaxis_title": labels[2],
             "aspectmode": "cube",
         },
-        coloraxis={"colorscale": "Viridis", "colorbar": {"title": COLOUR_TITLE, "x": -0.08}},
+        coloraxis={
+            "colorscale": "Viridis",
+            "colorbar": {"title": {"text": COLOUR_TITLE, "side": "right"}, "x": 1.01, "len": 0.9},
+        },
         legend={"orientation": "h", "x": 0.0, "y": -0.06, "groupclick": "togglegroup"},
         height=780,
-        margin={"l": 90, "r": 20, "t": 80, "b": 90},
+        margin={"l": 30, "r": 110, "t": 80, "b": 90},
         annotations=[
             {
                 "text": (
