@@ -37,6 +37,7 @@ include: "workflow/rules/design_rules.smk"
 include: "workflow/rules/realization.smk"
 include: "workflow/rules/study.smk"
 include: "workflow/rules/summary.smk"
+include: "workflow/rules/exploration.smk"
 
 
 rule all:
@@ -48,4 +49,5 @@ rule all:
         STAGE4_OUTPUTS,
         STAGE5_OUTPUTS,
         STAGE6_OUTPUTS,
+        EXPLORATION_OUTPUTS,
         f"{RESULTS}/summary.md",

@@ -1,4 +1,4 @@
-"""Command line: ``python -m qsm evaluate ...`` and ``python -m qsm export-mjcf ...``."""
+"""Command line: ``python -m qsm evaluate ...``, ``export ...`` and ``export-mjcf ...``."""
 
 from __future__ import annotations
 
@@ -49,7 +49,37 @@ def _parser() -> argparse.ArgumentParser:
     )
     ex.add_argument("--config", help="config YAML for the link section and payload")
     ex.add_argument("--out", help="output folder (default: results/models/mechanism-ID)")
+    _export_parser(sub)
     return parser
+
+
+def _export_parser(sub: argparse._SubParsersAction) -> None:
+    """``export``: one design's MJCF, STLs, URDF, JSON and drawing (qsm.export_design)."""
+    ex = sub.add_parser(
+        "export",
+        help="write one design's MJCF, link STLs, URDF, JSON (true performance) and drawing",
+    )
+    which = ex.add_mutually_exclusive_group(required=True)
+    which.add_argument("--front", help="a front of the run (paper, ratios); needs --rank")
+    which.add_argument("--id", type=int, help="mechanism_id of a dataset mechanism")
+    which.add_argument(
+        "--ratios",
+        nargs=5,
+        type=float,
+        metavar=("L2", "L3", "L4", "EEX", "EEY"),
+        help="a unit design (l1 = 1), scaled to the task as Stage 1 does",
+    )
+    ex.add_argument("--rank", type=int, help="rank on the front (1 = knee; see pareto.html)")
+    ex.add_argument(
+        "--task-points",
+        nargs="+",
+        type=float,
+        metavar="X Y",
+        help="with --ratios: task points x1 y1 x2 y2 ... in metres (default: the config's)",
+    )
+    ex.add_argument("--results", default="results", help="the run's results (default: %(default)s)")
+    ex.add_argument("--config", help="the run's config YAML (default: built-in defaults)")
+    ex.add_argument("--out", help="output folder (default: RESULTS/exports/...)")
 
 
 def _export(args: argparse.Namespace, config: dict) -> dict:
@@ -81,7 +111,20 @@ def main(argv: Sequence[str] | None = None) -> int:
                 validate_config(config)
             except ConfigError as exc:
                 raise ConfigError(f"--task-points: {exc}") from exc
-        if args.command == "export-mjcf":
+        if args.command == "export":
+            from qsm.export_design import export
+
+            result = export(
+                front=args.front,
+                rank=args.rank,
+                mechanism_id=args.id,
+                ratios=args.ratios,
+                task_points=config["task"]["points"] if args.task_points else None,
+                config=config,
+                results=args.results,
+                out=args.out,
+            )
+        elif args.command == "export-mjcf":
             result = _export(args, config)
         else:
             try:

@@ -76,6 +76,7 @@ rule payload_test:
         links=rules.topology_optimize.output.links,
     output:
         result=f"{REAL}/payload_test.json",
+        series=f"{REAL}/payload_test_series.parquet",
         figure=report(
             f"{RESULTS}/figures/payload_test.png",
             caption="../report/payload_test.rst",

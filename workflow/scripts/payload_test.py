@@ -6,8 +6,15 @@ import numpy as np
 
 from qsm import settings
 from qsm.realisation.export import props_from_json
-from qsm.realisation.payload import payload_test, plot_payload_test, summary
+from qsm.realisation.payload import (
+    SERIES_COLUMNS,
+    payload_test,
+    plot_payload_test,
+    series_table,
+    summary,
+)
 from qsm.workflow.logs import logged
+from qsm.workflow.tables import write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
@@ -22,6 +29,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     scalars = summary(result)
     with open(out.result, "w") as fh:
         json.dump(scalars, fh, indent=2, default=lambda v: np.asarray(v).tolist())
+    write_table(series_table(result), out.series, {"columns": SERIES_COLUMNS})
     plot_payload_test(result, out.figure)
     log.info(
         "payload test: passed %s, max tracking error %.4f deg, peak torque %s N m",

@@ -32,6 +32,7 @@ from typing import Any
 
 import mujoco
 import numpy as np
+import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
@@ -252,6 +253,37 @@ SERIES_KEYS: tuple[str, ...] = (
     "torque_requested_Nm",
     "torque_applied_Nm",
 )
+
+
+#: Columns of :func:`series_table`: the time series of a payload test, one row per sample.
+SERIES_COLUMNS: dict[str, str] = {
+    "t_s": "time (s)",
+    **{
+        f"theta{j}{kind}_deg": f"motor {j} angle, {what} (deg)"
+        for kind, what in (("_ref", "reference"), ("", "simulated"))
+        for j in (1, 2)
+    },
+    **{
+        f"tau{j}_{kind}_Nm": f"motor {j} torque, {kind} (N m)"
+        for kind in ("requested", "applied")
+        for j in (1, 2)
+    },
+}
+
+
+def series_table(result: dict[str, Any]) -> pd.DataFrame:
+    """The time series of a :func:`payload_test` result as a table (:data:`SERIES_COLUMNS`)."""
+    pairs = {
+        "theta{}_ref_deg": "theta_ref_deg",
+        "theta{}_deg": "theta_deg",
+        "tau{}_requested_Nm": "torque_requested_Nm",
+        "tau{}_applied_Nm": "torque_applied_Nm",
+    }
+    data = {"t_s": np.asarray(result["t_s"], dtype=float)}
+    for pattern, key in pairs.items():
+        for j in (1, 2):
+            data[pattern.format(j)] = np.asarray(result[key], dtype=float)[:, j - 1]
+    return pd.DataFrame(data)[list(SERIES_COLUMNS)]
 
 
 def summary(result: dict[str, Any]) -> dict[str, Any]:

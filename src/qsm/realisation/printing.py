@@ -74,7 +74,8 @@ def all_links_fit(
         return False
 
 
-def _scores(df: pd.DataFrame, rule: str) -> np.ndarray:
+def rule_scores(df: pd.DataFrame, rule: str) -> np.ndarray:
+    """Score of every row of a verified table under selection ``rule`` (smaller is better)."""
     if rule == "min_tau1":
         return df["tau1_true_Nm"].to_numpy(float)
     if rule == "min_tau2":
@@ -123,7 +124,7 @@ def select_design(
             f"no design qualifies: {len(verified)} rows, {len(ok)} feasible with dynamics 'ok', "
             f"none of them has every link within the build volume {tuple(volume_mm)} mm"
         )
-    scores = _scores(cand, rule)
+    scores = rule_scores(cand, rule)
     k = int(np.argmin(scores))
     row = cand.iloc[k].copy()
     row["selection_rule"] = rule

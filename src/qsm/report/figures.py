@@ -12,15 +12,13 @@ from matplotlib.axes import Axes
 from matplotlib.tri import Triangulation
 from numpy.typing import NDArray
 
-from qsm.physics.kinematics import DESIGN_NAMES, pose
+from qsm.physics.kinematics import DESIGN_NAMES, LoopPose, pose
 from qsm.physics.task import Disk
 from qsm.physics.workspace import OperatingRange
 
 
-def draw_design(
-    ax: Axes, design: np.ndarray, op: OperatingRange, disk: Disk, title: str = "", n: int = 120
-) -> None:
-    """Draw the workspace (filled image of the joint domain), the task disk and a mid-range pose."""
+def draw_workspace(ax: Axes, design: np.ndarray, op: OperatingRange, n: int = 120) -> None:
+    """Fill the workspace: the image of the joint domain theta2 <= theta1 on an n x n grid."""
     t1 = np.linspace(op.theta1_min, op.theta1_max, n)
     t2 = np.linspace(op.theta2_min, op.theta1_max, n)
     g1, g2 = np.meshgrid(t1, t2)
@@ -38,16 +36,24 @@ def draw_design(
         edgecolors="none",
         rasterized=True,
     )
+
+
+def linkage_segments(p: LoopPose) -> list[tuple[np.ndarray, np.ndarray, str]]:
+    """The bars of one pose as (start, end, matplotlib style): AB, AC, the coupler CD (green),
+    DB and BE of the upper arm."""
+    a = np.zeros(2)
+    return [(a, p.B, "k-"), (a, p.C, "k-"), (p.C, p.D, "g-"), (p.D, p.B, "k-"), (p.B, p.E, "k-")]
+
+
+def draw_design(
+    ax: Axes, design: np.ndarray, op: OperatingRange, disk: Disk, title: str = "", n: int = 120
+) -> None:
+    """Draw the workspace (filled image of the joint domain), the task disk and a mid-range pose."""
+    draw_workspace(ax, design, op, n)
     ax.add_patch(plt.Circle(disk.centre, disk.radius, fill=False, color="tab:red", lw=1.5))
     mid = pose(design, np.radians(120.0), np.radians(20.0))
     a = np.zeros(2)
-    for p, q, style in [
-        (a, mid.B, "k-"),
-        (a, mid.C, "k-"),
-        (mid.C, mid.D, "g-"),
-        (mid.D, mid.B, "k-"),
-        (mid.B, mid.E, "k-"),
-    ]:
+    for p, q, style in linkage_segments(mid):
         ax.plot([p[0], q[0]], [p[1], q[1]], style, lw=2)
     joints = np.array([a, mid.B, mid.C, mid.D])
     ax.plot(joints[:, 0], joints[:, 1], "o", color="k", ms=4)

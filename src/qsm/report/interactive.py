@@ -1,0 +1,189 @@
+"""The interactive Pareto front: one self-contained HTML file (Plotly, its JavaScript inlined).
+
+The page shows a verified front (:func:`qsm.optimisation.verify.verify_front`) in 3D and in the
+three pairwise views of (eta, tau1, tau2), coloured by the scale factor l1. Each design is drawn
+at its surrogate predictions (what NSGA-II optimised) and, in a second legend group switched off
+at first, at its true values (Stage 1 and the MuJoCo dynamics). Hovering a design shows its rank
+(:mod:`qsm.optimisation.ranking`) with the command that exports it, its six lengths, predicted
+and true eta / tau1 / tau2, whether it truly holds the task and whether it is printable. Designs
+that fail either check are drawn as crosses.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+import plotly.graph_objects as go
+from plotly.subplots import make_subplots
+
+from qsm.optimisation.ranking import front_ranks
+from qsm.physics.kinematics import DESIGN_COLUMNS, DESIGN_NAMES
+
+#: (predicted column, true column, axis label) of the three objectives.
+OBJECTIVE_COLUMNS: tuple[tuple[str, str, str], ...] = (
+    ("eta_pred", "eta_true", "eta (-)"),
+    ("tau1_pred_Nm", "tau1_true_Nm", "tau1 (N m)"),
+    ("tau2_pred_Nm", "tau2_true_Nm", "tau2 (N m)"),
+)
+PAIRS: tuple[tuple[int, int], ...] = ((0, 1), (0, 2), (1, 2))
+COLOUR_TITLE = "scale factor l1 (m)"
+
+
+def _yes_no(flag: object) -> str:
+    return "yes" if bool(flag) else "NO"
+
+
+def _number(value: float, digits: int) -> str:
+    return f"{value:.{digits}f}" if np.isfinite(value) else "n/a"
+
+
+def hover_texts(verified: pd.DataFrame, ranks: Sequence[int], front: str) -> list[str]:
+    """One hover text per design (HTML with ``<br>``): rank and export command, lengths (mm),
+    predicted and true objectives, whether it holds the task and whether it is printable."""
+    texts = []
+    n = len(verified)
+    for rank, (_, row) in zip(ranks, verified.iterrows(), strict=True):
+        lengths = ", ".join(
+            f"{name} {1e3 * row[col]:.1f}"
+            for name, col in zip(DESIGN_NAMES, DESIGN_COLUMNS, strict=True)
+        )
+        lines = [
+            f"<b>rank {rank} of {n}</b>: python -m qsm export --front {front} --rank {rank}",
+            f"lengths (mm): {lengths}",
+        ]
+        for (pred, true, label), digits in zip(OBJECTIVE_COLUMNS, (4, 2, 2), strict=True):
+            lines.append(
+                f"{label}: predicted {_number(row[pred], digits)}, "
+                f"true {_number(row[true], digits)}"
+            )
+        lines.append(
+            f"holds the task: {_yes_no(row['task_contained'])} "
+            f"(margin {_number(1e3 * row['containment_margin_m'], 1)} mm)"
+        )
+        needed = " x ".join(
+            _number(row[f"needed_volume_{k}_mm"], 0) for k in ("long", "mid", "short")
+        )
+        lines.append(f"printable: {_yes_no(row['printable'])} (needs {needed} mm)")
+        texts.append("<br>".join(lines))
+    return texts
+
+
+def front_figure(verified: pd.DataFrame, front: str, constraints: str = "") -> go.Figure:
+    """The Plotly figure of a verified front (see the module docstring)."""
+    ranks = front_ranks(verified)
+    texts = hover_texts(verified, ranks, front)
+    good = verified["task_contained"].astype(bool) & verified["printable"].astype(bool)
+    symbol_3d = np.where(good, "circle", "x").tolist()
+    symbol_2d = np.where(good, "circle", "x-thin-open").tolist()
+    colour = verified["scale_m"].to_numpy(float)
+    fig = make_subplots(
+        rows=3,
+        cols=2,
+        column_widths=[0.58, 0.42],
+        specs=[[{"type": "scene", "rowspan": 3}, {"type": "xy"}], [None, {}], [None, {}]],
+        horizontal_spacing=0.08,
+        vertical_spacing=0.09,
+    )
+    for group, which, visible in (("predicted", 0, True), ("true", 1, "legendonly")):
+        values = [verified[cols[which]].to_numpy(float) for cols in OBJECTIVE_COLUMNS]
+        name = "surrogate predictions" if which == 0 else "true values (physics)"
+        common = {
+            "mode": "markers",
+            "name": name,
+            "legendgroup": group,
+            "visible": visible,
+            "text": texts,
+            "hovertemplate": "%{text}<extra></extra>",
+        }
+        marker = {"color": colour, "coloraxis": "coloraxis"}
+        fig.add_trace(
+            go.Scatter3d(
+                x=values[0],
+                y=values[1],
+                z=values[2],
+                marker={
+                    **marker,
+                    "size": 5 if which == 0 else 4,
+                    "symbol": symbol_3d if which == 0 else "diamond",
+                    "opacity": 0.9,
+                },
+                **common,
+            ),
+            row=1,
+            col=1,
+        )
+        flat = {
+            **marker,
+            "size": 8 if which == 0 else 7,
+            "symbol": symbol_2d if which == 0 else "diamond-open",
+            "line": {"width": 1.5 if which == 1 else 0.5},
+        }
+        for row, (i, j) in enumerate(PAIRS, start=1):
+            trace = go.Scatter(x=values[i], y=values[j], showlegend=False, marker=flat, **common)
+            fig.add_trace(trace, row=row, col=2)
+            fig.update_xaxes(title_text=OBJECTIVE_COLUMNS[i][2], row=row, col=2)
+            fig.update_yaxes(title_text=OBJECTIVE_COLUMNS[j][2], row=row, col=2)
+    labels = [c[2] for c in OBJECTIVE_COLUMNS]
+    n_good, n = int(good.sum()), len(verified)
+    held = int(verified["task_contained"].astype(bool).sum())
+    printable = int(verified["printable"].astype(bool).sum())
+    fig.update_layout(
+        title={
+            "text": (
+                f"{front} front: {n} Pareto designs; {held} truly hold the task, {printable} "
+                f"printable, {n_good} both (crosses: not both)"
+                + (f"<br><sup>constraints: {constraints}</sup>" if constraints else "")
+            ),
+            "font": {"size": 15},
+        },
+        scene={
+            "xaxis_title": labels[0],
+            "yaxis_title": labels[1],
+            "zaxis_title": labels[2],
+            "aspectmode": "cube",
+        },
+        coloraxis={
+            "colorscale": "Viridis",
+            "colorbar": {"title": {"text": COLOUR_TITLE, "side": "right"}, "x": 1.01, "len": 0.9},
+        },
+        legend={"orientation": "h", "x": 0.0, "y": -0.06, "groupclick": "togglegroup"},
+        height=780,
+        margin={"l": 30, "r": 110, "t": 80, "b": 90},
+        annotations=[
+            {
+                "text": (
+                    "Hover a design for its lengths, predicted and true objectives and checks. "
+                    "Rank 1 is the knee: closest to the ideal point of the true objectives "
+                    "among the feasible, printable designs. Click the legend to show the true "
+                    "values."
+                ),
+                "xref": "paper",
+                "yref": "paper",
+                "x": 0.0,
+                "y": -0.12,
+                "showarrow": False,
+                "font": {"size": 11},
+                "xanchor": "left",
+            }
+        ],
+    )
+    return fig
+
+
+def write_front_html(
+    verified: pd.DataFrame, front: str, path: str | Path, constraints: str = ""
+) -> Path:
+    """Write the front as one self-contained HTML file (plotly.js inlined, opens offline)."""
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    front_figure(verified, front, constraints).write_html(
+        out,
+        include_plotlyjs=True,
+        full_html=True,
+        config={"displaylogo": False, "responsive": True},
+        div_id="pareto-front",
+    )
+    return out

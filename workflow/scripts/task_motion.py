@@ -1,0 +1,49 @@
+"""Rule task_motion: the selected design moving through the payload test, as a GIF."""
+
+import json
+
+from qsm import settings
+from qsm.physics.task import min_enclosing_circle
+from qsm.report.animation import frames_record, write_task_motion, write_viewer_html
+from qsm.workflow.logs import logged
+from qsm.workflow.tables import read_table
+
+with logged(snakemake.log[0]) as log:  # noqa: F821
+    p = snakemake.params  # noqa: F821
+    inp = snakemake.input  # noqa: F821
+    out = snakemake.output  # noqa: F821
+    with open(inp.selected) as fh:
+        selected = json.load(fh)
+    with open(inp.payload) as fh:
+        payload = json.load(fh)
+    series = read_table(inp.series)
+    design = selected["design_m"]
+    verdict = "passed" if payload["passed"] else f"FAILED ({payload['reason']})"
+    title = (
+        f"selected design ({selected['formulation']}): l1 {design[0]:.3f} m, "
+        f"payload {payload['payload_kg']:g} kg, test {verdict}"
+    )
+    result = write_task_motion(
+        design,
+        series,
+        p.task_points,
+        min_enclosing_circle(p.task_points),
+        settings.operating_range(p.operating_range),
+        p.torque_limits_Nm,
+        out.gif,
+        title=title,
+    )
+    record = frames_record(result, design)
+    with open(out.frames, "w") as fh:
+        json.dump(record, fh)
+    peak = payload["peak_torque_Nm"]
+    lines = [
+        f"{record['n_frames']} frames at {record['fps']:g} frames/s: the payload test's "
+        f"{payload['duration_s']:.2f} s in real time (results/realization/task_motion.gif)",
+        "lengths l1, l2, l3, l4, EE_x, EE_y (mm): " + ", ".join(f"{1e3 * v:.1f}" for v in design),
+        f"peak requested torques {peak[0]:.1f} / {peak[1]:.1f} N m against the limits "
+        f"{p.torque_limits_Nm[0]:g} / {p.torque_limits_Nm[1]:g} N m; largest tracking error "
+        f"{payload['max_tracking_error_deg']:.3f} deg",
+    ]
+    write_viewer_html(out.gif, out.viewer, title, lines)
+    log.info("%d frames; %s", record["n_frames"], "; ".join(lines))
