@@ -40,6 +40,10 @@ STAGES: dict[str, str] = {
     "eta_derivatives": "5",
     "topology_optimize": "6",
     "payload_test": "6",
+    "study_lengths": "study",
+    "study_table3": "study",
+    "pareto_html": "exploration",
+    "task_motion": "exploration",
 }
 
 
