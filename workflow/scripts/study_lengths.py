@@ -3,8 +3,9 @@
 import json
 
 from qsm import settings
+from qsm.design_rules.experiments import INDEPENDENT_COLUMNS, independent_lengths
 from qsm.design_rules.plots import study_lengths_figure
-from qsm.design_rules.study import INDEPENDENT_COLUMNS, independent_lengths, lengths_outcome
+from qsm.design_rules.study import lengths_outcome
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.physics.duty import duty_cycle
 from qsm.workflow.logs import logged
