@@ -3,9 +3,10 @@
 Each round runs, in a fresh copy of the workflow each time: the local run (``--cores 2``), then
 every SLURM variant. Variants:
 
-- ``profile``: profiles/slurm as committed (shard rules as job arrays);
+- ``profile``: profiles/slurm as committed (one SLURM job per shard);
+- ``arrays``: the same, but the shard rules as job arrays (``slurm-array-jobs``);
 - ``shard-groups``: the same, but the shard rules as group jobs of ``--group-size`` shards;
-- ``no-groups``: the same, without any groups or arrays (one SLURM job per cluster rule);
+- ``no-groups``: the same, without any groups (one SLURM job per cluster rule);
 - ``before``: the workflow and profile of ``--before`` (default cf17537, before issue 12), with
   the account and partition written into its profile and ``--cores 2`` added (without it the
   dynamics group asks for 3 CPUs and never starts on a 2-CPU node).
@@ -22,7 +23,7 @@ With ``--config default`` the runs use config/config.yaml alone (the paper's sca
     python benchmarks/bench_slurm.py --config default --prepare select_mechanisms \
         --target gather_dataset
 
-    python benchmarks/bench_slurm.py [--rounds 2] [--variants profile shard-groups] [--before REV]
+    python benchmarks/bench_slurm.py [--rounds 2] [--variants profile arrays] [--before REV]
 
 ``--project STEP_SECONDS`` runs nothing: it projects the paper's run and a 10x run through the
 profile on N nodes from README's growth table and this cost of one cluster step (see
@@ -67,8 +68,8 @@ def edit_profile(work: Path, variant: str, group_size: int) -> None:
     """Rewrite the copy's profiles/slurm/config.yaml for ``variant``."""
     path = work / "profiles/slurm/config.yaml"
     profile = yaml.safe_load(path.read_text())
-    if variant in ("shard-groups", "no-groups"):
-        profile.pop("slurm-array-jobs", None)
+    if variant == "arrays":
+        profile["slurm-array-jobs"] = ",".join(SHARD_RULES)
     if variant == "shard-groups":
         profile.setdefault("groups", {}).update({rule: f"{rule}_shards" for rule in SHARD_RULES})
         profile["group-components"] = {f"{rule}_shards": group_size for rule in SHARD_RULES}
@@ -131,7 +132,7 @@ def project(step_s: float, cpus_per_node: int = 32) -> None:
     cluster step on the critical path costs ``step_s`` beyond its work (Snakemake start-ups,
     queue, status checks). The local column is the same model on 2 cores.
     """
-    print(f"\nProjection ({cpus_per_node} CPUs per node, {step_s:.0f} s per cluster step):")
+    print(f"\nProjection ({cpus_per_node} CPUs per node, {step_s:.1f} s per cluster step):")
     print(
         "| run | mechanisms | 2 cores, local (min) | "
         + " | ".join(f"{n} node{'s' if n > 1 else ''} (min)" for n in (1, 4, 16))
@@ -158,8 +159,8 @@ def main() -> None:
     parser.add_argument(
         "--variants",
         nargs="+",
-        default=["profile", "shard-groups"],
-        choices=["profile", "shard-groups", "no-groups", "before"],
+        default=["profile", "arrays", "shard-groups"],
+        choices=["profile", "arrays", "shard-groups", "no-groups", "before"],
     )
     parser.add_argument("--before", default="cf17537", help="commit of the 'before' variant")
     parser.add_argument("--group-size", type=int, default=2, help="shards per group job")
