@@ -40,6 +40,24 @@ include: "workflow/rules/summary.smk"
 include: "workflow/rules/exploration.smk"
 
 
+# Light rules (tables, gathers, plots, summaries: seconds at the paper's scale) run on the
+# submitting host under a cluster executor instead of as cluster jobs of their own (README).
+localrules:
+    select_mechanisms,
+    plot_mechanisms,
+    gather_dataset,
+    plot_dynamics,
+    compare_fronts,
+    decision_trees,
+    correlations,
+    eta_derivatives,
+    design_rules_summary,
+    select_design,
+    summary,
+    pareto_html,
+    task_motion,
+
+
 rule all:
     default_target: True
     input:
