@@ -2,7 +2,7 @@
 # A single-node SLURM with accounting on this machine, for trying and testing profiles/slurm.
 #
 #   scripts/slurm_local.sh start    install (apt, first time only) and start; idempotent
-#   scripts/slurm_local.sh stop     stop what it started and remove the PID files
+#   scripts/slurm_local.sh stop     stop what it started; remove the PID files and slurm.conf
 #   scripts/slurm_local.sh status   daemons and partitions
 #
 # Needs root and apt (Debian 12: slurm-wlm 22.05, slurmdbd, MariaDB, MUNGE). There is no systemd
@@ -238,6 +238,10 @@ stop_all() {
     fi
     rm -f /run/mysqld/mysqld.pid
     stop_daemon munged /run/munge/munged.pid
+    # Without a controller, every SLURM client command retries for MessageTimeout (10 s), and the
+    # executor plugin runs `scontrol show config` whenever Snakemake starts, SLURM or not: 9 s
+    # added to every run on this machine. Without slurm.conf they fail at once; `start` writes it.
+    rm -f "$ETC/slurm.conf"
     say "stopped"
 }
 
