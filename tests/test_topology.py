@@ -4,7 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+import scipy.sparse as sps
 import shapely
+from scipy.sparse.linalg import spsolve
 
 from qsm.physics import cad, duty
 from qsm.realisation import fe, geometry, simp, topology
@@ -40,6 +42,19 @@ def test_cantilever_compliance_volume_and_layout() -> None:
     fibres = np.r_[near_clamp[:3].mean(), near_clamp[-3:].mean()]
     assert fibres.min() > 0.8 and near_clamp[8:12].mean() < 0.5
     assert ((rho < 0.1) | (rho > 0.9)).mean() > 0.55  # mostly black and white
+
+
+def test_symmetric_lu_solves_the_stiffness_system_like_scipy() -> None:
+    """The faster factorisation gives scipy's direct solution, and ``analyse`` its compliance."""
+    problem = cantilever()
+    dom = problem.grid.domain(problem.thickness_m)
+    scale = SETTINGS.min_density + (1 - SETTINGS.min_density) * 0.5**SETTINGS.penal
+    K = sps.csc_matrix(fe.stiffness(dom, problem, SETTINGS)(np.full(60 * 20, scale)))
+    reference = spsolve(K, problem.forces[:, 0])
+    u = fe.SymmetricLU().update(K).solve(problem.forces)[:, 0]
+    assert np.abs(u - reference).max() < 1e-10 * np.abs(reference).max()
+    compliance = fe.analyse(problem, np.full((20, 60), 0.5), SETTINGS).compliance_J
+    assert compliance == pytest.approx(problem.forces[:, 0] @ reference, rel=1e-10)
 
 
 def test_extruded_cells_are_watertight_with_the_cell_mass() -> None:

@@ -8,6 +8,7 @@ from dataclasses import dataclass
 import numpy as np
 import scipy.sparse as sps
 from numpy.typing import ArrayLike, NDArray
+from scipy.sparse.linalg import splu
 
 from qsm.realisation.pymoto_quiet import pym
 
@@ -169,6 +170,29 @@ def stiffness(
     )
 
 
+class SymmetricLU(pym.solvers.SolverSparseLU):
+    """pyMOTO's sparse LU (SuperLU) with a symmetric fill-reducing ordering (minimum degree on
+    A^T + A) and diagonal pivots, for the symmetric positive-definite stiffness matrices: 0.45x
+    the time of pyMOTO's default (COLAMD ordering) on a 19,872-DOF plate, at the same residual
+    (benchmarks/bench_topology.py)."""
+
+    def update(self, A: sps.spmatrix) -> SymmetricLU:
+        """Factorise ``A``."""
+        self.iscomplex = False
+        self.inv = splu(
+            sps.csc_matrix(A),
+            permc_spec="MMD_AT_PLUS_A",
+            diag_pivot_thresh=0.0,
+            options={"SymmetricMode": True},
+        )
+        return self
+
+
+def linear_solve() -> pym.LinSolve:
+    """pyMOTO's K u = f module with :class:`SymmetricLU`."""
+    return pym.LinSolve(hermitian=True, solver=SymmetricLU())
+
+
 def analyse(
     problem: FeProblem, density: ArrayLike, settings: TopologySettings, penal: float | None = None
 ) -> FeResult:
@@ -179,7 +203,7 @@ def analyse(
     rho = np.asarray(density, dtype=float).ravel()
     scale = s.min_density + (1 - s.min_density) * rho ** (s.penal if penal is None else penal)
     K = stiffness(dom, problem, s)(scale)
-    u = pym.LinSolve(hermitian=True)(K, problem.forces)
+    u = linear_solve()(K, problem.forces)
     u = np.atleast_2d(u.T).T
     per_case = np.einsum("ik,ik->k", u, problem.forces)
     stress = pym.Stress(

@@ -10,7 +10,13 @@ import numpy as np
 import scipy.sparse as sps
 from numpy.typing import NDArray
 
-from qsm.realisation.fe import DEFAULT_TOPOLOGY, FeProblem, TopologySettings, stiffness
+from qsm.realisation.fe import (
+    DEFAULT_TOPOLOGY,
+    FeProblem,
+    TopologySettings,
+    linear_solve,
+    stiffness,
+)
 from qsm.realisation.pymoto_quiet import pym
 
 
@@ -50,7 +56,7 @@ def simp(problem: FeProblem, settings: TopologySettings = DEFAULT_TOPOLOGY) -> S
             xphys = pym.SetValue(passive, passive_value)(xf)
             xs = pym.MathExpression(f"{s.min_density} + {1 - s.min_density}*inp0^{s.penal}")(xphys)
             K = stiffness(dom, problem, s)(xs)
-            u = pym.LinSolve(hermitian=True)(K, sf)
+            u = linear_solve()(K, sf)
             c = pym.EinSum("ij,ij->")(u, sf)
         target = s.volume_fraction * n_design
         filt_h = sps.csr_matrix(filt.H)
