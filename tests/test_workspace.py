@@ -9,8 +9,10 @@ from qsm.physics.task import Disk
 from qsm.physics.workspace import (
     OperatingRange,
     Resolution,
+    _interp_rows,
     containment_margin,
     minimal_scale,
+    minimal_scales,
     radial_misfit,
     slice_workspace,
     union_and_margin,
@@ -106,6 +108,30 @@ def test_minimal_scale_is_the_first_contained_scale_of_a_fine_scan():
             continue
         assert scan[ok][0] >= fit.scale - 1e-9
         assert containment_margin(slices, fit.scale, DISK.distance, DISK.radius)[0] >= 0
+
+
+def test_interp_rows_is_np_interp_bit_for_bit():
+    rng = np.random.default_rng(5)
+    xp = np.sort(rng.uniform(0.2, 3.0, (40, 50)), axis=1)
+    xp[:10] = np.linspace(0.3, 2.0, 50) * rng.uniform(0.5, 2.0, (10, 1))  # evenly spaced
+    fp = rng.normal(size=xp.shape)
+    x = rng.uniform(0.0, 3.5, (40, 30))
+    x[:, :3] = xp[:, [0, 17, -1]]  # on the nodes and the ends
+    got = _interp_rows(x, xp, fp, -1.0)
+    ref = np.stack([np.interp(x[i], xp[i], fp[i], left=-1.0, right=-1.0) for i in range(40)])
+    assert np.array_equal(got, ref)
+
+
+def test_batched_scale_search_matches_one_design_at_a_time():
+    designs = feasible_ratios(23, 6)
+    slices = [slice_workspace(r, OP, DISK.angle) for r in designs]
+    together = minimal_scales(slices, DISK.distance, DISK.radius, 2.0)
+    for sl, fit in zip(slices, together, strict=True):
+        assert fit == minimal_scale(sl, DISK.distance, DISK.radius, 2.0)
+        if fit.feasible:  # the smallest scale that holds the disk, to the bisection's tolerance
+            assert containment_margin(sl, fit.scale, DISK.distance, DISK.radius)[0] >= 0
+            below = fit.scale * (1 - 2e-9)
+            assert containment_margin(sl, below, DISK.distance, DISK.radius)[0] < 0
 
 
 def test_containment_is_not_monotone_in_scale():

@@ -17,8 +17,9 @@ from qsm.physics.task import Disk
 from qsm.physics.workspace import (
     OperatingRange,
     Resolution,
+    Slices,
     arcs,
-    minimal_scale,
+    minimal_scales,
     radial_misfit,
     slices_of_arcs,
 )
@@ -59,7 +60,9 @@ def fit_design(ratios: Sequence[float], settings: FitSettings) -> dict[str, Any]
     ``workspace_area_m2`` and ``eta`` (NaN when infeasible). A design whose workspace radii alone
     rule the task out is not sliced: its ``workspace_area_unit`` is NaN too.
     """
-    return _fit_arcs(*arcs(ratios, settings.op, settings.resolution.n_delta), settings)
+    return _fit_arcs(
+        *arcs(np.atleast_2d(ratios), settings.op, settings.resolution.n_delta), settings
+    )[0]
 
 
 def _fit_arcs(
@@ -67,28 +70,42 @@ def _fit_arcs(
     lo: NDArray[np.float64],
     hi: NDArray[np.float64],
     settings: FitSettings,
-) -> dict[str, Any]:
-    """:func:`fit_design` from the design's :func:`qsm.physics.workspace.arcs`."""
+) -> list[dict[str, Any]]:
+    """:func:`fit_design` of designs from their :func:`qsm.physics.workspace.arcs` (M, n_delta):
+    the slicing one design at a time, the scale searches of all at once."""
     disk = settings.disk
-    if not np.all(np.isfinite(rho)):
-        return _infeasible("loop does not close", np.nan)
     radius = disk.radius + settings.safety_margin
-    radial = radial_misfit(rho.min(), rho.max(), disk.distance, radius, settings.scale_max)
-    if radial:
-        return _infeasible(radial, np.nan)
-    slices = slices_of_arcs(rho, lo, hi, disk.angle, settings.resolution.n_levels)
-    fit = minimal_scale(slices, disk.distance, radius, settings.scale_max, settings.n_scan)
-    if not fit.feasible:
-        return _infeasible(fit.reason, slices.area)
-    area = slices.area * fit.scale**2
-    return {
-        "feasible": True,
-        "reason": "",
-        "scale_m": fit.scale,
-        "workspace_area_unit": slices.area,
-        "workspace_area_m2": area,
-        "eta": disk.area / area,
-    }
+    fits: list[dict[str, Any]] = []
+    sliced: dict[int, Slices] = {}
+    for k in range(len(rho)):
+        if not np.all(np.isfinite(rho[k])):
+            fits.append(_infeasible("loop does not close", np.nan))
+            continue
+        radial = radial_misfit(
+            rho[k].min(), rho[k].max(), disk.distance, radius, settings.scale_max
+        )
+        if radial:
+            fits.append(_infeasible(radial, np.nan))
+            continue
+        fits.append({})
+        sliced[k] = slices_of_arcs(rho[k], lo[k], hi[k], disk.angle, settings.resolution.n_levels)
+    found = minimal_scales(
+        list(sliced.values()), disk.distance, radius, settings.scale_max, settings.n_scan
+    )
+    for (k, slices), fit in zip(sliced.items(), found, strict=True):
+        if not fit.feasible:
+            fits[k] = _infeasible(fit.reason, slices.area)
+            continue
+        area = slices.area * fit.scale**2
+        fits[k] = {
+            "feasible": True,
+            "reason": "",
+            "scale_m": fit.scale,
+            "workspace_area_unit": slices.area,
+            "workspace_area_m2": area,
+            "eta": disk.area / area,
+        }
+    return fits
 
 
 def _infeasible(reason: str, unit_area: float) -> dict[str, Any]:
@@ -103,14 +120,13 @@ def _infeasible(reason: str, unit_area: float) -> dict[str, Any]:
 
 
 def fit_rows(ratios: NDArray[np.float64], settings: FitSettings) -> Iterator[dict[str, Any]]:
-    """:func:`fit_design` of each row of ``ratios`` (N, 5), lazily, in order; the workspace arcs of
-    :data:`ARCS_CHUNK` rows at a time come from one vectorised call."""
+    """:func:`fit_design` of each row of ``ratios`` (N, 5), lazily, in order; the workspace arcs and
+    the scale searches of :data:`ARCS_CHUNK` rows at a time come from vectorised calls."""
     for start in range(0, len(ratios), ARCS_CHUNK):
         rho, lo, hi = arcs(
             ratios[start : start + ARCS_CHUNK], settings.op, settings.resolution.n_delta
         )
-        for k in range(len(rho)):
-            yield _fit_arcs(rho[k], lo[k], hi[k], settings)
+        yield from _fit_arcs(rho, lo, hi, settings)
 
 
 def fit_designs(
