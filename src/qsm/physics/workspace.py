@@ -222,36 +222,24 @@ def wrap_about(
     return np.concatenate([s, s2]), np.concatenate([e, e2])
 
 
-def _sorted_arcs(
-    starts: NDArray[np.float64], ends: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """Arcs sorted by start along axis 0 (levels along axis 1), with the furthest end reached by
-    the arcs before each (``-inf`` before the first)."""
-    order = np.argsort(starts, axis=0)
-    s = np.take_along_axis(starts, order, axis=0)
-    e = np.take_along_axis(ends, order, axis=0)
-    reach = np.maximum.accumulate(e, axis=0)
-    previous = np.vstack([np.full((1, s.shape[1]), -np.inf), reach[:-1]])
-    return s, e, previous
-
-
 def _union_length(starts: NDArray[np.float64], ends: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Length of the union of intervals; intervals along axis 0, levels along axis 1.
+    """Length of the union of intervals; intervals along axis 0, levels along axis 1."""
+    return _sorted_apart(starts, ends)[3]
 
-    With starts and ends sorted apart, there is a gap between the k-th end and the (k+1)-th start
-    exactly when the first lies below the second (the k-th start never exceeds the k-th end), so
-    the union is the hull less those gaps: no sort of the ends by their starts.
+
+def _sorted_apart(
+    starts: NDArray[np.float64], ends: NDArray[np.float64]
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], NDArray[np.float64]]:
+    """Starts and ends each sorted along axis 0, whether the union has a gap after the k-th end
+    (axis 0 one shorter), and the union's length.
+
+    There is a gap between the k-th end and the (k+1)-th start exactly when the first lies below
+    the second (the k-th start never exceeds the k-th end), so the union is the hull less those
+    gaps: no sort of the ends by their starts.
     """
     s, e = np.sort(starts, axis=0), np.sort(ends, axis=0)
-    gaps = np.clip(s[1:] - e[:-1], 0.0, None).sum(axis=0)
-    return e[-1] - s[0] - gaps
-
-
-def _covered(
-    s: NDArray[np.float64], e: NDArray[np.float64], previous: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """Union length of sorted arcs (see :func:`_sorted_arcs`)."""
-    return np.sum(np.clip(e - np.maximum(s, previous), 0.0, None), axis=0)
+    gap = s[1:] > e[:-1]
+    return s, e, gap, e[-1] - s[0] - np.where(gap, s[1:] - e[:-1], 0.0).sum(axis=0)
 
 
 def margin_about_zero(
@@ -267,18 +255,18 @@ def union_and_margin(
     """Length of the union of closed intervals and the half-width of its largest arc centred on 0
     (-1 where 0 is not covered); intervals along axis 0, levels along axis 1.
 
-    After sorting by start, an interval that starts beyond everything before it opens a new
-    connected piece of the union; the piece that holds 0 runs from its first start to its last
-    reach. One sort serves both results.
+    The union's connected pieces (:func:`_sorted_apart`) start at the first start and after each
+    gap, and end before each gap and at the last end; 0 is covered when the last piece to start
+    at or below 0 is not one that ends below 0.
     """
-    s, e, previous = _sorted_arcs(starts, ends)
-    covered = _covered(s, e, previous)
-    piece = np.cumsum(s > previous, axis=0)  # 1, 2, ... per connected piece
-    centre_piece = np.max(np.where((s <= 0.0) & (e >= 0.0), piece, 0), axis=0)
-    member = piece == centre_piece
-    left = np.min(np.where(member, s, np.inf), axis=0)
-    right = np.max(np.where(member, e, -np.inf), axis=0)
-    return covered, np.where(centre_piece > 0, np.minimum(right, -left), -1.0)
+    s, e, gap, covered = _sorted_apart(starts, ends)
+    piece_start = np.concatenate([s[:1], np.where(gap, s[1:], np.inf)])
+    piece_end = np.concatenate([np.where(gap, e[:-1], -np.inf), e[-1:]])
+    left = np.max(np.where(piece_start <= 0.0, piece_start, -np.inf), axis=0)
+    right = np.min(np.where(piece_end >= 0.0, piece_end, np.inf), axis=0)
+    ended = np.max(np.where(piece_end < 0.0, piece_end, -np.inf), axis=0)
+    holds = (left > ended) & np.isfinite(left) & np.isfinite(right)
+    return covered, np.where(holds, np.minimum(right, -left), -1.0)
 
 
 def disk_arc_half_width(
