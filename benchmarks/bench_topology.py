@@ -18,6 +18,7 @@ from qsm.physics.kinematics import as_design
 from qsm.realisation import payload, topology
 from qsm.realisation.fe import DEFAULT_TOPOLOGY, SymmetricLU, stiffness
 from qsm.realisation.loads import link_problem, peak_loads
+from qsm.realisation.torques import torques_before_after
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])  # m
 POINTS = [[-0.62, 0.20], [-0.82, 0.02], [-0.70, 0.02], [-0.82, 0.14], [-0.70, 0.14]]
@@ -54,7 +55,7 @@ def main() -> None:
     t0 = time.perf_counter()
     res = topology.optimise_links(DESIGN, cs, 5.0, d)
     t1 = time.perf_counter()
-    torques = topology.torques_before_after(DESIGN, cs, 5.0, d, res.props)
+    tq = torques_before_after(DESIGN, cs, 5.0, d, res.props)
     t2 = time.perf_counter()
     test = payload.payload_test(DESIGN, POINTS, cs, res.props)
     t3 = time.perf_counter()
@@ -63,7 +64,7 @@ def main() -> None:
         "torques_before_after_s": t2 - t1,
         "payload_test_s": t3 - t2,
         "links": {k: v.summary() for k, v in res.links.items()},
-        "torques": torques,
+        "torques": tq,
         "payload_test": payload.summary(test),
         "factorisation": factorisations(cs, d),
     }

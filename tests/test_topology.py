@@ -9,7 +9,7 @@ import shapely
 from scipy.sparse.linalg import spsolve
 
 from qsm.physics import cad, duty
-from qsm.realisation import fe, geometry, simp, topology
+from qsm.realisation import fe, geometry, simp, topology, torques
 
 SETTINGS = fe.TopologySettings(volume_fraction=0.5, max_iterations=60, cell_size_m=0.01)
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])
@@ -102,7 +102,7 @@ def test_link_optimisation_lightens_links_and_lowers_torques(tmp_path) -> None:
         assert np.isfinite(s["max_von_mises_after_MPa"])
     # the loads are in equilibrium with the motor: moment of the pin force about A ~ tau1
     fb = res.links["lower_arm"].loads[0].forces["B"]
-    tq = topology.torques_before_after(DESIGN, cs, 5.0, d, res.props)
+    tq = torques.torques_before_after(DESIGN, cs, 5.0, d, res.props)
     assert abs(DESIGN[0] * fb[1]) == pytest.approx(tq["before"]["tau1_Nm"], rel=0.1)
     assert tq["after"]["tau1_Nm"] < tq["before"]["tau1_Nm"]
     assert tq["after"]["tau2_Nm"] < tq["before"]["tau2_Nm"]

@@ -88,6 +88,7 @@ rule eta_derivatives_shard:
         f"{RESULTS}/benchmarks/eta_derivatives/shard-{{shard}}.tsv"
     wildcard_constraints:
         shard=r"\d+",
+    priority: 5  # long side jobs: into the cores the critical path leaves free, before plots
     conda:
         ENV
     params:

@@ -19,6 +19,7 @@ rule study_lengths:
         f"{RESULTS}/logs/study_lengths.log",
     benchmark:
         f"{RESULTS}/benchmarks/study_lengths.tsv"
+    priority: 5  # long side jobs: into the cores the critical path leaves free, before plots
     conda:
         ENV
     params:

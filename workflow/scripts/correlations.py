@@ -1,7 +1,7 @@
 """Rule correlations: Spearman and Pearson coefficients on the 400 designs."""
 
+from qsm.design_rules.correlations import FEATURES_MM, OBJECTIVES, correlations
 from qsm.design_rules.plots import correlation_figure
-from qsm.design_rules.trees import FEATURES_MM, OBJECTIVES, correlations
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 

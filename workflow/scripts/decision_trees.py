@@ -2,8 +2,9 @@
 
 import json
 
+from qsm.design_rules.correlations import FEATURES_MM, OBJECTIVES
 from qsm.design_rules.plots import trees_figure
-from qsm.design_rules.trees import FEATURES_MM, OBJECTIVES, fit_tree, mining_designs, rule_sentence
+from qsm.design_rules.trees import fit_tree, mining_designs, rule_sentence
 from qsm.optimisation.nsga import PREDICTION_COLUMNS
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table

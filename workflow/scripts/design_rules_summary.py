@@ -2,9 +2,9 @@
 
 import json
 
+from qsm.design_rules.correlations import FEATURES_MM, OBJECTIVES, correlations
 from qsm.design_rules.findings import Evidence, Study, findings, summary_markdown
 from qsm.design_rules.study import distinct_rows, elasticities
-from qsm.design_rules.trees import FEATURES_MM, OBJECTIVES, correlations
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table, write_table

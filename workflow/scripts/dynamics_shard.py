@@ -1,8 +1,9 @@
 """Rule dynamics: closed-chain inverse dynamics of one shard of the mechanisms."""
 
 from qsm import settings
-from qsm.mechanisms.dataset import evaluate_shard, status_counts
+from qsm.mechanisms.dataset import status_counts
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
+from qsm.physics.dynamics import evaluate_shard
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 

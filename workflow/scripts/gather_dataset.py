@@ -3,9 +3,8 @@
 import json
 
 from qsm.config import settings_hash
-from qsm.mechanisms.dataset import DATASET_COLUMNS, gather, status_counts
+from qsm.mechanisms.dataset import DATASET_COLUMNS, DYNAMICS_COLUMNS, gather, status_counts
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
-from qsm.physics.dynamics import RESULT_KEYS
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
@@ -13,7 +12,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
     inp = snakemake.input  # noqa: F821
     mechanisms = read_table(inp.mechanisms, MECHANISM_COLUMNS)
-    shards = [read_table(path, ["mechanism_id", *RESULT_KEYS]) for path in inp.shards]
+    shards = [read_table(path, ["mechanism_id", *DYNAMICS_COLUMNS]) for path in inp.shards]
     dataset = gather(mechanisms, shards)
     counts = status_counts(dataset)
     failed = dataset.loc[dataset["status"] != "ok"]

@@ -8,11 +8,8 @@ from qsm import settings
 from qsm.physics.cad import link_meshes
 from qsm.physics.duty import duty_cycle
 from qsm.realisation.export import export_stls, props_to_json, torques_markdown
-from qsm.realisation.topology import (
-    optimise_links,
-    plot_links,
-    torques_before_after,
-)
+from qsm.realisation.topology import optimise_links, plot_links
+from qsm.realisation.torques import torques_before_after
 from qsm.workflow.logs import logged
 
 with logged(snakemake.log[0]) as log:  # noqa: F821

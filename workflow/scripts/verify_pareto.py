@@ -3,8 +3,9 @@
 import json
 
 from qsm import settings
+from qsm.optimisation.comparison import summary
 from qsm.optimisation.nsga import PREDICTION_COLUMNS
-from qsm.optimisation.verify import TRUE_COLUMNS, summary, verify_front
+from qsm.optimisation.verify import TRUE_COLUMNS, verify_front
 from qsm.physics.duty import duty_cycle
 from qsm.surrogate.model import INPUTS
 from qsm.workflow.logs import logged

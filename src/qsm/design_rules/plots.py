@@ -4,13 +4,14 @@ from __future__ import annotations
 
 from collections.abc import Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
-from sklearn.tree import plot_tree
 
-from qsm.design_rules.trees import TreeRules
+if TYPE_CHECKING:
+    from qsm.design_rules.trees import TreeRules
 
 
 def sobol_figure(indices: pd.DataFrame, outputs: Sequence[str], path: str | Path) -> None:
@@ -32,6 +33,8 @@ def sobol_figure(indices: pd.DataFrame, outputs: Sequence[str], path: str | Path
 
 def trees_figure(trees: Sequence[TreeRules], path: str | Path) -> None:
     """The regression trees, one panel each, lengths in millimetres."""
+    from sklearn.tree import plot_tree  # scikit-learn: only this figure needs it
+
     fig, axes = plt.subplots(len(trees), 1, figsize=(16, 5.5 * len(trees)), squeeze=False)
     for ax, rules in zip(axes[:, 0], trees, strict=True):
         names = [f"{n} (mm)" for n in ("l1", "l2", "l3", "l4", "ee_x", "ee_y")]

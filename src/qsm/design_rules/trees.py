@@ -1,20 +1,14 @@
-"""Decision trees and correlations on the designs near the Pareto front (paper Sections 4.2-4.3)."""
+"""Decision trees on the designs near the Pareto front (paper Section 4.2)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
-import numpy as np
 import pandas as pd
-from scipy import stats
 from sklearn.tree import DecisionTreeRegressor, export_text
 
+from qsm.design_rules.correlations import FEATURES_MM, OBJECTIVES
 from qsm.physics.kinematics import DESIGN_NAMES
-
-#: Objectives as the optimiser saw them (surrogate predictions) and their display names.
-OBJECTIVES: dict[str, str] = {"eta_pred": "eta", "tau1_pred_Nm": "tau1", "tau2_pred_Nm": "tau2"}
-FEATURES_MM: tuple[str, ...] = tuple(f"{n}_mm" for n in DESIGN_NAMES)
 
 
 def mining_designs(pareto: pd.DataFrame, last_generations: pd.DataFrame) -> pd.DataFrame:
@@ -73,21 +67,3 @@ def rule_sentence(rules: TreeRules) -> str:
         f"{rules.first_split} <= {rules.threshold_mm:.1f} mm -> {word} {name} "
         f"({rules.left_mean:.4g} vs {rules.right_mean:.4g})"
     )
-
-
-def correlations(
-    designs: pd.DataFrame, variables: Sequence[str], objectives: Sequence[str]
-) -> pd.DataFrame:
-    """Spearman and Pearson coefficients with p-values for every variable-objective pair, and
-    between the objectives."""
-    rows = []
-    pairs = [(v, o) for v in variables for o in objectives]
-    pairs += [(a, b) for i, a in enumerate(objectives) for b in objectives[i + 1 :]]
-    for a, b in pairs:
-        x, y = designs[a].to_numpy(), designs[b].to_numpy()
-        constant = np.ptp(x) == 0 or np.ptp(y) == 0
-        sp = (np.nan, np.nan) if constant else stats.spearmanr(x, y)
-        pe = (np.nan, np.nan) if constant else stats.pearsonr(x, y)
-        rows.append((a, b, float(sp[0]), float(sp[1]), float(pe[0]), float(pe[1])))
-    columns = ["a", "b", "spearman", "spearman_p", "pearson", "pearson_p"]
-    return pd.DataFrame(rows, columns=columns)

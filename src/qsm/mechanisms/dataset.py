@@ -1,4 +1,7 @@
-"""Stage 2 orchestration: settings from the config, one dynamics shard, and the gathered dataset."""
+"""Stage 2's table: its columns with units, the gathered dataset and its healthy rows.
+
+Light on purpose (no MuJoCo, no trimesh): most later rules read the dataset through it. One shard's
+dynamics is :func:`qsm.physics.dynamics.evaluate_shard`."""
 
 from __future__ import annotations
 
@@ -8,10 +11,6 @@ import numpy as np
 import pandas as pd
 
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
-from qsm.physics.cad import CadSettings
-from qsm.physics.duty import DutySettings, duty_cycle
-from qsm.physics.dynamics import RESULT_KEYS, evaluate_table
-from qsm.workflow.sharding import shard_slice
 
 #: Columns that Stage 2 adds to the mechanism table, with units.
 DYNAMICS_COLUMNS: dict[str, str] = {
@@ -33,25 +32,10 @@ DYNAMICS_COLUMNS: dict[str, str] = {
     "status_reason": "why a mechanism failed (empty when ok)",
 }
 DATASET_COLUMNS: dict[str, str] = {**MECHANISM_COLUMNS, **DYNAMICS_COLUMNS}
-assert set(DYNAMICS_COLUMNS) == set(RESULT_KEYS)
 
 
 class DatasetError(ValueError):
     """The dynamics shards do not cover the mechanisms exactly once."""
-
-
-def evaluate_shard(
-    mechanisms: pd.DataFrame,
-    n_shards: int,
-    shard: int,
-    cad: CadSettings,
-    duty: DutySettings,
-    payload_kg: float,
-) -> pd.DataFrame:
-    """Dynamics of the rows of shard ``shard`` of ``n_shards`` (``mechanism_id`` + results)."""
-    rows = mechanisms.iloc[shard_slice(len(mechanisms), n_shards, shard)]
-    out = evaluate_table(rows, duty_cycle(duty), cad, payload_kg)
-    return out.reset_index(drop=True)
 
 
 def gather(mechanisms: pd.DataFrame, shards: Sequence[pd.DataFrame]) -> pd.DataFrame:
