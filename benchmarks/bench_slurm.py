@@ -47,12 +47,13 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARD_RULES = ("fit_task", "dynamics", "eta_derivatives_shard")
-# README, Performance (2 cores, the default config): marginal wall seconds per mechanism from the
-# growth table (bench_scaling.py) for Stages 1-3; the eta derivatives, 2 shards of 28.6 s for
-# 11,080 mechanisms; the jobs whose cost does not grow with the mechanisms, in seconds.
-MARGINAL_WALL_S = {"stage 1": 3.03e-3, "stage 2": 1.59e-3, "surrogate": 0.13e-3}
-DERIVATIVES_CPU_S = 2 * 28.6 / 11_080
-FIXED_S = {"surrogate": 6.9, "optimize": 9.6 + 23.3, "verify": 2 * 2.2, "realise": 13.7 + 2.1}
+# README, Performance (2 cores, the default config, a6526e4): marginal wall seconds per mechanism
+# from the growth table (bench_scaling.py, 5,000-20,000 mechanisms) for Stages 1-3; the eta
+# derivatives, 2 shards of 15.5 s for 11,080 mechanisms; the jobs whose cost does not grow with
+# the mechanisms, in seconds.
+MARGINAL_WALL_S = {"stage 1": 0.48e-3, "stage 2": 0.57e-3, "surrogate": 0.08e-3}
+DERIVATIVES_CPU_S = 2 * 15.5 / 11_080
+FIXED_S = {"surrogate": 4.7, "optimize": 6.3 + 11.6, "verify": 2 * 2.1, "realise": 12.3 + 2.1}
 CLUSTER_STEPS = 5  # prepare, fit_task, dynamics, fronts, realise: the critical path's SLURM jobs
 
 
