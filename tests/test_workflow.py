@@ -22,6 +22,7 @@ from qsm.optimisation.verify import verify_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.workspace import OperatingRange
 from qsm.realisation.printing import all_links_fit
+from qsm.report.headline import headline_markdown
 from qsm.surrogate.model import INPUTS
 from qsm.surrogate.model import load as load_surrogate
 from qsm.workflow.tables import read_meta, read_table
@@ -258,6 +259,21 @@ def test_realisation_outputs(run):
     assert payload["limit_Nm"] == config["payload_test"]["torque_limits_Nm"]
     summary_md = (run / "results/summary.md").read_text()
     assert "payload test" in summary_md and "## Stage 6" in summary_md
+    # a light payload keeps its decimals in the headline
+    res = run / "results"
+    files = {
+        "filters": "mechanisms/filter_report.json",
+        "status": "dynamics/status.json",
+        "metrics": "surrogate/metrics.json",
+        "comparison": "optimization/comparison.json",
+        "selected": "realization/selected.json",
+        "torques": "realization/torques.json",
+        "payload": "realization/payload_test.json",
+    }
+    loaded = {key: json.loads((res / path).read_text()) for key, path in files.items()}
+    loaded["payload"]["payload_kg"] = 0.3
+    findings = pd.read_parquet(res / "design_rules/findings.parquet")
+    assert "payload test (0.3 kg)" in headline_markdown(findings=findings, **loaded)
 
 
 def test_payload_test_fails_below_the_required_torque(run, tmp_path):

@@ -79,7 +79,7 @@ def headline_markdown(
     peak = ", ".join(f"{v:.1f}" for v in payload["peak_torque_Nm"])
     limit = ", ".join(f"{v:.0f}" for v in payload["limit_Nm"])
     lines.append(
-        f"- payload test ({payload['payload_kg']:.0f} kg): "
+        f"- payload test ({payload['payload_kg']:g} kg): "
         f"{'passed' if payload['passed'] else 'FAILED'}, max tracking error "
         f"{payload['max_tracking_error_deg']:.3f} deg, peak torques {peak} N m "
         f"(limits {limit} N m)."
