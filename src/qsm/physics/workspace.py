@@ -318,10 +318,6 @@ class _DiskCheck:
         s = np.atleast_1d(np.asarray(scale, dtype=float))[:, None]
         return np.min(self._have(self.radii[None, :] / s) - self.need, axis=1)
 
-    def holds(self, scale: float) -> bool:
-        """Whether the disk lies inside the workspace scaled by ``scale`` (m)."""
-        return bool(np.min(self._have(self.radii / scale) - self.need[0]) >= 0.0)
-
     def _have(self, unit: NDArray[np.float64]) -> NDArray[np.float64]:
         """Half-width of the workspace arc centred on the task angle at radii ``unit`` (l1);
         -1 off the workspace (its ``margin_rho`` run from ``rho_min`` to ``rho_max``)."""
