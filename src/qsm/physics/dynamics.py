@@ -87,9 +87,13 @@ def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64
 def loop_state(
     design: ArrayLike, theta: ArrayLike, dtheta: ArrayLike, ddtheta: ArrayLike
 ) -> LoopState:
-    """Solve the loop for motor angles/rates/accelerations (N, 2) of one design (6 lengths, m)."""
+    """Solve the loop for motor angles/rates/accelerations (N, 2) of one design (6 lengths, m), or
+    of a batch of designs (P, 6); the fields then carry a leading design axis (P, N, ...)."""
     d = as_design(design)
     th, dth, ddth = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (theta, dtheta, ddtheta))
+    if d.ndim > 1:  # a batch of designs (P, 6): states (N, 2) shared or (P, N, 2) per design
+        lead = d.shape[:-1]
+        th, dth, ddth = (np.broadcast_to(a, (*lead, *a.shape[-2:])) for a in (th, dth, ddth))
     with np.errstate(invalid="ignore", divide="ignore"):
         return _loop_state(d, th, dth, ddth)
 
@@ -100,33 +104,42 @@ def _loop_state(
     dth: NDArray[np.float64],
     ddth: NDArray[np.float64],
 ) -> LoopState:
-    l1, l2, l3, l4 = d[0], d[1], d[2], d[3]
-    p = pose(d, th[:, 0], th[:, 1])
-    psi = np.arctan2(p.D[:, 1] - p.C[:, 1], p.D[:, 0] - p.C[:, 0])
+    """:func:`loop_state` of designs ``d`` (..., 6) at motor states (..., N, 2)."""
+    l1, l2, l3, l4 = (d[..., i, None] for i in range(4))
+    p = pose(d, th[..., 0], th[..., 1])
+    psi = np.arctan2(p.D[..., 1] - p.C[..., 1], p.D[..., 0] - p.C[..., 0])
     u = np.stack([np.cos(p.phi), np.sin(p.phi)], axis=-1)
     v = np.stack([np.cos(psi), np.sin(psi)], axis=-1)
-    e1 = np.stack([np.cos(th[:, 0]), np.sin(th[:, 0])], axis=-1)
-    e2 = np.stack([np.cos(th[:, 1]), np.sin(th[:, 1])], axis=-1)
+    e1 = np.stack([np.cos(th[..., 0]), np.sin(th[..., 0])], axis=-1)
+    e2 = np.stack([np.cos(th[..., 1]), np.sin(th[..., 1])], axis=-1)
     # M [phi_dot, psi_dot] = C_dot - B_dot with columns a = -l4 perp(u), b = -l3 perp(v)
-    a, b = -l4 * perp(u), -l3 * perp(v)
+    a, b = -l4[..., None] * perp(u), -l3[..., None] * perp(v)
     det = _cross(a, b)
 
     def solve(rhs: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
         return _cross(rhs, b) / det, _cross(a, rhs) / det
 
-    phi_1, psi_1 = solve(-l1 * perp(e1))  # d/dtheta1
-    phi_2, psi_2 = solve(l2 * perp(e2))  # d/dtheta2
-    phi_d = phi_1 * dth[:, 0] + phi_2 * dth[:, 1]
-    psi_d = psi_1 * dth[:, 0] + psi_2 * dth[:, 1]
-    b_dd = l1 * (ddth[:, :1] * perp(e1) - dth[:, :1] ** 2 * e1)
-    c_dd = l2 * (ddth[:, 1:] * perp(e2) - dth[:, 1:] ** 2 * e2)
+    phi_1, psi_1 = solve(-l1[..., None] * perp(e1))  # d/dtheta1
+    phi_2, psi_2 = solve(l2[..., None] * perp(e2))  # d/dtheta2
+    phi_d = phi_1 * dth[..., 0] + phi_2 * dth[..., 1]
+    psi_d = psi_1 * dth[..., 0] + psi_2 * dth[..., 1]
+    b_dd = l1[..., None] * (ddth[..., :1] * perp(e1) - dth[..., :1] ** 2 * e1)
+    c_dd = l2[..., None] * (ddth[..., 1:] * perp(e2) - dth[..., 1:] ** 2 * e2)
     phi_dd, psi_dd = solve(
-        c_dd - b_dd - l4 * phi_d[:, None] ** 2 * u - l3 * psi_d[:, None] ** 2 * v
+        c_dd
+        - b_dd
+        - l4[..., None] * phi_d[..., None] ** 2 * u
+        - l3[..., None] * psi_d[..., None] ** 2 * v
     )
 
-    q = np.column_stack([th[:, 0], p.phi - th[:, 0], th[:, 1], psi - th[:, 1]])
-    qd = np.column_stack([dth[:, 0], phi_d - dth[:, 0], dth[:, 1], psi_d - dth[:, 1]])
-    qdd = np.column_stack([ddth[:, 0], phi_dd - ddth[:, 0], ddth[:, 1], psi_dd - ddth[:, 1]])
+    def joints(
+        t1: NDArray[np.float64], phi: NDArray[np.float64], t2: NDArray[np.float64], psi_: Any
+    ) -> NDArray[np.float64]:
+        return np.stack([t1, phi - t1, t2, psi_ - t2], axis=-1)
+
+    q = joints(th[..., 0], p.phi, th[..., 1], psi)
+    qd = joints(dth[..., 0], phi_d, dth[..., 1], psi_d)
+    qdd = joints(ddth[..., 0], phi_dd, ddth[..., 1], psi_dd)
     one, zero = np.ones_like(phi_1), np.zeros_like(phi_1)
     G = np.stack(
         [
@@ -135,7 +148,7 @@ def _loop_state(
             np.stack([zero, one], axis=-1),
             np.stack([psi_1, psi_2 - 1.0], axis=-1),
         ],
-        axis=1,
+        axis=-2,
     )
     return LoopState(q, qd, qdd, G, u, v, np.abs(_cross(u, v)), p.closes)
 

@@ -1,0 +1,69 @@
+"""The link material and the strength requirements every printed part is checked against.
+
+Default material: Stratasys ABS-M30, FDM. Stratasys publishes a tensile strength of 36 MPa
+(ASTM D638, XZ build orientation) and a modulus of 2.4 GPa ("ABS-M30 Production-Grade
+Thermoplastic for FDM 3D Printers", Stratasys spec sheet); an independent ISO 527 test found about
+10 % less, and printed parts are weaker across layers than along them (vendors' guides: 30-70 %).
+The defaults, 31 MPa and 2.2 GPa, assume the plates are printed flat (layers in the mechanism
+plane, the XY / XZ orientations), which loads the layers along their length.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class Material:
+    """An isotropic printed material (SI units).
+
+    name: label for outputs. density_kg_m3: default 1040 (ABS-M30).
+    youngs_modulus_pa: default 2.2e9. poisson_ratio: default 0.35.
+    yield_strength_pa: strength the safety factors refer to, default 31e6.
+    """
+
+    name: str = "ABS-M30"
+    density_kg_m3: float = 1040.0
+    youngs_modulus_pa: float = 2.2e9
+    poisson_ratio: float = 0.35
+    yield_strength_pa: float = 31e6
+
+    def __post_init__(self) -> None:
+        if min(self.density_kg_m3, self.youngs_modulus_pa, self.yield_strength_pa) <= 0:
+            raise ValueError("density, Young's modulus and yield strength must be positive")
+        if not 0.0 < self.poisson_ratio < 0.5:
+            raise ValueError("poisson_ratio must lie in (0, 0.5)")
+
+
+@dataclass(frozen=True)
+class StrengthSettings:
+    """What a link must hold (dimensionless factors, SI units).
+
+    safety_factor: peak stress at most yield_strength / safety_factor, default 2.
+    buckling_safety_factor: Euler load at least this multiple of the peak compression, default 3
+        (printed columns are less straight and less uniform than the Euler model assumes).
+    lug_stress_concentration: peak over nominal net-section stress of a pin-loaded bore, default
+        3.0 (Peterson's Stress Concentration Factors, pin-loaded lugs: about 2.5-3 for close-fitting
+        pins at bore / boss diameter 0.3-0.5; the upper end, as printed bores fit loosely).
+    bore_diameter_m: diameter of the bore at every joint, default 22 mm (the seat of a 608 bearing,
+        8 x 22 x 7 mm).
+    """
+
+    safety_factor: float = 2.0
+    buckling_safety_factor: float = 3.0
+    lug_stress_concentration: float = 3.0
+    bore_diameter_m: float = 0.022
+
+    def __post_init__(self) -> None:
+        if min(self.safety_factor, self.buckling_safety_factor, self.lug_stress_concentration) < 1:
+            raise ValueError("safety factors and the stress concentration must be at least 1")
+        if self.bore_diameter_m < 0:
+            raise ValueError("bore_diameter_m must be >= 0")
+
+    def allowable_stress_pa(self, material: Material) -> float:
+        """Largest allowed stress (Pa) in ``material``."""
+        return material.yield_strength_pa / self.safety_factor
+
+
+DEFAULT_MATERIAL = Material()
+DEFAULT_STRENGTH = StrengthSettings()

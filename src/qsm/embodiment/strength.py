@@ -1,0 +1,308 @@
+"""Strength of every link over the duty: bar stresses, bores, pin-loaded lugs and buckling.
+
+Each link is a flat plate of the CAD section (width ``w`` in the plane, thickness ``t``; bosses of
+radius ``R`` with a bore of diameter ``d_b`` at every joint but E). It is analysed as a beam along
+its spine (the straight bars between the joint centres; the upper arm's spine is D - B - E' - E)
+under the joint forces of :mod:`qsm.embodiment.loads`, its weight and its d'Alembert inertia. The
+link's mass is spread evenly along its spine (a simplification: the bosses hold more than the
+bars; a finite-element comparison bounds the error, docs/strength.md).
+
+At a cut through the spine the piece beyond the cut (away from the motor for the lower arm and the
+crank, away from C for the coupler, towards D or E for the upper arm) gives the axial force N and
+the in-plane bending moment M (the distributed load's moment by Simpson's rule, exact for its
+linear variation). Checks:
+
+* bar, at the boss edges and mid-span: ``|N| / (w t) + 6 |M| / (t w^2)``;
+* net section through a bore where a moment passes (A of the lower arm and crank, B of the upper
+  arm): ``|N| / (t (2R - d_b)) + |M| R / I_net`` with ``I_net = t ((2R)^3 - d_b^3) / 12``;
+* pin-loaded lug at every bore: ``K_t |F| / (t (2R - d_b))`` (F the joint force, K_t
+  ``lug_stress_concentration``);
+* Euler buckling of every bar ever in compression (the lower arm, the crank, the coupler and the
+  upper arm's D-B leg), about the weaker axis (``I = min(w t^3, t w^3) / 12``), between its joint
+  centres, pinned at both ends (K = 1): the joints are held in place by their shafts and bearings
+  and free to rotate. That is conservative for the lower arm and the crank, which the motor shaft
+  clamps at A (fixed-pinned, K = 0.7); it is not if a joint can sway out of the plane, which the
+  buckling safety factor is meant to cover. Bending-compression interaction is not modelled.
+
+The safety factor of a link is yield / peak stress, its buckling factor the Euler load over the
+peak compression. It holds when both reach :class:`qsm.embodiment.material.StrengthSettings`'
+factors; the utilisation ``max(stress * safety_factor / yield, compression *
+buckling_safety_factor / Euler load)`` is at most 1 then, and g13 is the largest utilisation minus
+1 over the links.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.embodiment.loads import GRAVITY, Inertials, JointLoads, LinkMotion
+from qsm.embodiment.material import Material, StrengthSettings
+from qsm.physics.cad import CadSettings
+from qsm.physics.kinematics import as_design
+
+#: Euler effective-length factor (K) of every member checked for buckling: pinned-pinned.
+BUCKLING_K = 1.0
+
+
+@dataclass(frozen=True)
+class Section:
+    """The plate section: width_m (in the plane), thickness_m, boss_radius_m, bore_m (m)."""
+
+    width_m: float
+    thickness_m: float
+    boss_radius_m: float
+    bore_m: float
+
+    @classmethod
+    def of(cls, cad: CadSettings, strength: StrengthSettings) -> Section:
+        """The CAD section with the strength settings' bore."""
+        if not strength.bore_diameter_m < 2 * cad.boss_radius_m:
+            raise ValueError("the bore must be smaller than the boss diameter")
+        return cls(cad.width_m, cad.thickness_m, cad.boss_radius_m, strength.bore_diameter_m)
+
+    @property
+    def overlap_m(self) -> float:
+        """Distance from a joint centre to the boss edge along a bar (m)."""
+        return math.sqrt(self.boss_radius_m**2 - (self.width_m / 2) ** 2)
+
+    @property
+    def weak_inertia_m4(self) -> float:
+        """Second moment of the bar section about its weaker axis (m^4)."""
+        w, t = self.width_m, self.thickness_m
+        return min(w * t**3, t * w**3) / 12
+
+
+def _pt(x: ArrayLike, y: ArrayLike = 0.0) -> NDArray[np.float64]:
+    x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+    return np.stack([x, y], axis=-1)
+
+
+class Cuts(NamedTuple):
+    """The cuts through one link's spine (C of them; leading axes of the designs).
+
+    at (..., C, 2): link-frame point of each cut; tangent (C, 2): unit vector into the piece
+    beyond; piece (..., C, 3, 2): that piece's spine polyline from the cut on (a repeated point
+    is a segment of length 0); load (..., C, 2): where the piece's one joint load acts;
+    slot (C,): which of the link's joint loads (:data:`LOADS`) that is; bore (C,): the cut passes
+    through a bore (net section); column (C,): the cut feeds the buckling check; labels.
+    """
+
+    at: NDArray[np.float64]
+    tangent: NDArray[np.float64]
+    piece: NDArray[np.float64]
+    load: NDArray[np.float64]
+    slot: NDArray[np.intp]
+    bore: NDArray[np.bool_]
+    column: NDArray[np.bool_]
+    labels: tuple[str, ...]
+
+
+#: The joint loads on each link's pieces beyond its cuts: (force of :class:`JointLoads`, sign).
+LOADS: dict[str, tuple[tuple[str, float], ...]] = {
+    "lower_arm": (("b", -1.0),),
+    "crank": (("c", -1.0),),
+    "coupler": (("d", 1.0),),
+    "upper_arm": (("d", -1.0), ("e", 1.0)),
+}
+#: Bored joints of each link and the joint force through each bore.
+BORES: dict[str, tuple[tuple[str, str], ...]] = {
+    "lower_arm": (("A", "a_lower"), ("B", "b")),
+    "crank": (("A", "a_crank"), ("C", "c")),
+    "coupler": (("C", "c"), ("D", "d")),
+    "upper_arm": (("B", "b"), ("D", "d")),
+}
+
+
+def _cuts(rows: list[tuple], labels: list[str]) -> Cuts:
+    """Stack cut rows (at, tangent, piece points, load point, slot, bore, column)."""
+    at, tangent, piece, load, slot, bore, column = zip(*rows, strict=True)
+    pieces = [np.stack([*p, *[p[-1]] * (3 - len(p))], axis=-2) for p in piece]
+    return Cuts(
+        np.stack(at, -2),
+        np.array(tangent, dtype=float),
+        np.stack(pieces, -3),
+        np.stack(load, -2),
+        np.array(slot),
+        np.array(bore),
+        np.array(column),
+        tuple(labels),
+    )
+
+
+def _bar(length: NDArray[np.float64], sec: Section, bore_at_start: bool) -> Cuts:
+    """Cuts of a bar from (0, 0) to (length, 0), loaded at its far joint."""
+    x0, end, tx = sec.overlap_m, _pt(length), (1.0, 0.0)
+    rows, labels = [], []
+    if bore_at_start:
+        rows.append((_pt(0 * length), tx, (_pt(0 * length), end), end, 0, True, False))
+        labels.append("net section at the bore of the driven joint")
+    for frac, label in ((0.0, "first boss edge"), (0.5, "mid-span"), (1.0, "second boss edge")):
+        x = _pt(x0 + frac * (length - 2 * x0))
+        rows.append((x, tx, (x, end), end, 0, False, True))
+        labels.append(f"bar at the {label}")
+    return _cuts(rows, labels)
+
+
+def link_cuts(design: ArrayLike, sec: Section) -> dict[str, Cuts]:
+    """The cuts of each link of ``design`` (..., 6) m (see the module docstring)."""
+    d = as_design(design)
+    l1, l2, l3, l4, ex, ey = (d[..., i] for i in range(6))
+    x0, h, z = sec.overlap_m, sec.width_m / 2, 0 * l4
+    dp, corner, e = _pt(-l4), _pt(ex), _pt(ex, -ey)
+    left, right, down = (-1.0, 0.0), (1.0, 0.0), (0.0, -1.0)
+    upper = [
+        ((_pt(z), left, (_pt(z), dp), dp, 0, True, False), "net section at bore B, D side"),
+        ((_pt(-x0 + z), left, (_pt(-x0 + z), dp), dp, 0, False, True), "bar at boss B, D side"),
+        ((_pt(-l4 + x0), left, (_pt(-l4 + x0), dp), dp, 0, False, True), "bar at boss D"),
+        ((_pt(z), right, (_pt(z), corner, e), e, 1, True, False), "net section at bore B, E side"),
+        (
+            (_pt(x0 + z), right, (_pt(x0 + z), corner, e), e, 1, False, False),
+            "bar at boss B, E side",
+        ),
+        ((_pt(ex - h), right, (_pt(ex - h), corner, e), e, 1, False, False), "bar at the corner"),
+        ((_pt(ex, -h + z), down, (_pt(ex, -h + z), e), e, 1, False, False), "bar below the corner"),
+        ((_pt(ex, x0 - ey), down, (_pt(ex, x0 - ey), e), e, 1, False, False), "bar at boss E"),
+    ]
+    return {
+        "lower_arm": _bar(l1, sec, True),
+        "crank": _bar(l2, sec, True),
+        "coupler": _bar(l3, sec, False),
+        "upper_arm": _cuts([r for r, _ in upper], [label for _, label in upper]),
+    }
+
+
+#: Spine length (m) of each link, over which its mass is spread.
+_SPINE = {
+    "lower_arm": lambda d: d[..., 0],
+    "crank": lambda d: d[..., 1],
+    "coupler": lambda d: d[..., 2],
+    "upper_arm": lambda d: d[..., 3] + d[..., 4] + d[..., 5],
+}
+#: Length (m) of the column of each link's buckling check.
+_COLUMN = {
+    "lower_arm": lambda d: d[..., 0],
+    "crank": lambda d: d[..., 1],
+    "coupler": lambda d: d[..., 2],
+    "upper_arm": lambda d: d[..., 3],
+}
+_SIMPSON = np.array([1.0, 4.0, 1.0]) / 6
+
+
+def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
+def cut_coefficients(cuts: Cuts, n_loads: int, mu: NDArray) -> tuple[NDArray, NDArray]:
+    """Coefficients (..., C, 2 n_loads + 4) of the axial force N (tension > 0) and the moment M
+    at each cut, linear in the link-frame sample vector ``[F_1, ..., F_n, g - a_0, alpha,
+    omega^2]`` (joint forces with their signs, gravity less the frame origin's acceleration,
+    angular acceleration and squared rate): the piece beyond the cut carries its joint load and
+    the body force ``mu (g - a_0 - alpha perp(p) + omega^2 p)`` per metre of spine."""
+    t = cuts.tangent
+    s = cuts.at[..., None, :]
+    p0, p1 = cuts.piece[..., :-1, :], cuts.piece[..., 1:, :]  # segments (..., C, 2, 2)
+    seg = np.linalg.norm(p1 - p0, axis=-1)  # (..., C, 2)
+    pm = (p0 + p1) / 2
+    pts = np.stack([p0, pm, p1], axis=-2)  # (..., C, 2, 3, 2)
+    r = pts - s[..., None, :]
+    wl = seg[..., None] * _SIMPSON  # Simpson weights times segment length (..., C, 2, 3)
+    m_uniform = mu[..., None, None] * (wl[..., None] * np.stack([-r[..., 1], r[..., 0]], -1)).sum(
+        (-3, -2)
+    )
+    m_alpha = -mu[..., None] * (wl * (r * pts).sum(-1)).sum((-2, -1))
+    m_omega = mu[..., None] * (wl * _cross(r, pts)).sum((-2, -1))
+    n_uniform = mu[..., None, None] * seg.sum(-1)[..., None] * t
+    n_alpha = mu[..., None] * (seg * _cross(t[:, None, :], pm)).sum(-1)
+    n_omega = mu[..., None] * (seg * (pm * t[:, None, :]).sum(-1)).sum(-1)
+    lead = cuts.at.shape[:-1]
+    cn = np.zeros((*lead, 2 * n_loads + 4))
+    cm = np.zeros_like(cn)
+    arm = cuts.load - cuts.at
+    for k in range(n_loads):
+        on = cuts.slot == k
+        cn[..., 2 * k : 2 * k + 2] = np.where(on[:, None], t, 0.0)
+        cm[..., 2 * k : 2 * k + 2] = np.where(
+            on[:, None], np.stack([-arm[..., 1], arm[..., 0]], -1), 0.0
+        )
+    j = 2 * n_loads
+    cn[..., j : j + 2], cn[..., j + 2], cn[..., j + 3] = n_uniform, n_alpha, n_omega
+    cm[..., j : j + 2], cm[..., j + 2], cm[..., j + 3] = m_uniform, m_alpha, m_omega
+    return cn, cm
+
+
+class LinkStrength(NamedTuple):
+    """One link's peaks over the duty (leading axes of the designs): stress_pa, the check where
+    it peaks (index into ``labels``), compression_N, euler_N (Euler load of its column)."""
+
+    stress_pa: NDArray[np.float64]
+    where: NDArray[np.intp]
+    compression_N: NDArray[np.float64]
+    euler_N: NDArray[np.float64]
+    labels: tuple[str, ...]
+
+
+def link_strength(
+    design: ArrayLike,
+    sec: Section,
+    material: Material,
+    strength: StrengthSettings,
+    inertials: Inertials,
+    loads: JointLoads,
+    motion: LinkMotion,
+) -> dict[str, LinkStrength]:
+    """Peak stress and compression of each link of ``design`` (..., 6) m over the duty samples
+    of ``loads`` and ``motion`` (..., N)."""
+    d = as_design(design)
+    w, t, r, bore = sec.width_m, sec.thickness_m, sec.boss_radius_m, sec.bore_m
+    net_area = t * (2 * r - bore)
+    net_z = t * ((2 * r) ** 3 - bore**3) / (12 * r)
+    forces = loads._asdict()
+    out = {}
+    for k, (link, cuts) in enumerate(link_cuts(d, sec).items()):
+        mu = inertials.mass_kg[..., k] / _SPINE[link](d)
+        cn, cm = cut_coefficients(cuts, len(LOADS[link]), mu)
+        g_rel = (
+            np.broadcast_to(GRAVITY, motion.origin_acc[..., k, :].shape)
+            - motion.origin_acc[..., k, :]
+        )
+        sample = np.concatenate(
+            [
+                *(sign * motion.rotate_to_link(forces[n], k) for n, sign in LOADS[link]),
+                motion.rotate_to_link(g_rel, k),
+                motion.alpha[..., k, None],
+                motion.omega[..., k, None] ** 2,
+            ],
+            axis=-1,
+        )  # (..., N, 2 n_loads + 4)
+        n_cuts = len(cuts.labels)
+        both = sample @ np.swapaxes(np.concatenate([cn, cm], axis=-2), -1, -2)  # (..., N, 2C)
+        column = np.flatnonzero(cuts.column)
+        compression = -both[..., column].min(axis=(-2, -1))
+        np.abs(both, out=both)
+        weights = np.zeros((2 * n_cuts, n_cuts))
+        weights[np.arange(n_cuts), np.arange(n_cuts)] = np.where(
+            cuts.bore, 1 / net_area, 1 / (w * t)
+        )
+        weights[n_cuts + np.arange(n_cuts), np.arange(n_cuts)] = np.where(
+            cuts.bore, 1 / net_z, 6 / (t * w**2)
+        )
+        stress = (both @ weights).max(axis=-2)
+        lug = [
+            strength.lug_stress_concentration
+            / net_area
+            * np.linalg.norm(forces[name], axis=-1).max(axis=-1)
+            for _, name in BORES[link]
+        ]
+        checks = np.concatenate([stress, np.stack(lug, -1)], axis=-1)
+        length = _COLUMN[link](d) * BUCKLING_K
+        euler = math.pi**2 * material.youngs_modulus_pa * sec.weak_inertia_m4 / length**2
+        labels = cuts.labels + tuple(f"pin-loaded bore {j}" for j, _ in BORES[link])
+        out[link] = LinkStrength(
+            checks.max(-1), checks.argmax(-1), np.maximum(compression, 0.0), euler, labels
+        )
+    return out
