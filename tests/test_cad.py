@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from qsm.physics import cad
+from qsm.physics import cad, kinematics
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 
@@ -59,7 +59,7 @@ def test_analytic_mass_properties_match_trimesh() -> None:
     s = cad.CadSettings()
     analytic = cad.mass_properties(DESIGN, s)
     meshes = cad.link_meshes(DESIGN, s)
-    for name in cad.LINK_NAMES:
+    for name in kinematics.LINK_NAMES:
         mesh = meshes[name]
         mesh.density = s.density_kg_m3
         a = analytic[name]
@@ -74,7 +74,7 @@ def test_analytic_mass_properties_match_trimesh() -> None:
 def test_stl_export_is_watertight_and_in_millimetres(tmp_path) -> None:
     s = cad.CadSettings()
     paths = cad.export_stl(DESIGN, tmp_path, s)
-    assert [p.name for p in paths] == [f"{n}.stl" for n in cad.LINK_NAMES]
+    assert [p.name for p in paths] == [f"{n}.stl" for n in kinematics.LINK_NAMES]
     l1, l2, l3, l4, ee_x, ee_y = DESIGN
     r = s.boss_radius_m
     expected = {

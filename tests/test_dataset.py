@@ -63,7 +63,7 @@ def test_gather_fails_loudly_unless_every_id_appears_once(parts, message):
 
 def test_settings_come_from_the_config():
     config = load_config()
-    cad = settings.cad(config["cad"])
+    cad = settings.cad(config["cad"], config["material"])
     assert cad.density_kg_m3 == 1040.0 and cad.width_m == config["cad"]["width_m"]
     duty = settings.duty(config["dynamics"]["duty"], config["operating_range"])
     assert (duty.theta1_min_deg, duty.theta1_max_deg, duty.theta2_min_deg) == (45.0, 180.0, -37.5)

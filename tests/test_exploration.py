@@ -253,7 +253,7 @@ def test_export_round_trip_of_a_pareto_design(run, tmp_path):
         config["filters"],
     )
     duty = duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"]))
-    cad = settings.cad(config["cad"])
+    cad = settings.cad(config["cad"], config["material"])
     fresh = verify_design(design, fit, duty, cad, config["task"]["payload_kg"])
     assert record["true_performance"] == {k: fresh[k] for k in TRUE_KEYS}
     # ... which is the run's own verification of that design

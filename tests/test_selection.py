@@ -5,6 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from qsm.mechanisms.dataset import STRENGTH_COLUMNS
 from qsm.optimisation.constraints import box_excess_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
@@ -22,7 +23,16 @@ SMALL = [0.30, 0.10, 0.30, 0.15, 0.36, 0.12]  # upper arm 560 mm long: fits
 LARGE = [0.40, 0.12, 0.40, 0.20, 0.48, 0.16]  # upper arm 730 mm long: does not fit
 
 
-def front(designs, feasible, tau1):
+def strong(table, utilisation):
+    """Strength columns: every one NaN but the utilisation and whether it is at most 1."""
+    for column in STRENGTH_COLUMNS:
+        table[column] = np.nan
+    table["strength_utilisation"] = utilisation
+    table["holds_loads"] = table["strength_utilisation"] <= 1.0
+    return table
+
+
+def front(designs, feasible, tau1, utilisation=0.5):
     table = pd.DataFrame(designs, columns=list(DESIGN_COLUMNS))
     table["scale_m"] = table["l1_m"]
     table["eta_true"] = 0.1
@@ -30,21 +40,21 @@ def front(designs, feasible, tau1):
     table["tau2_true_Nm"] = 10.0
     table["feasible"] = feasible
     table["dynamics_status"] = "ok"
-    return table
+    return strong(table, utilisation)
 
 
-def dataset(designs, tau1):
+def dataset(designs, tau1, utilisation=0.5):
     table = pd.DataFrame(designs, columns=list(DESIGN_COLUMNS))
     table["mechanism_id"] = np.arange(len(table))
     table["scale_m"] = table["l1_m"]
     table["eta"], table["tau1_Nm"], table["tau2_Nm"], table["status"] = 0.1, tau1, 10.0, "ok"
-    return table
+    return strong(table, utilisation)
 
 
 def test_primary_front_first():
     fronts = {"ratios": front([SMALL, LARGE], True, [50.0, 40.0]), "paper": front([SMALL], True, 1)}
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0), "min_tau1", CAD, PRINTER)
-    assert how == {"source": "ratios", "printable": True, "fallback": []}
+    assert how == {"source": "ratios", "printable": True, "holds_loads": True, "fallback": []}
     assert row["tau1_true_Nm"] == 50.0  # the larger design has less torque but does not fit
 
 
@@ -53,7 +63,9 @@ def test_falls_back_to_the_other_front_then_the_dataset():
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 70.0), "knee", CAD, PRINTER)
     assert how["source"] == "dataset" and how["printable"]
     assert how["fallback"][0].startswith("ratios front: 1 designs, 0 truly feasible")
-    assert how["fallback"][1].startswith("paper front: 1 designs, 1 truly feasible, 0 printable")
+    assert how["fallback"][1].startswith(
+        "paper front: 1 designs, 1 truly feasible, 1 of them hold their loads, 0 of those printable"
+    )
     assert row["tau1_true_Nm"] == 70.0
 
 
@@ -62,6 +74,30 @@ def test_nothing_printable_gives_the_best_feasible_design_marked():
     row, how = choose_design(fronts, "ratios", dataset([LARGE], 1.0), "min_tau1", CAD, PRINTER)
     assert how["source"] == "ratios" and not how["printable"] and len(how["fallback"]) == 2
     assert row["tau1_true_Nm"] == 20.0
+
+
+def test_strength_comes_before_printability():
+    """A printable design that breaks loses to a strong one that needs a larger printer."""
+    fronts = {"ratios": front([SMALL, LARGE], True, [5.0, 50.0], utilisation=[1.2, 0.9])}
+    row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 1.5), "knee", CAD, PRINTER)
+    assert how["holds_loads"] and not how["printable"]
+    assert row["tau1_true_Nm"] == 50.0
+
+
+def test_nothing_strong_gives_the_least_utilised_design_marked():
+    fronts = {"ratios": front([SMALL, SMALL], True, [5.0, 50.0], utilisation=[1.3, 1.1])}
+    row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 2.0), "knee", CAD, PRINTER)
+    assert how == {
+        "source": "ratios",
+        "printable": True,
+        "holds_loads": False,
+        "fallback": how["fallback"],
+    }
+    assert row["strength_utilisation"] == 1.1
+    assert (
+        how["fallback"][-1]
+        == "no truly feasible design of the fronts or the dataset holds its loads"
+    )
 
 
 def test_nothing_feasible_anywhere_raises():

@@ -8,6 +8,7 @@ import dataclasses
 import pytest
 
 from qsm.config import load_config
+from qsm.embodiment.material import Material, StrengthSettings
 from qsm.physics.cad import CadSettings
 from qsm.physics.duty import DutySettings
 from qsm.physics.workspace import Resolution
@@ -26,6 +27,8 @@ def _plain(value):
     ("cls", "section"),
     [
         (CadSettings, CONFIG["cad"]),
+        (Material, CONFIG["material"]),
+        (StrengthSettings, CONFIG["strength"]),
         (DutySettings, CONFIG["dynamics"]["duty"]),
         (Resolution, CONFIG["workspace"]),
         (TopologySettings, CONFIG["topology"]),
@@ -54,9 +57,11 @@ def test_the_settings_layer_gives_the_default_dataclasses_on_the_default_config(
     from qsm import settings
 
     c = CONFIG
-    assert settings.cad(c["cad"]) == CadSettings()
+    assert settings.cad(c["cad"], c["material"]) == CadSettings()
+    assert settings.material(c["material"]) == Material()
+    assert settings.strength(c["strength"]) == StrengthSettings()
     assert settings.duty(c["dynamics"]["duty"], c["operating_range"]) == DutySettings()
-    assert settings.topology(c["topology"]) == TopologySettings()
+    assert settings.topology(c["topology"], c["material"], c["strength"]) == TopologySettings()
     assert settings.surrogate(c["surrogate"]) == SurrogateSettings()
     payload = settings.payload_test(
         c["payload_test"], c["task"]["payload_kg"], c["operating_range"]

@@ -9,12 +9,19 @@ import numpy as np
 import pytest
 
 from qsm.embodiment.link_checks import STRENGTH_COLUMNS, StrengthCheck
-from qsm.embodiment.loads import GRAVITY, Inertials, JointLoads, LinkMotion, joint_loads, link_motion
+from qsm.embodiment.loads import (
+    GRAVITY,
+    Inertials,
+    JointLoads,
+    LinkMotion,
+    joint_loads,
+)
 from qsm.embodiment.material import Material, StrengthSettings
 from qsm.embodiment.strength import Section, link_strength
 from qsm.physics import duty as duty_mod
-from qsm.physics.cad import LINK_NAMES, CadSettings, batch_mass_properties, mass_properties
+from qsm.physics.cad import CadSettings, batch_mass_properties, mass_properties
 from qsm.physics.dynamics import loop_state, tree_inverse_dynamics
+from qsm.physics.kinematics import LINK_NAMES
 from qsm.physics.mjcf import body_inertials
 
 DESIGNS = np.array(
@@ -215,9 +222,9 @@ def test_g13_is_the_largest_utilisation_over_the_links(duty):
 def test_heavier_payload_and_thinner_section_fail(duty):
     light = StrengthCheck(payload_kg=1.0, duty=duty).violation(DESIGNS)
     heavy = StrengthCheck(payload_kg=200.0, duty=duty).violation(DESIGNS)
-    thin = StrengthCheck(
-        cad=CadSettings(thickness_m=0.004), payload_kg=1.0, duty=duty
-    ).violation(DESIGNS)
+    thin = StrengthCheck(cad=CadSettings(thickness_m=0.004), payload_kg=1.0, duty=duty).violation(
+        DESIGNS
+    )
     assert np.all(light < 0)
     assert np.all(heavy > 0) and np.all(thin > light)
 

@@ -107,3 +107,28 @@ def test_link_optimisation_lightens_links_and_lowers_torques(tmp_path) -> None:
     assert tq["after"]["tau1_Nm"] < tq["before"]["tau1_Nm"]
     assert tq["after"]["tau2_Nm"] < tq["before"]["tau2_Nm"]
     assert topology.plot_links(res, tmp_path / "links.png").stat().st_size > 0
+
+
+def test_a_plate_over_the_stress_limit_is_not_kept(tmp_path) -> None:
+    """At 30 % material and a 6 kg payload the compliance optimum of the lower arm exceeds the
+    allowable stress, which the solid plate meets: the plate gets more material until its
+    printed form holds, or the solid link is kept; the result never exceeds the limit unless the
+    solid plate itself does."""
+    lean = fe.TopologySettings(volume_fraction=0.3, cell_size_m=0.005, max_iterations=40)
+    d = duty.duty_cycle(
+        duty.DutySettings(
+            raster_lines=3, samples_per_segment=8, static_theta1_count=3, static_theta2_count=3
+        )
+    )
+    res = topology.optimise_links(DESIGN, cad.CadSettings(), 6.0, d, lean, links=("lower_arm",))
+    link = res.links["lower_arm"]
+    allow = lean.allowable_stress_pa / 1e6
+    first = link.attempts[0]
+    assert first["volume_fraction"] == 0.3 and first["max_von_mises_MPa"] > allow
+    assert link.max_von_mises_before_pa <= lean.allowable_stress_pa  # the solid plate holds
+    assert link.carries_loads
+    if link.kept_solid:
+        assert link.props_after == link.props_before
+    else:
+        assert link.attempts[-1]["max_von_mises_MPa"] <= allow
+        assert link.attempts[-1]["volume_fraction"] > 0.3

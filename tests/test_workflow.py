@@ -166,11 +166,13 @@ def test_verification_matches_a_direct_reevaluation(run, formulation):
     duty = duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"]))
     for _, row in table.head(3).iterrows():
         design = row[list(INPUTS)].to_numpy(float)
-        direct = verify_design(design, fit, duty, settings.cad(config["cad"]), 5.0)
+        direct = verify_design(
+            design, fit, duty, settings.cad(config["cad"], config["material"]), 5.0
+        )
         for key in ("feasible", "eta_true", "tau1_true_Nm", "tau2_true_Nm"):
             assert direct[key] == pytest.approx(row[key], rel=1e-12, nan_ok=True)
     assert stored["holds_task_share"] == table["task_contained"].mean()
-    cad = settings.cad(config["cad"])
+    cad = settings.cad(config["cad"], config["material"])
     volume = tuple(config["printing"]["build_volume_mm"])
     printable = [all_links_fit(d, cad, volume) for d in table[list(INPUTS)].to_numpy(float)]
     assert stored["printable_share"] == pytest.approx(np.mean(printable))
@@ -235,7 +237,9 @@ def test_realisation_outputs(run):
     assert selected["feasible"] and selected["dynamics_status"] == "ok"
     assert selected["printable"] and selected["source"] == config["optimization"]["formulation"]
     assert all_links_fit(
-        design, settings.cad(config["cad"]), tuple(config["printing"]["build_volume_mm"])
+        design,
+        settings.cad(config["cad"], config["material"]),
+        tuple(config["printing"]["build_volume_mm"]),
     )
     torques = json.loads((real / "torques.json").read_text())
     assert set(torques["before"]) >= {"tau1_Nm", "tau2_Nm"} and set(torques["after"]) >= {
@@ -310,7 +314,8 @@ def test_a_task_nothing_printable_holds_completes_with_the_verdict(tmp_path):
     assert len(selected["fallback"]) == 3  # both fronts and the dataset had nothing printable
     needed = selected["printing_advice"]["needed_volume_mm"]
     assert needed[0] > 600  # the longest link exceeds the printer's longest side
-    cad = settings.cad(effective_config(work)["cad"])
+    effective = effective_config(work)
+    cad = settings.cad(effective["cad"], effective["material"])
     assert not all_links_fit(np.array(selected["design_m"]), cad, (600, 350, 350))
     checks = json.loads((work / "results/realization/stl_check.json").read_text())
     assert not all(c["fits_build_volume"] for c in checks["before"].values())

@@ -90,7 +90,7 @@ def _export(args: argparse.Namespace, config: dict) -> dict:
     design = row[[f"{n}_m" for n in DESIGN_NAMES]].to_numpy(dtype=float)[0]
     out = Path(args.out or f"results/models/mechanism-{args.id}")
     out.mkdir(parents=True, exist_ok=True)
-    cad = settings.cad(config["cad"])
+    cad = settings.cad(config["cad"], config["material"])
     xml = out / "model.xml"
     xml.write_text(mjcf_xml(design, cad, config["task"]["payload_kg"]))
     stls = export_stl(design, out / "stl", cad)

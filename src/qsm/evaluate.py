@@ -68,7 +68,7 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
         dyn = evaluate_mechanism(
             list(out["design_m"].values()),
             duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"])),
-            settings.cad(config["cad"]),
+            settings.cad(config["cad"], config["material"]),
             config["task"]["payload_kg"],
         )
         ok = dyn["status"] == "ok"

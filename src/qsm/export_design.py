@@ -218,7 +218,7 @@ def drawing(
     ax.plot(points[:, 0], points[:, 1], "x", color="tab:red", ms=6, mew=1.5)
     y = 0.0
     volume = " x ".join(f"{v:g}" for v in config["printing"]["build_volume_mm"])
-    for name, outline in link_outlines(d, settings.cad(config["cad"])).items():
+    for name, outline in link_outlines(d, settings.cad(config["cad"], config["material"])).items():
         xy = outline * 1e3
         y -= xy[:, 1].max()
         ax_links.fill(xy[:, 0], xy[:, 1] + y, color="0.75", ec="k", lw=0.8)
@@ -253,7 +253,7 @@ def export_design(
     d = np.asarray(as_design(design), dtype=float)
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
-    cad = settings.cad(config["cad"])
+    cad = settings.cad(config["cad"], config["material"])
     payload = float(config["task"]["payload_kg"])
     volume = tuple(float(v) for v in config["printing"]["build_volume_mm"])
     fit = settings.fit(

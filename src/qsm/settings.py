@@ -22,6 +22,8 @@ from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import OperatingRange, Resolution
 
 if TYPE_CHECKING:
+    from qsm.embodiment.link_checks import StrengthCheck
+    from qsm.embodiment.material import Material, StrengthSettings
     from qsm.optimisation.problems import ExtraConstraints
     from qsm.physics.cad import CadSettings
     from qsm.physics.duty import DutySettings
@@ -57,16 +59,50 @@ def fit(
     )
 
 
-def cad(section: Section) -> CadSettings:
-    """``cad``: link section and material."""
+def cad(section: Section, material_section: Section) -> CadSettings:
+    """``cad`` with ``material``'s density: the link solids."""
     from qsm.physics.cad import CadSettings
 
     return CadSettings(
         width_m=section["width_m"],
         thickness_m=section["thickness_m"],
         boss_radius_m=section["boss_radius_m"],
-        density_kg_m3=section["density_kg_m3"],
+        density_kg_m3=material_section["density_kg_m3"],
         segments_per_circle=section["segments_per_circle"],
+    )
+
+
+def material(section: Section) -> Material:
+    """``material``: the printed material of every link."""
+    from qsm.embodiment.material import Material
+
+    return Material(**section)
+
+
+def strength(section: Section) -> StrengthSettings:
+    """``strength``: what every link must hold."""
+    from qsm.embodiment.material import StrengthSettings
+
+    return StrengthSettings(**section)
+
+
+def strength_check(
+    cad_section: Section,
+    material_section: Section,
+    strength_section: Section,
+    payload_kg: float,
+    duty_settings: DutySettings,
+) -> StrengthCheck:
+    """The link check of a design: section, material, requirements, payload (kg) and duty."""
+    from qsm.embodiment.link_checks import StrengthCheck
+    from qsm.physics.duty import duty_cycle
+
+    return StrengthCheck(
+        cad(cad_section, material_section),
+        material(material_section),
+        strength(strength_section),
+        float(payload_kg),
+        duty_cycle(duty_settings),
     )
 
 
@@ -90,11 +126,20 @@ def surrogate(section: Section) -> SurrogateSettings:
     return SurrogateSettings(**{**section, "hidden_layers": tuple(section["hidden_layers"])})
 
 
-def topology(section: Section) -> TopologySettings:
-    """``topology``: SIMP, material and stress check."""
+def topology(
+    section: Section, material_section: Section, strength_section: Section
+) -> TopologySettings:
+    """``topology`` with ``material``'s elasticity and strength and ``strength``'s safety
+    factor: SIMP and the stress check of the printed plates."""
     from qsm.realisation.fe import TopologySettings
 
-    return TopologySettings(**section)
+    return TopologySettings(
+        **section,
+        youngs_modulus_pa=material_section["youngs_modulus_pa"],
+        poisson_ratio=material_section["poisson_ratio"],
+        yield_strength_pa=material_section["yield_strength_pa"],
+        safety_factor=strength_section["safety_factor"],
+    )
 
 
 def payload_test(
@@ -120,16 +165,28 @@ def payload_test(
 
 def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints:
     """``optimization.constraints`` as one formulation's rule passes it: ``containment``,
-    ``printable`` and, when on, ``tolerance_m``, ``cad`` (section) and ``build_volume_mm``."""
+    ``printable``, ``strong`` and, when on, ``tolerance_m``, ``cad`` and ``material`` (sections),
+    ``build_volume_mm``, and for g13 ``strength``, ``payload_kg``, ``duty`` and
+    ``operating_range``."""
     from qsm.optimisation.problems import ExtraConstraints
     from qsm.physics.cad import DEFAULT_CAD
 
-    printable = bool(section["printable"])
+    printable, strong = bool(section["printable"]), bool(section.get("strong", False))
+    check = None
+    if strong:
+        check = strength_check(
+            section["cad"],
+            section["material"],
+            section["strength"],
+            section["payload_kg"],
+            duty(section["duty"], section["operating_range"]),
+        )
     return ExtraConstraints(
         containment=bool(section["containment"]),
         printable=printable,
         fit=fit_settings,
-        cad=cad(section["cad"]) if printable else DEFAULT_CAD,
+        cad=cad(section["cad"], section["material"]) if printable else DEFAULT_CAD,
         volume_mm=tuple(section.get("build_volume_mm", (600.0, 350.0, 350.0))),
         tolerance_m=float(section.get("tolerance_m", 0.0)),
+        strength=check,
     )

@@ -23,27 +23,43 @@ def stage2_settings():
         **stage1_settings(),
         "duty": config["dynamics"]["duty"],
         "cad": config["cad"],
+        "material": config["material"],
+        "strength": config["strength"],
         "payload_kg": config["task"]["payload_kg"],
     }
 
 
 def optimization_settings():
-    """What every NSGA-II run uses: not the choice or list of fronts, nor g11 / g12."""
+    """What every NSGA-II run uses: not the choice or list of fronts, nor g11 / g12 / g13."""
     skip = ("formulation", "formulations", "constraints")
     return {k: v for k, v in config["optimization"].items() if k not in skip}
 
 
 def constraint_settings(formulation):
-    """g11 / g12 as they apply to ``formulation``, with what each needs (nothing when off)."""
+    """g11 / g12 / g13 as they apply to ``formulation``, with what each needs (nothing when
+    off)."""
     section = config["optimization"]["constraints"]
-    out = {"containment": False, "printable": section["printable"]}
+    out = {
+        "containment": False,
+        "printable": section["printable"],
+        "strong": section["strong"],
+    }
     if formulation == "ratios" or section["containment"]:
         out.update(
             containment=formulation == "paper",
             tolerance_m=section["containment_tolerance_m"],
         )
+    if section["printable"] or section["strong"]:
+        out.update(cad=config["cad"], material=config["material"])
     if section["printable"]:
-        out.update(cad=config["cad"], build_volume_mm=config["printing"]["build_volume_mm"])
+        out.update(build_volume_mm=config["printing"]["build_volume_mm"])
+    if section["strong"]:
+        out.update(
+            strength=config["strength"],
+            payload_kg=config["task"]["payload_kg"],
+            duty=config["dynamics"]["duty"],
+            operating_range=config["operating_range"],
+        )
     return out
 
 

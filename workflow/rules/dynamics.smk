@@ -28,6 +28,8 @@ rule dynamics:
         duty=config["dynamics"]["duty"],
         operating_range=config["operating_range"],
         cad=config["cad"],
+        material=config["material"],
+        strength=config["strength"],
         payload_kg=config["task"]["payload_kg"],
     script:
         "../scripts/dynamics_shard.py"

@@ -82,6 +82,8 @@ rule verify_pareto:
         workspace=fit_workspace(),
         filters=config["filters"],
         cad=config["cad"],
+        material=config["material"],
+        strength=config["strength"],
         duty=config["dynamics"]["duty"],
         payload_kg=config["task"]["payload_kg"],
         ratio_bounds=config["sampling"]["bounds"],

@@ -27,6 +27,7 @@ rule study_lengths:
         study={k: config["study"][k] for k in ("n_designs", "seed")},
         tree_depth=config["design_rules"]["tree_depth"],
         cad=config["cad"],
+        material=config["material"],
         duty=config["dynamics"]["duty"],
         operating_range=config["operating_range"],
         payload_kg=config["task"]["payload_kg"],
@@ -57,6 +58,7 @@ rule study_table3:
         payloads_kg=config["study"]["payloads_kg"],
         payload_kg=config["task"]["payload_kg"],
         cad=config["cad"],
+        material=config["material"],
         duty=config["dynamics"]["duty"],
         operating_range=config["operating_range"],
     script:

@@ -11,6 +11,7 @@ rule summary:
         selected=rules.select_design.output.selected,
         torques=rules.topology_optimize.output.torques,
         payload=rules.payload_test.output.result,
+        topology=rules.topology_optimize.output.topology,
     output:
         report(f"{RESULTS}/summary.md", caption="../report/summary.rst", category="0. Summary"),
     log:

@@ -1,10 +1,14 @@
-"""Rule dynamics: closed-chain inverse dynamics of one shard of the mechanisms."""
+"""Rule dynamics: closed-chain inverse dynamics and link strength of one shard of the
+mechanisms."""
 
 from qsm import settings
+from qsm.embodiment.link_checks import with_strength
 from qsm.mechanisms.dataset import status_counts
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.dynamics import evaluate_shard
+from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.workflow.logs import logged
+from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:  # noqa: F821
@@ -15,15 +19,19 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         mechanisms,
         p.shards,
         shard,
-        settings.cad(p.cad),
-        settings.duty(p.duty, p.operating_range),
+        settings.cad(p.cad, p.material),
+        duty := settings.duty(p.duty, p.operating_range),
         p.payload_kg,
     )
+    check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
+    rows = mechanisms.iloc[shard_slice(len(mechanisms), p.shards, shard)]
+    result = with_strength(result, rows[list(DESIGN_COLUMNS)], check)
     log.info(
-        "shard %d of %d: %d mechanisms, status %s",
+        "shard %d of %d: %d mechanisms, status %s, %d hold their loads",
         shard,
         p.shards,
         len(result),
         status_counts(result),
+        int(result["holds_loads"].sum()),
     )
     write_table(result, snakemake.output[0])  # noqa: F821

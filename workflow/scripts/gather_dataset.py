@@ -3,7 +3,14 @@
 import json
 
 from qsm.config import settings_hash
-from qsm.mechanisms.dataset import DATASET_COLUMNS, DYNAMICS_COLUMNS, gather, status_counts
+from qsm.mechanisms.dataset import (
+    DATASET_COLUMNS,
+    DYNAMICS_COLUMNS,
+    STRENGTH_COLUMNS,
+    gather,
+    status_counts,
+    strength_counts,
+)
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
@@ -12,7 +19,8 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
     inp = snakemake.input  # noqa: F821
     mechanisms = read_table(inp.mechanisms, MECHANISM_COLUMNS)
-    shards = [read_table(path, ["mechanism_id", *DYNAMICS_COLUMNS]) for path in inp.shards]
+    columns = ["mechanism_id", *DYNAMICS_COLUMNS, *STRENGTH_COLUMNS]
+    shards = [read_table(path, columns) for path in inp.shards]
     dataset = gather(mechanisms, shards)
     counts = status_counts(dataset)
     failed = dataset.loc[dataset["status"] != "ok"]
@@ -24,14 +32,15 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
             group["mechanism_id"].iloc[0],
             group["status_reason"].iloc[0],
         )
-    log.info("dataset: %d mechanisms, status %s", len(dataset), counts)
+    strength = strength_counts(dataset)
+    log.info("dataset: %d mechanisms, status %s, strength %s", len(dataset), counts, strength)
     meta = {
         "settings_hash": settings_hash(p.settings),
         "settings": p.settings,
         "columns": DATASET_COLUMNS,
     }
     write_table(dataset, snakemake.output.dataset, meta)  # noqa: F821
-    summary = {"mechanisms": len(dataset), "status": counts}
+    summary = {"mechanisms": len(dataset), "status": counts, "strength": strength}
     summary["failures"] = {
         str(row.mechanism_id): f"{row.status}: {row.status_reason}" for row in failed.itertuples()
     }

@@ -25,7 +25,9 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     with open(inp.links) as fh:
         props = props_from_json(json.load(fh))
     test_settings = settings.payload_test(p.payload_test, p.payload_kg, p.operating_range)
-    result = payload_test(design, p.task_points, settings.cad(p.cad), props, test_settings)
+    result = payload_test(
+        design, p.task_points, settings.cad(p.cad, p.material), props, test_settings
+    )
     scalars = summary(result)
     with open(out.result, "w") as fh:
         json.dump(scalars, fh, indent=2, default=lambda v: np.asarray(v).tolist())

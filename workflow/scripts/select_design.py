@@ -5,6 +5,9 @@ import json
 import matplotlib.pyplot as plt
 
 from qsm import settings
+from qsm.embodiment.advice import advice_sentences as strength_sentences
+from qsm.embodiment.advice import strength_advice
+from qsm.embodiment.verdict import strength_record, strength_verdict
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.physics.task import min_enclosing_circle
 from qsm.realisation.export import selection_record
@@ -20,7 +23,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     fronts = {name: read_table(path) for name, path in zip(p.formulations, inp.fronts, strict=True)}
     dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
     rule = p.printing["selection_rule"]
-    cad = settings.cad(p.cad)
+    cad = settings.cad(p.cad, p.material)
     volume = tuple(p.printing["build_volume_mm"])
     disk = min_enclosing_circle(p.task_points)
     row, how = choose_design(fronts, p.primary, dataset, rule, cad, volume)
@@ -28,17 +31,36 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     record.update(how)
     for line in how["fallback"]:
         log.warning("skipped: %s", line)
+    check = settings.strength_check(
+        p.cad, p.material, p.strength, p.payload_kg, settings.duty(p.duty, p.operating_range)
+    )
+    record["strength"] = strength_record(record["design_m"], check)
+    verdicts = []
+    if not how["holds_loads"]:
+        advice = strength_advice(record["design_m"], check)
+        record["strength_advice"] = advice
+        verdicts.append(
+            strength_verdict(record["strength"])
+            + ", and no design of the fronts or the dataset holds its loads. What would change "
+            + "that: "
+            + "; ".join(strength_sentences(advice, check))
+        )
     if not how["printable"]:
         advice = printing_advice(record["design_m"], cad, volume, disk)
         record["printing_advice"] = advice
-        record["verdict"] = (
-            "NOT PRINTABLE on the configured printer: no design of the fronts or the dataset fits "
-            "it. What would change that: " + "; ".join(advice_sentences(advice, cad)) + "."
+        verdicts.append(
+            "NOT PRINTABLE on the configured printer: no design of the fronts or the dataset "
+            + ("that holds its loads " if how["holds_loads"] else "")
+            + "fits it. What would change that: "
+            + "; ".join(advice_sentences(advice, cad))
         )
+    if verdicts:
+        record["verdict"] = ". ".join(verdicts) + "."
         log.warning(record["verdict"])
     else:
         record["verdict"] = (
-            f"printable on {' x '.join(f'{v:g}' for v in volume)} mm, chosen from the "
+            f"printable on {' x '.join(f'{v:g}' for v in volume)} mm, every link holds its loads "
+            f"({strength_verdict(record['strength'])}), chosen from the "
             f"{how['source']} {'designs' if how['source'] == 'dataset' else 'front'}"
         )
     with open(out.selected, "w") as fh:
@@ -47,7 +69,8 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     fig, ax = plt.subplots(figsize=(6, 6))
     title = (
         f"selected ({rule}, {record['formulation']}"
-        f"{'' if how['printable'] else ', NOT PRINTABLE'}): l1 {record['scale_m']:.3f} m\n"
+        f"{'' if how['printable'] else ', NOT PRINTABLE'}"
+        f"{'' if how['holds_loads'] else ', NOT STRONG ENOUGH'}): l1 {record['scale_m']:.3f} m\n"
         f"eta {record['eta_true']:.3f}, tau1 {record['tau1_true_Nm']:.1f} N m, "
         f"tau2 {record['tau2_true_Nm']:.1f} N m"
     )

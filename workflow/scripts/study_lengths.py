@@ -17,7 +17,12 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))  # noqa: F821
     duty = duty_cycle(settings.duty(p.duty, p.operating_range))
     sample = independent_lengths(
-        dataset, p.study["n_designs"], p.study["seed"], duty, settings.cad(p.cad), p.payload_kg
+        dataset,
+        p.study["n_designs"],
+        p.study["seed"],
+        duty,
+        settings.cad(p.cad, p.material),
+        p.payload_kg,
     )
     log.info("%d designs re-evaluated at independently drawn scales", len(sample))
     outcome = lengths_outcome(sample, p.study["seed"], p.tree_depth)

@@ -21,7 +21,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     with open(snakemake.input.links) as fh:  # noqa: F821
         optimised = props_from_json(json.load(fh))
     duty = duty_cycle(settings.duty(p.duty, p.operating_range))
-    sweep = table3_sweep(design, settings.cad(p.cad), duty, optimised, p.payloads_kg)
+    sweep = table3_sweep(design, settings.cad(p.cad, p.material), duty, optimised, p.payloads_kg)
     write_table(sweep, out.table)
     run_ratio = p.payload_kg / sweep["link_mass_kg"].iloc[0]
     table3_figure(sweep, PAPER_TABLE3_PCT, run_ratio, out.figure)

@@ -9,7 +9,8 @@ from qsm.workflow.tables import read_table
 with logged(snakemake.log[0]) as log:  # noqa: F821
     inp = snakemake.input  # noqa: F821
     loaded = {}
-    for key in ("filters", "status", "metrics", "comparison", "selected", "torques", "payload"):
+    keys = ("filters", "status", "metrics", "comparison", "selected", "torques", "payload")
+    for key in (*keys, "topology"):
         with open(inp[key]) as fh:
             loaded[key] = json.load(fh)
     text = headline_markdown(findings=read_table(inp.findings), **loaded)

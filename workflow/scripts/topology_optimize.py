@@ -17,9 +17,10 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     out = snakemake.output  # noqa: F821
     with open(snakemake.input.selected) as fh:  # noqa: F821
         design = np.asarray(json.load(fh)["design_m"])
-    cad = settings.cad(p.cad)
+    cad = settings.cad(p.cad, p.material)
     duty = duty_cycle(settings.duty(p.duty, p.operating_range))
-    result = optimise_links(design, cad, p.payload_kg, duty, settings.topology(p.topology))
+    topo = settings.topology(p.topology, p.material, p.strength)
+    result = optimise_links(design, cad, p.payload_kg, duty, topo)
     torques = torques_before_after(design, cad, p.payload_kg, duty, result.props)
     with open(out.torques, "w") as fh:
         json.dump(torques, fh, indent=2)
@@ -43,12 +44,15 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     plot_links(result, out.figure)
     for name, s in summary.items():
         log.info(
-            "%s: mass %.3f -> %.3f kg, peak von Mises %.1f MPa (allowable %.1f), carries loads %s",
+            "%s: mass %.3f -> %.3f kg, peak von Mises %.1f MPa (allowable %.1f), carries loads %s, "
+            "%s; attempts %s",
             name,
             s["mass_before_kg"],
             s["mass_after_kg"],
             s["max_von_mises_after_MPa"],
             s["allowable_stress_MPa"],
             s["carries_loads"],
+            "solid plate kept" if s["kept_solid"] else "optimised plate kept",
+            s["attempts"],
         )
     log.info("torques %s", torques)

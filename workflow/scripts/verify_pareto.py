@@ -6,7 +6,6 @@ from qsm import settings
 from qsm.optimisation.comparison import summary
 from qsm.optimisation.nsga import PREDICTION_COLUMNS
 from qsm.optimisation.verify import TRUE_COLUMNS, verify_front
-from qsm.physics.duty import duty_cycle
 from qsm.surrogate.model import INPUTS
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table, write_table
@@ -18,18 +17,18 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     pareto = read_table(path, [*INPUTS, *PREDICTION_COLUMNS])
     meta = read_meta(path)
     fit = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
-    duty = duty_cycle(settings.duty(p.duty, p.operating_range))
-    table = verify_front(
-        pareto, fit, duty, settings.cad(p.cad), p.payload_kg, p.ratio_bounds, p.build_volume_mm
-    )
+    duty = settings.duty(p.duty, p.operating_range)
+    check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
+    table = verify_front(pareto, fit, check, p.ratio_bounds, p.build_volume_mm)
     result = {"formulation": meta.get("formulation"), "constraints": meta.get("constraints")}
     result.update(summary(table))
     write_table(table, out.table, {"columns": TRUE_COLUMNS, **result})
     with open(out.summary, "w") as fh:
         json.dump(result, fh, indent=2)
     log.info(
-        "%d designs: %.0f %% truly hold the task, %.0f %% printable",
+        "%d designs: %.0f %% truly hold the task, %.0f %% printable, %.0f %% hold their loads",
         result["n"],
         100 * result["holds_task_share"],
         100 * result["printable_share"],
+        100 * result["holds_loads_share"],
     )

@@ -19,42 +19,16 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.embodiment.loads import Inertials, joint_loads, link_motion
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH, Material, StrengthSettings
 from qsm.embodiment.strength import Section, link_strength
-from qsm.physics.cad import DEFAULT_CAD, LINK_NAMES, CadSettings, batch_mass_properties
+from qsm.mechanisms.dataset import JOINT_COLUMNS, STRENGTH_COLUMNS
+from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
 from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, loop_state
-from qsm.physics.kinematics import as_design
+from qsm.physics.kinematics import LINK_NAMES, as_design
 
 #: Violation g13 gives a design whose loop does not close or is singular over the duty.
 UNDEFINED_VIOLATION = 10.0
 #: Designs evaluated together (memory: about 0.4 MB per design on the default duty).
 CHUNK = 128
-#: Joints whose peak force the tables report: column suffix and :class:`JointLoads` field.
-JOINT_COLUMNS: dict[str, str] = {
-    "A_lower_arm": "a_lower",
-    "A_crank": "a_crank",
-    "B": "b",
-    "C": "c",
-    "D": "d",
-    "E": "e",
-}
-STRENGTH_COLUMNS: dict[str, str] = {
-    **{f"stress_peak_{k}_MPa": f"peak stress in the {k} over the duty (MPa)" for k in LINK_NAMES},
-    **{f"safety_factor_{k}": f"yield strength / peak stress of the {k} (-)" for k in LINK_NAMES},
-    **{
-        f"buckling_factor_{k}": f"Euler load / peak compression of the {k} (-, inf: never "
-        "compressed)"
-        for k in LINK_NAMES
-    },
-    "strength_utilisation": "largest over the links of stress x safety factor / yield and "
-    "compression x buckling factor / Euler load; <= 1 holds (-)",
-    "holds_loads": "every link holds its loads with the required factors (-)",
-    "weakest_link": "the link with the largest utilisation",
-    "weakest_check": "where the weakest link is most loaded (a cut, a bore, or buckling)",
-    **{
-        f"joint_force_peak_{j}_N": f"peak force through joint {j.replace('_', ' of the ')} (N)"
-        for j in JOINT_COLUMNS
-    },
-}
 
 
 @dataclass(frozen=True)
@@ -141,12 +115,12 @@ class StrengthCheck:
         return np.where(np.isfinite(util), util - 1.0, UNDEFINED_VIOLATION)
 
 
-def with_strength(table: pd.DataFrame, check: StrengthCheck, lengths: list[str]) -> pd.DataFrame:
-    """``table`` with :data:`STRENGTH_COLUMNS` appended for its rows whose ``status`` is 'ok'
-    (NaN elsewhere); ``lengths`` names its 6 length columns (m)."""
+def with_strength(table: pd.DataFrame, designs: ArrayLike, check: StrengthCheck) -> pd.DataFrame:
+    """``table`` (dynamics results, one row per design of ``designs`` (N, 6) m) with
+    :data:`STRENGTH_COLUMNS` appended for its rows whose ``status`` is 'ok' (NaN elsewhere)."""
     ok = table["status"].eq("ok").to_numpy()
     out = pd.DataFrame(index=table.index, columns=list(STRENGTH_COLUMNS), dtype=float)
-    strength = check.evaluate(table.loc[ok, lengths].to_numpy(dtype=float))
+    strength = check.evaluate(np.asarray(designs, dtype=float)[ok])
     for key in STRENGTH_COLUMNS:
         values: Any = strength[key].to_numpy()
         if values.dtype.kind in "OUb":

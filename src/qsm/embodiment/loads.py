@@ -22,16 +22,16 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.cad import LINK_NAMES, MassProperties
+from qsm.physics.cad import MassProperties
 from qsm.physics.dynamics import LoopState
-from qsm.physics.kinematics import as_design, perp
+from qsm.physics.kinematics import LINK_NAMES, as_design, perp
 from qsm.physics.mjcf import GRAVITY_M_S2
 
 GRAVITY = np.array([0.0, -GRAVITY_M_S2])
 
 
 class Inertials(NamedTuple):
-    """Mass properties of the four links (:data:`qsm.physics.cad.LINK_NAMES` order) of one or
+    """Mass properties of the four links (:data:`qsm.physics.kinematics.LINK_NAMES` order) of one or
     more designs: mass_kg (..., 4), com_m (..., 4, 2) in the link frames, izz_kg_m2 (..., 4) about
     the centre of mass."""
 

@@ -1,16 +1,19 @@
 """Stage 2's table: its columns with units, the gathered dataset and its healthy rows.
 
 Light on purpose (no MuJoCo, no trimesh): most later rules read the dataset through it. One shard's
-dynamics is :func:`qsm.physics.dynamics.evaluate_shard`."""
+dynamics is :func:`qsm.physics.dynamics.evaluate_shard`, its strength
+:func:`qsm.embodiment.link_checks.with_strength`."""
 
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 import pandas as pd
 
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
+from qsm.physics.kinematics import LINK_NAMES
 
 #: Columns that Stage 2 adds to the mechanism table, with units.
 DYNAMICS_COLUMNS: dict[str, str] = {
@@ -31,7 +34,37 @@ DYNAMICS_COLUMNS: dict[str, str] = {
     "status": "ok, or the failure: cad_invalid, loop_open, singular, nonfinite, error",
     "status_reason": "why a mechanism failed (empty when ok)",
 }
-DATASET_COLUMNS: dict[str, str] = {**MECHANISM_COLUMNS, **DYNAMICS_COLUMNS}
+#: Joints whose peak force the tables report: column suffix and :class:`JointLoads` field.
+JOINT_COLUMNS: dict[str, str] = {
+    "A_lower_arm": "a_lower",
+    "A_crank": "a_crank",
+    "B": "b",
+    "C": "c",
+    "D": "d",
+    "E": "e",
+}
+#: Columns of the strength check (:mod:`qsm.embodiment.link_checks`) that Stage 2 adds.
+STRENGTH_COLUMNS: dict[str, str] = {
+    **{f"stress_peak_{k}_MPa": f"peak stress in the {k} over the duty (MPa)" for k in LINK_NAMES},
+    **{f"safety_factor_{k}": f"yield strength / peak stress of the {k} (-)" for k in LINK_NAMES},
+    **{
+        f"buckling_factor_{k}": f"Euler load / peak compression of the {k} (-, inf: never "
+        "compressed)"
+        for k in LINK_NAMES
+    },
+    "strength_utilisation": "largest over the links of stress x safety factor / yield and "
+    "compression x buckling factor / Euler load; <= 1 holds (-)",
+    "holds_loads": "every link holds its loads with the required factors (-)",
+    "weakest_link": "the link with the largest utilisation",
+    "weakest_check": "where the weakest link is most loaded (a cut, a bore, or buckling)",
+    **{
+        f"joint_force_peak_{j}_N": f"peak force through joint {j.replace('_', ' of the ')} (N)"
+        for j in JOINT_COLUMNS
+    },
+}
+
+
+DATASET_COLUMNS: dict[str, str] = {**MECHANISM_COLUMNS, **DYNAMICS_COLUMNS, **STRENGTH_COLUMNS}
 
 
 class DatasetError(ValueError):
@@ -67,6 +100,18 @@ def _ids(ids: pd.Index) -> str:
 def status_counts(dataset: pd.DataFrame) -> dict[str, int]:
     """How many mechanisms ended in each status."""
     return {str(k): int(v) for k, v in dataset["status"].value_counts().sort_index().items()}
+
+
+def strength_counts(dataset: pd.DataFrame) -> dict[str, Any]:
+    """How many mechanisms with dynamics hold their loads, and which link is weakest how often."""
+    ok = dataset.loc[dataset["status"].eq("ok")]
+    return {
+        "with_dynamics": len(ok),
+        "hold_loads": int(ok["holds_loads"].astype(bool).sum()),
+        "weakest_link": {
+            str(k): int(v) for k, v in ok["weakest_link"].value_counts().sort_index().items()
+        },
+    }
 
 
 def ok_rows(dataset: pd.DataFrame) -> pd.DataFrame:

@@ -16,8 +16,9 @@ def _share(mask: pd.Series) -> float:
 
 
 def summary(table: pd.DataFrame) -> dict[str, Any]:
-    """Shares of designs that truly hold the task, are feasible, are printable (and both), and
-    the relative errors of the predictions on the truly feasible ones."""
+    """Shares of designs that truly hold the task, are feasible, are printable, whose links hold
+    their loads (and all of these), and the relative errors of the predictions on the truly
+    feasible ones."""
     ok = table["feasible"] & table["dynamics_status"].eq("ok")
     out: dict[str, Any] = {
         "n": len(table),
@@ -25,6 +26,10 @@ def summary(table: pd.DataFrame) -> dict[str, Any]:
         "feasible_share": _share(table["feasible"].astype(bool)),
         "printable_share": _share(table["printable"].astype(bool)),
         "feasible_and_printable_share": _share(ok & table["printable"].astype(bool)),
+        "holds_loads_share": _share(table["holds_loads"].astype(bool)),
+        "feasible_printable_and_holds_share": _share(
+            ok & table["printable"].astype(bool) & table["holds_loads"].astype(bool)
+        ),
         "in_table1_share": _share(table["in_table1"].astype(bool)),
         "n_feasible_with_dynamics": int(ok.sum()),
         "infeasible_reasons": {

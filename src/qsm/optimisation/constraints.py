@@ -140,8 +140,8 @@ def containment_margin_m(
 
 
 def link_boxes_mm(designs: ArrayLike, cad: CadSettings) -> NDArray[np.float64]:
-    """Bounding boxes (N, 4, 3) in mm of the links (in :data:`qsm.physics.cad.LINK_NAMES` order)
-    in their link frames.
+    """Bounding boxes (N, 4, 3) in mm of the links (in
+    :data:`qsm.physics.kinematics.LINK_NAMES` order) in their link frames.
 
     Closed form of the outlines of :mod:`qsm.physics.cad`: a bar of length L with bosses of radius r
     is ``(L + 2 r) x 2 r``; the upper arm spans ``l4 + EE_x + 2 r`` along its x axis and

@@ -1,5 +1,6 @@
 """Stage 4: NSGA-II (pymoo) on the surrogate with the paper's constraints g1..g10 (Section 2.4)
-and two of ours, g11 (the task lies in the workspace) and g12 (every link fits the printer).
+and three of ours, g11 (the task lies in the workspace), g12 (every link fits the printer) and
+g13 (every link holds its loads).
 
 Objectives, all minimised: (eta', tau1', tau2'), the surrogate's predictions. Constraints in
 pymoo's ``G <= 0`` form:
@@ -12,9 +13,12 @@ pymoo's ``G <= 0`` form:
 * g11 (paper formulation, ``constraints.containment``): the task disk lies in the workspace at scale
   l1 with ``containment_tolerance_m`` of arc to spare (:mod:`qsm.optimisation.constraints`, metres);
 * g12 (every formulation, ``constraints.printable``): every link's box fits the build volume
-  (:mod:`qsm.optimisation.constraints`, millimetres).
+  (:mod:`qsm.optimisation.constraints`, millimetres);
+* g13 (every formulation, ``constraints.strong``): every link holds its loads over the duty, the
+  largest strength utilisation less 1, from the true closed-chain loads of the design
+  (:mod:`qsm.embodiment.link_checks`; cheap enough to evaluate for every candidate).
 
-With both switches off the paper formulation is the paper's g1..g10 exactly.
+With these switches off the paper formulation is the paper's g1..g10 exactly.
 
 Two formulations: ``paper`` optimises the 6 scaled lengths (the scale l1 free, as in the paper);
 ``ratios`` optimises the 5 ratios in Table 1 and computes the scale and eta exactly with Stage 1
@@ -31,6 +35,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 
+from qsm.embodiment.link_checks import StrengthCheck
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings, fit_rows
 from qsm.optimisation.constraints import containment_margin_m, printability_violation_mm
@@ -52,16 +57,18 @@ PAPER_CONSTRAINTS: tuple[str, ...] = (
 )
 G11 = "g11_task_contained"
 G12 = "g12_printable"
+G13 = "g13_links_hold"
 
 
 @dataclass(frozen=True)
 class ExtraConstraints:
-    """g11 and g12: which are on and what they need.
+    """g11, g12 and g13: which are on and what they need.
 
     ``containment`` (g11, paper formulation only) with ``tolerance_m`` of arc to spare (m) on the
     task disk of ``fit`` (the ratios formulation holds the task by its scale, fitted to the disk
     grown by ``tolerance_m``); ``printable`` (g12) for the link section ``cad`` and the printer
-    ``volume_mm`` (W, L, H in mm).
+    ``volume_mm`` (W, L, H in mm); ``strength`` (g13, every formulation, when given): every link
+    holds its loads over the duty (:class:`qsm.embodiment.link_checks.StrengthCheck`).
     """
 
     containment: bool
@@ -70,11 +77,13 @@ class ExtraConstraints:
     cad: CadSettings
     volume_mm: tuple[float, float, float]
     tolerance_m: float = 0.001
+    strength: StrengthCheck | None = None
 
     def names(self, formulation: str) -> tuple[str, ...]:
-        """Constraint columns of ``formulation`` in order: g1..g10, then g11 and g12 if on."""
+        """Constraint columns of ``formulation`` in order: g1..g10, then g11, g12, g13 if on."""
         extra = (G11,) if self.containment and formulation == "paper" else ()
-        return PAPER_CONSTRAINTS + extra + ((G12,) if self.printable else ())
+        extra += (G12,) if self.printable else ()
+        return PAPER_CONSTRAINTS + extra + ((G13,) if self.strength is not None else ())
 
     def label(self, formulation: str) -> str:
         """Human-readable constraint set, e.g. 'g1..g10 (the paper's) + g12 printable'."""
@@ -88,10 +97,12 @@ class ExtraConstraints:
         if G12 in names:
             volume = " x ".join(f"{v:g}" for v in self.volume_mm)
             text += f" + g12 printable on {volume} mm"
+        if G13 in names:
+            text += " + g13 links hold their loads"
         return text
 
     def columns(self, formulation: str, design: NDArray[np.float64]) -> list[NDArray]:
-        """The g11 / g12 columns (``G <= 0``) for scaled designs (N, 6)."""
+        """The g11 / g12 / g13 columns (``G <= 0``) for scaled designs (N, 6)."""
         cols = []
         if self.containment and formulation == "paper":
             disk = self.fit.disk
@@ -102,6 +113,8 @@ class ExtraConstraints:
             cols.append(self.tolerance_m - margin)
         if self.printable:
             cols.append(printability_violation_mm(design, self.cad, self.volume_mm))
+        if self.strength is not None:
+            cols.append(self.strength.violation(design))
         return cols
 
 

@@ -8,6 +8,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from qsm.embodiment.link_checks import StrengthCheck, with_strength
+from qsm.mechanisms.dataset import STRENGTH_COLUMNS
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimisation.constraints import (
@@ -47,6 +49,7 @@ TRUE_COLUMNS: dict[str, str] = {
         f"needed_volume_{k}_mm": f"{k} side of the smallest build volume holding every link (mm)"
         for k in ("long", "mid", "short")
     },
+    **STRENGTH_COLUMNS,
 }
 
 
@@ -55,7 +58,7 @@ def verify_design(
 ) -> dict[str, Any]:
     """True kinematics and dynamics of one design (6 lengths, m) at its own scale l1."""
     ratios = design[1:] / design[0]
-    out: dict[str, Any] = dict.fromkeys(TRUE_COLUMNS, np.nan)
+    out: dict[str, Any] = {k: np.nan for k in TRUE_COLUMNS if k not in STRENGTH_COLUMNS}
     checks = kinematic_checks(ratios, fit.op, fit.min_transmission_angle_deg)
     out.update({name: bool(ok[0]) for name, ok in checks.items()})
     out["task_contained"] = False
@@ -81,18 +84,21 @@ def verify_design(
 def verify_front(
     pareto: pd.DataFrame,
     fit: FitSettings,
-    duty: Duty,
-    cad: CadSettings,
-    payload_kg: float,
+    check: StrengthCheck,
     ratio_bounds: Mapping[str, Sequence[float]],
     volume_mm: Sequence[float],
 ) -> pd.DataFrame:
     """``pareto`` (lengths and predictions) with the true values beside the predictions, whether
-    each design's ratios lie within ``ratio_bounds`` (Table 1, where the data were sampled) and
-    whether its links fit the printer ``volume_mm`` (see :data:`TRUE_COLUMNS`)."""
+    each design's ratios lie within ``ratio_bounds`` (Table 1, where the data were sampled),
+    whether its links fit the printer ``volume_mm`` and whether they hold their loads over
+    ``check``'s duty with its payload, section and material (see :data:`TRUE_COLUMNS`)."""
     lengths = pareto[list(INPUTS)].to_numpy()
+    cad, duty, payload_kg = check.cad, check.duty, check.payload_kg
     rows = [verify_design(d, fit, duty, cad, payload_kg) for d in lengths]
-    table = pd.concat([pareto.reset_index(drop=True), pd.DataFrame(rows)], axis=1)
+    true = pd.DataFrame(rows)
+    true = with_strength(true.rename(columns={"dynamics_status": "status"}), lengths, check)
+    true = true.rename(columns={"status": "dynamics_status"})
+    table = pd.concat([pareto.reset_index(drop=True), true], axis=1)
     ratios = lengths[:, 1:] / lengths[:, :1]
     lo = np.array([ratio_bounds[n][0] for n in RATIO_NAMES])
     hi = np.array([ratio_bounds[n][1] for n in RATIO_NAMES])

@@ -37,7 +37,6 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.physics.kinematics import as_design
 
-LINK_NAMES: tuple[str, ...] = ("lower_arm", "crank", "coupler", "upper_arm")
 ABS_M30_DENSITY_KG_M3 = 1040.0
 
 
@@ -184,7 +183,8 @@ def polygon_mass_properties(
 def mass_properties(
     design: ArrayLike, settings: CadSettings = CadSettings()
 ) -> dict[str, MassProperties]:
-    """Mass properties of the four links (link frames, SI units), keyed by :data:`LINK_NAMES`."""
+    """Mass properties of the four links (link frames, SI units), keyed by link name
+    (:data:`qsm.physics.kinematics.LINK_NAMES`)."""
     return {
         name: polygon_mass_properties(poly, settings.thickness_m, settings.density_kg_m3)
         for name, poly in link_outlines(design, settings).items()
@@ -225,10 +225,11 @@ def _outline_terms(s: CadSettings) -> dict[str, list[tuple[NDArray[np.float64], 
 def batch_mass_properties(
     designs: ArrayLike, settings: CadSettings = CadSettings()
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
-    """Planar mass properties of the four links (:data:`LINK_NAMES` order) of designs (..., 6) m,
-    without Python work per design: mass (..., 4) kg, centre of mass (..., 4, 2) m in the link
-    frames and inertia about z through it (..., 4) kg m^2; those of :func:`mass_properties` to
-    rounding. The section must fit every design (:func:`link_outlines` raises otherwise)."""
+    """Planar mass properties of the four links (:data:`qsm.physics.kinematics.LINK_NAMES`
+    order) of designs (..., 6) m, without Python work per design: mass (..., 4) kg, centre of
+    mass (..., 4, 2) m in the link frames and inertia about z through it (..., 4) kg m^2; those
+    of :func:`mass_properties` to rounding. The section must fit every design
+    (:func:`link_outlines` raises otherwise)."""
     d = as_design(designs)
     masses, coms, izz = [], [], []
     sigma = settings.density_kg_m3 * settings.thickness_m
@@ -264,7 +265,7 @@ def export_stl(
 ) -> list[Path]:
     """Write one binary STL per link (``<link>.stl``, millimetres, link frame) into ``directory``.
 
-    Returns the written paths in :data:`LINK_NAMES` order.
+    Returns the written paths in :data:`qsm.physics.kinematics.LINK_NAMES` order.
     """
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)

@@ -27,6 +27,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 DESIGN_NAMES: tuple[str, ...] = ("l1", "l2", "l3", "l4", "ee_x", "ee_y")
+#: The four links (their solids in :mod:`qsm.physics.cad`).
+LINK_NAMES: tuple[str, ...] = ("lower_arm", "crank", "coupler", "upper_arm")
 RATIO_NAMES: tuple[str, ...] = DESIGN_NAMES[1:]
 #: Table columns of the 6 scaled lengths (m).
 DESIGN_COLUMNS: tuple[str, ...] = tuple(f"{name}_m" for name in DESIGN_NAMES)

@@ -1,14 +1,17 @@
-"""The design to realise, on any task: printable if anything is, and truly feasible always.
+"""The design to realise, on any task: strong enough and printable if anything is, truly
+feasible always.
 
 Order of the search (:func:`choose_design`), each step applying the selection rule of
-:func:`qsm.realisation.printing.select_design` to its candidates:
+:func:`qsm.realisation.printing.select_design` to its candidates, taken first from the primary
+front (``optimization.formulation``), then the other fronts in order, then the dataset (every
+design of which truly holds the task, with true dynamics):
 
-1. the printable, truly feasible designs of the primary front (``optimization.formulation``);
-2. the same on the other fronts, in order;
-3. the printable designs of the dataset (every one truly holds the task, with true dynamics);
-4. without any printable design: the truly feasible designs of the primary front, the other
-   fronts, then the dataset, marked *not printable*, with what it would take to print them
-   (:func:`printing_advice`).
+1. the truly feasible designs whose links hold their loads and fit the printer;
+2. without one: those whose links hold their loads, marked *not printable*, with what it would
+   take to print them (:func:`printing_advice`);
+3. without one: the truly feasible design whose links come nearest to holding (the smallest
+   strength utilisation), marked *not strong enough*; a part that breaks is worse than one that
+   needs a larger printer, so strength comes before printability.
 
 Every step that is skipped is recorded with its counts, so the output says why it fell back.
 """
@@ -22,6 +25,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from qsm.mechanisms.dataset import STRENGTH_COLUMNS
 from qsm.optimisation.constraints import (
     box_excess_mm,
     printability_violation_mm,
@@ -46,6 +50,8 @@ def dataset_candidates(dataset: pd.DataFrame) -> pd.DataFrame:
     out["tau2_true_Nm"] = dataset["tau2_Nm"]
     out["feasible"] = True
     out["dynamics_status"] = dataset["status"]
+    for column in STRENGTH_COLUMNS:
+        out[column] = dataset[column]
     return out.reset_index(drop=True)
 
 
@@ -74,27 +80,40 @@ def choose_design(
 ) -> tuple[pd.Series, dict[str, Any]]:
     """The design to realise (see the module docstring) and how it was found.
 
-    Returns the row and ``{"source", "printable", "fallback"}``: the front or ``dataset`` it came
-    from, whether it fits the printer, and one line per skipped step with its counts.
+    Returns the row and ``{"source", "printable", "holds_loads", "fallback"}``: the front or
+    ``dataset`` it came from, whether it fits the printer and holds its loads, and one line per
+    skipped step with its counts.
     """
     sources = {name: fronts[name] for name in [primary, *(k for k in fronts if k != primary)]}
     sources["dataset"] = dataset_candidates(dataset)
     feasible = {name: _feasible(table) for name, table in sources.items()}
+    strong = {name: table[table["holds_loads"].astype(bool)] for name, table in feasible.items()}
     skipped: list[str] = []
-    for name, table in feasible.items():
+    volume = " x ".join(f"{v:g}" for v in volume_mm)
+    for name, table in strong.items():
         fits = _printable(table, cad, volume_mm)
         what = "front" if name != "dataset" else "designs"
         if fits.any():
             row = select_design(table[fits], rule, cad, volume_mm)
-            return _tag(row, name, True), {"source": name, "printable": True, "fallback": skipped}
+            how = {"source": name, "printable": True, "holds_loads": True, "fallback": skipped}
+            return _tag(row, name, True), how
         skipped.append(
-            f"{name} {what}: {len(sources[name])} designs, {len(table)} truly feasible, "
-            f"0 printable on {' x '.join(f'{v:g}' for v in volume_mm)} mm"
+            f"{name} {what}: {len(sources[name])} designs, {len(feasible[name])} truly feasible, "
+            f"{len(table)} of them hold their loads, 0 of those printable on {volume} mm"
         )
-    for name, table in feasible.items():
+    for name, table in strong.items():
         if len(table):
             row = select_design(table, rule, cad, (np.inf, np.inf, np.inf))
-            return _tag(row, name, False), {"source": name, "printable": False, "fallback": skipped}
+            how = {"source": name, "printable": False, "holds_loads": True, "fallback": skipped}
+            return _tag(row, name, False), how
+    skipped.append("no truly feasible design of the fronts or the dataset holds its loads")
+    for name, table in feasible.items():
+        if len(table):
+            row = table.loc[table["strength_utilisation"].astype(float).idxmin()].copy()
+            row["selection_rule"] = "least strength utilisation"
+            printable = bool(_printable(table.loc[[row.name]], cad, volume_mm).iloc[0])
+            how = {"source": name, "printable": printable, "holds_loads": False}
+            return _tag(row, name, printable), {**how, "fallback": skipped}
     raise NoFeasibleDesign(
         "no truly feasible design on any front nor in the dataset: " + "; ".join(skipped)
     )

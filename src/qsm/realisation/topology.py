@@ -33,12 +33,18 @@ trimesh into a watertight plate whose ``mass_properties`` replace the link's
 plate (rasterised as the covered fraction of each cell, stiffness proportional to it): the
 compliance, and the peak von Mises stress of the cells at least half filled (element averages) must
 stay within ``allowable_stress_pa = yield_strength_pa / safety_factor``.
+
+Stress limit: compliance at a fixed volume fraction has no reason to respect it, so a printed
+plate that exceeds the allowable stress is not kept. The optimisation runs again with more
+material, ``volume_fraction`` raised by :data:`VOLUME_STEP` up to :data:`MAX_VOLUME_FRACTION`,
+until the printed plate holds; if none does, the link stays the solid CAD plate (``kept_solid``),
+and the result says so. Every attempt is recorded.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Any
 
@@ -65,6 +71,11 @@ from qsm.realisation.geometry import (
 )
 from qsm.realisation.loads import OPTIMISED_LINKS, LinkLoads, joint_points, link_problem, peak_loads
 from qsm.realisation.simp import simp
+
+#: Step (of the designable cells) by which the kept material grows after a plate that fails.
+VOLUME_STEP = 0.1
+#: Most material a lighter plate may keep; beyond it the solid link is kept.
+MAX_VOLUME_FRACTION = 0.9
 
 
 @dataclass
@@ -93,6 +104,8 @@ class LinkResult:
     p99_von_mises_after_pa: float
     allowable_stress_pa: float
     seconds: float
+    kept_solid: bool = False
+    attempts: list[dict[str, float]] = field(default_factory=list)
 
     @property
     def carries_loads(self) -> bool:
@@ -117,6 +130,8 @@ class LinkResult:
             "p99_von_mises_after_MPa": self.p99_von_mises_after_pa / 1e6,
             "allowable_stress_MPa": self.allowable_stress_pa / 1e6,
             "carries_loads": self.carries_loads,
+            "kept_solid": self.kept_solid,
+            "attempts": self.attempts,
             "watertight": bool(self.mesh.is_watertight),
             "seconds": self.seconds,
         }
@@ -197,21 +212,36 @@ def optimise_links(
         problem, outline = link_problem(d, cad, link, loads[link], settings)
         full = (problem.design | problem.solid).astype(float)
         fe_before = analyse(problem, full, settings)
-        opt = simp(problem, settings)
         joints = list(joint_points(d)[link].values())
-        geom, threshold = printed_geometry(
-            problem.grid,
-            opt.density,
-            outline,
-            joints,
-            cad.boss_radius_m,
-            settings.threshold,
-            cad.segments_per_circle,
-        )
-        mesh = extrude(geom, cad.thickness_m)
-        after_props = mesh_mass_properties(mesh, cad.density_kg_m3)
-        # the printed plate, rasterised by cell fill, stiffness proportional to the fill
-        fe_after = analyse(problem, cell_fill(problem.grid, geom), settings, penal=1.0)
+        attempts: list[dict[str, float]] = []
+        fraction = settings.volume_fraction
+        while True:
+            opt = simp(problem, replace(settings, volume_fraction=fraction))
+            geom, threshold = printed_geometry(
+                problem.grid,
+                opt.density,
+                outline,
+                joints,
+                cad.boss_radius_m,
+                settings.threshold,
+                cad.segments_per_circle,
+            )
+            # the printed plate, rasterised by cell fill, stiffness proportional to the fill
+            fe_after = analyse(problem, cell_fill(problem.grid, geom), settings, penal=1.0)
+            attempts.append(
+                {"volume_fraction": fraction, "max_von_mises_MPa": fe_after.max_von_mises_pa / 1e6}
+            )
+            if fe_after.max_von_mises_pa <= settings.allowable_stress_pa:
+                mesh = extrude(geom, cad.thickness_m)
+                after_props = mesh_mass_properties(mesh, cad.density_kg_m3)
+                kept_solid = False
+                break
+            if fraction + VOLUME_STEP > MAX_VOLUME_FRACTION + 1e-9:
+                geom, threshold, fe_after = outline, 1.0, fe_before
+                mesh = extrude(outline, cad.thickness_m)
+                after_props, kept_solid = before[link], True
+                break
+            fraction = round(fraction + VOLUME_STEP, 10)
         props[link] = after_props
         results[link] = LinkResult(
             name=link,
@@ -236,6 +266,8 @@ def optimise_links(
             p99_von_mises_after_pa=fe_after.p99_von_mises_pa,
             allowable_stress_pa=settings.allowable_stress_pa,
             seconds=time.perf_counter() - start,
+            kept_solid=kept_solid,
+            attempts=attempts,
         )
     return TopologyResult(results, props, settings)
 

@@ -12,6 +12,71 @@ def _pct(x: float) -> str:
     return f"{100 * x:.1f} %"
 
 
+def _ratio(counts: Mapping[str, Any]) -> float:
+    return counts["hold_loads"] / counts["with_dynamics"] if counts["with_dynamics"] else 0.0
+
+
+def build_verdict(
+    selected: Mapping[str, Any], topology: Mapping[str, Any], payload: Mapping[str, Any]
+) -> tuple[bool, list[str]]:
+    """Whether the realised design is ready to build, and each reason it is not (with the
+    run's numbers): not printable, a solid link or a printed plate that does not hold its loads,
+    a failed payload test."""
+    problems = []
+    if not selected["printable"]:
+        problems.append("not printable on the configured printer (see the verdict below)")
+    strength = selected["strength"]
+    for link, r in strength["links"].items():
+        if not r["holds"]:
+            problems.append(
+                f"the {link.replace('_', ' ')} does not hold its loads "
+                f"({r['stress_peak_MPa']:.1f} MPa, {r['allowable_MPa']:.1f} MPa allowed; "
+                f"buckling factor {_factor(r['buckling_factor'])}, "
+                f"{r['required_buckling_factor']:g} required)"
+            )
+    for link, r in topology["links"].items():
+        if not r["carries_loads"]:
+            problems.append(
+                f"the printed {link.replace('_', ' ')} plate reaches "
+                f"{r['max_von_mises_after_MPa']:.1f} MPa in the FE check, "
+                f"{r['allowable_stress_MPa']:.1f} MPa allowed"
+            )
+    if not payload["passed"]:
+        problems.append(
+            f"the payload test failed (max tracking error {payload['max_tracking_error_deg']:.3f}"
+            " deg)"
+        )
+    return not problems, problems
+
+
+def _factor(x: float | None) -> str:
+    return "inf" if x is None else f"{x:.2f}"
+
+
+def _strength_rows(strength: Mapping[str, Any]) -> list[str]:
+    return [
+        f"| {link} | {r['stress_peak_MPa']:.1f} | {r['allowable_MPa']:.1f} "
+        f"| {r['safety_factor']:.2f} | {_factor(r['buckling_factor'])} "
+        f"| {'yes' if r['holds'] else 'NO'} |"
+        for link, r in strength["links"].items()
+    ]
+
+
+def _topology_rows(topology: Mapping[str, Any]) -> list[str]:
+    rows = []
+    for link, r in topology["links"].items():
+        part = (
+            "solid (no lighter plate held)"
+            if r["kept_solid"]
+            else (f"optimised, {100 * r['attempts'][-1]['volume_fraction']:.0f} % material kept")
+        )
+        rows.append(
+            f"| {link} | {r['mass_before_kg']:.3f} -> {r['mass_after_kg']:.3f} "
+            f"| {r['max_von_mises_after_MPa']:.1f} | {r['allowable_stress_MPa']:.1f} | {part} |"
+        )
+    return rows
+
+
 def headline_markdown(
     filters: Mapping[str, Any],
     status: Mapping[str, Any],
@@ -21,11 +86,21 @@ def headline_markdown(
     selected: Mapping[str, Any],
     torques: Mapping[str, Any],
     payload: Mapping[str, Any],
+    topology: Mapping[str, Any],
 ) -> str:
-    """One page of Markdown with the figures of every stage."""
+    """One page of Markdown with the overall verdict and the figures of every stage."""
     r2 = metrics["test"]["r2"]
+    ready, problems = build_verdict(selected, topology, payload)
     lines = [
         "# qsm-design: summary of this run",
+        "",
+        "**"
+        + (
+            "Ready to build: printable, every part holds its loads, payload test passed."
+            if ready
+            else "NOT READY TO BUILD: " + "; ".join(problems) + "."
+        )
+        + "**",
         "",
         "## Stage 1: mechanisms",
         f"- {filters['samples']:,} LHS samples; crank-rocker {filters['crank_rocker']:,}; loop "
@@ -38,21 +113,26 @@ def headline_markdown(
         f"- {status['mechanisms']:,} mechanisms, status "
         + ", ".join(f"{k} {v:,}" for k, v in status["status"].items())
         + ".",
+        f"- {status['strength']['hold_loads']:,} of {status['strength']['with_dynamics']:,} "
+        f"hold their loads ({_pct(_ratio(status['strength']))}); weakest link: "
+        + ", ".join(f"{k} {v:,}" for k, v in status["strength"]["weakest_link"].items())
+        + ".",
         "",
         "## Stage 3: surrogate",
         f"- test R^2 eta {r2['eta']:.4f}, tau1 {r2['tau1']:.4f}, tau2 {r2['tau2']:.4f} "
         f"(all {r2['all']:.4f}; paper 0.98700); fit {metrics['fit_seconds']:.1f} s.",
         "",
         "## Stage 4: optimisation, checked against the physics",
-        "| front | constraints | designs | truly hold the task | printable "
+        "| front | constraints | designs | truly hold the task | printable | links hold "
         "| median error eta / tau1 / tau2 | true HV |",
-        "| --- | --- | --- | --- | --- | --- | --- |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     for name, e in comparison["fronts"].items():
         err = " / ".join(_pct(e["median_rel_error"][k]) for k in ("eta", "tau1", "tau2"))
         lines.append(
             f"| {name} | {e['constraints']} | {e['n']} | {_pct(e['holds_task_share'])} "
-            f"| {_pct(e['printable_share'])} | {err} | {e['true_hypervolume']:.3f} |"
+            f"| {_pct(e['printable_share'])} | {_pct(e['holds_loads_share'])} | {err} "
+            f"| {e['true_hypervolume']:.3f} |"
         )
     agree = int((findings["agree"] == "agree").sum())
     lines += [
@@ -69,6 +149,20 @@ def headline_markdown(
         f"{selected['tau2_true_Nm']:.1f} N m.",
         f"- verdict: {selected['verdict']}",
         *(f"- fell back past: {line}" for line in selected["fallback"]),
+        "",
+        f"Strength of the solid links ({selected['strength']['material']}, "
+        f"{selected['strength']['payload_kg']:g} kg payload, over the duty):",
+        "",
+        "| link | peak stress (MPa) | allowable (MPa) | safety factor | buckling factor | holds |",
+        "| --- | --- | --- | --- | --- | --- |",
+        *_strength_rows(selected["strength"]),
+        "",
+        "Topology-optimised plates (plane-stress FE of the printed plate):",
+        "",
+        "| link | mass (kg) | peak von Mises (MPa) | allowable (MPa) | printed part |",
+        "| --- | --- | --- | --- | --- |",
+        *_topology_rows(topology),
+        "",
     ]
     for key in ("tau1_Nm", "tau2_Nm"):
         b, a = torques["before"][key], torques["after"][key]
