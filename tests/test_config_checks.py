@@ -205,3 +205,18 @@ def test_points_at_positive_x_warn():
     (warning,) = config_warnings(validate_config({"task": {"points": [[0.3, 0.1], [0.4, 0.1]]}}))
     assert "config key 'task.points': 2 point(s) at x > 0" in warning
     assert "mirror the cell" in warning
+
+
+def test_check_config_command(tmp_path, capsys):
+    from qsm.cli import main
+
+    mine = tmp_path / "mine.yaml"
+    mine.write_text("task: {points: [[0.3, 0.1], [0.4, 0.1]]}\n")
+    assert main(["check-config", "config/config.yaml", str(mine)]) == 0
+    assert "2 point(s) at x > 0" in capsys.readouterr().out
+    mine.write_text("task:\n\tpayload_kg: 5\n")
+    assert main(["check-config", str(mine)]) == 2
+    assert f"config file '{mine}', line 2, column 1" in capsys.readouterr().err
+    mine.write_text("task: {payload_kg: 5000}\n")
+    assert main(["check-config", str(mine)]) == 2
+    assert "looks like grams" in capsys.readouterr().err
