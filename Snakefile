@@ -13,10 +13,18 @@ min_version("9.0")
 # their sys.path).
 sys.path.insert(0, str(Path(workflow.basedir) / "src"))
 
-from qsm.config import validate_config  # noqa: E402
+from qsm.config import read_config_file, validate_config  # noqa: E402
+from qsm.config_checks import config_warnings  # noqa: E402
 
 # Jobs draw figures without a display; the library leaves the backend to its caller.
 os.environ.setdefault("MPLBACKEND", "Agg")
+
+
+# Snakemake reports a YAML error in a config file without its line; read the default one first so
+# that an edit of it that breaks the YAML is named with file, line and column (a file given with
+# --configfile is read by Snakemake before this file runs: `python -m qsm check-config FILE...`).
+if Path("config/config.yaml").exists():
+    read_config_file("config/config.yaml")
 
 
 configfile: "config/config.yaml"
@@ -26,6 +34,8 @@ report: "workflow/report/workflow.rst"
 
 
 validate_config(config)
+for message in config_warnings(config):
+    logger.warning(f"qsm config warning: {message}")
 
 
 include: "workflow/rules/common.smk"

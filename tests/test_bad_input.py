@@ -33,6 +33,13 @@ def finished(run, tmp_path):
             "optimization: {formulation: paper, formulations: [ratios]}",
             "config key 'optimization.formulation': 'paper' is not among",
         ),
+        ("task: {payload_kg: 5000}", "looks like grams: task.payload_kg is in kilograms"),
+        ("printing: {build_volume_mm: [0.6, 0.35, 0.35]}", "looks like metres: printing."),
+        ("operating_range: {theta1_deg: [0.785, 3.1416]}", "looks like radians: operating_range"),
+        ("task: {points: [[-530, 170], [-700, 20]]}", "looks like millimetres: task.points"),
+        ("scale: {max_m: 0.05}", "config key 'scale.max_m': 0.05 m is too small for the task"),
+        ("optimization: {bounds: {l2_m: [0.3, 0.1]}}", "'optimization.bounds.l2_m': [0.3, 0.1]"),
+        ("operating_range: {theta2_min_deg: 60}", "'operating_range.theta2_min_deg': 60 must be"),
     ],
 )
 def test_bad_config_names_the_key_and_keeps_results(finished, tmp_path, text, message):

@@ -1,4 +1,5 @@
-"""Command line: ``python -m qsm evaluate ...``, ``export ...`` and ``export-mjcf ...``."""
+"""Command line: ``python -m qsm evaluate ...``, ``export ...``, ``export-mjcf ...`` and
+``check-config ...``."""
 
 from __future__ import annotations
 
@@ -10,6 +11,7 @@ from pathlib import Path
 
 from qsm import settings
 from qsm.config import ConfigError, load_config, validate_config
+from qsm.config_checks import config_warnings
 from qsm.evaluate import checked_ratios, evaluate_ratios
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.cad import export_stl
@@ -37,7 +39,7 @@ def _parser() -> argparse.ArgumentParser:
         metavar="X Y",
         help="task points x1 y1 x2 y2 ... in metres (default: the config's task.points)",
     )
-    ev.add_argument("--config", help="config YAML (default: built-in defaults)")
+    ev.add_argument("--config", nargs="+", help="config YAML(s) (default: built-in defaults)")
     ex = sub.add_parser(
         "export-mjcf", help="write a mechanism's MuJoCo model (MJCF) and link STLs (mm)"
     )
@@ -47,9 +49,15 @@ def _parser() -> argparse.ArgumentParser:
         default="results/mechanisms/mechanisms.parquet",
         help="mechanism table (default: %(default)s)",
     )
-    ex.add_argument("--config", help="config YAML for the link section and payload")
+    ex.add_argument("--config", nargs="+", help="config YAML(s) for the link section and payload")
     ex.add_argument("--out", help="output folder (default: results/models/mechanism-ID)")
     _export_parser(sub)
+    check = sub.add_parser(
+        "check-config",
+        help="validate config files as `snakemake --configfile FILE...` merges them; prints the "
+        "warnings, or the error with the key (or the file, line and column of a YAML error)",
+    )
+    check.add_argument("config", nargs="*", help="config YAML files, later ones over earlier ones")
     return parser
 
 
@@ -78,7 +86,9 @@ def _export_parser(sub: argparse._SubParsersAction) -> None:
         help="with --ratios: task points x1 y1 x2 y2 ... in metres (default: the config's)",
     )
     ex.add_argument("--results", default="results", help="the run's results (default: %(default)s)")
-    ex.add_argument("--config", help="the run's config YAML (default: built-in defaults)")
+    ex.add_argument(
+        "--config", nargs="+", help="the run's config YAML(s), merged in order (default: built-in)"
+    )
     ex.add_argument("--out", help="output folder (default: RESULTS/exports/...)")
 
 
@@ -101,7 +111,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the process exit code."""
     args = _parser().parse_args(argv)
     try:
-        config = load_config(args.config)
+        config = load_config(*(args.config or ()))
         if getattr(args, "task_points", None) is not None:
             pts = args.task_points
             if len(pts) % 2:
@@ -126,6 +136,8 @@ def main(argv: Sequence[str] | None = None) -> int:
             )
         elif args.command == "export-mjcf":
             result = _export(args, config)
+        elif args.command == "check-config":
+            result = {"valid": True, "warnings": config_warnings(config)}
         else:
             try:
                 ratios = checked_ratios(args.ratios)

@@ -13,16 +13,11 @@ from pathlib import Path
 from typing import Any
 
 import jsonschema
-import numpy as np
 import yaml
 
-from qsm.physics.task import min_enclosing_circle
+from qsm.config_checks import ConfigError, check_config
 
 SCHEMA_FILE = "config.schema.yaml"
-
-
-class ConfigError(ValueError):
-    """A configuration value is missing, unknown, of the wrong type or out of range."""
 
 
 @cache
@@ -69,49 +64,24 @@ def validate_config(config: dict[str, Any]) -> dict[str, Any]:
                 f"config key '{_key(path)}' is unknown; known keys here: {', '.join(sorted(known))}"
             )
         raise ConfigError(f"config key '{_key(err.absolute_path)}': {err.message}")
-    for name, (lo, hi) in config["sampling"]["bounds"].items():
-        if not lo < hi:
-            raise ConfigError(
-                f"config key 'sampling.bounds.{name}': min {lo} is not below max {hi}"
-            )
-    lo, hi = config["operating_range"]["theta1_deg"]
-    if not lo < hi:
-        raise ConfigError(
-            f"config key 'operating_range.theta1_deg': min {lo} is not below max {hi}"
-        )
+    _coerce_whole_numbers(config, schema())
     _check_finite(config)
-    _check_task(config["task"]["points"])
-    _check_cad(config)
-    opt = config["optimization"]
-    if opt["formulation"] not in opt["formulations"]:
-        raise ConfigError(
-            f"config key 'optimization.formulation': '{opt['formulation']}' is not among "
-            f"optimization.formulations = {opt['formulations']}"
-        )
-    sampling = config["sampling"]
-    if sampling["n_mechanisms"] > sampling["n_samples"]:
-        raise ConfigError(
-            f"config key 'sampling.n_mechanisms': {sampling['n_mechanisms']} exceeds "
-            f"sampling.n_samples = {sampling['n_samples']}"
-        )
+    check_config(config)
     return config
 
 
-#: Smallest radius (m) of the task circle: below it eta (task area / workspace area) is ~0.
-MIN_TASK_RADIUS_M = 1e-3
-
-
-def _check_task(points: list[list[float]]) -> None:
-    """Finite task points spanning a circle of at least :data:`MIN_TASK_RADIUS_M`."""
-    radius = min_enclosing_circle(np.asarray(points, dtype=float)).radius
-    if radius < MIN_TASK_RADIUS_M:
-        raise ConfigError(
-            f"config key 'task.points': the points span a circle of radius {radius:.2g} m "
-            f"(a single point); eta = task area / workspace area would be zero for every design "
-            f"and could not rank them. Give the region the tool must cover: at least two points "
-            f"{2e3 * MIN_TASK_RADIUS_M:g} mm or more apart (e.g. the point and the edge of its "
-            f"positioning tolerance)"
-        )
+def _coerce_whole_numbers(value: Any, sub_schema: dict[str, Any]) -> Any:
+    """``value`` with every whole float (30000.0, 2.0e5) where the schema wants an integer made
+    an int, in place; the schema has already rejected fractional ones."""
+    if isinstance(value, dict):
+        for name, prop in sub_schema.get("properties", {}).items():
+            if name in value:
+                value[name] = _coerce_whole_numbers(value[name], prop)
+    elif isinstance(value, list) and isinstance(sub_schema.get("items"), dict):
+        value[:] = [_coerce_whole_numbers(item, sub_schema["items"]) for item in value]
+    elif sub_schema.get("type") == "integer" and isinstance(value, float) and value.is_integer():
+        return int(value)
+    return value
 
 
 def _check_finite(value: Any, path: tuple[str, ...] = ()) -> None:
@@ -128,35 +98,45 @@ def _check_finite(value: Any, path: tuple[str, ...] = ()) -> None:
         raise ConfigError(f"config key '{_key(path)}': {value} is not a finite number")
 
 
-def _check_cad(config: dict[str, Any]) -> None:
-    """A section that some design of the sampled ranges, at the largest scale, can carry."""
-    cad = config["cad"]
-    if not cad["boss_radius_m"] > cad["width_m"] / 2:
+def read_config_file(path: str | Path) -> dict[str, Any]:
+    """The mapping in the YAML (or JSON) file ``path``; ``ConfigError`` naming the file, and the
+    line and column of a syntax error."""
+    try:
+        data = yaml.safe_load(Path(path).read_text()) or {}
+    except OSError as exc:
+        raise ConfigError(f"cannot read config file '{path}': {exc}") from exc
+    except yaml.MarkedYAMLError as exc:
+        mark = exc.problem_mark or exc.context_mark
+        where = f", line {mark.line + 1}, column {mark.column + 1}" if mark else ""
+        tab = " (YAML indents with spaces, never tabs)" if "'\\t'" in str(exc) else ""
         raise ConfigError(
-            f"config key 'cad.boss_radius_m': {cad['boss_radius_m']} m must exceed half the bar "
-            f"width cad.width_m = {cad['width_m']} m"
-        )
-    bounds, scale = config["sampling"]["bounds"], config["scale"]["max_m"]
-    shortest_bar = scale * min(1.0, bounds["l2"][1], bounds["l3"][1])
-    needed = 2 * math.sqrt(cad["boss_radius_m"] ** 2 - (cad["width_m"] / 2) ** 2)
-    if shortest_bar <= needed:
-        raise ConfigError(
-            f"config key 'cad.boss_radius_m': bosses of radius {cad['boss_radius_m']} m on bars "
-            f"{cad['width_m']} m wide need links longer than {needed:.3g} m, but at scale.max_m "
-            f"the sampled ranges give a crank or coupler of at most {shortest_bar:.3g} m"
-        )
+            f"config file '{path}'{where}: not valid YAML: {exc.problem or exc}{tab}"
+        ) from exc
+    except yaml.YAMLError as exc:
+        raise ConfigError(f"config file '{path}': not valid YAML: {exc}") from exc
+    if not isinstance(data, dict):
+        raise ConfigError(f"config file '{path}' must hold a mapping of keys")
+    return data
 
 
-def load_config(path: str | Path | None = None) -> dict[str, Any]:
-    """Read a YAML config file (or none: all defaults), validate it and fill in defaults."""
+def merge_config(base: dict[str, Any], update: Mapping[str, Any]) -> dict[str, Any]:
+    """Merge ``update`` into ``base`` in place as Snakemake merges --configfile files: mappings
+    key by key, anything else replaced."""
+    for key, value in update.items():
+        if isinstance(value, Mapping) and isinstance(base.get(key), dict):
+            merge_config(base[key], value)
+        else:
+            base[key] = copy.deepcopy(value)
+    return base
+
+
+def load_config(*paths: str | Path | None) -> dict[str, Any]:
+    """Read YAML config files (none: all defaults), each merged over the ones before as
+    ``snakemake --configfile a.yaml b.yaml`` does, then validate and fill in defaults."""
     data: dict[str, Any] = {}
-    if path is not None:
-        try:
-            data = yaml.safe_load(Path(path).read_text()) or {}
-        except (OSError, yaml.YAMLError) as exc:
-            raise ConfigError(f"cannot read config file '{path}': {exc}") from exc
-        if not isinstance(data, dict):
-            raise ConfigError(f"config file '{path}' must hold a mapping of keys")
+    for path in paths:
+        if path is not None:
+            merge_config(data, read_config_file(path))
     return validate_config(data)
 
 

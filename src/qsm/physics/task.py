@@ -6,6 +6,11 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from scipy.spatial import ConvexHull, QhullError
+
+#: Above this many points the enclosing circle is sought among the convex hull's vertices only
+#: (the same circle, far faster for thousands of points; smaller tasks keep their exact path).
+HULL_ABOVE = 64
 
 
 @dataclass(frozen=True)
@@ -64,6 +69,11 @@ def min_enclosing_circle(points: ArrayLike, seed: int = 0) -> Disk:
     p = np.asarray(points, dtype=float)
     if p.ndim != 2 or p.shape[1] != 2 or len(p) == 0:
         raise ValueError(f"task points must be a non-empty list of [x, y], got shape {p.shape}")
+    if len(p) > HULL_ABOVE:
+        try:
+            p = p[ConvexHull(p).vertices]
+        except QhullError:  # collinear or repeated points: no 2-D hull, search them all
+            pass
     p = p[np.random.default_rng(seed).permutation(len(p))]
     disk = Disk((float(p[0, 0]), float(p[0, 1])), 0.0)
     for i in range(1, len(p)):

@@ -20,6 +20,13 @@ class TableError(ValueError):
     """A table file is missing, unreadable or lacks a column."""
 
 
+def _remedy(path: str | Path) -> str:
+    return (
+        f"; it is damaged or was not written by this workflow: delete '{path}' and run again "
+        f"(Snakemake then recomputes it)"
+    )
+
+
 def package_versions(names: Iterable[str] = PACKAGES) -> dict[str, str]:
     """Installed versions of ``names`` ("missing" for one that is not installed)."""
     versions = {}
@@ -50,14 +57,19 @@ def read_table(path: str | Path, columns: Iterable[str] = ()) -> pd.DataFrame:
     try:
         table = pq.read_table(path)
     except (OSError, pa.ArrowException) as exc:
-        raise TableError(f"cannot read table '{path}': {exc}") from exc
+        raise TableError(f"cannot read table '{path}': {exc}{_remedy(path)}") from exc
     missing = [c for c in columns if c not in table.column_names]
     if missing:
-        raise TableError(f"table '{path}' lacks column(s) {', '.join(missing)}")
+        raise TableError(f"table '{path}' lacks column(s) {', '.join(missing)}{_remedy(path)}")
     return table.to_pandas()
 
 
 def read_meta(path: str | Path) -> dict[str, Any]:
-    """The qsm metadata stored by ``write_table``."""
-    raw = pq.read_schema(path).metadata or {}
-    return json.loads(raw.get(META_KEY, b"{}"))
+    """The qsm metadata stored by ``write_table``; ``TableError`` naming the file if unreadable."""
+    try:
+        raw = pq.read_schema(path).metadata or {}
+        return json.loads(raw.get(META_KEY, b"{}"))
+    except (OSError, pa.ArrowException, ValueError) as exc:
+        raise TableError(
+            f"cannot read the metadata of table '{path}': {exc}{_remedy(path)}"
+        ) from exc

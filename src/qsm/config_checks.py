@@ -1,0 +1,301 @@
+"""Checks of a schema-valid configuration across keys, and plausibility checks with likely causes.
+
+:func:`check_config` raises :class:`ConfigError` for values no run can use (every message names
+the key, the value, what is valid and, where one is likely, the unit slip behind it);
+:func:`config_warnings` lists what a run can use but the user should know. config/README.md says
+which is which and why. Lengths in metres, angles in degrees, masses in kg.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+
+from qsm.physics.task import min_enclosing_circle
+from qsm.physics.task_points import MAX_VISITED_POINTS
+
+G = 9.81  # m/s^2
+
+#: Smallest radius (m) of the task circle: below it eta (task area / workspace area) is ~0.
+MIN_TASK_RADIUS_M = 1e-3
+#: Narrowest theta1 range (deg): a range written in radians spans at most 2 pi = 6.28.
+MIN_THETA1_SPAN_DEG = 6.3
+#: Smallest printer side (mm); a build volume written in metres has every side below it.
+MIN_PRINTER_SIDE_MM = 10.0
+#: A payload from this mass (kg) up is reported as grams when it is too heavy.
+GRAMS_FROM_KG = 100.0
+#: A task point from this distance (m) up is reported as millimetres when it is out of reach.
+MILLIMETRES_FROM_M = 50.0
+#: Material floors below every printable solid: (key, floor, its unit, the unit a value below
+#: looks like, that unit in the key's).
+MATERIAL_FLOORS = (
+    (("material", "density_kg_m3"), 100.0, "kg/m^3", "g/cm^3", 1e3),
+    (("material", "youngs_modulus_pa"), 1e6, "Pa", "GPa", 1e9),
+    (("material", "yield_strength_pa"), 1e5, "Pa", "MPa", 1e6),
+)
+
+
+class ConfigError(ValueError):
+    """A configuration value is missing, unknown, of the wrong type or out of range."""
+
+
+def check_config(config: dict[str, Any]) -> None:
+    """Raise :class:`ConfigError` for the first cross-key or plausibility error of ``config``
+    (schema-valid, defaults filled)."""
+    _check_sampling(config["sampling"])
+    _check_operating_range(config["operating_range"])
+    _check_task(config)
+    _check_cad(config)
+    _check_materials(config)
+    _check_payload(config)
+    _check_printer(config)
+    _check_optimization(config)
+
+
+def config_warnings(config: dict[str, Any]) -> list[str]:
+    """What a valid ``config`` leaves for the user to know (empty for the defaults)."""
+    out = []
+    points = np.asarray(config["task"]["points"], dtype=float)
+    if len(points) > MAX_VISITED_POINTS:
+        out.append(
+            f"config key 'task.points': {len(points)} points; the task region is their enclosing "
+            f"disk, and the payload test and its animation visit {MAX_VISITED_POINTS} of them "
+            f"(the first, those on the disk's edge, then the farthest apart; README, 'Your own "
+            f"task')"
+        )
+    right = points[points[:, 0] > 0]
+    if len(right):
+        out.append(
+            f"config key 'task.points': {len(right)} point(s) at x > 0, e.g. "
+            f"{_point(right[0])}; with the default operating range this family's workspace lies "
+            f"on the x < 0 side of the base, so no design may hold the task: mirror the cell "
+            f"(x -> -x) if Stage 1 finds none"
+        )
+    return out
+
+
+def _point(p: Any) -> str:
+    return f"({p[0]:.4g}, {p[1]:.4g})"
+
+
+def largest_reach(bounds: dict[str, list[float]]) -> float:
+    """Largest distance from the base joint A of any end effector of the sampled ranges, in units
+    of l1: |AE| <= |AB| + |BE| = 1 + hypot(ee_x, ee_y) (E sits ee_x along and ee_y across the upper
+    arm from its pivot B)."""
+    return 1.0 + math.hypot(bounds["ee_x"][1], bounds["ee_y"][1])
+
+
+def _check_sampling(sampling: dict[str, Any]) -> None:
+    bounds = sampling["bounds"]
+    for name, (lo, hi) in bounds.items():
+        if lo <= 0:
+            raise ConfigError(
+                f"config key 'sampling.bounds.{name}': min {lo} is not positive; the bounds are "
+                f"ratios of link lengths to l1 = 1 and must lie above 0"
+            )
+        if not lo < hi:
+            raise ConfigError(
+                f"config key 'sampling.bounds.{name}': min {lo} is not below max {hi}"
+            )
+    if bounds["l2"][0] + bounds["l3"][0] >= 1.0 + bounds["l4"][1]:
+        raise ConfigError(
+            f"config key 'sampling.bounds': no sample can be a crank-rocker (l2 + l3 < l1 + l4 "
+            f"with l1 = 1): the smallest l2 + l3 = {bounds['l2'][0]} + {bounds['l3'][0]} is not "
+            f"below 1 + the largest l4 = {1.0 + bounds['l4'][1]:g}; lower l2 or l3, or raise l4"
+        )
+    if sampling["n_mechanisms"] > sampling["n_samples"]:
+        raise ConfigError(
+            f"config key 'sampling.n_mechanisms': {sampling['n_mechanisms']} exceeds "
+            f"sampling.n_samples = {sampling['n_samples']}"
+        )
+
+
+def _check_operating_range(op: dict[str, Any]) -> None:
+    lo, hi = op["theta1_deg"]
+    key = "config key 'operating_range.theta1_deg'"
+    if not lo < hi:
+        raise ConfigError(f"{key}: min {lo} is not below max {hi}")
+    if hi - lo > 360:
+        raise ConfigError(f"{key}: [{lo}, {hi}] spans {hi - lo:g} deg, more than a turn (360 deg)")
+    if hi - lo < MIN_THETA1_SPAN_DEG:
+        cause = (
+            "; looks like radians: operating_range is in degrees (the paper's [45, 180])"
+            if max(abs(lo), abs(hi)) <= 2 * math.pi
+            else ""
+        )
+        raise ConfigError(
+            f"{key}: [{lo}, {hi}] spans {hi - lo:.3g} deg; motor 1 must turn through at least "
+            f"{MIN_THETA1_SPAN_DEG} deg to sweep a workspace{cause}"
+        )
+    if op["theta2_min_deg"] >= lo:
+        raise ConfigError(
+            f"config key 'operating_range.theta2_min_deg': {op['theta2_min_deg']} must be below "
+            f"theta1's minimum {lo} (operating_range.theta1_deg): theta2 runs from theta2_min_deg "
+            f"to theta1, so at theta1 = {lo} deg its range would be empty"
+        )
+
+
+def _check_task(config: dict[str, Any]) -> None:
+    """Task points spanning a circle of :data:`MIN_TASK_RADIUS_M`, within the family's reach."""
+    points = np.asarray(config["task"]["points"], dtype=float)
+    radius = min_enclosing_circle(points).radius
+    if radius < MIN_TASK_RADIUS_M:
+        raise ConfigError(
+            f"config key 'task.points': the points span a circle of radius {radius:.2g} m "
+            f"(a single point); eta = task area / workspace area would be zero for every design "
+            f"and could not rank them. Give the region the tool must cover: at least two points "
+            f"{2e3 * MIN_TASK_RADIUS_M:g} mm or more apart (e.g. the point and the edge of its "
+            f"positioning tolerance)"
+        )
+    scale, margin = config["scale"]["max_m"], config["scale"]["safety_margin_m"]
+    reach = largest_reach(config["sampling"]["bounds"])
+    dist = np.hypot(*points.T)
+    far = points[int(np.argmax(dist))]
+    need = float(dist.max()) + margin
+    if need <= scale * reach:
+        return
+    basis = (
+        f"no design of the sampled ranges reaches farther than {scale * reach:.3g} m from the "
+        f"base (scale.max_m {scale} m x the largest reach 1 + hypot(ee_x, ee_y) = {reach:.3g} of "
+        f"sampling.bounds), but task point {_point(far)} lies {dist.max():.3g} m away"
+        + (f" (plus scale.safety_margin_m {margin} m)" if margin else "")
+    )
+    if dist.max() >= MILLIMETRES_FROM_M and 1e-3 * dist.max() + margin <= scale * reach:
+        raise ConfigError(
+            f"config key 'task.points': {basis}; looks like millimetres: task.points are in metres"
+        )
+    raise ConfigError(
+        f"config key 'scale.max_m': {scale} m is too small for the task: {basis}; scale.max_m must "
+        f"be at least {need / reach:.3g} m, or task.points nearer the base"
+    )
+
+
+def _check_cad(config: dict[str, Any]) -> None:
+    """A section that some design of the sampled ranges, at the largest scale, can carry."""
+    cad = config["cad"]
+    lengths = {k: cad[k] for k in ("width_m", "thickness_m", "boss_radius_m")}
+    cause = (
+        "; looks like millimetres: cad lengths are in metres"
+        if max(lengths.values()) >= 1.0
+        else ""
+    )
+    if not cad["boss_radius_m"] > cad["width_m"] / 2:
+        raise ConfigError(
+            f"config key 'cad.boss_radius_m': {cad['boss_radius_m']} m must exceed half the bar "
+            f"width cad.width_m = {cad['width_m']} m{cause}"
+        )
+    bounds, scale = config["sampling"]["bounds"], config["scale"]["max_m"]
+    longest = min(1.0, bounds["l2"][1], bounds["l3"][1])
+    needed = 2 * math.sqrt(cad["boss_radius_m"] ** 2 - (cad["width_m"] / 2) ** 2)
+    if scale * longest <= needed:
+        raise ConfigError(
+            f"config key 'cad.boss_radius_m': bosses of radius {cad['boss_radius_m']} m on bars "
+            f"{cad['width_m']} m wide need links longer than {needed:.3g} m, but at scale.max_m "
+            f"{scale} m the sampled ranges give a crank or coupler of at most {scale * longest:.3g}"
+            f" m: smaller bosses, or scale.max_m above {needed / longest:.3g} m{cause}"
+        )
+
+
+def _check_materials(config: dict[str, Any]) -> None:
+    for (section, name), floor, unit, slip, factor in MATERIAL_FLOORS:
+        value = config[section][name]
+        if value < floor:
+            raise ConfigError(
+                f"config key '{section}.{name}': {value} {unit} is below {floor:g} {unit}, less "
+                f"than any printable solid; looks like {slip}: {section}.{name} is in {unit} "
+                f"({value} {slip} = {value * factor:g} {unit})"
+            )
+
+
+def _check_payload(config: dict[str, Any]) -> None:
+    """A payload the link section and the motors can hold at every task point (payload alone)."""
+    mass = config["task"]["payload_kg"]
+    cad = config["cad"]
+    allowable = config["material"]["yield_strength_pa"] / config["strength"]["safety_factor"]
+    section_kg = cad["width_m"] * cad["thickness_m"] * allowable / G
+    limits = config["payload_test"]["torque_limits_Nm"]
+    points = np.asarray(config["task"]["points"], dtype=float)
+    arm = float(np.abs(points[:, 0]).max())
+    motors_kg = sum(limits) / (G * arm) if arm > 0 else math.inf
+    if mass <= min(section_kg, motors_kg):
+        return
+    if section_kg <= motors_kg:
+        bound, basis = (
+            section_kg,
+            (
+                f"its weight would stress a link section of cad.width_m x cad.thickness_m beyond "
+                f"material.yield_strength_pa / strength.safety_factor = {allowable:.3g} Pa even in "
+                f"pure tension"
+            ),
+        )
+    else:
+        bound, basis = (
+            motors_kg,
+            (
+                f"holding it {arm:.3g} m out from the base (the task point farthest out in x) "
+                f"takes motor torques summing to m g |x| = {mass * G * arm:.0f} N m (turning both "
+                f"motors together turns the whole arm about the base; the links' own weight "
+                f"aside), beyond payload_test.torque_limits_Nm {limits[0]:g} + {limits[1]:g} N m"
+            ),
+        )
+    cause = (
+        f"; looks like grams: task.payload_kg is in kilograms ({mass:g} g = {mass / 1e3:g} kg)"
+        if mass >= GRAMS_FROM_KG and mass / 1e3 <= bound
+        else ""
+    )
+    raise ConfigError(
+        f"config key 'task.payload_kg': {mass:g} kg is more than the arm can hold: {basis}; at "
+        f"most {bound:.3g} kg is possible{cause}"
+    )
+
+
+def _check_printer(config: dict[str, Any]) -> None:
+    sides = config["printing"]["build_volume_mm"]
+    key = f"config key 'printing.build_volume_mm': {sides} mm"
+    if min(sides) < MIN_PRINTER_SIDE_MM:
+        cause = (
+            "; looks like metres: printing.build_volume_mm is in millimetres"
+            if max(sides) < MIN_PRINTER_SIDE_MM
+            else ""
+        )
+        raise ConfigError(f"{key} has a side below {MIN_PRINTER_SIDE_MM:g} mm{cause}")
+    cad = config["cad"]
+    end = sorted([1e3 * cad["thickness_m"], 2e3 * cad["boss_radius_m"], 2e3 * cad["boss_radius_m"]])
+    if any(s < e for s, e in zip(sorted(sides), end, strict=True)):
+        raise ConfigError(
+            f"{key} fits no link: the shortest link's box is at least {end[0]:g} x {end[1]:g} x "
+            f"{end[2]:g} mm (cad.thickness_m, twice cad.boss_radius_m), so no design is printable"
+        )
+
+
+def _check_optimization(config: dict[str, Any]) -> None:
+    opt = config["optimization"]
+    if opt["formulation"] not in opt["formulations"]:
+        raise ConfigError(
+            f"config key 'optimization.formulation': '{opt['formulation']}' is not among "
+            f"optimization.formulations = {opt['formulations']}"
+        )
+    ratios, scale = config["sampling"]["bounds"], config["scale"]["max_m"]
+    for name, interval in opt["bounds"].items():
+        if interval is None:
+            continue
+        lo, hi = interval
+        key = f"config key 'optimization.bounds.{name}': [{lo}, {hi}]"
+        if lo <= 0:
+            raise ConfigError(f"{key}: min {lo} is not positive; lengths in metres lie above 0")
+        if not lo < hi:
+            raise ConfigError(f"{key}: min {lo} is not below max {hi}")
+        longest = scale * (1.0 if name == "l1_m" else ratios[name.removesuffix("_m")][1])
+        if lo > longest:
+            cause = (
+                "; looks like millimetres: optimization.bounds are in metres"
+                if 1e-3 * lo <= longest
+                else ""
+            )
+            raise ConfigError(
+                f"{key}: min {lo} m exceeds the longest {name} of any dataset design, "
+                f"{longest:.3g} m (scale.max_m x the largest ratio of sampling.bounds), so the "
+                f"surrogate would only extrapolate{cause}"
+            )

@@ -1,0 +1,59 @@
+"""Which task points the payload test (and so its animation) visits when the task has many.
+
+Up to :data:`MAX_VISITED_POINTS` points are all visited in the order given. Beyond that the test
+visits a bounded subset of at most that many: the first point (where the test starts), then the
+points on the boundary of the task disk (the minimum enclosing circle, which is the task region),
+then any other points, each group taken in farthest-point order (every next point the one
+farthest from those already chosen), so the subset spans the region; the subset is then visited
+as a nearest-neighbour tour from the first point.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.physics.task import min_enclosing_circle
+
+#: Most task points the payload test visits (the five-point default task visits all five).
+MAX_VISITED_POINTS = 8
+
+#: Relative distance from the disk's edge (of its radius) within which a point lies on it.
+EDGE_TOLERANCE = 1e-9
+
+
+def _farthest_first(
+    pts: NDArray[np.float64], chosen: list[int], pool: NDArray[np.intp], n: int
+) -> None:
+    """Append indices of ``pool`` to ``chosen`` until it holds ``n``, each the point of the pool
+    farthest from those already chosen."""
+    pool = np.setdiff1d(pool, chosen)
+    gap = np.min(np.hypot(*(pts[pool, None, :] - pts[None, chosen, :]).T), axis=0)
+    while len(chosen) < n and len(pool):
+        k = int(np.argmax(gap))
+        chosen.append(int(pool[k]))
+        pool, gap = np.delete(pool, k), np.delete(gap, k)
+        gap = np.minimum(gap, np.hypot(*(pts[pool] - pts[chosen[-1]]).T))
+
+
+def visited_points(points: ArrayLike, cap: int = MAX_VISITED_POINTS) -> NDArray[np.intp]:
+    """Indices of the task ``points`` (n, 2) m the payload test visits, in visiting order.
+
+    All of them in their order when ``n <= cap``; otherwise ``cap`` of them chosen and ordered as
+    the module docstring says (``cap >= 2``).
+    """
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    if len(pts) <= cap:
+        return np.arange(len(pts))
+    disk = min_enclosing_circle(pts)
+    dist = np.hypot(*(pts - disk.centre).T)
+    edge = np.flatnonzero(dist >= disk.radius * (1.0 - EDGE_TOLERANCE))
+    chosen = [0]
+    _farthest_first(pts, chosen, edge, cap)
+    _farthest_first(pts, chosen, np.arange(len(pts)), cap)
+    order = [chosen.pop(0)]
+    while chosen:
+        here = pts[order[-1]]
+        k = int(np.argmin([np.hypot(*(pts[i] - here)) for i in chosen]))
+        order.append(chosen.pop(k))
+    return np.asarray(order, dtype=np.intp)

@@ -1,0 +1,222 @@
+"""Checks across keys and unit slips (qsm.config_checks): each names the key and the cause."""
+
+import copy
+
+import numpy as np
+import pytest
+
+from qsm.config import ConfigError, load_config, merge_config, validate_config
+from qsm.config_checks import config_warnings, largest_reach
+from qsm.physics.kinematics import end_effector
+
+# (config, the key named, the value or cause the message must also hold)
+ERRORS = [
+    (
+        {"optimization": {"bounds": {"l2_m": [0.3, 0.1]}}},
+        "optimization.bounds.l2_m",
+        "min 0.3 is not below max 0.1",
+    ),
+    (
+        {"optimization": {"bounds": {"l2_m": [0.0, 0.1]}}},
+        "optimization.bounds.l2_m",
+        "min 0.0 is not positive",
+    ),
+    (
+        {"optimization": {"bounds": {"l1_m": [-0.3, 0.5]}}},
+        "optimization.bounds.l1_m",
+        "min -0.3 is not positive",
+    ),
+    (
+        {"optimization": {"bounds": {"l1_m": [300, 500]}}},
+        "optimization.bounds.l1_m",
+        "looks like millimetres",
+    ),
+    (
+        {"optimization": {"bounds": {"ee_x_m": [5.0, 6.0]}}},
+        "optimization.bounds.ee_x_m",
+        "would only extrapolate",
+    ),
+    ({"sampling": {"bounds": {"l2": [0.0, 0.6]}}}, "sampling.bounds.l2", "min 0.0 is not positive"),
+    (
+        {"sampling": {"bounds": {"ee_y": [-0.2, 0.7]}}},
+        "sampling.bounds.ee_y",
+        "min -0.2 is not positive",
+    ),
+    (
+        {"sampling": {"bounds": {"l2": [0.5, 0.6], "l3": [1.2, 1.3]}}},
+        "sampling.bounds",
+        "no sample can be a crank-rocker",
+    ),
+    (
+        {"operating_range": {"theta2_min_deg": 45}},
+        "operating_range.theta2_min_deg",
+        "must be below theta1's minimum 45",
+    ),
+    (
+        {"operating_range": {"theta2_min_deg": 90}},
+        "operating_range.theta2_min_deg",
+        "range would be empty",
+    ),
+    (
+        {"operating_range": {"theta1_deg": [-200, 200]}},
+        "operating_range.theta1_deg",
+        "more than a turn",
+    ),
+    (
+        {"operating_range": {"theta1_deg": [0.785, 3.1416], "theta2_min_deg": -0.654}},
+        "operating_range.theta1_deg",
+        "looks like radians",
+    ),
+    ({"operating_range": {"theta1_deg": [45, 46]}}, "operating_range.theta1_deg", "spans 1 deg"),
+    (
+        {"task": {"payload_kg": 5000}},
+        "task.payload_kg",
+        "looks like grams: task.payload_kg is in kilograms",
+    ),
+    ({"task": {"payload_kg": 300}}, "task.payload_kg", "at most 36.4 kg"),
+    ({"task": {"payload_kg": 40}}, "task.payload_kg", "payload_test.torque_limits_Nm 150 + 100"),
+    (
+        {"task": {"payload_kg": 2000}, "payload_test": {"torque_limits_Nm": [1e5, 1e5]}},
+        "task.payload_kg",
+        "material.yield_strength_pa",
+    ),
+    (
+        {"printing": {"build_volume_mm": [0.6, 0.35, 0.35]}},
+        "printing.build_volume_mm",
+        "looks like metres",
+    ),
+    (
+        {"printing": {"build_volume_mm": [600, 350, 5]}},
+        "printing.build_volume_mm",
+        "a side below 10 mm",
+    ),
+    ({"printing": {"build_volume_mm": [100, 100, 15]}}, "printing.build_volume_mm", "fits no link"),
+    (
+        {"task": {"points": [[-530, 170], [-700, 20], [-600, 20]]}},
+        "task.points",
+        "looks like millimetres: task.points are in metres",
+    ),
+    ({"task": {"points": [[-6.0, 0.0], [-5.8, 0.1]]}}, "scale.max_m", "must be at least 2.34 m"),
+    ({"scale": {"max_m": 0.05}}, "scale.max_m", "0.05 m is too small for the task"),
+    ({"scale": {"safety_margin_m": 10.0}}, "scale.max_m", "scale.safety_margin_m 10.0 m"),
+    (
+        {"cad": {"width_m": 40, "thickness_m": 20, "boss_radius_m": 25}},
+        "cad.boss_radius_m",
+        "looks like millimetres",
+    ),
+    ({"material": {"density_kg_m3": 1.04}}, "material.density_kg_m3", "looks like g/cm^3"),
+    ({"material": {"youngs_modulus_pa": 2.2}}, "material.youngs_modulus_pa", "looks like GPa"),
+    ({"material": {"yield_strength_pa": 31}}, "material.yield_strength_pa", "looks like MPa"),
+]
+
+
+@pytest.mark.parametrize(("config", "key", "cause"), ERRORS)
+def test_error_names_key_and_cause(config, key, cause):
+    with pytest.raises(ConfigError) as info:
+        validate_config(copy.deepcopy(config))
+    assert f"config key '{key}'" in str(info.value)
+    assert cause in str(info.value)
+
+
+def test_a_task_near_the_base_needs_a_small_scale_only():
+    near = {"scale": {"max_m": 0.3}, "task": {"points": [[-0.2, 0.05], [-0.15, 0.05]]}}
+    validate_config(near)
+
+
+def test_largest_reach_bounds_every_end_effector():
+    """1 + hypot(ee_x, ee_y) is never exceeded by a design of the ranges in any pose."""
+    bounds = load_config()["sampling"]["bounds"]
+    rng = np.random.default_rng(0)
+    ratios = np.column_stack([rng.uniform(*bounds[k], 2000) for k in bounds])
+    design = np.column_stack([np.ones(2000), ratios])
+    theta = rng.uniform(-np.pi, np.pi, (2, 2000))
+    e = end_effector(design, *theta)
+    ok = np.isfinite(e).all(axis=-1)
+    assert ok.mean() > 0.5
+    reach = np.hypot(*e[ok].T)
+    assert reach.max() <= largest_reach(bounds)
+    assert reach.max() > 0.95 * largest_reach(bounds)  # and it is nearly reached
+
+
+def test_integers_written_as_floats_are_taken_as_integers():
+    c = validate_config(
+        {
+            "sampling": {"n_samples": 30000.0, "n_mechanisms": 2.0e3},
+            "surrogate": {"hidden_layers": [100.0]},
+        }
+    )
+    assert c["sampling"]["n_samples"] == 30000 and type(c["sampling"]["n_samples"]) is int
+    assert type(c["sampling"]["n_mechanisms"]) is int
+    assert (
+        c["surrogate"]["hidden_layers"] == [100] and type(c["surrogate"]["hidden_layers"][0]) is int
+    )
+    assert type(c["task"]["payload_kg"]) is float  # numbers stay numbers
+    with pytest.raises(ConfigError, match=r"'sampling\.n_samples': 30000\.5 is not of type"):
+        validate_config({"sampling": {"n_samples": 30000.5}})
+
+
+def test_integers_from_yaml(tmp_path):
+    path = tmp_path / "floats.yaml"
+    path.write_text("sampling: {n_samples: 2.0e+5, n_mechanisms: 11080.0}\n")
+    c = load_config(path)
+    assert (c["sampling"]["n_samples"], c["sampling"]["n_mechanisms"]) == (200000, 11080)
+    assert type(c["sampling"]["n_samples"]) is int
+
+
+@pytest.mark.parametrize(
+    ("text", "where"),
+    [
+        ("task:\n\tpayload_kg: 5\n", "line 2, column 1"),
+        ("task:\n  points: [[1, 2]\n  payload_kg: 5\n", "line 3, column 3"),
+        ("task:\n  payload_kg: 5\n sampling: 3\n", "line 3, column 2"),
+    ],
+    ids=["tab", "unclosed", "indent"],
+)
+def test_yaml_errors_name_file_line_and_column(tmp_path, text, where):
+    path = tmp_path / "mine.yaml"
+    path.write_text(text)
+    with pytest.raises(ConfigError) as info:
+        load_config(path)
+    assert f"config file '{path}', {where}: not valid YAML" in str(info.value)
+
+
+def test_files_merge_as_snakemake_merges_them(tmp_path):
+    a, b = tmp_path / "a.yaml", tmp_path / "b.yaml"
+    a.write_text("task: {payload_kg: 2.0}\nsampling: {n_samples: 5000, n_mechanisms: 100}\n")
+    b.write_text("sampling: {n_samples: 6000}\n")
+    c = load_config(a, b)
+    assert (c["task"]["payload_kg"], c["sampling"]["n_samples"]) == (2.0, 6000)
+    assert c["sampling"]["n_mechanisms"] == 100
+    assert merge_config({"x": {"y": 1}}, {"x": [2]}) == {"x": [2]}
+
+
+def test_defaults_have_no_warnings():
+    assert config_warnings(load_config()) == []
+
+
+def test_many_points_warn_that_a_subset_is_visited():
+    pts = np.random.default_rng(0).normal(size=(10_000, 2)) * 0.05 + [-0.6, 0.1]
+    (warning,) = config_warnings(validate_config({"task": {"points": pts.tolist()}}))
+    assert "config key 'task.points': 10000 points" in warning
+    assert "visit 8 of them" in warning
+
+
+def test_points_at_positive_x_warn():
+    (warning,) = config_warnings(validate_config({"task": {"points": [[0.3, 0.1], [0.4, 0.1]]}}))
+    assert "config key 'task.points': 2 point(s) at x > 0" in warning
+    assert "mirror the cell" in warning
+
+
+def test_check_config_command(tmp_path, capsys):
+    from qsm.cli import main
+
+    mine = tmp_path / "mine.yaml"
+    mine.write_text("task: {points: [[0.3, 0.1], [0.4, 0.1]]}\n")
+    assert main(["check-config", "config/config.yaml", str(mine)]) == 0
+    assert "2 point(s) at x > 0" in capsys.readouterr().out
+    mine.write_text("task:\n\tpayload_kg: 5\n")
+    assert main(["check-config", str(mine)]) == 2
+    assert f"config file '{mine}', line 2, column 1" in capsys.readouterr().err
+    mine.write_text("task: {payload_kg: 5000}\n")
+    assert main(["check-config", str(mine)]) == 2
+    assert "looks like grams" in capsys.readouterr().err

@@ -1,0 +1,45 @@
+"""Damaged or foreign intermediate tables: an error naming the file and saying to delete it."""
+
+import pandas as pd
+import pytest
+
+from qsm.workflow.tables import TableError, read_meta, read_table, write_table
+
+
+@pytest.fixture
+def table(tmp_path):
+    path = tmp_path / "mechanisms.parquet"
+    write_table(pd.DataFrame({"a": [1.0, 2.0], "b": [3, 4]}), path, {"settings_hash": "abc"})
+    return path
+
+
+@pytest.mark.parametrize(
+    "damage",
+    [
+        lambda raw: raw[:200],  # truncated (a killed copy)
+        lambda raw: raw[:3],
+        lambda raw: b"",
+        lambda raw: b"sample_id,l2\n1,0.3\n",  # a CSV under a Parquet name
+        lambda raw: raw[:100] + b"\0" * 50 + raw[150:],  # corrupted pages
+    ],
+    ids=["truncated", "stub", "empty", "csv", "corrupt"],
+)
+def test_damaged_table_names_the_file_and_says_delete(table, damage):
+    table.write_bytes(damage(table.read_bytes()))
+    for read in (read_table, read_meta):
+        try:
+            read(table)
+        except TableError as exc:
+            assert f"'{table}'" in str(exc)
+            assert f"delete '{table}' and run again" in str(exc)
+        else:
+            assert read is read_meta  # the footer may survive damage to the pages
+
+
+def test_foreign_table_names_the_missing_columns(table, tmp_path):
+    foreign = tmp_path / "foreign.parquet"
+    pd.DataFrame({"x": [1]}).to_parquet(foreign)
+    with pytest.raises(TableError, match=r"lacks column\(s\) a, b; .*delete .*foreign\.parquet"):
+        read_table(foreign, ["a", "b"])
+    assert read_meta(foreign) == {}
+    assert read_table(table, ["a"])["b"].tolist() == [3, 4]
