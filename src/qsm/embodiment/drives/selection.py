@@ -150,7 +150,7 @@ def _envelope_peak(arr: DriveArrays, ad, ab, speed, driving) -> np.ndarray:
         out[:, c] = (x @ coef[:, c]).max(axis=1)
     for i, (sp, tq) in arr.tables.items():
         tau_m = (ad / eta[i] + ab * eta[i]) / ratio[i]
-        pull_out = np.interp(np.minimum(speed * ratio[i], sp[-1]), sp, tq)
+        pull_out = np.interp(speed * ratio[i], sp, tq)  # the last torque beyond the table
         out[:, i] = np.where(tau_m > 0, tau_m / pull_out, 0.0).max(axis=1)
     return out
 
