@@ -163,7 +163,7 @@ def _hinge_models(n_ratio: float, armature: float, j_rotor: float):
     link = """<body name="link"><joint name="q" type="hinge" axis="0 0 1" {arm}/>
       <inertial pos="0.3 0.1 0" mass="2.0" diaginertia="0.01 0.02 0.03"/></body>"""
     with_armature = f"""<mujoco><option gravity="0 -9.81 0"/><worldbody>
-      {link.format(arm=f'armature="{armature!r}"')}</worldbody></mujoco>"""
+      {link.format(arm=f'armature="{float(armature)!r}"')}</worldbody></mujoco>"""
     rotor = f"""<mujoco><option gravity="0 -9.81 0"/><worldbody>
       {link.format(arm="")}
       <body name="rotor"><joint name="r" type="hinge" axis="0 0 1"/>
