@@ -68,13 +68,15 @@ def test_envelope_rms_speed_and_gear_by_hand(three):
 
 
 def test_back_driven_samples_and_weighted_rms_by_hand(three):
-    # 4 N m at +1 rad/s for 3 s (driving), 4 N m at -1 rad/s for 1 s (back-driven)
-    u = utilisation(three, [4.0, 4.0], [1.0, -1.0], [3.0, 1.0])[0, 0]
-    drive, back = 4 / (10 * 0.8), 4 * 0.8 / 10  # motor torque, N m
+    # 2 N m at +1 rad/s for 3 s (driving), 6 N m at -1 rad/s for 1 s (back-driven)
+    u = utilisation(three, [2.0, 6.0], [1.0, -1.0], [3.0, 1.0])[0, 0]
+    drive, back = 2 / (10 * 0.8), 6 * 0.8 / 10  # motor torque, N m
     rms = np.sqrt((3 * drive**2 + 1 * back**2) / 4)
-    # the back-driven sample brakes: no speed term in its envelope
+    # the back-driven sample brakes: no speed term in its envelope, and it is the peak
     peak = max(drive / 2.4 + 10 / 200, back / 2.4)
-    assert u == pytest.approx([peak, rms / 0.2, 10 / 300, 4 / 20, 4 / 10])
+    assert peak == back / 2.4
+    gear_rms = np.sqrt((3 * 2.0**2 + 6.0**2) / 4)
+    assert u == pytest.approx([peak, rms / 0.2, 10 / 300, 6 / 20, gear_rms / 10])
 
 
 def test_selection_on_three_drives(three):
