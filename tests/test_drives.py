@@ -16,7 +16,7 @@ from qsm.embodiment.drives.selection import CHECKS, offer, select_drives, utilis
 MOTORS = """key,manufacturer,ID,type,V,k_t,R,L,mass,inertia,omega_nl,I_nl,I_nom,max_int_torque,\
 max_int_speed,max_cont_speed,max_cont_power,source
 CU_A,Custom,A,DC,24,0.1,1.0,0.001,0.5,1e-5,200,,2,,300,,,test
-CU_B,Custom,B,BLDC,48,0.2,0.5,0.001,2.0,1e-4,240,,10,,,,,test
+CU_B,Custom,B,BLDC,48,0.2,0.5,0.001,2.0,1e-4,240,,10,1.5,,,,test
 """
 GEARBOXES = """key,manufacturer,ID,type,stages,ratio,mass,inertia,efficiency,direction,\
 max_int_torque,max_cont_torque
@@ -63,8 +63,9 @@ def test_envelope_rms_speed_and_gear_by_hand(three):
     assert u[0] == pytest.approx([1 / 2.4 + 50 / 200, 1.0 / 0.2, 50 / 300, 8 / 20, 8 / 10])
     # (A, G50): tau_m = 8 / 25 = 0.32, w_m = 250 beyond the no-load speed
     assert u[1] == pytest.approx([0.32 / 2.4 + 250 / 200, 0.32 / 0.2, 250 / 300, 8 / 60, 8 / 30])
-    # (B, G10): stall = 0.2 48 / 0.5 = 19.2 N m, continuous 0.2 10 = 2 N m, no speed limit
-    assert u[2] == pytest.approx([1 / 19.2 + 50 / 240, 1.0 / 2.0, 0.0, 8 / 20, 8 / 10])
+    # (B, G10): stall = 0.2 48 / 0.5 = 19.2 N m, intermittent 1.5 N m, continuous 0.2 10 = 2 N m
+    assert 1 / 19.2 + 50 / 240 < 1 / 1.5
+    assert u[2] == pytest.approx([1 / 1.5, 1.0 / 2.0, 0.0, 8 / 20, 8 / 10])
 
 
 def test_back_driven_samples_and_weighted_rms_by_hand(three):
@@ -77,6 +78,9 @@ def test_back_driven_samples_and_weighted_rms_by_hand(three):
     assert peak == back / 2.4
     gear_rms = np.sqrt((3 * 2.0**2 + 6.0**2) / 4)
     assert u == pytest.approx([peak, rms / 0.2, 10 / 300, 6 / 20, gear_rms / 10])
+    # (B, G10): the back-driven 0.48 N m against the intermittent 1.5 N m is the peak
+    u = utilisation(three, [2.0, 6.0], [1.0, -1.0], [3.0, 1.0])[0, 2]
+    assert u[0] == pytest.approx(6 * 0.8 / 10 / 1.5)
 
 
 def test_selection_on_three_drives(three):
@@ -101,10 +105,12 @@ def test_no_drive_reports_failing_limit_and_strongest(three):
     rep = sel.report(0)
     assert not rep["has_drive"]
     # (A, G10) worst check: motor RMS 30 / 8 / 0.2 = 18.75; (A, G50): motor RMS 30 / 25 / 0.2 = 6;
-    # best (B, G10): motor RMS 30 / 8 / 2 = 1.875, gearbox 30 / 20 = 1.5 and 30 / 10 = 3
+    # best (B, G10): motor peak 30 / 8 / 1.5 = 2.5, motor RMS 30 / 8 / 2 = 1.875, gearbox
+    # 30 / 20 = 1.5 and 30 / 10 = 3
     assert rep["best_drive"]["motor_key"] == "CU_B"
     assert sel.violation[0] == pytest.approx(3 - 1)
-    assert rep["failing"] == pytest.approx({"motor_rms": 0.875, "gear_peak": 0.5, "gear_rms": 2.0})
+    failing = {"motor_peak": 1.5, "motor_rms": 0.875, "gear_peak": 0.5, "gear_rms": 2.0}
+    assert rep["failing"] == pytest.approx(failing)
     # strongest at standstill: (A, G50) min(2.4 50 0.5, 60) = 60 N m
     assert rep["strongest_drive"]["peak_torque_Nm"] == pytest.approx(60.0)
     assert rep["strongest_drive"]["gearbox_key"] == "CU_G50"
