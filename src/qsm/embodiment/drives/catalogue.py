@@ -1,0 +1,266 @@
+"""Read a drive catalogue: motors, gearboxes and their compatibility in MGDB's CSV format.
+
+MGDB (the Motor-Gearbox DataBase, github.com/ekrimsk/MGDB) keeps every value in SI units:
+volts, N m/A, ohms, henries, kg, kg m^2, rad/s, amperes, N m, watts. A folder holds any number of
+``*_motors.csv``, ``*_gearboxes.csv`` and ``*_compatibility.csv`` files, found recursively;
+qsm also accepts the bare names ``motors.csv`` etc. and ``*_torque_speed.csv`` tables (pull-out
+torque against speed, for motors the DC model does not describe, such as steppers). Extra columns
+are kept, and lines starting with ``#`` are comments. An empty cell takes the default MGDB's
+README gives for its column (``nan`` or ``inf``); a column without a default reads as ``nan``,
+and a drive that needs such a value is never chosen.
+
+Compatibility rows hold no header: a motor key, then the keys of the gearboxes that fit it. A key
+ending in ``*`` is a prefix that matches every gearbox whose key starts with it. Unlike MGDB's
+Matlab reader, no direct-drive gearbox is added implicitly: write a gearbox of ratio 1 for that.
+"""
+
+from __future__ import annotations
+
+import csv
+from dataclasses import dataclass
+from importlib import resources
+from pathlib import Path
+
+import numpy as np
+import pandas as pd
+
+MOTOR_COLUMNS = (
+    "key", "manufacturer", "ID", "type", "V", "k_t", "R", "L", "mass", "inertia", "omega_nl",
+    "I_nl", "I_nom", "max_int_torque", "max_int_speed", "max_cont_speed", "max_cont_power",
+)  # fmt: skip
+GEARBOX_COLUMNS = (
+    "key", "manufacturer", "ID", "type", "stages", "ratio", "mass", "inertia", "efficiency",
+    "direction", "max_int_torque", "max_cont_torque",
+)  # fmt: skip
+TORQUE_SPEED_COLUMNS = ("motor", "speed_rad_s", "torque_Nm")
+TEXT_COLUMNS = frozenset({"key", "manufacturer", "ID", "type", "motor"})
+
+# Values MGDB's README gives for a value a datasheet does not state (an empty cell).
+_MOTOR_DEFAULTS = {
+    "I_nl": np.nan, "I_nom": np.nan, "max_int_torque": np.inf, "max_int_speed": np.inf,
+    "max_cont_speed": np.inf, "max_cont_power": np.inf,
+}  # fmt: skip
+_GEARBOX_DEFAULTS = {
+    "stages": 1.0, "mass": np.nan, "efficiency": np.nan, "direction": 1.0,
+    "max_int_torque": np.inf, "max_cont_torque": np.inf,
+}  # fmt: skip
+_NON_NEGATIVE = frozenset(
+    {"V", "k_t", "R", "L", "mass", "inertia", "omega_nl", "I_nom", "max_int_torque",
+     "max_int_speed", "max_cont_speed", "max_cont_torque"}
+)  # fmt: skip
+# Extra MGDB columns that hold numbers; any other extra column (e.g. source, note) is text.
+_NUMERIC_EXTRA = frozenset(
+    {"k_e", "diameter", "length", "coulomb_friction", "viscous_friction", "Rth1", "Rth2"}
+)
+
+
+class CatalogueError(ValueError):
+    """A catalogue file that cannot be used; the message names the file, line and column."""
+
+
+@dataclass(frozen=True)
+class Catalogue:
+    """Motors and gearboxes (indexed by key) and one row per compatible pair (``drives``).
+
+    ``drives`` columns: motor, gearbox (keys), ratio (-), efficiency (-), mass (kg, motor plus
+    gearbox), reflected_inertia (kg m^2 at the output: (J_motor + J_gear,in) ratio^2, the MuJoCo
+    joint ``armature`` of the drive). ``torque_speed`` maps a motor key to (speed rad/s, torque N m)
+    arrays of its pull-out curve, speeds increasing.
+    """
+
+    motors: pd.DataFrame
+    gearboxes: pd.DataFrame
+    drives: pd.DataFrame
+    torque_speed: dict[str, tuple[np.ndarray, np.ndarray]]
+
+
+def default_catalogue_folder() -> Path:
+    """The folder of the catalogue shipped with qsm (built from makers' datasheets)."""
+    return Path(str(resources.files("qsm.embodiment.drives") / "data"))
+
+
+def read_catalogue(folder: str | Path) -> Catalogue:
+    """Read and validate every catalogue file under ``folder`` (for example an MGDB checkout).
+
+    Raises CatalogueError on a missing column, a non-numeric or negative value, a ratio or
+    efficiency out of range, a duplicate key, an unknown compatibility key or a bad torque-speed
+    table; FileNotFoundError when the folder holds no motors, gearboxes or compatibility.
+    """
+    folder = Path(folder)
+    if not folder.is_dir():
+        raise FileNotFoundError(f"drive catalogue folder {folder} does not exist")
+    motors = _read_table(_files(folder, "motors"), MOTOR_COLUMNS, _MOTOR_DEFAULTS)
+    gearboxes = _read_table(_files(folder, "gearboxes"), GEARBOX_COLUMNS, _GEARBOX_DEFAULTS)
+    pairs = _read_compatibility(_files(folder, "compatibility"), motors, gearboxes)
+    table = _read_torque_speed(_files(folder, "torque_speed", required=False), motors)
+    m = motors.loc[pairs[:, 0]]
+    g = gearboxes.loc[pairs[:, 1]]
+    ratio = g["ratio"].to_numpy()
+    drives = pd.DataFrame(
+        {
+            "motor": pairs[:, 0],
+            "gearbox": pairs[:, 1],
+            "ratio": ratio,
+            "efficiency": g["efficiency"].to_numpy(),
+            "mass": m["mass"].to_numpy() + g["mass"].to_numpy(),
+            "reflected_inertia": (m["inertia"].to_numpy() + g["inertia"].to_numpy()) * ratio**2,
+        }
+    )
+    return Catalogue(motors, gearboxes, drives, table)
+
+
+def _files(folder: Path, kind: str, required: bool = True) -> list[Path]:
+    found = sorted(
+        {*folder.rglob(f"{kind}.csv"), *folder.rglob(f"*_{kind}.csv")}, key=lambda p: str(p)
+    )
+    if required and not found:
+        raise FileNotFoundError(f"no {kind}.csv or *_{kind}.csv under {folder}")
+    return found
+
+
+def _rows(path: Path):
+    """Yield (line number, cells) of a CSV file, skipping blank and ``#`` lines."""
+    with path.open(newline="", encoding="utf-8-sig") as f:
+        reader = csv.reader(f)
+        for cells in reader:
+            cells = [c.strip() for c in cells]
+            if not any(cells) or cells[0].startswith("#"):
+                continue
+            yield reader.line_num, cells
+
+
+def _number(text: str, default: float, where: str) -> float:
+    if text == "":
+        return default
+    try:
+        return float(text)
+    except ValueError:
+        raise CatalogueError(f"{where}: {text!r} is not a number") from None
+
+
+def _read_table(
+    paths: list[Path], columns: tuple[str, ...], defaults: dict[str, float]
+) -> pd.DataFrame:
+    """Read files with a header row into one frame indexed by key, validating every cell."""
+    records: list[dict] = []
+    origin: dict[str, str] = {}
+    for path in paths:
+        rows = _rows(path)
+        header_line, header = next(rows, (1, []))
+        missing = [c for c in columns if c not in header]
+        if missing:
+            raise CatalogueError(f"{path}, line {header_line}: missing column {missing[0]!r}")
+        for line, cells in rows:
+            cells = cells + [""] * (len(header) - len(cells))
+            rec = {}
+            for name, text in zip(header, cells, strict=False):
+                where = f"{path}, line {line}, column {name!r}"
+                if name in TEXT_COLUMNS or (name not in columns and name not in _NUMERIC_EXTRA):
+                    rec[name] = text
+                    continue
+                value = _number(text, defaults.get(name, np.nan), where)
+                if name in _NON_NEGATIVE and value < 0:
+                    raise CatalogueError(f"{where}: {value} is negative")
+                rec[name] = value
+            _check_row(rec, f"{path}, line {line}")
+            if rec["key"] in origin:
+                raise CatalogueError(
+                    f"{path}, line {line}, column 'key': {rec['key']!r} already defined at "
+                    f"{origin[rec['key']]}"
+                )
+            origin[rec["key"]] = f"{path}, line {line}"
+            records.append(rec)
+    return pd.DataFrame.from_records(records, columns=_all_columns(records, columns)).set_index(
+        "key", drop=False
+    )
+
+
+def _check_row(rec: dict, where: str) -> None:
+    if rec["key"] == "":
+        raise CatalogueError(f"{where}, column 'key': empty key")
+    if "ratio" in rec and not rec["ratio"] > 0:
+        raise CatalogueError(f"{where}, column 'ratio': ratio must be positive, got {rec['ratio']}")
+    eff = rec.get("efficiency", np.nan)
+    if not np.isnan(eff) and not 0 < eff <= 1:
+        raise CatalogueError(f"{where}, column 'efficiency': must lie in (0, 1], got {eff}")
+
+
+def _all_columns(records: list[dict], columns: tuple[str, ...]) -> list[str]:
+    extra = [c for r in records for c in r if c not in columns]
+    return [*columns, *dict.fromkeys(extra)]
+
+
+def _read_compatibility(
+    paths: list[Path], motors: pd.DataFrame, gearboxes: pd.DataFrame
+) -> np.ndarray:
+    """Compatible (motor key, gearbox key) pairs, (P, 2), in file order without duplicates."""
+    gb_keys = list(gearboxes.index)
+    pairs: dict[tuple[str, str], None] = {}
+    for path in paths:
+        for line, cells in _rows(path):
+            if cells[0] not in motors.index:
+                raise CatalogueError(
+                    f"{path}, line {line}, column 1: unknown motor key {cells[0]!r}"
+                )
+            for col, key in enumerate(cells[1:], start=2):
+                if key == "":
+                    continue
+                if key.endswith("*"):
+                    matches = [k for k in gb_keys if k.startswith(key[:-1])]
+                else:
+                    matches = [key] if key in gearboxes.index else []
+                if not matches:
+                    raise CatalogueError(
+                        f"{path}, line {line}, column {col}: unknown gearbox key {key!r}"
+                    )
+                pairs.update(dict.fromkeys((cells[0], k) for k in matches))
+    if not pairs:
+        raise CatalogueError(f"{paths}: no compatible motor-gearbox pair")
+    return np.array(list(pairs), dtype=object).reshape(-1, 2)
+
+
+def _read_torque_speed(
+    paths: list[Path], motors: pd.DataFrame
+) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+    """Pull-out curves by motor key; each needs two or more points at increasing speeds."""
+    points: dict[str, list[tuple[float, float]]] = {}
+    where_of: dict[str, str] = {}
+    for path in paths:
+        frame = _read_points(path)
+        for line, motor, speed, torque in frame:
+            if motor not in motors.index:
+                raise CatalogueError(
+                    f"{path}, line {line}, column 'motor': unknown motor key {motor!r}"
+                )
+            pts = points.setdefault(motor, [])
+            if pts and speed <= pts[-1][0]:
+                raise CatalogueError(
+                    f"{path}, line {line}, column 'speed_rad_s': speeds of {motor!r} must increase"
+                )
+            pts.append((speed, torque))
+            where_of[motor] = f"{path}, line {line}"
+    for motor, pts in points.items():
+        if len(pts) < 2:
+            raise CatalogueError(f"{where_of[motor]}, column 'motor': {motor!r} needs two points")
+    return {m: (np.array(v)[:, 0], np.array(v)[:, 1]) for m, v in points.items()}
+
+
+def _read_points(path: Path) -> list[tuple[int, str, float, float]]:
+    rows = _rows(path)
+    header_line, header = next(rows, (1, []))
+    missing = [c for c in TORQUE_SPEED_COLUMNS if c not in header]
+    if missing:
+        raise CatalogueError(f"{path}, line {header_line}: missing column {missing[0]!r}")
+    i_m, i_s, i_t = (header.index(c) for c in TORQUE_SPEED_COLUMNS)
+    out = []
+    for line, cells in rows:
+        cells = cells + [""] * (len(header) - len(cells))
+        vals = []
+        for i, name in ((i_s, "speed_rad_s"), (i_t, "torque_Nm")):
+            where = f"{path}, line {line}, column {name!r}"
+            value = _number(cells[i], np.nan, where)
+            if not value >= 0:
+                raise CatalogueError(f"{where}: needs a value >= 0, got {cells[i]!r}")
+            vals.append(value)
+        out.append((line, cells[i_m], vals[0], vals[1]))
+    return out
