@@ -1,0 +1,426 @@
+"""Link parts you can assemble: the outlines of :mod:`qsm.physics.cad`, a through bore per joint.
+
+The link frames, bar width, plate thickness and material are those of :mod:`qsm.physics.cad`; what
+changes is that every joint has a **bore** and a **boss sized for it**:
+
+========== ======= ================ ====================================================
+link       joint   bore             what goes in it
+========== ======= ================ ====================================================
+lower_arm  A       d (shaft)        motor 1's output shaft (clamped); the bearing at A
+                                    sits in the base and carries that shaft
+lower_arm  B       D (seat)         the bearing of joint B (outer ring pressed in)
+crank      A       d (shaft)        motor 2's output shaft (clamped), like the lower arm
+crank      C       D (seat)         the bearing of joint C
+coupler    C       d (pin)          the pin of joint C (held by the coupler, turns in the
+                                    crank's bearing)
+coupler    D       D (seat)         the bearing of joint D
+upper_arm  B       d (pin)          the pin of joint B (turns in the lower arm's bearing)
+upper_arm  D       d (pin)          the pin of joint D (turns in the coupler's bearing)
+upper_arm  E       tool hole        a clearance hole for the tool mount (``tool_hole_m``,
+                                    default 9 mm: ISO 273 medium clearance for M8);
+                                    0 leaves the end effector's boss solid
+========== ======= ================ ====================================================
+
+d and D are the bore and outer diameter of the joint's bearing
+(:mod:`qsm.embodiment.bearings`), so each joint has one bearing and one pin (at A: the two motor
+shafts, each with its support bearing). Both links at a joint get the same boss radius,
+``max(cad.boss_radius_m, D / 2 + boss_wall_m)`` (at E: ``tool_hole_m / 2 + boss_wall_m``).
+
+Bores are regular polygons of ``cad.segments_per_circle`` sides that *circumscribe* the nominal
+circle (flats at the nominal radius), so a bearing or pin of the nominal diameter fits the STL; the
+mass properties are those of exactly that polygonal plate. They are exact for the holed prism: the
+area moments of the outline (the polygon formulas of
+:func:`qsm.physics.cad.polygon_mass_properties`) less the moments of every hole.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+import shapely
+import trimesh
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.embodiment.bearings import (
+    DEFAULT_BOSS_WALL_M,
+    JOINTS,
+    BearingTable,
+    boss_radius_m,
+    load_catalogue,
+)
+from qsm.physics.cad import DEFAULT_CAD, LINK_NAMES, CadError, CadSettings, MassProperties
+from qsm.physics.kinematics import as_design
+
+#: Default tool-mount hole at E (m): ISO 273 medium-series clearance hole for an M8 screw.
+DEFAULT_TOOL_HOLE_M = 0.009
+#: Bore kinds: a bearing's outer ring ("seat"), a clamped pin or motor shaft, the tool mount.
+BORE_KINDS: tuple[str, ...] = ("seat", "pin", "shaft", "tool")
+
+#: (joint, kind) of each link's bores, in link order; see the module docstring.
+LINK_BORES: dict[str, tuple[tuple[str, str], ...]] = {
+    "lower_arm": (("A", "shaft"), ("B", "seat")),
+    "crank": (("A", "shaft"), ("C", "seat")),
+    "coupler": (("C", "pin"), ("D", "seat")),
+    "upper_arm": (("B", "pin"), ("D", "pin"), ("E", "tool")),
+}
+
+
+@dataclass(frozen=True)
+class PartSettings:
+    """What the bored parts need beyond the section: bearing catalogue, boss wall, tool hole.
+
+    cad: the section and material (:class:`qsm.physics.cad.CadSettings`); boss_wall_m: printed
+    wall around a bearing seat or the tool hole (m, default 4 mm); tool_hole_m: diameter of the
+    tool-mount hole at E (m, default 9 mm; 0 for none); catalogue: bearing table (default
+    :func:`qsm.embodiment.bearings.load_catalogue`).
+    """
+
+    cad: CadSettings = field(default_factory=CadSettings)
+    boss_wall_m: float = DEFAULT_BOSS_WALL_M
+    tool_hole_m: float = DEFAULT_TOOL_HOLE_M
+    catalogue: BearingTable | None = None
+
+    def __post_init__(self) -> None:
+        if not self.boss_wall_m > 0:
+            raise ValueError("boss_wall_m must be positive")
+        if not self.tool_hole_m >= 0:
+            raise ValueError("tool_hole_m must be >= 0")
+
+    @property
+    def table(self) -> BearingTable:
+        return self.catalogue if self.catalogue is not None else _catalogue()
+
+
+_CATALOGUE: list[BearingTable] = []
+
+
+def _catalogue() -> BearingTable:
+    if not _CATALOGUE:
+        _CATALOGUE.append(load_catalogue())
+    return _CATALOGUE[0]
+
+
+@dataclass(frozen=True)
+class Bore:
+    """One through bore of a link, in the link frame (m).
+
+    joint: A-E; kind: one of :data:`BORE_KINDS`; centre_m: (x, y); diameter_m: nominal diameter
+    (0: no hole); boss_radius_m: radius of the boss around it; bearing: the joint's bearing
+    designation ("" at E).
+    """
+
+    joint: str
+    kind: str
+    centre_m: tuple[float, float]
+    diameter_m: float
+    boss_radius_m: float
+    bearing: str
+
+    def net_width_m(self) -> float:
+        """Width (m) of material across the boss through the bore's centre: 2 r - diameter."""
+        return 2 * self.boss_radius_m - self.diameter_m
+
+    def ligament_m(self) -> float:
+        """Material (m) between the bore and the boss's edge on each side: r - diameter / 2."""
+        return self.boss_radius_m - self.diameter_m / 2
+
+
+@dataclass(frozen=True)
+class LinkPart:
+    """A bored link: its name, outline with holes (shapely, link frame, m) and its bores."""
+
+    name: str
+    polygon: shapely.Polygon
+    bores: tuple[Bore, ...]
+
+    @property
+    def holes(self) -> int:
+        """Number of through holes."""
+        return len(self.polygon.interiors)
+
+
+def joint_radii(
+    bearing_index: ArrayLike, settings: PartSettings = PartSettings()
+) -> NDArray[np.float64]:
+    """Boss radii (..., 5) in m at A, B, C, D (from the bearings ``bearing_index`` (..., 4),
+    catalogue rows as :attr:`qsm.embodiment.bearings.BearingChoice.index`) and at E (the tool
+    hole's). Vectorised over designs."""
+    i = np.asarray(bearing_index, dtype=np.intp)
+    if i.shape[-1] != len(JOINTS):
+        raise ValueError(f"one bearing per joint {JOINTS}, got shape {i.shape}")
+    r = boss_radius_m(i, settings.table, settings.boss_wall_m, settings.cad.boss_radius_m)
+    if settings.tool_hole_m > 0:
+        r_e = max(settings.cad.boss_radius_m, settings.tool_hole_m / 2 + settings.boss_wall_m)
+    else:
+        r_e = settings.cad.boss_radius_m
+    return np.concatenate([r, np.full((*r.shape[:-1], 1), r_e)], axis=-1)
+
+
+def _arc(cx: float, cy: float, r: float, a0: float, a1: float, seg: int) -> NDArray[np.float64]:
+    """Points on a CCW arc from a0 to a1 > a0 (rad), both ends included (as qsm.physics.cad)."""
+    n = max(2, math.ceil((a1 - a0) / (2 * math.pi) * seg) + 1)
+    a = np.linspace(a0, a1, n)
+    return np.column_stack([cx + r * np.cos(a), cy + r * np.sin(a)])
+
+
+def _overlap(r: float, h: float) -> float:
+    return math.sqrt(r * r - h * h)
+
+
+def bar_outline(length: float, r0: float, r1: float, cad: CadSettings) -> NDArray[np.float64]:
+    """CCW outline of a bar from (0, 0) to (length, 0) with bosses of radius r0 and r1 (m).
+
+    With ``r0 = r1 = cad.boss_radius_m`` it is the outline of :mod:`qsm.physics.cad`, point for
+    point.
+    """
+    h, seg = cad.width_m / 2, cad.segments_per_circle
+    if not (r0 > h and r1 > h):
+        raise CadError("boss radii must exceed half the bar width")
+    if not length > _overlap(r0, h) + _overlap(r1, h):
+        raise CadError(
+            f"bar of length {length:.4g} m is too short for bosses of radius {r0:.4g} and "
+            f"{r1:.4g} m"
+        )
+    b0, b1 = math.asin(h / r0), math.asin(h / r1)
+    return np.concatenate(
+        [
+            _arc(0.0, 0.0, r0, b0, 2 * math.pi - b0, seg),
+            _arc(length, 0.0, r1, b1 - math.pi, math.pi - b1, seg),
+        ]
+    )
+
+
+def upper_arm_outline(
+    l4: float, ee_x: float, ee_y: float, r_d: float, r_b: float, r_e: float, cad: CadSettings
+) -> NDArray[np.float64]:
+    """CCW outline of the L-shaped upper arm (qsm.physics.cad's) with its own boss radius at D, B
+    and E (m)."""
+    h, seg, pi = cad.width_m / 2, cad.segments_per_circle, math.pi
+    if not (r_d > h and r_b > h and r_e > h):
+        raise CadError("boss radii must exceed half the bar width")
+    bd, bb, be = (math.asin(h / r) for r in (r_d, r_b, r_e))
+    if not (
+        l4 > _overlap(r_d, h) + _overlap(r_b, h)
+        and ee_x - h > _overlap(r_b, h)
+        and ee_y - h > _overlap(r_e, h)
+    ):
+        raise CadError(
+            f"upper arm (l4={l4:.4g}, ee_x={ee_x:.4g}, ee_y={ee_y:.4g} m) is too small for bosses "
+            f"of radius {r_d:.4g}, {r_b:.4g}, {r_e:.4g} m on bars of width {cad.width_m} m"
+        )
+    return np.concatenate(
+        [
+            _arc(-l4, 0.0, r_d, bd, 2 * pi - bd, seg),
+            _arc(0.0, 0.0, r_b, pi + bb, 2 * pi - bb, seg),
+            [[ee_x - h, -h]],
+            _arc(ee_x, -ee_y, r_e, pi / 2 + be, 5 * pi / 2 - be, seg),
+            [[ee_x + h, h]],
+            _arc(0.0, 0.0, r_b, bb, pi - bb, seg),
+        ]
+    )
+
+
+def hole_polygon(centre: Sequence[float], diameter_m: float, segments: int) -> NDArray[np.float64]:
+    """Clockwise regular ``segments``-gon whose inscribed circle has ``diameter_m`` (m)."""
+    rv = diameter_m / 2 / math.cos(math.pi / segments)
+    a = -(np.arange(segments) + 0.5) * 2 * math.pi / segments  # clockwise
+    return np.column_stack([centre[0] + rv * np.cos(a), centre[1] + rv * np.sin(a)])
+
+
+def link_bores(
+    design: ArrayLike, bearing_index: Sequence[int], settings: PartSettings = PartSettings()
+) -> dict[str, tuple[Bore, ...]]:
+    """The bores of every link (link frames, m) for one design and its bearings at A, B, C, D."""
+    l1, l2, l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
+    table = settings.table
+    idx = np.asarray(bearing_index, dtype=np.intp)
+    radii = joint_radii(idx, settings)
+    fallback = int(np.argmax(table.D_m))
+    by_joint = {}
+    for k, joint in enumerate(JOINTS):
+        row = int(idx[k]) if idx[k] >= 0 else fallback
+        by_joint[joint] = (table.d_m[row], table.D_m[row], str(table.designation[row]), radii[k])
+    centres = {
+        "lower_arm": {"A": (0.0, 0.0), "B": (l1, 0.0)},
+        "crank": {"A": (0.0, 0.0), "C": (l2, 0.0)},
+        "coupler": {"C": (0.0, 0.0), "D": (l3, 0.0)},
+        "upper_arm": {"B": (0.0, 0.0), "D": (-l4, 0.0), "E": (ee_x, -ee_y)},
+    }
+    out: dict[str, tuple[Bore, ...]] = {}
+    for link, specs in LINK_BORES.items():
+        bores = []
+        for joint, kind in specs:
+            if joint == "E":
+                bores.append(
+                    Bore(joint, kind, centres[link][joint], settings.tool_hole_m, radii[4], "")
+                )
+                continue
+            d, big_d, name, r = by_joint[joint]
+            dia = big_d if kind == "seat" else d
+            bores.append(Bore(joint, kind, centres[link][joint], float(dia), float(r), name))
+        out[link] = tuple(bores)
+    return out
+
+
+def link_parts(
+    design: ArrayLike, bearing_index: Sequence[int], settings: PartSettings = PartSettings()
+) -> dict[str, LinkPart]:
+    """The four bored links of one design (link frames, m), keyed by
+    :data:`qsm.physics.cad.LINK_NAMES`.
+
+    Raises :class:`qsm.physics.cad.CadError` when the bosses do not fit the design (see
+    :func:`boss_fit_violation_m` for the continuous measure).
+    """
+    l1, l2, l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
+    cad = settings.cad
+    r_a, r_b, r_c, r_d, r_e = joint_radii(bearing_index, settings)
+    outlines = {
+        "lower_arm": bar_outline(l1, r_a, r_b, cad),
+        "crank": bar_outline(l2, r_a, r_c, cad),
+        "coupler": bar_outline(l3, r_c, r_d, cad),
+        "upper_arm": upper_arm_outline(l4, ee_x, ee_y, r_d, r_b, r_e, cad),
+    }
+    bores = link_bores(design, bearing_index, settings)
+    parts = {}
+    for name in LINK_NAMES:
+        holes = [
+            hole_polygon(b.centre_m, b.diameter_m, cad.segments_per_circle)
+            for b in bores[name]
+            if b.diameter_m > 0
+        ]
+        poly = shapely.Polygon(outlines[name], holes)
+        if not poly.is_valid:
+            raise CadError(f"{name}: the bores do not fit inside the outline")
+        parts[name] = LinkPart(name, poly, bores[name])
+    return parts
+
+
+def _moments(ring: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Signed area moments of a closed polygon about the origin: [A, int x, int y, int x^2,
+    int y^2, int x y] (positive for a CCW ring)."""
+    x, y = ring[:, 0], ring[:, 1]
+    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    c = x * yn - xn * y
+    return np.array(
+        [
+            c.sum() / 2,
+            ((x + xn) * c).sum() / 6,
+            ((y + yn) * c).sum() / 6,
+            ((x * x + x * xn + xn * xn) * c).sum() / 12,
+            ((y * y + y * yn + yn * yn) * c).sum() / 12,
+            ((x * yn + 2 * x * y + 2 * xn * yn + xn * y) * c).sum() / 24,
+        ]
+    )
+
+
+def _ring(coords: ArrayLike) -> NDArray[np.float64]:
+    p = np.asarray(coords, dtype=float)[:, :2]
+    return p[:-1] if len(p) > 1 and np.array_equal(p[0], p[-1]) else p
+
+
+def polygon_with_holes_mass_properties(
+    polygon: shapely.Polygon, thickness_m: float, density_kg_m3: float
+) -> MassProperties:
+    """Exact mass properties of the prism extruding ``polygon`` (m, with holes) symmetrically in z.
+
+    The outline's area moments (the formulas of :func:`qsm.physics.cad.polygon_mass_properties`)
+    less every hole's, whatever the rings' orientations.
+    """
+    ext = _moments(_ring(polygon.exterior.coords))
+    m = ext * np.sign(ext[0])
+    for interior in polygon.interiors:
+        hole = _moments(_ring(interior.coords))
+        m = m - hole * np.sign(hole[0])
+    area, qx, qy, ixx, iyy, ixy = m
+    if not area > 0:
+        raise CadError("polygon must have positive area")
+    cx, cy = qx / area, qy / area
+    sxx = ixx - area * cx * cx
+    syy = iyy - area * cy * cy
+    sxy = ixy - area * cx * cy
+    sigma = density_kg_m3 * thickness_m
+    mass = sigma * area
+    t2 = mass * thickness_m**2 / 12
+    inertia = np.array(
+        [
+            [sigma * syy + t2, -sigma * sxy, 0.0],
+            [-sigma * sxy, sigma * sxx + t2, 0.0],
+            [0.0, 0.0, sigma * (sxx + syy)],
+        ]
+    )
+    return MassProperties(float(mass), np.array([cx, cy, 0.0]), inertia)
+
+
+def part_mass_properties(
+    parts: Mapping[str, LinkPart], cad: CadSettings = DEFAULT_CAD
+) -> dict[str, MassProperties]:
+    """Mass properties (link frames, SI) of bored parts: a drop-in for
+    :func:`qsm.physics.cad.mass_properties`."""
+    return {
+        name: polygon_with_holes_mass_properties(p.polygon, cad.thickness_m, cad.density_kg_m3)
+        for name, p in parts.items()
+    }
+
+
+def bored_mass_properties(
+    design: ArrayLike, bearing_index: Sequence[int], settings: PartSettings = PartSettings()
+) -> dict[str, MassProperties]:
+    """:func:`qsm.physics.cad.mass_properties` of the bored links of one design."""
+    return part_mass_properties(link_parts(design, bearing_index, settings), settings.cad)
+
+
+def part_meshes(
+    parts: Mapping[str, LinkPart], cad: CadSettings = DEFAULT_CAD
+) -> dict[str, trimesh.Trimesh]:
+    """Watertight extrusions (link frames, m, z in +-thickness / 2) of the bored parts; the genus
+    of each (``(2 - euler_number) / 2``) is its number of holes."""
+    return {
+        name: trimesh.creation.extrude_polygon(
+            p.polygon, cad.thickness_m, mid_plane=True, engine="earcut"
+        )
+        for name, p in parts.items()
+    }
+
+
+def export_parts_stl(
+    parts: Mapping[str, LinkPart], directory: str | Path, cad: CadSettings = DEFAULT_CAD
+) -> list[Path]:
+    """Write ``<link>.stl`` (binary, millimetres, link frame) per bored part; returns the paths."""
+    out = Path(directory)
+    out.mkdir(parents=True, exist_ok=True)
+    paths = []
+    for name, mesh in part_meshes(parts, cad).items():
+        path = out / f"{name}.stl"
+        mesh.copy().apply_scale(1000.0).export(path)
+        paths.append(path)
+    return paths
+
+
+def boss_fit_violation_m(
+    designs: ArrayLike, radii: ArrayLike, cad: CadSettings = DEFAULT_CAD
+) -> NDArray[np.float64]:
+    """How much (m) the shortest bar of each design falls short of holding its bosses (> 0: the
+    bored parts cannot be built; <= 0: the slack). Vectorised: ``designs`` (N, 6), ``radii``
+    (N, 5) boss radii at A-E (:func:`joint_radii`). Does not check that bosses of the upper arm's
+    B and E overlap (``link_parts`` rejects such outlines)."""
+    d = np.atleast_2d(as_design(designs))
+    r = np.atleast_2d(np.asarray(radii, dtype=float))
+    h = cad.width_m / 2
+    x = np.sqrt(np.maximum(r**2 - h**2, 0.0))
+    xa, xb, xc, xd, xe = (x[:, k] for k in range(5))
+    short = np.column_stack(
+        [
+            xa + xb - d[:, 0],
+            xa + xc - d[:, 1],
+            xc + xd - d[:, 2],
+            xd + xb - d[:, 3],
+            xb + h - d[:, 4],
+            xe + h - d[:, 5],
+            h - r.min(axis=1),  # a boss must be wider than the bar
+        ]
+    )
+    return short.max(axis=1)

@@ -1,0 +1,134 @@
+"""Printing advice from every design: the smallest printer on which some verified design fits.
+
+The build volume a design needs is the largest sorted bounding box over its four links (each link
+may be turned to any axis-aligned orientation, so only the sorted sides matter). With bored parts
+the bosses follow the bearings (:func:`qsm.embodiment.parts.joint_radii`), so the boxes are
+computed from the per-joint boss radii (:func:`link_boxes_mm`, closed form of the outlines of
+:mod:`qsm.embodiment.parts`; with every radius equal to ``cad.boss_radius_m`` it is
+:func:`qsm.optimisation.constraints.link_boxes_mm`).
+
+"Smallest" orders the needed volumes lexicographically on their sides sorted from the largest down
+(a long link decides first: it is what rules printers out), then by the volume. Sizes are rounded
+**up** to whole millimetres, so the advised printer holds the parts (1409.22 mm -> 1410 mm).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.physics.cad import DEFAULT_CAD, CadSettings
+from qsm.physics.kinematics import DESIGN_COLUMNS, as_design
+
+
+def link_boxes_mm(
+    designs: ArrayLike, radii: ArrayLike | None = None, cad: CadSettings = DEFAULT_CAD
+) -> NDArray[np.float64]:
+    """Bounding boxes (N, 4, 3) in mm of the four links (link frames, LINK_NAMES order).
+
+    ``designs`` (N, 6) scaled lengths (m); ``radii`` (N, 5) boss radii (m) at A, B, C, D, E (None:
+    ``cad.boss_radius_m`` everywhere). A bar of length L between bosses r0, r1 spans
+    ``L + r0 + r1`` by ``2 max(r0, r1)``; the upper arm (B at the origin, D = (-l4, 0),
+    E = (EE_x, -EE_y)) spans ``max(l4 + rD, rB) + max(rB, EE_x + rE)`` by
+    ``max(rD, rB, rE - EE_y) + max(rD, rB, EE_y + rE)``; every plate is ``thickness`` thick.
+    """
+    d = np.atleast_2d(as_design(designs))
+    if radii is None:
+        r = np.full((len(d), 5), cad.boss_radius_m)
+    else:
+        r = np.broadcast_to(np.asarray(radii, dtype=float), (len(d), 5))
+    ra, rb, rc, rd, re = (r[:, k] for k in range(5))
+    l1, l2, l3, l4, ex, ey = (d[:, k] for k in range(6))
+    x = np.column_stack(
+        [
+            l1 + ra + rb,
+            l2 + ra + rc,
+            l3 + rc + rd,
+            np.maximum(l4 + rd, rb) + np.maximum(rb, ex + re),
+        ]
+    )
+    y = np.column_stack(
+        [
+            2 * np.maximum(ra, rb),
+            2 * np.maximum(ra, rc),
+            2 * np.maximum(rc, rd),
+            np.maximum.reduce([rd, rb, re - ey]) + np.maximum.reduce([rd, rb, ey + re]),
+        ]
+    )
+    z = np.full_like(x, cad.thickness_m)
+    return np.stack([x, y, z], axis=-1) * 1e3
+
+
+def needed_volume_mm(
+    designs: ArrayLike, radii: ArrayLike | None = None, cad: CadSettings = DEFAULT_CAD
+) -> NDArray[np.float64]:
+    """Smallest build volume (N, 3) holding every link, sides from the largest (mm, exact)."""
+    boxes = np.sort(link_boxes_mm(designs, radii, cad), axis=-1)[..., ::-1]
+    return boxes.max(axis=1)
+
+
+def round_up_mm(sizes_mm: ArrayLike) -> list[int]:
+    """Sizes rounded up to whole mm (a size within 1e-6 mm of an integer keeps it)."""
+    return [math.ceil(float(v) - 1e-6) for v in np.ravel(sizes_mm)]
+
+
+def smallest_build_volume(
+    table: pd.DataFrame,
+    holds: ArrayLike | str,
+    cad: CadSettings = DEFAULT_CAD,
+    radii: ArrayLike | None = None,
+) -> dict[str, Any]:
+    """The smallest build volume over the designs of ``table`` that truly hold the task.
+
+    ``table`` has the scaled lengths :data:`qsm.physics.kinematics.DESIGN_COLUMNS` (m), one row per
+    design (dataset and fronts together, with e.g. ``mechanism_id`` and ``source`` columns, kept
+    in the answer when present); ``holds`` a boolean per row, or the name of such a column (e.g.
+    clearance >= 0 and the dynamics ok); ``radii`` (N, 5) per-design boss radii (m) or None.
+
+    Returns ``{"needed_volume_mm": [int, int, int]`` rounded up, sides from the largest,
+    ``"exact_volume_mm"``, ``"row"`` (the table's index label of the design), ``"design_m"`` (its
+    6 lengths), ``"designs_holding"`` (how many were considered) and the row's ``mechanism_id`` /
+    ``source`` when present}, or None when no design holds the task.
+    """
+    ok = np.asarray(table[holds] if isinstance(holds, str) else holds, dtype=bool)
+    if ok.shape != (len(table),):
+        raise ValueError("holds needs one boolean per row of the table")
+    if not ok.any():
+        return None
+    designs = table.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)
+    need = needed_volume_mm(designs, radii, cad)
+    need = np.where(ok[:, None], need, np.inf)
+    order = np.lexsort((need.prod(axis=1), need[:, 2], need[:, 1], need[:, 0]))
+    best = int(order[0])
+    out: dict[str, Any] = {
+        "needed_volume_mm": round_up_mm(need[best]),
+        "exact_volume_mm": [float(v) for v in need[best]],
+        "row": table.index[best],
+        "design_m": [float(v) for v in designs[best]],
+        "designs_holding": int(ok.sum()),
+    }
+    for key in ("mechanism_id", "source", "formulation"):
+        if key in table.columns:
+            value = table.iloc[best][key]
+            out[key] = value.item() if hasattr(value, "item") else value
+    return out
+
+
+def advice_sentence(advice: dict[str, Any] | None, volume_mm: ArrayLike) -> str:
+    """The advice in one sentence, every number from ``advice``."""
+    have = " x ".join(f"{v:g}" for v in np.ravel(volume_mm))
+    if advice is None:
+        return (
+            f"no design holds the task, so no printer size can be advised (configured: {have} mm)"
+        )
+    need = " x ".join(str(v) for v in advice["needed_volume_mm"])
+    who = advice.get("mechanism_id", advice["row"])
+    where = f" ({advice['source']})" if "source" in advice else ""
+    return (
+        f"a printer of at least {need} mm (configured: {have} mm): the smallest that fits a design "
+        f"holding the task, design {who}{where}, of {advice['designs_holding']} that hold it"
+    )
