@@ -9,6 +9,7 @@ import pytest
 
 from qsm.embodiment import bearings, parts
 from qsm.physics import cad
+from qsm.physics.kinematics import LINK_NAMES
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 
@@ -121,7 +122,7 @@ def test_stl_export_in_millimetres(tmp_path) -> None:
 
     idx = [_index(n) for n in ("6000", "608", "6204", "6206")]
     paths = parts.export_parts_stl(parts.link_parts(DESIGN, idx), tmp_path)
-    assert [p.name for p in paths] == [f"{n}.stl" for n in cad.LINK_NAMES]
+    assert [p.name for p in paths] == [f"{n}.stl" for n in LINK_NAMES]
     mesh = trimesh.load(paths[2])  # coupler: C boss 23.5 + 4 mm (6204), D 31 + 4 mm (6206)
     assert mesh.is_watertight
     np.testing.assert_allclose(mesh.extents, [550 + 27.5 + 35, 70, 20], atol=0.05)

@@ -18,7 +18,8 @@ import pandas as pd
 
 from qsm.embodiment.bearings import JOINTS, BearingTable, load_catalogue
 from qsm.embodiment.parts import LinkPart
-from qsm.physics.cad import DEFAULT_CAD, LINK_NAMES, CadSettings, MassProperties
+from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties
+from qsm.physics.kinematics import LINK_NAMES
 
 BOM_COLUMNS: tuple[str, ...] = (
     "item",

@@ -52,8 +52,8 @@ from qsm.embodiment.bearings import (
     boss_radius_m,
     load_catalogue,
 )
-from qsm.physics.cad import DEFAULT_CAD, LINK_NAMES, CadError, CadSettings, MassProperties
-from qsm.physics.kinematics import as_design
+from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, MassProperties
+from qsm.physics.kinematics import LINK_NAMES, as_design
 
 #: Default tool-mount hole at E (m): ISO 273 medium-series clearance hole for an M8 screw.
 DEFAULT_TOOL_HOLE_M = 0.009

@@ -19,8 +19,8 @@ from matplotlib.path import Path as MplPath
 from numpy.typing import ArrayLike
 
 from qsm.embodiment.parts import LinkPart
-from qsm.physics.cad import DEFAULT_CAD, LINK_NAMES, CadSettings
-from qsm.physics.kinematics import as_design
+from qsm.physics.cad import DEFAULT_CAD, CadSettings
+from qsm.physics.kinematics import LINK_NAMES, as_design
 
 KIND_LABEL = {"seat": "bearing seat", "pin": "pin", "shaft": "motor shaft", "tool": "tool mount"}
 
