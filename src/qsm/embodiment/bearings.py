@@ -114,6 +114,18 @@ def load_catalogue(path: str | Path | None = None) -> BearingTable:
     )
 
 
+def min_shaft_diameter_m(
+    torque_Nm: ArrayLike,
+    yield_pa: float = S235_YIELD_PA,
+    safety_factor: float = DEFAULT_SAFETY_FACTOR,
+) -> NDArray[np.float64]:
+    """Smallest solid shaft (m) that carries ``torque_Nm`` in torsion: the peak shear stress
+    ``16 T / (pi d^3)`` within the shear yield ``yield_pa / sqrt(3)`` (von Mises) divided by
+    ``safety_factor``: ``d = (16 s T sqrt(3) / (pi yield))^(1/3)``."""
+    t = np.abs(np.asarray(torque_Nm, dtype=float))
+    return np.cbrt(16.0 * safety_factor * t * math.sqrt(3.0) / (math.pi * yield_pa))
+
+
 def min_pin_diameter_m(
     force_N: ArrayLike,
     yield_pa: float = S235_YIELD_PA,
@@ -149,15 +161,17 @@ def select_bearings(
     safety_factor: float = DEFAULT_SAFETY_FACTOR,
     pin_yield_pa: float | None = None,
     max_width_m: float | None = None,
+    min_bore_m: ArrayLike = 0.0,
 ) -> BearingChoice:
     """Smallest bearing (by D, then B, then d) per joint whose static rating covers the load.
 
     ``peak_radial_N`` (..., J) peak radial force at each joint over the duty (N), any shape
     (designs x joints, say). A bearing fits when ``C0 >= safety_factor x F``, its bore is at least
     :func:`min_pin_diameter_m` (when ``pin_yield_pa`` is given, with the same safety factor) and
-    its width is at most ``max_width_m`` (when given). Where none fits, ``index`` is -1 and
-    ``violation`` = the largest of ``s0 F / max C0 - 1`` and ``d_min / max d - 1`` over the usable
-    bearings (> 0); elsewhere ``violation`` is the same expression, <= 0, so it is continuous.
+    its width is at most ``max_width_m`` (when given) and its bore at least ``min_bore_m`` (m,
+    broadcast with the loads: a shaft sized for its torque, say). Where none fits, ``index`` is
+    -1 and ``violation`` = the largest of ``s0 F / max C0 - 1`` and ``d_min / max d - 1`` over the
+    usable bearings (> 0); elsewhere ``violation`` is the same expression, <= 0: continuous.
     """
     t = table if table is not None else load_catalogue()
     if not safety_factor > 0:
@@ -166,10 +180,11 @@ def select_bearings(
     if not np.isfinite(f).all():
         raise ValueError("peak radial forces must be finite")
     need = safety_factor * f
-    d_min = (
+    d_min = np.maximum(
         min_pin_diameter_m(f, pin_yield_pa, safety_factor)
         if pin_yield_pa is not None
-        else np.zeros_like(f)
+        else np.zeros_like(f),
+        np.broadcast_to(np.asarray(min_bore_m, dtype=float), f.shape),
     )
     usable = np.ones(len(t), dtype=bool)
     if max_width_m is not None:

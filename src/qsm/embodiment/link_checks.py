@@ -1,24 +1,41 @@
-"""Whether every link of a design holds its loads over the duty, for one design or thousands.
+"""Whether every link and joint bearing of a design holds its loads over the duty, for one design
+or thousands.
 
-:class:`StrengthCheck` bundles what the check needs (section, material, requirements, payload and
-duty) and evaluates designs in chunks, every step vectorised over the chunk: link mass properties
-(:func:`qsm.physics.cad.batch_mass_properties`), the loop state, the joint loads
-(:mod:`qsm.embodiment.loads`) and the link stresses (:mod:`qsm.embodiment.strength`). It gives
-Stage 2's strength columns (:data:`STRENGTH_COLUMNS`) and the optimisation's g13.
+:class:`StrengthCheck` bundles what the check needs (section, material, requirements, bearing
+catalogue, payload and duty) and evaluates designs in chunks, every step vectorised over the chunk:
+link mass properties (:func:`qsm.physics.cad.batch_mass_properties`), the loop state, the joint
+loads (:mod:`qsm.embodiment.loads`), the bearing of every joint (:mod:`qsm.embodiment.bearings`:
+the smallest whose static rating covers the joint's peak force with the bearing safety factor,
+among those whose seat leaves ``boss_wall_m`` of the boss and no wider than the plate, whose bore
+takes a steel pin in shear, and at A a motor shaft in torsion under the larger motor torque), and
+the
+link stresses with those bores (:mod:`qsm.embodiment.strength`: the bearing's seat at B, C, D, its
+bore, the motor shaft, at A). It gives Stage 2's strength columns (:data:`STRENGTH_COLUMNS`) and the
+optimisation's g13: the largest of the links' utilisation less 1 and the bearings' violation.
+
+The link masses are those of solid bosses (:mod:`qsm.physics.cad`): the bores make the printed
+links lighter, so these loads bound the bored parts' from above (the realised design reports the
+difference).
 """
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any
 
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.embodiment.bearings import (
+    BearingTable,
+    load_catalogue,
+    min_shaft_diameter_m,
+    select_bearings,
+)
 from qsm.embodiment.loads import Inertials, joint_loads, link_motion
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH, Material, StrengthSettings
-from qsm.embodiment.strength import Section, link_strength
+from qsm.embodiment.strength import JOINTS, Section, link_strength
 from qsm.mechanisms.dataset import JOINT_COLUMNS, STRENGTH_COLUMNS
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
 from qsm.physics.duty import Duty, duty_cycle
@@ -31,6 +48,16 @@ UNDEFINED_VIOLATION = 10.0
 CHUNK = 128
 
 
+def _peak(force: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Peak magnitude over the duty samples of forces (..., N, 2)."""
+    return np.hypot(force[..., 0], force[..., 1]).max(-1)
+
+
+def astuple_shallow(table: BearingTable) -> tuple:
+    """The fields of ``table`` in order, not copied."""
+    return tuple(getattr(table, f.name) for f in fields(table))
+
+
 @dataclass(frozen=True)
 class StrengthCheck:
     """What the link check needs: the CAD section, the material, the requirements, the payload
@@ -41,6 +68,20 @@ class StrengthCheck:
     strength: StrengthSettings = DEFAULT_STRENGTH
     payload_kg: float = 5.0
     duty: Duty = field(default_factory=duty_cycle)
+    bearings: BearingTable = field(default_factory=load_catalogue, compare=False, repr=False)
+
+    def usable_bearings(self) -> BearingTable:
+        """The catalogue's bearings whose seat fits the boss with its wall and whose width fits
+        the plate."""
+        t = self.bearings
+        r, wall = self.cad.boss_radius_m, self.strength.boss_wall_m
+        keep = (t.D_m / 2 + wall <= r * (1 + 1e-12)) & (t.B_m <= self.cad.thickness_m * (1 + 1e-12))
+        if not keep.any():
+            raise ValueError(
+                f"no bearing of the catalogue fits a boss of radius {r} m with a {wall} m wall "
+                f"in a plate {self.cad.thickness_m} m thick"
+            )
+        return BearingTable(*(np.asarray(v)[keep] for v in astuple_shallow(t)))
 
     @property
     def allowable_stress_pa(self) -> float:
@@ -48,13 +89,37 @@ class StrengthCheck:
         return self.strength.allowable_stress_pa(self.material)
 
     def _chunk(self, d: NDArray[np.float64]) -> dict[str, NDArray]:
-        sec = Section.of(self.cad, self.strength)
+        sec = Section.of(self.cad)
         inertials = Inertials(*batch_mass_properties(d, self.cad))
         du = self.duty
         state = loop_state(d, du.theta, du.dtheta, du.ddtheta)
         motion = link_motion(d, state)
         loads = joint_loads(d, inertials, self.payload_kg, state, motion)
-        per_link = link_strength(d, sec, self.material, self.strength, inertials, loads, motion)
+        forces = loads._asdict()
+        peak = np.stack(
+            [
+                np.maximum(_peak(forces["a_lower"]), _peak(forces["a_crank"])),
+                _peak(forces["b"]),
+                _peak(forces["c"]),
+                _peak(forces["d"]),
+            ],
+            axis=-1,
+        )
+        table = self.usable_bearings()
+        sf, steel = self.strength.bearing_safety_factor, self.strength.pin_yield_strength_pa
+        shaft = min_shaft_diameter_m(np.nan_to_num(np.abs(loads.tau).max(-2)).max(-1), steel, sf)
+        choice = select_bearings(
+            np.nan_to_num(peak),
+            table,
+            sf,
+            pin_yield_pa=steel,
+            min_bore_m=np.stack([shaft, *[np.zeros_like(shaft)] * 3], axis=-1),
+        )
+        row = np.where(choice.index < 0, len(table) - 1, choice.index)
+        bores = np.concatenate([table.d_m[row[..., :1]], table.D_m[row[..., 1:]]], axis=-1)
+        per_link = link_strength(
+            d, sec, self.material, self.strength, inertials, loads, motion, bores
+        )
         bad = ~state.closes.all(-1) | (
             np.nan_to_num(state.sin_transmission).min(-1) < MIN_SIN_TRANSMISSION
         )
@@ -71,20 +136,29 @@ class StrengthCheck:
             util.append(np.maximum(stress_u, buckle_u))
             labels = np.array([*res.labels, "buckling"], dtype=object)
             out[f"_check_{link}"] = np.where(buckle_u > stress_u, labels[-1], labels[res.where])
-        utils = np.stack(util, -1)
+        bearing_util = 1.0 + choice.violation  # (..., 4): s0 F / C0 of the best usable bearing
+        for k, joint in enumerate(JOINTS):
+            out[f"bearing_{joint}"] = np.where(
+                choice.index[..., k] < 0, "", table.designation[row[..., k]]
+            ).astype(object)
+        out["bearing_violation"] = choice.violation.max(-1)
+        utils = np.concatenate([np.stack(util, -1), bearing_util], axis=-1)
         out["strength_utilisation"] = utils.max(-1)
         weakest = utils.argmax(-1)
-        out["weakest_link"] = np.asarray(LINK_NAMES, dtype=object)[weakest]
-        checks = np.stack([out.pop(f"_check_{k}") for k in LINK_NAMES], -1)
+        names = [*LINK_NAMES, *(f"bearing {j}" for j in JOINTS)]
+        out["weakest_link"] = np.asarray(names, dtype=object)[weakest]
+        checks = np.stack(
+            [out.pop(f"_check_{k}") for k in LINK_NAMES]
+            + [np.full(len(d), "static load rating", dtype=object)] * len(JOINTS),
+            -1,
+        )
         out["weakest_check"] = np.take_along_axis(checks, weakest[:, None], -1)[:, 0]
-        forces = loads._asdict()
         for suffix, name in JOINT_COLUMNS.items():
             out[f"joint_force_peak_{suffix}_N"] = np.hypot(*np.moveaxis(forces[name], -1, 0)).max(
                 -1
             )
         for col in out.values():
-            if col.dtype.kind == "f":
-                col[bad] = np.nan
+            col[bad] = np.nan if col.dtype.kind == "f" else ""
         out["holds_loads"] = out["strength_utilisation"] <= 1.0
         return out
 

@@ -45,20 +45,25 @@ class StrengthSettings:
     lug_stress_concentration: peak over nominal net-section stress of a pin-loaded bore, default
         3.0 (Peterson's Stress Concentration Factors, pin-loaded lugs: about 2.5-3 for close-fitting
         pins at bore / boss diameter 0.3-0.5; the upper end, as printed bores fit loosely).
-    bore_diameter_m: diameter of the bore at every joint, default 22 mm (the seat of a 608 bearing,
-        8 x 22 x 7 mm).
+    bearing_safety_factor: static safety factor s0 = C0 / P0 of the joint bearings, default 2
+        (SKF's guideline for quiet running; :mod:`qsm.embodiment.bearings`).
+    boss_wall_m: printed wall between a bearing seat and the boss's edge, default 4 mm.
+    pin_yield_strength_pa: yield strength of the steel pins and motor shafts in the bores, default
+        235 MPa (S235, EN 10025-2); sizes the bores with the bearing safety factor.
     """
 
     safety_factor: float = 2.0
     buckling_safety_factor: float = 3.0
     lug_stress_concentration: float = 3.0
-    bore_diameter_m: float = 0.022
+    bearing_safety_factor: float = 2.0
+    boss_wall_m: float = 0.004
+    pin_yield_strength_pa: float = 235e6
 
     def __post_init__(self) -> None:
         if min(self.safety_factor, self.buckling_safety_factor, self.lug_stress_concentration) < 1:
             raise ValueError("safety factors and the stress concentration must be at least 1")
-        if self.bore_diameter_m < 0:
-            raise ValueError("bore_diameter_m must be >= 0")
+        if not (self.bearing_safety_factor > 0 and self.boss_wall_m > 0):
+            raise ValueError("bearing_safety_factor and boss_wall_m must be positive")
 
     def allowable_stress_pa(self, material: Material) -> float:
         """Largest allowed stress (Pa) in ``material``."""

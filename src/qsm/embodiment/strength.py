@@ -1,11 +1,12 @@
 """Strength of every link over the duty: bar stresses, bores, pin-loaded lugs and buckling.
 
 Each link is a flat plate of the CAD section (width ``w`` in the plane, thickness ``t``; bosses of
-radius ``R`` with a bore of diameter ``d_b`` at every joint but E). It is analysed as a beam along
-its spine (the straight bars between the joint centres; the upper arm's spine is D - B - E' - E)
-under the joint forces of :mod:`qsm.embodiment.loads`, its weight and its d'Alembert inertia. The
-link's mass is spread evenly along its spine (a simplification: the bosses hold more than the
-bars; a finite-element comparison bounds the error, docs/strength.md).
+radius ``R`` with a bore at every joint but E, of diameter ``d_b`` given per joint A-D: the joint's
+bearing seat, or at A the motor shaft; :mod:`qsm.embodiment.link_checks` chooses them). It is
+analysed as a beam along its spine (the straight bars between the joint centres; the upper arm's
+spine is D - B - E' - E) under the joint forces of :mod:`qsm.embodiment.loads`, its weight and
+its d'Alembert inertia. The link's mass is spread evenly along its spine (a simplification: the
+bosses hold more than the bars; a finite-element comparison bounds the error, docs/strength.md).
 
 At a cut through the spine the piece beyond the cut (away from the motor for the lower arm and the
 crank, away from C for the coupler, towards D or E for the upper arm) gives the axial force N and
@@ -51,19 +52,16 @@ BUCKLING_K = 1.0
 
 @dataclass(frozen=True)
 class Section:
-    """The plate section: width_m (in the plane), thickness_m, boss_radius_m, bore_m (m)."""
+    """The plate section: width_m (in the plane), thickness_m, boss_radius_m (m)."""
 
     width_m: float
     thickness_m: float
     boss_radius_m: float
-    bore_m: float
 
     @classmethod
-    def of(cls, cad: CadSettings, strength: StrengthSettings) -> Section:
-        """The CAD section with the strength settings' bore."""
-        if not strength.bore_diameter_m < 2 * cad.boss_radius_m:
-            raise ValueError("the bore must be smaller than the boss diameter")
-        return cls(cad.width_m, cad.thickness_m, cad.boss_radius_m, strength.bore_diameter_m)
+    def of(cls, cad: CadSettings) -> Section:
+        """The CAD section."""
+        return cls(cad.width_m, cad.thickness_m, cad.boss_radius_m)
 
     @property
     def overlap_m(self) -> float:
@@ -109,6 +107,10 @@ LOADS: dict[str, tuple[tuple[str, float], ...]] = {
     "coupler": (("d", 1.0),),
     "upper_arm": (("d", -1.0), ("e", 1.0)),
 }
+#: Joints with a bore (A-D, the order of the bore diameters) and, per link, the joint of the bore
+#: its net-section cuts pass through.
+JOINTS: tuple[str, ...] = ("A", "B", "C", "D")
+NET_SECTION_JOINT: dict[str, str] = {"lower_arm": "A", "crank": "A", "upper_arm": "B"}
 #: Bored joints of each link and the joint force through each bore.
 BORES: dict[str, tuple[tuple[str, str], ...]] = {
     "lower_arm": (("A", "a_lower"), ("B", "b")),
@@ -254,13 +256,18 @@ def link_strength(
     inertials: Inertials,
     loads: JointLoads,
     motion: LinkMotion,
+    bores_m: ArrayLike,
 ) -> dict[str, LinkStrength]:
     """Peak stress and compression of each link of ``design`` (..., 6) m over the duty samples
-    of ``loads`` and ``motion`` (..., N)."""
+    of ``loads`` and ``motion`` (..., N), with bores of diameter ``bores_m`` (..., 4) m at the
+    joints A-D (each smaller than the boss)."""
     d = as_design(design)
-    w, t, r, bore = sec.width_m, sec.thickness_m, sec.boss_radius_m, sec.bore_m
-    net_area = t * (2 * r - bore)
-    net_z = t * ((2 * r) ** 3 - bore**3) / (12 * r)
+    w, t, r = sec.width_m, sec.thickness_m, sec.boss_radius_m
+    bores = np.broadcast_to(np.asarray(bores_m, dtype=float), (*d.shape[:-1], len(JOINTS)))
+    if not (bores < 2 * r).all():
+        raise ValueError("every bore must be smaller than the boss diameter")
+    net_area = {j: t * (2 * r - bores[..., k]) for k, j in enumerate(JOINTS)}
+    net_z = {j: t * ((2 * r) ** 3 - bores[..., k] ** 3) / (12 * r) for k, j in enumerate(JOINTS)}
     forces = loads._asdict()
     out = {}
     for k, (link, cuts) in enumerate(link_cuts(d, sec).items()):
@@ -284,19 +291,17 @@ def link_strength(
         column = np.flatnonzero(cuts.column)
         compression = -both[..., column].min(axis=(-2, -1))
         np.abs(both, out=both)
-        weights = np.zeros((2 * n_cuts, n_cuts))
-        weights[np.arange(n_cuts), np.arange(n_cuts)] = np.where(
-            cuts.bore, 1 / net_area, 1 / (w * t)
-        )
-        weights[n_cuts + np.arange(n_cuts), np.arange(n_cuts)] = np.where(
-            cuts.bore, 1 / net_z, 6 / (t * w**2)
-        )
-        stress = (both @ weights).max(axis=-2)
+        joint = NET_SECTION_JOINT.get(link, "A")  # the coupler has no net-section cut
+        inv_a = np.where(cuts.bore, 1 / net_area[joint][..., None], 1 / (w * t))
+        inv_z = np.where(cuts.bore, 1 / net_z[joint][..., None], 6 / (t * w**2))
+        stress = (
+            both[..., :n_cuts] * inv_a[..., None, :] + both[..., n_cuts:] * inv_z[..., None, :]
+        ).max(axis=-2)
         lug = [
             strength.lug_stress_concentration
-            / net_area
+            / net_area[j]
             * np.linalg.norm(forces[name], axis=-1).max(axis=-1)
-            for _, name in BORES[link]
+            for j, name in BORES[link]
         ]
         checks = np.concatenate([stress, np.stack(lug, -1)], axis=-1)
         length = _COLUMN[link](d) * BUCKLING_K

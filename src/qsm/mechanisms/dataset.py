@@ -52,11 +52,20 @@ STRENGTH_COLUMNS: dict[str, str] = {
         "compressed)"
         for k in LINK_NAMES
     },
+    **{
+        f"bearing_{j}": f"bearing at joint {j}: the smallest of the catalogue whose static rating "
+        "covers its peak force (empty: none fits the boss)"
+        for j in ("A", "B", "C", "D")
+    },
+    "bearing_violation": "largest over the joints of s0 x peak force / C0 of the bearing - 1; "
+    "<= 0 every bearing holds (-)",
     "strength_utilisation": "largest over the links of stress x safety factor / yield and "
-    "compression x buckling factor / Euler load; <= 1 holds (-)",
-    "holds_loads": "every link holds its loads with the required factors (-)",
-    "weakest_link": "the link with the largest utilisation",
-    "weakest_check": "where the weakest link is most loaded (a cut, a bore, or buckling)",
+    "compression x buckling factor / Euler load, and over the bearings of s0 x force / C0; "
+    "<= 1 holds (-)",
+    "holds_loads": "every link and bearing holds its loads with the required factors (-)",
+    "weakest_link": "the link (or bearing) with the largest utilisation",
+    "weakest_check": "where the weakest link is most loaded (a cut, a bore, buckling, or a "
+    "bearing's static load rating)",
     **{
         f"joint_force_peak_{j}_N": f"peak force through joint {j.replace('_', ' of the ')} (N)"
         for j in JOINT_COLUMNS
