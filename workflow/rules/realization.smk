@@ -50,6 +50,12 @@ rule topology_optimize:
         stl_check=f"{REAL}/stl_check.json",
         stl_before=expand(f"{REAL}/stl/before/{{link}}.stl", link=LINKS),
         stl_after=expand(f"{REAL}/stl/after/{{link}}.stl", link=LINKS),
+        drawing=report(
+            f"{REAL}/drawing.svg", caption="../report/drawing.rst", category="6. Realisation"
+        ),
+        drawing_png=f"{REAL}/drawing.png",
+        bom_csv=f"{REAL}/bom.csv",
+        bom_md=f"{REAL}/bom.md",
         figure=report(
             f"{RESULTS}/figures/topology_links.png",
             caption="../report/topology_links.rst",

@@ -12,6 +12,7 @@ rule summary:
         torques=rules.topology_optimize.output.torques,
         payload=rules.payload_test.output.result,
         topology=rules.topology_optimize.output.topology,
+        bom=rules.topology_optimize.output.bom_md,
     output:
         report(f"{RESULTS}/summary.md", caption="../report/summary.rst", category="0. Summary"),
     log:

@@ -13,7 +13,9 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     for key in (*keys, "topology"):
         with open(inp[key]) as fh:
             loaded[key] = json.load(fh)
-    text = headline_markdown(findings=read_table(inp.findings), **loaded)
+    with open(inp.bom) as fh:
+        bom = fh.read()
+    text = headline_markdown(findings=read_table(inp.findings), bom=bom, **loaded)
     with open(snakemake.output[0], "w") as fh:  # noqa: F821
         fh.write(text)
     log.info("wrote the summary")

@@ -1,13 +1,16 @@
-"""Rule topology_optimize: SIMP on the arm plates, printed meshes, STL files, torques again."""
+"""Rule topology_optimize: SIMP on the arm plates, the bored parts to build (STL files, drawing,
+bill of materials), torques again."""
 
 import json
 
 import numpy as np
 
 from qsm import settings
-from qsm.physics.cad import link_meshes
+from qsm.embodiment.parts import PartSettings, link_parts, part_meshes
 from qsm.physics.duty import duty_cycle
+from qsm.realisation.assembly import bearing_rows, final_parts, write_parts
 from qsm.realisation.export import export_stls, props_to_json, torques_markdown
+from qsm.realisation.geometry import extrude
 from qsm.realisation.topology import optimise_links, plot_links
 from qsm.realisation.torques import torques_before_after
 from qsm.workflow.logs import logged
@@ -16,23 +19,47 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
     out = snakemake.output  # noqa: F821
     with open(snakemake.input.selected) as fh:  # noqa: F821
-        design = np.asarray(json.load(fh)["design_m"])
+        selected = json.load(fh)
+    design = np.asarray(selected["design_m"])
     cad = settings.cad(p.cad, p.material)
     duty = duty_cycle(settings.duty(p.duty, p.operating_range))
     topo = settings.topology(p.topology, p.material, p.strength)
     result = optimise_links(design, cad, p.payload_kg, duty, topo)
-    torques = torques_before_after(design, cad, p.payload_kg, duty, result.props)
+    part_settings = PartSettings(cad, boss_wall_m=p.strength["boss_wall_m"])
+    names = {j: b["designation"] for j, b in selected["strength"]["bearings"].items()}
+    rows = bearing_rows(names, part_settings.table)
+    solid = link_parts(design, rows, part_settings)
+    held = {
+        name: link.polygon
+        for name, link in result.links.items()
+        if link.carries_loads and not link.kept_solid
+    }
+    parts = final_parts(design, rows, part_settings, held)
+    written = write_parts(
+        design,
+        parts,
+        solid,
+        rows,
+        part_settings,
+        p.material["name"],
+        {name: name in held for name in parts},
+        out.bom_csv.rsplit("/", 1)[0],
+    )
+    props = written.pop("masses")
+    written["masses_kg"] = {name: m.mass_kg for name, m in props.items()}
+    torques = torques_before_after(design, cad, p.payload_kg, duty, props)
     with open(out.torques, "w") as fh:
         json.dump(torques, fh, indent=2)
     with open(out.table, "w") as fh:
         fh.write(torques_markdown(torques))
     summary = {name: link.summary() for name, link in result.links.items()}
+    record = {"carries_loads": result.carries_loads, "links": summary, "parts": written}
     with open(out.topology, "w") as fh:
-        json.dump({"carries_loads": result.carries_loads, "links": summary}, fh, indent=2)
+        json.dump(record, fh, indent=2)
     with open(out.links, "w") as fh:
-        json.dump(props_to_json(result.props), fh, indent=2)
-    before = link_meshes(design, cad)
-    after = {**before, **{name: link.mesh for name, link in result.links.items()}}
+        json.dump(props_to_json(props), fh, indent=2)
+    before, after = part_meshes(solid, cad), part_meshes(parts, cad)
+    after.update({name: extrude(parts[name].polygon, cad.thickness_m) for name in held})
     volume = tuple(p.build_volume_mm)
     stl_dir = out.stl_before[0].rsplit("/", 2)[0]
     checks = {

@@ -136,15 +136,24 @@ class StrengthCheck:
             util.append(np.maximum(stress_u, buckle_u))
             labels = np.array([*res.labels, "buckling"], dtype=object)
             out[f"_check_{link}"] = np.where(buckle_u > stress_u, labels[-1], labels[res.where])
-        bearing_util = 1.0 + choice.violation  # (..., 4): s0 F / C0 of the best usable bearing
+        # the chosen bearing's s0 F / C0 and needed / actual bore; 1 + violation where none fits
+        bearing_util = np.where(
+            choice.index < 0,
+            1.0 + choice.violation,
+            np.maximum(choice.required_C0_N / table.C0_N[row], choice.min_bore_m / table.d_m[row]),
+        )
         for k, joint in enumerate(JOINTS):
             out[f"bearing_{joint}"] = np.where(
                 choice.index[..., k] < 0, "", table.designation[row[..., k]]
             ).astype(object)
         out["bearing_violation"] = choice.violation.max(-1)
+        out["bearing_utilisation"] = bearing_util.max(-1)
         utils = np.concatenate([np.stack(util, -1), bearing_util], axis=-1)
         out["strength_utilisation"] = utils.max(-1)
-        weakest = utils.argmax(-1)
+        # the chosen bearing sits near its rating by design: name it only when it fails
+        weakest = np.concatenate(
+            [np.stack(util, -1), np.where(bearing_util > 1.0, bearing_util, 0.0)], axis=-1
+        ).argmax(-1)
         names = [*LINK_NAMES, *(f"bearing {j}" for j in JOINTS)]
         out["weakest_link"] = np.asarray(names, dtype=object)[weakest]
         checks = np.stack(

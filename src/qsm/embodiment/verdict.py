@@ -41,8 +41,31 @@ def strength_record(design: ArrayLike, check: StrengthCheck) -> dict[str, Any]:
                 and buckling >= check.strength.buckling_safety_factor * (1 - 1e-12)
             ),
         }
+    table = check.bearings
+    bearings = {}
+    for joint in ("A", "B", "C", "D"):
+        name = str(row[f"bearing_{joint}"])
+        force = float(row[f"joint_force_peak_{'A_lower_arm' if joint == 'A' else joint}_N"])
+        if joint == "A":
+            force = max(force, float(row["joint_force_peak_A_crank_N"]))
+        entry: dict[str, Any] = {"designation": name, "peak_force_N": force}
+        if name:
+            b = table.row(int(np.flatnonzero(table.designation == name)[0]))
+            entry.update(
+                d_mm=1e3 * b["d_m"],
+                D_mm=1e3 * b["D_m"],
+                B_mm=1e3 * b["B_m"],
+                C_kN=b["C_N"] / 1e3,
+                C0_kN=b["C0_N"] / 1e3,
+                static_safety=b["C0_N"] / force if force > 0 else None,
+                maker=b["maker"],
+                source=b["source"],
+            )
+        bearings[joint] = entry
     return {
         "links": links,
+        "bearings": bearings,
+        "required_bearing_safety": check.strength.bearing_safety_factor,
         "utilisation": float(row["strength_utilisation"]),
         "weakest_link": str(row["weakest_link"]),
         "weakest_check": str(row["weakest_check"]),
@@ -52,9 +75,21 @@ def strength_record(design: ArrayLike, check: StrengthCheck) -> dict[str, Any]:
     }
 
 
+def _text(x: float | None) -> str:
+    return "-" if x is None else f"{x:.2f}"
+
+
 def strength_verdict(record: Mapping[str, Any]) -> str:
     """One sentence: how the weakest link fares, in MPa or as a buckling factor."""
     link = record["weakest_link"]
+    if link.startswith("bearing "):
+        b = record["bearings"][link.split()[-1]]
+        text = (
+            f"the {link} ({b['designation'] or 'none fits'}) carries "
+            f"{b['peak_force_N']:.0f} N, its static rating over that "
+            f"{_text(b.get('static_safety'))} ({record['required_bearing_safety']:g} required)"
+        )
+        return f"{'weakest' if record['holds_loads'] else 'NOT STRONG ENOUGH'}: {text}"
     r = record["links"][link]
     name = link.replace("_", " ")
     if record["weakest_check"] == "buckling":

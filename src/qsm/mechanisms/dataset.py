@@ -57,8 +57,11 @@ STRENGTH_COLUMNS: dict[str, str] = {
         "covers its peak force (empty: none fits the boss)"
         for j in ("A", "B", "C", "D")
     },
-    "bearing_violation": "largest over the joints of s0 x peak force / C0 of the bearing - 1; "
-    "<= 0 every bearing holds (-)",
+    "bearing_violation": "largest over the joints of what the joint needs (s0 x peak force, and "
+    "the pin or shaft's bore) over what the catalogue's best bearing for it offers, less 1; "
+    "<= 0: every joint has a bearing (-)",
+    "bearing_utilisation": "largest over the joints of the chosen bearing's s0 x peak force / C0 "
+    "and needed / actual bore (1 + bearing_violation where none fits) (-)",
     "strength_utilisation": "largest over the links of stress x safety factor / yield and "
     "compression x buckling factor / Euler load, and over the bearings of s0 x force / C0; "
     "<= 1 holds (-)",

@@ -49,6 +49,34 @@ def build_verdict(
     return not problems, problems
 
 
+def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom: str) -> list[str]:
+    """The design to build: lengths (mm), link masses, bearings, drawing, parts and BOM."""
+    names = ("l1", "l2", "l3", "l4", "EE_x", "EE_y")
+    lengths = ", ".join(
+        f"{n} {1e3 * v:.1f}" for n, v in zip(names, selected["design_m"], strict=True)
+    )
+    parts = topology["parts"]
+    masses = ", ".join(f"{k} {v:.3f}" for k, v in parts["masses_kg"].items())
+    bearings = "; ".join(
+        f"{j} {b['designation'] or 'NONE FITS'} ({b['peak_force_N']:.0f} N peak"
+        + (f", C0 / F = {b['static_safety']:.1f})" if b.get("static_safety") else ")")
+        for j, b in selected["strength"]["bearings"].items()
+    )
+    holes = ", ".join(f"{k} {v}" for k, v in parts["holes"].items())
+    return [
+        "## The design to build",
+        f"- lengths (mm): {lengths}.",
+        f"- printed link masses (kg, bored): {masses}.",
+        f"- bearings: {bearings}.",
+        f"- through holes per link: {holes}.",
+        f"- drawing: {parts['drawing']['svg']} ({parts['drawing']['png']}); parts to print: "
+        "realization/stl/after/*.stl; bill of materials: " + parts["bom"]["csv"] + ".",
+        "",
+        bom.rstrip(),
+        "",
+    ]
+
+
 def _factor(x: float | None) -> str:
     return "inf" if x is None else f"{x:.2f}"
 
@@ -87,6 +115,7 @@ def headline_markdown(
     torques: Mapping[str, Any],
     payload: Mapping[str, Any],
     topology: Mapping[str, Any],
+    bom: str,
 ) -> str:
     """One page of Markdown with the overall verdict and the figures of every stage."""
     r2 = metrics["test"]["r2"]
@@ -102,6 +131,7 @@ def headline_markdown(
         )
         + "**",
         "",
+        *_build_section(selected, topology, bom),
         "## Stage 1: mechanisms",
         f"- {filters['samples']:,} LHS samples; crank-rocker {filters['crank_rocker']:,}; loop "
         f"closes {filters['loop_closes']:,}; task fits {filters['task_fits']:,} of the first "

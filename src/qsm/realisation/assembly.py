@@ -1,0 +1,87 @@
+"""The parts to build for the realised design: bored links (topology-optimised where the printed
+plate holds its loads, solid otherwise), their mass properties, STL files, a dimensioned drawing
+and a bill of materials."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import shapely
+from numpy.typing import ArrayLike
+
+from qsm.embodiment.bearings import BearingTable
+from qsm.embodiment.bom import bill_of_materials, write_bom
+from qsm.embodiment.parts import (
+    LinkPart,
+    PartSettings,
+    hole_polygon,
+    link_parts,
+    part_mass_properties,
+)
+from qsm.physics.cad import MassProperties
+from qsm.report.drawing import draw_links
+
+
+def bearing_rows(designations: Mapping[str, str], table: BearingTable) -> list[int]:
+    """Catalogue rows of the bearings at A, B, C, D (-1 where none fits: an empty name)."""
+    rows = []
+    for joint in ("A", "B", "C", "D"):
+        name = designations[joint]
+        rows.append(int(np.flatnonzero(table.designation == name)[0]) if name else -1)
+    return rows
+
+
+def final_parts(
+    design: ArrayLike,
+    bearing_index: list[int],
+    settings: PartSettings,
+    optimised: Mapping[str, shapely.Geometry],
+) -> dict[str, LinkPart]:
+    """The bored links of ``design``; a link in ``optimised`` takes that printed plate (link
+    frame, m) with the same bores cut through it."""
+    parts = link_parts(design, bearing_index, settings)
+    seg = settings.cad.segments_per_circle
+    for name, plate in optimised.items():
+        holes = shapely.union_all(
+            [
+                shapely.Polygon(hole_polygon(b.centre_m, b.diameter_m, seg))
+                for b in parts[name].bores
+                if b.diameter_m > 0
+            ]
+        )
+        polygon = shapely.make_valid(plate.difference(holes))
+        if not isinstance(polygon, shapely.Polygon):
+            polygon = max(getattr(polygon, "geoms", [polygon]), key=lambda g: g.area)
+        parts[name] = LinkPart(name, polygon, parts[name].bores)
+    return parts
+
+
+def write_parts(
+    design: ArrayLike,
+    parts: Mapping[str, LinkPart],
+    solid: Mapping[str, LinkPart],
+    bearing_index: list[int],
+    settings: PartSettings,
+    material: str,
+    optimised: Mapping[str, bool],
+    directory: str | Path,
+) -> dict[str, Any]:
+    """Write the drawing of the solid bored links (``drawing.svg`` / ``.png``) and the BOM
+    (``bom.csv`` / ``bom.md``) into ``directory``; return their paths, the parts' hole counts
+    and mass properties."""
+    out = Path(directory)
+    masses: dict[str, MassProperties] = part_mass_properties(parts, settings.cad)
+    svg, png = draw_links(design, solid, out / "drawing", settings.cad)
+    bom = bill_of_materials(
+        parts, masses, bearing_index, settings.table, settings.cad, material, optimised
+    )
+    csv, md = write_bom(bom, out)
+    return {
+        "drawing": {"svg": str(svg), "png": str(png)},
+        "bom": {"csv": str(csv), "md": str(md)},
+        "masses": masses,
+        "holes": {name: p.holes for name, p in parts.items()},
+    }
