@@ -1,5 +1,5 @@
-"""Per-mechanism cost of the dynamics stage (CAD, loop kinematics, inertials, inverse dynamics),
-its multiple of MuJoCo's own floor, and a projection.
+"""Per-mechanism cost of the dynamics stage (CAD, loop kinematics, inertials, inverse dynamics,
+strength check), its multiple of MuJoCo's own floor, and a projection.
 
 The floor is measured in the same process: one ``mj_inverse`` call on a prebuilt model and a
 fixed state, timed over many repeats, times the number of duty samples: what one ``mj_inverse``
@@ -21,6 +21,7 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pandas as pd
 
+from qsm.embodiment.link_checks import StrengthCheck
 from qsm.physics import cad, duty, dynamics, kinematics, mjcf
 from qsm.physics.kinematics import DESIGN_COLUMNS
 
@@ -117,6 +118,17 @@ def main() -> None:
     print(
         f"evaluate_table, 2 processes: {1e3 * wall / len(designs):.3f} ms/mechanism wall -> "
         f"{PAPER_MECHANISMS} mechanisms: {wall / len(designs) * PAPER_MECHANISMS:.1f} s"
+    )
+
+    check = StrengthCheck(duty=d)
+    check.evaluate(designs[:5])  # warm up
+    t0 = time.perf_counter()
+    check.evaluate(designs)
+    strength = (time.perf_counter() - t0) / len(designs)
+    print(
+        f"strength check (loads, bearings, stresses; in the stage): {1e3 * strength:.3f} "
+        f"ms/mechanism = {1e3 * strength / floor:.2f} x the MuJoCo floor "
+        f"({100 * strength / serial:.0f} % of the dynamics)"
     )
 
     t0 = time.perf_counter()

@@ -174,7 +174,7 @@ def test_switches_off_give_the_papers_g1_to_g10_exactly(extra):
     on = PaperProblem(Constant(), lo, hi, stats, extra(True, True))
     assert on.n_ieq_constr == 12
     on._evaluate(designs, out)
-    g11 = 0.001 - containment_margin_m(designs, OP, DISK)
+    g11 = -containment_margin_m(designs, OP, Disk(DISK.centre, DISK.radius + 0.001))
     np.testing.assert_array_equal(out["G"][:, 10], g11)
     np.testing.assert_array_equal(out["G"][:, 11], printability_violation_mm(designs, CAD, PRINTER))
     assert "g11" in extra(True, True).label("paper") and "g12" in extra(True, True).label("paper")
@@ -196,3 +196,23 @@ def test_disk_touching_the_outer_edge_where_the_edge_does_not_cover_it():
     slices = slice_workspace(design[1:] / design[0], OP, disk.angle)
     assert containment_margin(slices, design[0], disk.distance, disk.radius)[0] < 0
     assert containment_margin_m(design, OP, disk)[0] < 0
+
+
+def test_g11_holds_exactly_when_the_euclidean_clearance_reaches_the_tolerance():
+    """g11 <= 0 (the task disk grown by the tolerance is held) against the clearance of
+    qsm.physics.clearance (the distance from the disk to the workspace's edge)."""
+    from qsm.physics.clearance import disk_clearance_m
+
+    tolerance = 0.02
+    fit = FitSettings(op=OP, disk=DISK, scale_max=2.0)
+    extra = ExtraConstraints(True, False, fit, CAD, PRINTER, tolerance_m=tolerance)
+    designs = random_designs(40, 11)
+    g11 = extra.columns("paper", designs)[0]
+    checked = 0
+    for design, g in zip(designs, g11, strict=True):
+        if abs(g) < 2e-3 or g >= OPEN_LOOP_VIOLATION_M:
+            continue  # too near the edge for the slicing's resolution, or no closed loop
+        clearance = disk_clearance_m(design, OP, DISK)
+        assert (g <= 0) == (clearance >= tolerance), (g, clearance)
+        checked += 1
+    assert checked >= 10

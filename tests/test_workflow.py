@@ -2,6 +2,7 @@
 
 import copy
 import json
+import math
 
 import numpy as np
 import pandas as pd
@@ -273,11 +274,56 @@ def test_realisation_outputs(run):
         "selected": "realization/selected.json",
         "torques": "realization/torques.json",
         "payload": "realization/payload_test.json",
+        "topology": "realization/topology.json",
     }
     loaded = {key: json.loads((res / path).read_text()) for key, path in files.items()}
     loaded["payload"]["payload_kg"] = 0.3
     findings = pd.read_parquet(res / "design_rules/findings.parquet")
-    assert "payload test (0.3 kg)" in headline_markdown(findings=findings, **loaded)
+    bom = (res / "realization/bom.md").read_text()
+    assert "payload test (0.3 kg)" in headline_markdown(findings=findings, bom=bom, **loaded)
+
+
+def test_the_design_to_build(run):
+    """Every link of the realised design has a through hole per joint (trimesh's Euler number),
+    every joint a bearing whose static rating covers its peak force with the configured factor,
+    a drawing and a BOM; summary.md opens with the verdict and the design to build, and calls it
+    ready only when every part holds."""
+    config = effective_config(run)
+    real = run / "results/realization"
+    selected = json.loads((real / "selected.json").read_text())
+    holes = {"lower_arm": 2, "crank": 2, "coupler": 2, "upper_arm": 3}  # A-D, and E's tool hole
+    for name, count in holes.items():
+        solid = trimesh.load(real / f"stl/before/{name}.stl")
+        assert solid.is_watertight and (2 - solid.euler_number) // 2 == count, name
+        printed = trimesh.load(real / f"stl/after/{name}.stl")
+        assert printed.is_watertight and (2 - printed.euler_number) // 2 >= count, name
+    s0 = config["strength"]["bearing_safety_factor"]
+    for joint, bearing in selected["strength"]["bearings"].items():
+        assert bearing["designation"], joint
+        assert 1e3 * bearing["C0_kN"] >= s0 * bearing["peak_force_N"], joint
+    assert (real / "drawing.svg").read_text().count("<text") > 10
+    bom = pd.read_csv(real / "bom.csv")
+    assert {"bearing A", "bearing B", "bearing C", "bearing D"} <= set(bom["item"])
+    summary_md = (run / "results/summary.md").read_text()
+    first = summary_md.split("\n\n")[1]
+    strength = selected["strength"]
+    topo = json.loads((real / "topology.json").read_text())
+    ready = (
+        selected["printable"]
+        and strength["holds_loads"]
+        and all(link["carries_loads"] for link in topo["links"].values())
+        and json.loads((real / "payload_test.json").read_text())["passed"]
+    )
+    assert first.startswith("**Ready to build" if ready else "**NOT READY TO BUILD")
+    assert "## The design to build" in summary_md and "| bearing A |" in summary_md
+    for link, r in strength["links"].items():
+        assert r["holds"] == (
+            r["stress_peak_MPa"] <= r["allowable_MPa"]
+            and (
+                r["buckling_factor"] is None
+                or r["buckling_factor"] >= config["strength"]["buckling_safety_factor"]
+            )
+        ), link
 
 
 def test_payload_test_fails_below_the_required_torque(run, tmp_path):
@@ -301,26 +347,44 @@ def test_report_and_lint(run, tmp_path):
     assert "Lints for" not in lint.stdout + lint.stderr
 
 
-def test_a_task_nothing_printable_holds_completes_with_the_verdict(tmp_path):
-    """A far, large task: every design is too long for the printer; the run still completes,
-    realises the best truly feasible design and says plainly that it is not printable."""
+def test_a_far_heavy_task_completes_with_the_verdicts(tmp_path):
+    """A far, large task with 10 kg: every design is too long for the printer and too weak for
+    the load (tau1 about 150 N m); the run still completes, realises the truly feasible design
+    nearest to holding and says plainly that it is not strong enough and not printable, with
+    what would change that."""
     work = copy_workflow(tmp_path / "far")
     far = tmp_path / "far.yaml"
     far.write_text("task: {points: [[-1.15, 0.0], [-0.75, 0.0], [-0.95, 0.15]], payload_kg: 10}")
     snakemake(work, configs=(str(far),))
     selected = json.loads((work / "results/realization/selected.json").read_text())
     assert selected["printable"] is False and selected["feasible"]
-    assert selected["verdict"].startswith("NOT PRINTABLE")
-    assert len(selected["fallback"]) == 3  # both fronts and the dataset had nothing printable
-    needed = selected["printing_advice"]["needed_volume_mm"]
-    assert needed[0] > 600  # the longest link exceeds the printer's longest side
+    assert selected["strength"]["holds_loads"] is False
+    weakest = selected["strength"]["weakest_link"].replace("_", " ")
+    assert selected["verdict"].startswith(f"NOT STRONG ENOUGH: the {weakest}")
+    assert "NOT PRINTABLE" in selected["verdict"]
+    assert len(selected["fallback"]) == 4  # both fronts and the dataset: nothing strong
     effective = effective_config(work)
     cad = settings.cad(effective["cad"], effective["material"])
     assert not all_links_fit(np.array(selected["design_m"]), cad, (600, 350, 350))
+    smallest = selected["printing_advice"]["smallest_over_designs"]
+    assert smallest["needed_volume_mm"] == [math.ceil(v) for v in smallest["exact_volume_mm"]]
+    assert all_links_fit(np.array(smallest["design_m"]), cad, tuple(smallest["needed_volume_mm"]))
+    # the payload the advice names holds, 5 % more does not (the strength check run again)
+    payload = selected["strength_advice"]["payload_kg"]
+    duty = settings.duty(effective["dynamics"]["duty"], effective["operating_range"])
+
+    def violation(kg):
+        check = settings.strength_check(
+            effective["cad"], effective["material"], effective["strength"], kg, duty
+        )
+        return check.violation(np.array(selected["design_m"]))[0]
+
+    assert violation(payload) <= 0 < violation(1.05 * payload)
     checks = json.loads((work / "results/realization/stl_check.json").read_text())
     assert not all(c["fits_build_volume"] for c in checks["before"].values())
     summary_md = (work / "results/summary.md").read_text()
-    assert "verdict: NOT PRINTABLE" in summary_md
+    assert summary_md.split("\n\n")[1].startswith("**NOT READY TO BUILD")
+    assert "verdict: NOT STRONG ENOUGH" in summary_md
     payload = json.loads((work / "results/realization/payload_test.json").read_text())
     assert payload["payload_kg"] == 10.0  # the task's payload, not the paper's 5 kg
     for name in ("paper", "ratios"):
@@ -330,3 +394,4 @@ def test_a_task_nothing_printable_holds_completes_with_the_verdict(tmp_path):
         assert verification["printable_share"] == 0.0
         assert verification["holds_task_share"] == 1.0
         assert "g12 dropped" in verification["constraints"]
+        assert "g13 dropped" in verification["constraints"]

@@ -3,15 +3,23 @@
 import json
 
 import matplotlib.pyplot as plt
+import numpy as np
 
 from qsm import settings
 from qsm.embodiment.advice import advice_sentences as strength_sentences
 from qsm.embodiment.advice import strength_advice
+from qsm.embodiment.printing_advice import advice_sentence, smallest_build_volume
 from qsm.embodiment.verdict import strength_record, strength_verdict
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.physics.clearance import disk_clearance_m
 from qsm.physics.task import min_enclosing_circle
 from qsm.realisation.export import selection_record
-from qsm.realisation.selection import advice_sentences, choose_design, printing_advice
+from qsm.realisation.selection import (
+    advice_sentences,
+    candidate_pool,
+    choose_design,
+    printing_advice,
+)
 from qsm.report.figures import draw_design
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
@@ -31,6 +39,8 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     record.update(how)
     for line in how["fallback"]:
         log.warning("skipped: %s", line)
+    op = settings.operating_range(p.operating_range)
+    record["clearance_m"] = disk_clearance_m(record["design_m"], op, disk)
     check = settings.strength_check(
         p.cad, p.material, p.strength, p.payload_kg, settings.duty(p.duty, p.operating_range)
     )
@@ -47,12 +57,22 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         )
     if not how["printable"]:
         advice = printing_advice(record["design_m"], cad, volume, disk)
+        pool = candidate_pool(fronts, dataset)
+        strong = pool["holds_loads"].astype(bool)
+        advice["smallest_over_designs"] = smallest_build_volume(
+            pool, strong if how["holds_loads"] else np.ones(len(pool), bool), cad
+        )
         record["printing_advice"] = advice
         verdicts.append(
             "NOT PRINTABLE on the configured printer: no design of the fronts or the dataset "
             + ("that holds its loads " if how["holds_loads"] else "")
             + "fits it. What would change that: "
-            + "; ".join(advice_sentences(advice, cad))
+            + "; ".join(
+                [
+                    advice_sentence(advice["smallest_over_designs"], volume),
+                    *advice_sentences(advice, cad)[1:],
+                ]
+            )
         )
     if verdicts:
         record["verdict"] = ". ".join(verdicts) + "."
@@ -65,7 +85,6 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         )
     with open(out.selected, "w") as fh:
         json.dump(record, fh, indent=2)
-    op = settings.operating_range(p.operating_range)
     fig, ax = plt.subplots(figsize=(6, 6))
     title = (
         f"selected ({rule}, {record['formulation']}"

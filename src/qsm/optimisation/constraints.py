@@ -13,8 +13,10 @@ on that circle is ``(h(R) - w(R)) R`` metres of arc, where ``h`` is the half-wid
 ``g`` the angular gap to the nearest covered arc. Each circle's margin is also capped by its signed
 radial distance (m) to the workspace's radial range (negative outside it, where the arcs are
 measured on the range's edge), so the margin changes continuously with the design and has the sign
-of Stage 1's test. g11 = ``tolerance - min over R of the margin``: a design holds the task with at
-least ``tolerance`` metres of arc to spare on every circle.
+of Stage 1's test. g11 = ``- min over R of the margin`` of the task disk grown by the tolerance:
+<= 0 exactly when the task keeps at least ``tolerance`` metres of Euclidean clearance from the
+workspace's edge. The margin itself is an arc length, an upper bound on that clearance
+(:mod:`qsm.physics.clearance` computes the clearance).
 
 **g12, printability** (millimetres). A link fits when its bounding box in the link frame
 (:func:`link_boxes_mm`, the same boxes :mod:`qsm.realisation.printing` measures on the outlines),

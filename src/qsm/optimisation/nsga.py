@@ -20,6 +20,7 @@ from pymoo.optimize import minimize
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimisation.problems import (
     G12,
+    G13,
     ExtraConstraints,
     LabelStats,
     PaperProblem,
@@ -159,7 +160,8 @@ def optimise(
 
     ``dataset`` (status-ok rows) gives the paper formulation's bounds (unless ``section["bounds"]``
     overrides them) and the objective range that normalises the hypervolume. ``extra`` switches
-    g11 / g12 on (None: the paper's g1..g10 only).
+    g11 / g12 / g13 on (None: the paper's g1..g10 only); when no design meets them, g12 and then
+    g13 are dropped and the constraint label says so.
     """
     stats = LabelStats.of(model, section["z"])
     labels = dataset[["eta", "tau1_Nm", "tau2_Nm"]].to_numpy()
@@ -185,21 +187,33 @@ def optimise(
 
     label = extra.label(formulation) if extra is not None else "g1..g10 (the paper's)"
     problem = make(extra)
-    try:
-        result = run(problem)
-    except InfeasibleProblem as exc:
-        if extra is None or not extra.printable:
-            raise
-        # no design met g12 (a far task, a small printer): optimise without it, and say so
-        excess = float(exc.least[extra.names(formulation).index(G12)])
-        extra = replace(extra, printable=False)
-        problem = make(extra)
-        result = run(problem)
-        label = (
-            f"{extra.label(formulation)}; g12 dropped: no design printable on "
-            f"{' x '.join(f'{v:g}' for v in extra.volume_mm)} mm (least excess in the last "
-            f"generation {excess:.0f} mm)"
-        )
+    dropped: list[str] = []
+    while True:
+        try:
+            result = run(problem)
+            break
+        except InfeasibleProblem as exc:
+            # no design met g12 (a far task, a small printer), then g13 (a heavy task): optimise
+            # without it, and say so
+            if extra is None or not (extra.printable or extra.strength is not None):
+                raise
+            least = dict(zip(extra.names(formulation), exc.least, strict=True))
+            if extra.printable:
+                dropped.append(
+                    f"g12 dropped: no design printable on "
+                    f"{' x '.join(f'{v:g}' for v in extra.volume_mm)} mm (least excess in the "
+                    f"last generation {least[G12]:.0f} mm)"
+                )
+                extra = replace(extra, printable=False)
+            else:
+                dropped.append(
+                    "g13 dropped: no design whose links hold their loads (least strength "
+                    f"utilisation in the last generation {1 + least[G13]:.2f})"
+                )
+                extra = replace(extra, strength=None)
+            problem = make(extra)
+    if dropped:
+        label = f"{extra.label(formulation)}; " + "; ".join(dropped)
 
     def lengths(x: NDArray) -> NDArray:
         return problem.designs(x)[0] if isinstance(problem, RatiosProblem) else x

@@ -10,8 +10,10 @@ pymoo's ``G <= 0`` form:
 * g5..g10: each prediction within mean +- z std of its training labels (z = 1.95)
   ->  ``(mean - z std) - y'`` and ``y' - (mean + z std)``.
 
-* g11 (paper formulation, ``constraints.containment``): the task disk lies in the workspace at scale
-  l1 with ``containment_tolerance_m`` of arc to spare (:mod:`qsm.optimisation.constraints`, metres);
+* g11 (paper formulation, ``constraints.containment``): the task disk grown by
+  ``containment_tolerance_m`` lies in the workspace at scale l1, so the task keeps that Euclidean
+  clearance from the workspace's edge; the violation is the arc-length margin of the grown disk
+  (:mod:`qsm.optimisation.constraints`, metres; its sign is exact, its size a measure);
 * g12 (every formulation, ``constraints.printable``): every link's box fits the build volume
   (:mod:`qsm.optimisation.constraints`, millimetres);
 * g13 (every formulation, ``constraints.strong``): every link holds its loads over the duty, the
@@ -64,9 +66,10 @@ G13 = "g13_links_hold"
 class ExtraConstraints:
     """g11, g12 and g13: which are on and what they need.
 
-    ``containment`` (g11, paper formulation only) with ``tolerance_m`` of arc to spare (m) on the
-    task disk of ``fit`` (the ratios formulation holds the task by its scale, fitted to the disk
-    grown by ``tolerance_m``); ``printable`` (g12) for the link section ``cad`` and the printer
+    ``containment`` (g11, paper formulation only): the task disk of ``fit`` grown by
+    ``tolerance_m`` (m) lies in the workspace, a Euclidean clearance of ``tolerance_m`` (the
+    ratios formulation holds the task by its scale, fitted to the same grown disk);
+    ``printable`` (g12) for the link section ``cad`` and the printer
     ``volume_mm`` (W, L, H in mm); ``strength`` (g13, every formulation, when given): every link
     holds its loads over the duty (:class:`qsm.embodiment.link_checks.StrengthCheck`).
     """
@@ -106,11 +109,11 @@ class ExtraConstraints:
         cols = []
         if self.containment and formulation == "paper":
             disk = self.fit.disk
-            inflated = type(disk)(disk.centre, disk.radius + self.fit.safety_margin)
+            grown = disk.radius + self.fit.safety_margin + self.tolerance_m
             margin = containment_margin_m(
-                design, self.fit.op, inflated, self.fit.resolution.n_delta
+                design, self.fit.op, type(disk)(disk.centre, grown), self.fit.resolution.n_delta
             )
-            cols.append(self.tolerance_m - margin)
+            cols.append(-margin)
         if self.printable:
             cols.append(printability_violation_mm(design, self.cad, self.volume_mm))
         if self.strength is not None:

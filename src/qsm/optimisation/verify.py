@@ -18,6 +18,7 @@ from qsm.optimisation.constraints import (
     smallest_build_volume_mm,
 )
 from qsm.physics.cad import CadSettings
+from qsm.physics.clearance import disk_clearance_m
 from qsm.physics.duty import Duty
 from qsm.physics.dynamics import evaluate_mechanism
 from qsm.physics.kinematics import RATIO_NAMES
@@ -37,6 +38,9 @@ TRUE_COLUMNS: dict[str, str] = {
     "scale, on 128 of the disk's own circles with twice the delta samples of the "
     "optimisation (qsm.optimisation.constraints; m, < 0: not held)",
     "task_contained": "the workspace at this scale holds the task disk: margin >= 0 (-)",
+    "clearance_m": "Euclidean distance from the task disk to the nearest edge of the workspace at "
+    "this scale (qsm.physics.clearance; m, < 0: not held); the arc-length margin above is an "
+    "upper bound on it",
     "feasible": "all of the above (-)",
     "eta_true": "task-disk area / true workspace area at the design's scale (-)",
     "tau1_true_Nm": "peak |tau1| over the duty from the MuJoCo dynamics (N m)",
@@ -70,6 +74,7 @@ def verify_design(
         n_delta = 2 * fit.resolution.n_delta - 1  # twice as fine as the optimisation's g11
         margin = containment_margin_m(design, fit.op, inflated, n_delta, VERIFY_RADII)[0]
         out["containment_margin_m"] = float(margin)
+        out["clearance_m"] = disk_clearance_m(design, fit.op, disk)
         out["task_contained"] = bool(margin >= 0)
         out["eta_true"] = disk.area / (slices.area * design[0] ** 2)
         dyn = evaluate_mechanism(design, duty, cad, payload_kg)

@@ -18,6 +18,7 @@ Every step that is skipped is recorded with its counts, so the output says why i
 
 from __future__ import annotations
 
+import math
 from collections.abc import Callable, Mapping
 from dataclasses import replace
 from typing import Any
@@ -111,12 +112,24 @@ def choose_design(
         if len(table):
             row = table.loc[table["strength_utilisation"].astype(float).idxmin()].copy()
             row["selection_rule"] = "least strength utilisation"
+            row["selection_score"] = float(row["strength_utilisation"])
+            row["n_candidates"] = len(table)
             printable = bool(_printable(table.loc[[row.name]], cad, volume_mm).iloc[0])
             how = {"source": name, "printable": printable, "holds_loads": False}
             return _tag(row, name, printable), {**how, "fallback": skipped}
     raise NoFeasibleDesign(
         "no truly feasible design on any front nor in the dataset: " + "; ".join(skipped)
     )
+
+
+def candidate_pool(fronts: Mapping[str, pd.DataFrame], dataset: pd.DataFrame) -> pd.DataFrame:
+    """The truly feasible designs of every front and of the dataset in one table, each with its
+    ``source`` (the front's name or ``dataset``)."""
+    tables = [
+        _feasible(table).assign(source=name)
+        for name, table in {**fronts, "dataset": dataset_candidates(dataset)}.items()
+    ]
+    return pd.concat(tables, ignore_index=True)
 
 
 def _tag(row: pd.Series, source: str, printable: bool) -> pd.Series:
@@ -178,7 +191,7 @@ def _largest(fits: Callable[[float], bool], lo: float, hi: float) -> float | Non
 
 def advice_sentences(advice: Mapping[str, Any], cad: CadSettings) -> list[str]:
     """The advice as plain sentences, every number from ``advice``."""
-    need = " x ".join(f"{v:.0f}" for v in advice["needed_volume_mm"])
+    need = " x ".join(f"{math.ceil(v - 1e-6)}" for v in advice["needed_volume_mm"])
     have = " x ".join(f"{v:g}" for v in advice["build_volume_mm"])
     lines = [f"a printer of at least {need} mm (configured: {have} mm)"]
     k = advice.get("scale_factor")

@@ -66,6 +66,8 @@ def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom
     return [
         "## The design to build",
         f"- lengths (mm): {lengths}.",
+        f"- the task disk keeps {1e3 * selected['clearance_m']:.2f} mm from the edge of the "
+        "workspace (Euclidean clearance).",
         f"- printed link masses (kg, bored): {masses}.",
         f"- bearings: {bearings}.",
         f"- through holes per link: {holes}.",
