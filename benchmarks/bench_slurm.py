@@ -26,8 +26,8 @@ With ``--config default`` the runs use config/config.yaml alone (the paper's sca
     python benchmarks/bench_slurm.py [--rounds 2] [--variants profile arrays] [--before REV]
 
 ``--project STEP_SECONDS`` runs nothing: it projects the paper's run and a 10x run through the
-profile on N nodes from README's growth table and this cost of one cluster step (see
-``project``).
+profile on N nodes from the growth table of docs/performance.md and this cost of one cluster
+step (see ``project``).
 """
 
 from __future__ import annotations
@@ -47,10 +47,10 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARD_RULES = ("fit_task", "dynamics", "eta_derivatives_shard")
-# README, Performance (2 cores, the default config, a6526e4): marginal wall seconds per mechanism
-# from the growth table (bench_scaling.py, 5,000-20,000 mechanisms) for Stages 1-3; the eta
-# derivatives, 2 shards of 15.5 s for 11,080 mechanisms; the jobs whose cost does not grow with
-# the mechanisms, in seconds.
+# docs/performance.md, growth with the number of mechanisms (2 cores, the default config):
+# marginal wall seconds per mechanism from the growth table (bench_scaling.py, 5,000-20,000
+# mechanisms) for Stages 1-3; the eta derivatives, 2 shards of 15.5 s for 11,080 mechanisms; the
+# jobs whose cost does not grow with the mechanisms, in seconds.
 MARGINAL_WALL_S = {"stage 1": 0.48e-3, "stage 2": 0.57e-3, "surrogate": 0.08e-3}
 DERIVATIVES_CPU_S = 2 * 15.5 / 11_080
 FIXED_S = {"surrogate": 4.7, "optimize": 6.3 + 11.6, "verify": 2 * 2.1, "realise": 12.3 + 2.1}
@@ -61,7 +61,7 @@ def copy_tree(source: Path, dest: Path) -> None:
     """What a run needs (Snakefile, workflow, config, profiles, src) from a checkout."""
     dest.mkdir(parents=True)
     shutil.copy2(source / "Snakefile", dest / "Snakefile")
-    for name in ("workflow", "config", "profiles", "src"):
+    for name in ("workflow", "config", ".test", "profiles", "src"):
         shutil.copytree(source / name, dest / name, symlinks=True)
 
 

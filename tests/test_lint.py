@@ -14,7 +14,15 @@ ROOT = Path(__file__).resolve().parents[1]
     [
         [sys.executable, "-m", "ruff", "check", "."],
         [sys.executable, "-m", "ruff", "format", "--check", "."],
-        [sys.executable, "-m", "snakefmt", "--check", "Snakefile", "workflow/rules"],
+        [
+            sys.executable,
+            "-m",
+            "snakefmt",
+            "--check",
+            "Snakefile",
+            "workflow/Snakefile",
+            "workflow/rules",
+        ],
     ],
     ids=["ruff-check", "ruff-format", "snakefmt"],
 )

@@ -342,6 +342,13 @@ def test_report_and_lint(run, tmp_path):
     html = (work / "results/report.html").read_text(errors="replace")
     for caption in ("Sobol indices", "payload test", "Pareto front"):
         assert caption in html
+    # docutils writes a caption's error ("Undefined substitution referenced", ...) into the page
+    for message in ("System Message", "Docutils System Messages"):
+        assert message not in html
+    # the Markdown results are pages of the report's first category, not download links
+    assert "0. Summary" in html
+    for page in ("summary", "comparison", "design_rules", "torques", "surrogate"):
+        assert f"{page}.html" in html
     lint = snakemake(work, "--lint")
     assert "Congratulations" in lint.stdout + lint.stderr
     assert "Lints for" not in lint.stdout + lint.stderr
@@ -395,3 +402,51 @@ def test_a_far_heavy_task_completes_with_the_verdicts(tmp_path):
         assert verification["holds_task_share"] == 1.0
         assert "g12 dropped" in verification["constraints"]
         assert "g13 dropped" in verification["constraints"]
+
+
+def _cells(row: str) -> list[str]:
+    """The cells of a Markdown table row: split at every ``|`` that is not escaped."""
+    cells, cell, chars = [], "", iter(row.strip().removeprefix("|").removesuffix("|"))
+    for c in chars:
+        if c == "\\":
+            cell += c + next(chars, "")
+        elif c == "|":
+            cells.append(cell)
+            cell = ""
+        else:
+            cell += c
+    return [*cells, cell]
+
+
+def test_every_markdown_table_has_as_many_cells_per_row_as_its_header(run):
+    """A ``|`` inside a cell must be escaped, or it splits the cell and the row renders wrongly."""
+    pages = sorted((run / "results").rglob("*.md"))
+    assert {"summary.md", "comparison.md", "torques.md", "metrics.md"} <= {p.name for p in pages}
+    tables = 0
+    for page in pages:
+        lines = page.read_text().splitlines()
+        for i, line in enumerate(lines[:-1]):
+            rule = lines[i + 1].strip()
+            if not (line.startswith("|") and rule.startswith("|") and set(rule) <= set("|-: ")):
+                continue
+            tables += 1
+            width = len(_cells(line))
+            assert len(_cells(rule)) == width, f"{page}:{i + 2}"
+            for k in range(i + 2, len(lines)):
+                if not lines[k].startswith("|"):
+                    break
+                assert len(_cells(lines[k])) == width, f"{page}:{k + 1}: {lines[k]}"
+    assert tables >= 5
+
+
+def test_the_end_of_a_run_names_the_headline_and_the_summary(run, tmp_path):
+    work = copy_run(run, tmp_path / "end")
+    out = snakemake(work, "--forcerun", "summary")
+    text = out.stdout + out.stderr
+    verdict = next(
+        line
+        for line in (work / "results/summary.md").read_text().splitlines()
+        if line.startswith("**")
+    )
+    assert f"qsm: {verdict.strip('*')}" in text
+    assert f"qsm: the summary: {(work / 'results/summary.md').resolve()}" in text

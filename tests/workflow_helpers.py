@@ -11,10 +11,11 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def copy_workflow(dest: Path) -> Path:
-    """Copy what a run needs (Snakefile, workflow, config, profiles, src) into ``dest``."""
+    """Copy what a run needs (Snakefile, workflow, config, .test, profiles, src) into ``dest``
+    (config/test.yaml links to .test/config/config.yaml)."""
     dest.mkdir(parents=True, exist_ok=True)
     shutil.copy2(ROOT / "Snakefile", dest / "Snakefile")
-    for name in ("workflow", "config", "profiles", "src"):
+    for name in ("workflow", "config", ".test", "profiles", "src"):
         shutil.copytree(
             ROOT / name,
             dest / name,

@@ -1,4 +1,4 @@
-"""``python -m qsm``."""
+"""``python -m qsm``: the ``qsm`` command without its installed script."""
 
 import sys
 

@@ -1,5 +1,5 @@
-"""Command line: ``python -m qsm evaluate ...``, ``export ...``, ``export-mjcf ...`` and
-``check-config ...``."""
+"""Command line: ``qsm evaluate ...``, ``qsm export ...``, ``qsm export-mjcf ...`` and ``qsm
+check-config ...`` (``qsm`` is installed with the package; ``python -m qsm`` runs the same)."""
 
 from __future__ import annotations
 
@@ -21,7 +21,12 @@ from qsm.workflow.tables import read_table
 
 
 def _parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="python -m qsm", description=__doc__)
+    parser = argparse.ArgumentParser(
+        prog="qsm",
+        description="qsm-design's command line: evaluate a design, export one (MJCF, link STLs, "
+        "URDF, JSON, drawing), write a dataset mechanism's MuJoCo model, or check config files. "
+        "`qsm COMMAND --help` describes each command; `python -m qsm` runs the same.",
+    )
     sub = parser.add_subparsers(dest="command", required=True)
     ev = sub.add_parser("evaluate", help="evaluate one design; prints one JSON object")
     ev.add_argument(

@@ -3,6 +3,9 @@ from qsm.workflow.provenance import source_hash
 
 ENV = "../envs/qsm.yaml"
 RESULTS = "results"
+# The rule scripts, found from this file (workflow/rules) whether the workflow runs from the
+# checkout or as a module of another workflow.
+SCRIPTS = Path(str(workflow.current_basedir)).parent / "scripts"
 
 
 def stage1_settings():
@@ -70,7 +73,7 @@ def primary_front(name):
 
 def code(script):
     """Hash of the qsm sources ``script`` runs: editing any of them reruns the rule."""
-    return source_hash(Path(workflow.basedir) / "workflow" / "scripts" / script)
+    return source_hash(SCRIPTS / script)
 
 
 def fit_workspace():
@@ -89,3 +92,23 @@ def study_inputs(wildcards):
         "designs": rules.decision_trees.output.designs,
         "torques": rules.topology_optimize.output.torques,
     }
+
+
+def print_headline(summary, started):
+    """At the end of a run: the verdict (the first bold line of ``summary``) and its path.
+
+    Says so when ``summary`` is older than the run (``started``, seconds since the epoch), i.e.
+    the run asked for something else and the summary may not describe the current settings."""
+    path = Path(summary)
+    if not path.exists():
+        return
+    verdict = next(
+        (
+            line.strip().strip("*")
+            for line in path.read_text().splitlines()
+            if line.startswith("**")
+        ),
+        "",
+    )
+    stale = "" if path.stat().st_mtime >= started else " (from an earlier run)"
+    logger.info(f"qsm: {verdict}\nqsm: the summary{stale}: {path.resolve()}")

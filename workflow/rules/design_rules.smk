@@ -132,11 +132,7 @@ rule design_rules_summary:
         pareto=primary_front("pareto.parquet"),
         dataset=rules.gather_dataset.output.dataset,
     output:
-        summary=report(
-            f"{RULES_DIR}/summary.md",
-            caption="../report/design_rules_summary.rst",
-            category="5. Design rules",
-        ),
+        summary=f"{RULES_DIR}/summary.md",  # in the report as a page (rule markdown_pages)
         table=f"{RULES_DIR}/findings.parquet",
     log:
         f"{RESULTS}/logs/design_rules_summary.log",

@@ -97,11 +97,7 @@ rule compare_fronts:
         fronts=expand(f"{OPT}/{{formulation}}/verification.parquet", formulation=FORMULATIONS),
         dataset=rules.gather_dataset.output.dataset,
     output:
-        summary=report(
-            f"{OPT}/comparison.md",
-            caption="../report/comparison.rst",
-            category="4. Optimisation",
-        ),
+        summary=f"{OPT}/comparison.md",  # in the report as a page (rule markdown_pages)
         data=f"{OPT}/comparison.json",
     log:
         f"{RESULTS}/logs/compare_fronts.log",

@@ -42,9 +42,7 @@ rule topology_optimize:
         selected=rules.select_design.output.selected,
     output:
         torques=f"{REAL}/torques.json",
-        table=report(
-            f"{REAL}/torques.md", caption="../report/torques.rst", category="6. Realisation"
-        ),
+        table=f"{REAL}/torques.md",  # in the report as a page (rule markdown_pages)
         topology=f"{REAL}/topology.json",
         links=f"{REAL}/optimised_links.json",
         stl_check=f"{REAL}/stl_check.json",

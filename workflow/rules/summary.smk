@@ -14,7 +14,7 @@ rule summary:
         topology=rules.topology_optimize.output.topology,
         bom=rules.topology_optimize.output.bom_md,
     output:
-        report(f"{RESULTS}/summary.md", caption="../report/summary.rst", category="0. Summary"),
+        f"{RESULTS}/summary.md",  # in the report as a page (rule markdown_pages)
     log:
         f"{RESULTS}/logs/summary.log",
     conda:
@@ -23,3 +23,46 @@ rule summary:
         code=code("summary.py"),
     script:
         "../scripts/summary.py"
+
+
+# The Markdown results as HTML pages: Snakemake's report shows HTML outputs inline and Markdown
+# ones only as download links. Each page: (Markdown file, caption, title).
+MARKDOWN_PAGES = {
+    "summary": (f"{RESULTS}/summary.md", "summary.rst", "Summary of the run"),
+    "comparison": (f"{OPT}/comparison.md", "comparison.rst", "The fronts side by side"),
+    "design_rules": (
+        f"{RULES_DIR}/summary.md",
+        "design_rules_summary.rst",
+        "Design rules against the paper",
+    ),
+    "torques": (f"{REAL}/torques.md", "torques.rst", "Torques before and after topology"),
+    "surrogate": (
+        f"{RESULTS}/surrogate/metrics.md",
+        "surrogate_metrics.rst",
+        "Surrogate accuracy",
+    ),
+}
+SUMMARY_OUTPUTS = [f"{RESULTS}/html/{name}.html" for name in MARKDOWN_PAGES]
+
+
+rule markdown_pages:
+    input:
+        **{name: page[0] for name, page in MARKDOWN_PAGES.items()},
+    output:
+        **{
+            name: report(
+                f"{RESULTS}/html/{name}.html",
+                caption=f"../report/{page[1]}",
+                category="0. Summary",
+            )
+            for name, page in MARKDOWN_PAGES.items()
+        },
+    log:
+        f"{RESULTS}/logs/markdown_pages.log",
+    conda:
+        ENV
+    params:
+        code=code("markdown_pages.py"),
+        titles={name: page[2] for name, page in MARKDOWN_PAGES.items()},
+    script:
+        "../scripts/markdown_pages.py"

@@ -12,6 +12,7 @@ from scipy import stats
 from qsm.design_rules.correlations import OBJECTIVES as OBJ
 from qsm.design_rules.sensitivity import ranking
 from qsm.design_rules.study import PAPER_TABLE3_PCT, ratio_reaching
+from qsm.report.markdown_pages import markdown_cell
 
 #: This run's Table 3 agrees when both reductions are within this many percentage points.
 TABLE3_TOLERANCE_PCT = 5.0
@@ -370,9 +371,11 @@ def summary_markdown(table: pd.DataFrame, ev: Evidence, primary: str) -> str:
 
 
 def _markdown(table: pd.DataFrame) -> str:
-    cols = list(table.columns)
+    """``table`` as a Markdown table; each cell escaped (a ``|`` in it would split it)."""
+    cols = [markdown_cell(c) for c in table.columns]
     lines = ["| " + " | ".join(cols) + " |", "|" + " --- |" * len(cols)]
     lines += [
-        "| " + " | ".join(str(v) for v in row) + " |" for row in table.itertuples(index=False)
+        "| " + " | ".join(markdown_cell(v) for v in row) + " |"
+        for row in table.itertuples(index=False)
     ]
     return "\n".join(lines)
