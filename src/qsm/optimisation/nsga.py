@@ -20,6 +20,7 @@ from pymoo.optimize import minimize
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimisation.problems import (
     G12,
+    G14,
     ExtraConstraints,
     LabelStats,
     PaperProblem,
@@ -185,21 +186,36 @@ def optimise(
 
     label = extra.label(formulation) if extra is not None else "g1..g10 (the paper's)"
     problem = make(extra)
-    try:
-        result = run(problem)
-    except InfeasibleProblem as exc:
-        if extra is None or not extra.printable:
-            raise
-        # no design met g12 (a far task, a small printer): optimise without it, and say so
-        excess = float(exc.least[extra.names(formulation).index(G12)])
-        extra = replace(extra, printable=False)
-        problem = make(extra)
-        result = run(problem)
-        label = (
-            f"{extra.label(formulation)}; g12 dropped: no design printable on "
-            f"{' x '.join(f'{v:g}' for v in extra.volume_mm)} mm (least excess in the last "
-            f"generation {excess:.0f} mm)"
-        )
+    dropped: list[str] = []
+    while True:
+        try:
+            result = run(problem)
+            break
+        except InfeasibleProblem as exc:
+            # no design met g12 (a far task, a small printer) or g14 (a task no drive of the
+            # catalogue serves): optimise without it (g12 first), and say so
+            names = extra.names(formulation) if extra is not None else ()
+            unmet = {n for n, v in zip(names, exc.least, strict=False) if v > 0}
+            if extra is None or not unmet & {G12, G14}:
+                raise
+            if G12 in unmet:
+                excess = float(exc.least[names.index(G12)])
+                dropped.append(
+                    f"g12 dropped: no design printable on "
+                    f"{' x '.join(f'{v:g}' for v in extra.volume_mm)} mm (least excess in the "
+                    f"last generation {excess:.0f} mm)"
+                )
+                extra = replace(extra, printable=False)
+            else:
+                excess = float(exc.least[names.index(G14)])
+                dropped.append(
+                    "g14 dropped: no design has a drive for each motor in the catalogue (least "
+                    f"violation in the last generation {excess:.3g})"
+                )
+                extra = replace(extra, drives=None)
+            problem = make(extra)
+    if dropped:
+        label = "; ".join([extra.label(formulation), *dropped])
 
     def lengths(x: NDArray) -> NDArray:
         return problem.designs(x)[0] if isinstance(problem, RatiosProblem) else x
