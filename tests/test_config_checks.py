@@ -73,8 +73,20 @@ ERRORS = [
         "task.payload_kg",
         "looks like grams: task.payload_kg is in kilograms",
     ),
-    ({"task": {"payload_kg": 300}}, "task.payload_kg", "at most 36.4 kg"),
-    ({"task": {"payload_kg": 40}}, "task.payload_kg", "payload_test.torque_limits_Nm 150 + 100"),
+    (
+        {"task": {"payload_kg": 300}, "payload_test": {"torque_limits_Nm": [150, 100]}},
+        "task.payload_kg",
+        "at most 36.4 kg",
+    ),
+    (
+        {"task": {"payload_kg": 40}, "payload_test": {"torque_limits_Nm": [150, 100]}},
+        "task.payload_kg",
+        "150 + 100 N m (payload_test.torque_limits_Nm)",
+    ),
+    # without the override: twice the strongest drive of the shipped catalogue, the Harmonic
+    # Drive CSF-32-100 at 333 N m repeated peak: 666 / (9.81 x 0.70) = 97.0 kg
+    ({"task": {"payload_kg": 120}}, "task.payload_kg", "at most 97 kg"),
+    ({"task": {"payload_kg": 120}}, "task.payload_kg", "strongest drive of drives.catalogue"),
     (
         {"task": {"payload_kg": 2000}, "payload_test": {"torque_limits_Nm": [1e5, 1e5]}},
         "task.payload_kg",
@@ -116,6 +128,26 @@ def test_error_names_key_and_cause(config, key, cause):
         validate_config(copy.deepcopy(config))
     assert f"config key '{key}'" in str(info.value)
     assert cause in str(info.value)
+
+
+def test_a_bad_drive_catalogue_fails_at_config_time_naming_file_line_column(tmp_path):
+    from qsm.embodiment.drives.catalogue import default_catalogue_folder
+
+    folder = tmp_path / "cat"
+    folder.mkdir()
+    for f in default_catalogue_folder().glob("*.csv"):
+        (folder / f.name).write_text(f.read_text())
+    gearboxes = folder / "gearboxes.csv"
+    lines = gearboxes.read_text().splitlines()
+    row = next(i for i, line in enumerate(lines) if line.startswith("MM_203113,"))
+    lines[row] = lines[row].replace(",1,3.5,", ",1,-3.5,")  # a negative ratio
+    gearboxes.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ConfigError) as info:
+        validate_config({"drives": {"catalogue": str(folder)}})
+    msg = str(info.value)
+    assert "config key 'drives.catalogue'" in msg
+    assert f"gearboxes.csv, line {row + 1}, column 'ratio'" in msg
+    validate_config({"drives": {"catalogue": str(default_catalogue_folder())}})
 
 
 def test_a_task_near_the_base_needs_a_small_scale_only():

@@ -12,6 +12,7 @@ import pytest
 from qsm import settings
 from qsm.config import load_config
 from qsm.mechanisms.dataset import (
+    DRIVE_COLUMNS,
     DYNAMICS_COLUMNS,
     STRENGTH_COLUMNS,
     DatasetError,
@@ -41,9 +42,8 @@ def test_the_dataset_documents_every_dynamics_result():
 def test_gather_keeps_the_mechanism_order_and_every_status():
     table = mechanisms([5, 3, 9, 1])
     parts = [shard([9, 1]), shard([5], status="singular"), shard([3])]
-    full = [
-        p.reindex(columns=["mechanism_id", *DYNAMICS_COLUMNS, *STRENGTH_COLUMNS]) for p in parts
-    ]
+    columns = ["mechanism_id", *DYNAMICS_COLUMNS, *STRENGTH_COLUMNS, *DRIVE_COLUMNS]
+    full = [p.reindex(columns=columns) for p in parts]
     for p, src in zip(full, parts, strict=True):
         p["status"] = src["status"].to_numpy()
     out = gather(table, full)

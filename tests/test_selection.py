@@ -5,7 +5,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm.mechanisms.dataset import STRENGTH_COLUMNS
+from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.optimisation.constraints import box_excess_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
@@ -23,16 +23,18 @@ SMALL = [0.30, 0.10, 0.30, 0.15, 0.36, 0.12]  # upper arm 560 mm long: fits
 LARGE = [0.40, 0.12, 0.40, 0.20, 0.48, 0.16]  # upper arm 730 mm long: does not fit
 
 
-def strong(table, utilisation):
-    """Strength columns: every one NaN but the utilisation and whether it is at most 1."""
-    for column in STRENGTH_COLUMNS:
+def strong(table, utilisation, drives=True):
+    """Strength and drive columns: every one NaN but the utilisation and whether it is at most
+    1, and whether each motor has a drive."""
+    for column in [*STRENGTH_COLUMNS, *DRIVE_COLUMNS]:
         table[column] = np.nan
     table["strength_utilisation"] = utilisation
     table["holds_loads"] = table["strength_utilisation"] <= 1.0
+    table["has_drives"] = drives
     return table
 
 
-def front(designs, feasible, tau1, utilisation=0.5):
+def front(designs, feasible, tau1, utilisation=0.5, drives=True):
     table = pd.DataFrame(designs, columns=list(DESIGN_COLUMNS))
     table["scale_m"] = table["l1_m"]
     table["eta_true"] = 0.1
@@ -40,7 +42,7 @@ def front(designs, feasible, tau1, utilisation=0.5):
     table["tau2_true_Nm"] = 10.0
     table["feasible"] = feasible
     table["dynamics_status"] = "ok"
-    return strong(table, utilisation)
+    return strong(table, utilisation, drives)
 
 
 def dataset(designs, tau1, utilisation=0.5):
@@ -54,7 +56,13 @@ def dataset(designs, tau1, utilisation=0.5):
 def test_primary_front_first():
     fronts = {"ratios": front([SMALL, LARGE], True, [50.0, 40.0]), "paper": front([SMALL], True, 1)}
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0), "min_tau1", CAD, PRINTER)
-    assert how == {"source": "ratios", "printable": True, "holds_loads": True, "fallback": []}
+    assert how == {
+        "source": "ratios",
+        "printable": True,
+        "holds_loads": True,
+        "has_drives": True,
+        "fallback": [],
+    }
     assert row["tau1_true_Nm"] == 50.0  # the larger design has less torque but does not fit
 
 
@@ -64,7 +72,8 @@ def test_falls_back_to_the_other_front_then_the_dataset():
     assert how["source"] == "dataset" and how["printable"]
     assert how["fallback"][0].startswith("ratios front: 1 designs, 0 truly feasible")
     assert how["fallback"][1].startswith(
-        "paper front: 1 designs, 1 truly feasible, 1 of them hold their loads, 0 of those printable"
+        "paper front: 1 designs, 1 truly feasible, 1 of them hold their loads, 1 of those have "
+        "drives, 0 of those printable"
     )
     assert row["tau1_true_Nm"] == 70.0
 
@@ -84,6 +93,25 @@ def test_strength_comes_before_printability():
     assert row["tau1_true_Nm"] == 50.0
 
 
+def test_drives_come_after_strength_and_before_printability():
+    """A printable strong design without drives loses to a strong one with drives that needs a
+    larger printer; a design that breaks loses to both."""
+    fronts = {
+        "ratios": front(
+            [SMALL, LARGE, SMALL], True, [5.0, 50.0, 7.0], [0.5, 0.5, 1.2], [False, True, True]
+        )
+    }
+    row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 1.5), "knee", CAD, PRINTER)
+    assert how["holds_loads"] and how["has_drives"] and not how["printable"]
+    assert row["tau1_true_Nm"] == 50.0
+    # no strong design has drives: the strong printable one, marked without drives
+    fronts["ratios"]["has_drives"] = [False, False, True]
+    row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 1.5), "knee", CAD, PRINTER)
+    assert how["holds_loads"] and not how["has_drives"] and how["printable"]
+    assert row["tau1_true_Nm"] == 5.0
+    assert any("has a drive in the catalogue for each motor" in line for line in how["fallback"])
+
+
 def test_nothing_strong_gives_the_least_utilised_design_marked():
     fronts = {"ratios": front([SMALL, SMALL], True, [5.0, 50.0], utilisation=[1.3, 1.1])}
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 2.0), "knee", CAD, PRINTER)
@@ -91,6 +119,7 @@ def test_nothing_strong_gives_the_least_utilised_design_marked():
         "source": "ratios",
         "printable": True,
         "holds_loads": False,
+        "has_drives": True,
         "fallback": how["fallback"],
     }
     assert row["strength_utilisation"] == 1.1

@@ -294,12 +294,20 @@ def export_design(
         printability["advice"] = printing_advice(d, cad, volume, fit.disk)
     test = config["payload_test"]
     op = config["operating_range"]
+    drives = settings.drive_check(
+        config["drives"],
+        config["cad"],
+        config["material"],
+        payload,
+        settings.duty(config["dynamics"]["duty"], op),
+    ).report(d)
+    effort = test["torque_limits_Nm"] or _drive_efforts(drives, config)
     urdf = urdf_xml(
         d,
         cad,
         payload,
         motor_range_deg=(op["theta1_deg"], (op["theta2_min_deg"], op["theta1_deg"][1])),
-        effort_Nm=test["torque_limits_Nm"],
+        effort_Nm=effort,
         velocity_rad_s=math.radians(config["dynamics"]["duty"]["peak_speed_deg_s"]),
     )
     (folder / "model.urdf").write_text(urdf)
@@ -317,6 +325,7 @@ def export_design(
         },
         "true_performance": performance,
         "printability": printability,
+        "drives": drives,
         "files": {
             "mjcf": "model.xml",
             "urdf": "model.urdf",
@@ -421,3 +430,21 @@ def export(
     folder = Path(out) if out is not None else Path(results) / "exports" / default
     record = export_design(design, cfg, folder, source)
     return {"folder": str(folder), **record}
+
+
+def _drive_efforts(drives: Mapping[str, Any], config: Mapping[str, Any]) -> list[float]:
+    """Each motor's standstill peak torque at the joint (N m) of its drive (or the nearest) in a
+    :meth:`qsm.embodiment.drive_checks.DriveCheck.report`; 0 where the loop is undefined."""
+    from qsm.embodiment.drives.selection import OutputEnvelope
+
+    cat = settings.catalogue(config["drives"])
+    out = []
+    for j in ("motor1", "motor2"):
+        m = drives["motors"].get(j)
+        if m is None:
+            out.append(0.0)
+            continue
+        d = m.get("drive") or m["best_drive"]
+        env = OutputEnvelope.of(cat, d["motor_key"], d["gearbox_key"])
+        out.append(float(env.limit(1.0, 0.0)))
+    return out

@@ -14,6 +14,7 @@ module that uses the settings it builds anyway.
 
 from __future__ import annotations
 
+import functools
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
@@ -22,6 +23,8 @@ from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import OperatingRange, Resolution
 
 if TYPE_CHECKING:
+    from qsm.embodiment.drive_checks import DriveCheck
+    from qsm.embodiment.drives.catalogue import Catalogue
     from qsm.embodiment.link_checks import StrengthCheck
     from qsm.embodiment.material import Material, StrengthSettings
     from qsm.optimisation.problems import ExtraConstraints
@@ -106,6 +109,41 @@ def strength_check(
     )
 
 
+@functools.lru_cache(maxsize=4)
+def _catalogue(folder: str | None) -> Catalogue:
+    from qsm.embodiment.drives.catalogue import default_catalogue_folder, read_catalogue
+
+    return read_catalogue(default_catalogue_folder() if folder is None else folder)
+
+
+def catalogue(section: Section) -> Catalogue:
+    """``drives.catalogue``: the drive catalogue (null: the one shipped with qsm), read once per
+    process."""
+    return _catalogue(section["catalogue"])
+
+
+def drive_check(
+    drives_section: Section,
+    cad_section: Section,
+    material_section: Section,
+    payload_kg: float,
+    duty_settings: DutySettings,
+) -> DriveCheck:
+    """The drive check of a design: catalogue, rule, reflected inertia, link section, payload
+    (kg) and duty."""
+    from qsm.embodiment.drive_checks import DriveCheck
+    from qsm.physics.duty import duty_cycle
+
+    return DriveCheck(
+        catalogue(drives_section),
+        drives_section["rule"],
+        bool(drives_section["reflected_inertia"]),
+        cad(cad_section, material_section),
+        float(payload_kg),
+        duty_cycle(duty_settings),
+    )
+
+
 def duty(section: Section, operating_range_section: Section) -> DutySettings:
     """``dynamics.duty`` with ``operating_range``: the duty cycle's sampling."""
     from qsm.physics.duty import DutySettings
@@ -150,7 +188,9 @@ def payload_test(
 
     return PayloadSettings(
         payload_kg=payload_kg,
-        torque_limits_Nm=tuple(section["torque_limits_Nm"]),
+        torque_limits_Nm=(
+            None if section["torque_limits_Nm"] is None else tuple(section["torque_limits_Nm"])
+        ),
         segment_duration_s=section["segment_duration_s"],
         dwell_s=section["dwell_s"],
         return_to_start=section["return_to_start"],
@@ -166,12 +206,22 @@ def payload_test(
 def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints:
     """``optimization.constraints`` as one formulation's rule passes it: ``containment``,
     ``printable``, ``strong`` and, when on, ``tolerance_m``, ``cad`` and ``material`` (sections),
-    ``build_volume_mm``, and for g13 ``strength``, ``payload_kg``, ``duty`` and
-    ``operating_range``."""
+    ``build_volume_mm``, for g13 ``strength``, ``payload_kg``, ``duty`` and
+    ``operating_range``, and for g14 (``drives``) the ``drives_section`` with ``cad``,
+    ``material``, ``payload_kg``, ``duty`` and ``operating_range``."""
     from qsm.optimisation.problems import ExtraConstraints
     from qsm.physics.cad import DEFAULT_CAD
 
     printable, strong = bool(section["printable"]), bool(section.get("strong", False))
+    drives = None
+    if section.get("drives", False):
+        drives = drive_check(
+            section["drives_section"],
+            section["cad"],
+            section["material"],
+            section["payload_kg"],
+            duty(section["duty"], section["operating_range"]),
+        )
     check = None
     if strong:
         check = strength_check(
@@ -189,4 +239,5 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
         volume_mm=tuple(section.get("build_volume_mm", (600.0, 350.0, 350.0))),
         tolerance_m=float(section.get("tolerance_m", 0.0)),
         strength=check,
+        drives=drives,
     )

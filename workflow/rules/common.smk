@@ -28,8 +28,24 @@ def stage2_settings():
         "cad": config["cad"],
         "material": config["material"],
         "strength": config["strength"],
+        "drives": drive_settings(),
         "payload_kg": config["task"]["payload_kg"],
     }
+
+
+def drive_settings():
+    """``drives`` with a hash of the catalogue's CSV files: editing the catalogue reruns the
+    rules that choose drives (a config value alone would not)."""
+    import hashlib
+
+    from qsm.config_checks import catalogue_folder
+
+    digest = hashlib.sha256()
+    folder = Path(catalogue_folder(config))
+    for path in sorted(folder.rglob("*.csv")):
+        digest.update(str(path.relative_to(folder)).encode())
+        digest.update(path.read_bytes())
+    return {**config["drives"], "catalogue_sha256": digest.hexdigest()}
 
 
 def optimization_settings():
@@ -39,30 +55,34 @@ def optimization_settings():
 
 
 def constraint_settings(formulation):
-    """g11 / g12 / g13 as they apply to ``formulation``, with what each needs (nothing when
-    off)."""
+    """g11 / g12 / g13 / g14 as they apply to ``formulation``, with what each needs (nothing
+    when off)."""
     section = config["optimization"]["constraints"]
     out = {
         "containment": False,
         "printable": section["printable"],
         "strong": section["strong"],
+        "drives": section["drives"],
     }
     if formulation == "ratios" or section["containment"]:
         out.update(
             containment=formulation == "paper",
             tolerance_m=section["containment_tolerance_m"],
         )
-    if section["printable"] or section["strong"]:
+    if section["printable"] or section["strong"] or section["drives"]:
         out.update(cad=config["cad"], material=config["material"])
     if section["printable"]:
         out.update(build_volume_mm=config["printing"]["build_volume_mm"])
-    if section["strong"]:
+    if section["strong"] or section["drives"]:
         out.update(
-            strength=config["strength"],
             payload_kg=config["task"]["payload_kg"],
             duty=config["dynamics"]["duty"],
             operating_range=config["operating_range"],
         )
+    if section["strong"]:
+        out.update(strength=config["strength"])
+    if section["drives"]:
+        out.update(drives_section=drive_settings())
     return out
 
 

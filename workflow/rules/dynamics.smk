@@ -30,6 +30,7 @@ rule dynamics:
         cad=config["cad"],
         material=config["material"],
         strength=config["strength"],
+        drives=drive_settings(),
         payload_kg=config["task"]["payload_kg"],
     script:
         "../scripts/dynamics_shard.py"

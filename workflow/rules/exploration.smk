@@ -53,6 +53,5 @@ rule task_motion:
         code=code("task_motion.py"),
         task_points=config["task"]["points"],
         operating_range=config["operating_range"],
-        torque_limits_Nm=config["payload_test"]["torque_limits_Nm"],
     script:
         "../scripts/task_motion.py"

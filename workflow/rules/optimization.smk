@@ -84,6 +84,7 @@ rule verify_pareto:
         cad=config["cad"],
         material=config["material"],
         strength=config["strength"],
+        drives=drive_settings(),
         duty=config["dynamics"]["duty"],
         payload_kg=config["task"]["payload_kg"],
         ratio_bounds=config["sampling"]["bounds"],

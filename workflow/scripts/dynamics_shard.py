@@ -1,7 +1,8 @@
-"""Rule dynamics: closed-chain inverse dynamics and link strength of one shard of the
+"""Rule dynamics: closed-chain inverse dynamics, link strength and drives of one shard of the
 mechanisms."""
 
 from qsm import settings
+from qsm.embodiment.drive_checks import with_drives
 from qsm.embodiment.link_checks import with_strength
 from qsm.mechanisms.dataset import status_counts
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
@@ -26,12 +27,15 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
     rows = mechanisms.iloc[shard_slice(len(mechanisms), p.shards, shard)]
     result = with_strength(result, rows[list(DESIGN_COLUMNS)], check)
+    drives = settings.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
+    result = with_drives(result, rows[list(DESIGN_COLUMNS)], drives)
     log.info(
-        "shard %d of %d: %d mechanisms, status %s, %d hold their loads",
+        "shard %d of %d: %d mechanisms, status %s, %d hold their loads, %d have drives",
         shard,
         p.shards,
         len(result),
         status_counts(result),
         int(result["holds_loads"].sum()),
+        int(result["has_drives"].sum()),
     )
     write_table(result, snakemake.output[0])  # noqa: F821

@@ -5,8 +5,10 @@ import json
 from qsm.config import settings_hash
 from qsm.mechanisms.dataset import (
     DATASET_COLUMNS,
+    DRIVE_COLUMNS,
     DYNAMICS_COLUMNS,
     STRENGTH_COLUMNS,
+    drive_counts,
     gather,
     status_counts,
     strength_counts,
@@ -19,7 +21,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     p = snakemake.params  # noqa: F821
     inp = snakemake.input  # noqa: F821
     mechanisms = read_table(inp.mechanisms, MECHANISM_COLUMNS)
-    columns = ["mechanism_id", *DYNAMICS_COLUMNS, *STRENGTH_COLUMNS]
+    columns = ["mechanism_id", *DYNAMICS_COLUMNS, *STRENGTH_COLUMNS, *DRIVE_COLUMNS]
     shards = [read_table(path, columns) for path in inp.shards]
     dataset = gather(mechanisms, shards)
     counts = status_counts(dataset)
@@ -33,7 +35,14 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
             group["status_reason"].iloc[0],
         )
     strength = strength_counts(dataset)
-    log.info("dataset: %d mechanisms, status %s, strength %s", len(dataset), counts, strength)
+    drives = drive_counts(dataset)
+    log.info(
+        "dataset: %d mechanisms, status %s, strength %s, drives %s",
+        len(dataset),
+        counts,
+        strength,
+        drives,
+    )
     meta = {
         "settings_hash": settings_hash(p.settings),
         "settings": p.settings,
@@ -41,6 +50,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     }
     write_table(dataset, snakemake.output.dataset, meta)  # noqa: F821
     summary = {"mechanisms": len(dataset), "status": counts, "strength": strength}
+    summary["drives"] = drives
     summary["failures"] = {
         str(row.mechanism_id): f"{row.status}: {row.status_reason}" for row in failed.itertuples()
     }

@@ -5,6 +5,7 @@ import json
 import numpy as np
 
 from qsm import settings
+from qsm.embodiment.drives.selection import OutputEnvelope
 from qsm.realisation.export import props_from_json
 from qsm.realisation.payload import (
     SERIES_COLUMNS,
@@ -21,12 +22,21 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     inp = snakemake.input  # noqa: F821
     out = snakemake.output  # noqa: F821
     with open(inp.selected) as fh:
-        design = np.asarray(json.load(fh)["design_m"])
+        selected = json.load(fh)
+    design = np.asarray(selected["design_m"])
     with open(inp.links) as fh:
         props = props_from_json(json.load(fh))
     test_settings = settings.payload_test(p.payload_test, p.payload_kg, p.operating_range)
+    catalogue = settings.catalogue(p.drives)
+    drives = []
+    for j, m in selected["drives"]["motors"].items():  # the chosen drive, or the nearest
+        d = m.get("drive") or m["best_drive"]
+        drives.append(OutputEnvelope.of(catalogue, d["motor_key"], d["gearbox_key"]))
+        log.info(
+            "%s: %s%s", j, drives[-1].name, "" if m["has_drive"] else " (NOT meeting its duty)"
+        )
     result = payload_test(
-        design, p.task_points, settings.cad(p.cad, p.material), props, test_settings
+        design, p.task_points, settings.cad(p.cad, p.material), props, test_settings, drives
     )
     scalars = summary(result)
     with open(out.result, "w") as fh:

@@ -8,6 +8,7 @@ import numpy as np
 from qsm import settings
 from qsm.embodiment.advice import advice_sentences as strength_sentences
 from qsm.embodiment.advice import strength_advice
+from qsm.embodiment.drive_checks import drive_sentences
 from qsm.embodiment.printing_advice import advice_sentence, smallest_build_volume
 from qsm.embodiment.verdict import strength_record, strength_verdict
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
@@ -45,6 +46,10 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         p.cad, p.material, p.strength, p.payload_kg, settings.duty(p.duty, p.operating_range)
     )
     record["strength"] = strength_record(record["design_m"], check)
+    drives = settings.drive_check(
+        p.drives, p.cad, p.material, p.payload_kg, settings.duty(p.duty, p.operating_range)
+    )
+    record["drives"] = drives.report(record["design_m"])
     verdicts = []
     if not how["holds_loads"]:
         advice = strength_advice(record["design_m"], check)
@@ -54,6 +59,13 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
             + ", and no design of the fronts or the dataset holds its loads. What would change "
             + "that: "
             + "; ".join(strength_sentences(advice, check))
+        )
+    if not record["drives"]["has_drives"]:
+        verdicts.append(
+            "NO DRIVE for each motor in the catalogue"
+            + ("" if how["has_drives"] else ", for any design of the fronts or the dataset")
+            + ": "
+            + "; ".join(drive_sentences(record["drives"]))
         )
     if not how["printable"]:
         advice = printing_advice(record["design_m"], cad, volume, disk)
@@ -80,7 +92,8 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     else:
         record["verdict"] = (
             f"printable on {' x '.join(f'{v:g}' for v in volume)} mm, every link holds its loads "
-            f"({strength_verdict(record['strength'])}), chosen from the "
+            f"({strength_verdict(record['strength'])}), each motor has a drive "
+            f"({'; '.join(drive_sentences(record['drives']))}), chosen from the "
             f"{how['source']} {'designs' if how['source'] == 'dataset' else 'front'}"
         )
     with open(out.selected, "w") as fh:
@@ -89,7 +102,9 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     title = (
         f"selected ({rule}, {record['formulation']}"
         f"{'' if how['printable'] else ', NOT PRINTABLE'}"
-        f"{'' if how['holds_loads'] else ', NOT STRONG ENOUGH'}): l1 {record['scale_m']:.3f} m\n"
+        f"{'' if how['holds_loads'] else ', NOT STRONG ENOUGH'}"
+        f"{'' if record['drives']['has_drives'] else ', NO DRIVES'}): "
+        f"l1 {record['scale_m']:.3f} m\n"
         f"eta {record['eta_true']:.3f}, tau1 {record['tau1_true_Nm']:.1f} N m, "
         f"tau2 {record['tau2_true_Nm']:.1f} N m"
     )

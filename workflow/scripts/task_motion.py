@@ -29,7 +29,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         p.task_points,
         min_enclosing_circle(p.task_points),
         settings.operating_range(p.operating_range),
-        p.torque_limits_Nm,
+        payload["limit_Nm"],
         out.gif,
         title=title,
     )
@@ -42,7 +42,9 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         f"{payload['duration_s']:.2f} s in real time (results/realization/task_motion.gif)",
         "lengths l1, l2, l3, l4, EE_x, EE_y (mm): " + ", ".join(f"{1e3 * v:.1f}" for v in design),
         f"peak requested torques {peak[0]:.1f} / {peak[1]:.1f} N m against the limits "
-        f"{p.torque_limits_Nm[0]:g} / {p.torque_limits_Nm[1]:g} N m; largest tracking error "
+        f"{payload['limit_Nm'][0]:g} / {payload['limit_Nm'][1]:g} N m "
+        f"({'the drives at standstill' if payload.get('drives') else 'fixed'}); largest tracking "
+        "error "
         f"{payload['max_tracking_error_deg']:.3f} deg",
     ]
     write_viewer_html(out.gif, out.viewer, title, lines)

@@ -19,16 +19,19 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     fit = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
     duty = settings.duty(p.duty, p.operating_range)
     check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
-    table = verify_front(pareto, fit, check, p.ratio_bounds, p.build_volume_mm)
+    drives = settings.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
+    table = verify_front(pareto, fit, check, p.ratio_bounds, p.build_volume_mm, drives)
     result = {"formulation": meta.get("formulation"), "constraints": meta.get("constraints")}
     result.update(summary(table))
     write_table(table, out.table, {"columns": TRUE_COLUMNS, **result})
     with open(out.summary, "w") as fh:
         json.dump(result, fh, indent=2)
     log.info(
-        "%d designs: %.0f %% truly hold the task, %.0f %% printable, %.0f %% hold their loads",
+        "%d designs: %.0f %% truly hold the task, %.0f %% printable, %.0f %% hold their loads, "
+        "%.0f %% have drives",
         result["n"],
         100 * result["holds_task_share"],
         100 * result["printable_share"],
         100 * result["holds_loads_share"],
+        100 * result["has_drives_share"],
     )

@@ -17,7 +17,8 @@ def _share(mask: pd.Series) -> float:
 
 def summary(table: pd.DataFrame) -> dict[str, Any]:
     """Shares of designs that truly hold the task, are feasible, are printable, whose links hold
-    their loads (and all of these), and the relative errors of the predictions on the truly
+    their loads, whose motors have drives in the catalogue (and all of these), and the relative
+    errors of the predictions on the truly
     feasible ones."""
     ok = table["feasible"] & table["dynamics_status"].eq("ok")
     out: dict[str, Any] = {
@@ -30,6 +31,17 @@ def summary(table: pd.DataFrame) -> dict[str, Any]:
         "feasible_printable_and_holds_share": _share(
             ok & table["printable"].astype(bool) & table["holds_loads"].astype(bool)
         ),
+        "has_drives_share": _share(table["has_drives"].astype(bool))
+        if "has_drives" in table
+        else float("nan"),
+        "feasible_printable_holds_and_drives_share": _share(
+            ok
+            & table["printable"].astype(bool)
+            & table["holds_loads"].astype(bool)
+            & table["has_drives"].astype(bool)
+        )
+        if "has_drives" in table
+        else float("nan"),
         "in_table1_share": _share(table["in_table1"].astype(bool)),
         "n_feasible_with_dynamics": int(ok.sum()),
         "infeasible_reasons": {

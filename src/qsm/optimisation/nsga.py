@@ -21,6 +21,7 @@ from qsm.mechanisms.scale import FitSettings
 from qsm.optimisation.problems import (
     G12,
     G13,
+    G14,
     ExtraConstraints,
     LabelStats,
     PaperProblem,
@@ -193,18 +194,27 @@ def optimise(
             result = run(problem)
             break
         except InfeasibleProblem as exc:
-            # no design met g12 (a far task, a small printer), then g13 (a heavy task): optimise
-            # without it, and say so
-            if extra is None or not (extra.printable or extra.strength is not None):
+            # no design met g12 (a far task, a small printer), g14 (a task no drive of the
+            # catalogue serves) or g13 (a heavy task): optimise without it (in that order, the
+            # least important first), and say so
+            names = extra.names(formulation) if extra is not None else ()
+            least = dict(zip(names, exc.least, strict=False))
+            unmet = [n for n in (G12, G14, G13) if least.get(n, 0.0) > 0]
+            if extra is None or not unmet:
                 raise
-            least = dict(zip(extra.names(formulation), exc.least, strict=True))
-            if extra.printable:
+            if unmet[0] == G12:
                 dropped.append(
                     f"g12 dropped: no design printable on "
                     f"{' x '.join(f'{v:g}' for v in extra.volume_mm)} mm (least excess in the "
                     f"last generation {least[G12]:.0f} mm)"
                 )
                 extra = replace(extra, printable=False)
+            elif unmet[0] == G14:
+                dropped.append(
+                    "g14 dropped: no design has a drive for each motor in the catalogue (least "
+                    f"violation in the last generation {least[G14]:.3g})"
+                )
+                extra = replace(extra, drives=None)
             else:
                 dropped.append(
                     "g13 dropped: no design whose links hold their loads (least strength "
@@ -213,7 +223,7 @@ def optimise(
                 extra = replace(extra, strength=None)
             problem = make(extra)
     if dropped:
-        label = f"{extra.label(formulation)}; " + "; ".join(dropped)
+        label = "; ".join([extra.label(formulation), *dropped])
 
     def lengths(x: NDArray) -> NDArray:
         return problem.designs(x)[0] if isinstance(problem, RatiosProblem) else x

@@ -1,6 +1,6 @@
 """Stage 4: NSGA-II (pymoo) on the surrogate with the paper's constraints g1..g10 (Section 2.4)
-and three of ours, g11 (the task lies in the workspace), g12 (every link fits the printer) and
-g13 (every link holds its loads).
+and four of ours, g11 (the task lies in the workspace), g12 (every link fits the printer),
+g13 (every link holds its loads) and g14 (each motor has a drive you can buy).
 
 Objectives, all minimised: (eta', tau1', tau2'), the surrogate's predictions. Constraints in
 pymoo's ``G <= 0`` form:
@@ -18,7 +18,10 @@ pymoo's ``G <= 0`` form:
   (:mod:`qsm.optimisation.constraints`, millimetres);
 * g13 (every formulation, ``constraints.strong``): every link holds its loads over the duty, the
   largest strength utilisation less 1, from the true closed-chain loads of the design
-  (:mod:`qsm.embodiment.link_checks`; cheap enough to evaluate for every candidate).
+  (:mod:`qsm.embodiment.link_checks`; cheap enough to evaluate for every candidate);
+* g14 (every formulation, ``constraints.drives``): each motor has a drive in the catalogue that
+  meets its duty, the larger motor's least violation over the catalogue
+  (:mod:`qsm.embodiment.drive_checks`, from the same true torques).
 
 With these switches off the paper formulation is the paper's g1..g10 exactly.
 
@@ -37,6 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 
+from qsm.embodiment.drive_checks import DriveCheck
 from qsm.embodiment.link_checks import StrengthCheck
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings, fit_rows
@@ -60,18 +64,21 @@ PAPER_CONSTRAINTS: tuple[str, ...] = (
 G11 = "g11_task_contained"
 G12 = "g12_printable"
 G13 = "g13_links_hold"
+G14 = "g14_drives_exist"
 
 
 @dataclass(frozen=True)
 class ExtraConstraints:
-    """g11, g12 and g13: which are on and what they need.
+    """g11, g12, g13 and g14: which are on and what they need.
 
     ``containment`` (g11, paper formulation only): the task disk of ``fit`` grown by
     ``tolerance_m`` (m) lies in the workspace, a Euclidean clearance of ``tolerance_m`` (the
     ratios formulation holds the task by its scale, fitted to the same grown disk);
     ``printable`` (g12) for the link section ``cad`` and the printer
     ``volume_mm`` (W, L, H in mm); ``strength`` (g13, every formulation, when given): every link
-    holds its loads over the duty (:class:`qsm.embodiment.link_checks.StrengthCheck`).
+    holds its loads over the duty (:class:`qsm.embodiment.link_checks.StrengthCheck`);
+    ``drives`` (g14, every formulation, when given): each motor has a drive in the catalogue
+    that meets its duty (:class:`qsm.embodiment.drive_checks.DriveCheck`).
     """
 
     containment: bool
@@ -81,12 +88,15 @@ class ExtraConstraints:
     volume_mm: tuple[float, float, float]
     tolerance_m: float = 0.001
     strength: StrengthCheck | None = None
+    drives: DriveCheck | None = None
 
     def names(self, formulation: str) -> tuple[str, ...]:
-        """Constraint columns of ``formulation`` in order: g1..g10, then g11, g12, g13 if on."""
+        """Constraint columns of ``formulation`` in order: g1..g10, then g11, g12, g13, g14 if
+        on."""
         extra = (G11,) if self.containment and formulation == "paper" else ()
         extra += (G12,) if self.printable else ()
-        return PAPER_CONSTRAINTS + extra + ((G13,) if self.strength is not None else ())
+        extra += (G13,) if self.strength is not None else ()
+        return PAPER_CONSTRAINTS + extra + ((G14,) if self.drives is not None else ())
 
     def label(self, formulation: str) -> str:
         """Human-readable constraint set, e.g. 'g1..g10 (the paper's) + g12 printable'."""
@@ -102,6 +112,8 @@ class ExtraConstraints:
             text += f" + g12 printable on {volume} mm"
         if G13 in names:
             text += " + g13 links hold their loads"
+        if G14 in names:
+            text += " + g14 each motor has a drive"
         return text
 
     def columns(self, formulation: str, design: NDArray[np.float64]) -> list[NDArray]:
@@ -118,6 +130,8 @@ class ExtraConstraints:
             cols.append(printability_violation_mm(design, self.cad, self.volume_mm))
         if self.strength is not None:
             cols.append(self.strength.violation(design))
+        if self.drives is not None:
+            cols.append(self.drives.violation(design))
         return cols
 
 

@@ -8,8 +8,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from qsm.embodiment.drive_checks import DriveCheck, with_drives
 from qsm.embodiment.link_checks import StrengthCheck, with_strength
-from qsm.mechanisms.dataset import STRENGTH_COLUMNS
+from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimisation.constraints import (
@@ -54,6 +55,7 @@ TRUE_COLUMNS: dict[str, str] = {
         for k in ("long", "mid", "short")
     },
     **STRENGTH_COLUMNS,
+    **DRIVE_COLUMNS,
 }
 
 
@@ -62,7 +64,9 @@ def verify_design(
 ) -> dict[str, Any]:
     """True kinematics and dynamics of one design (6 lengths, m) at its own scale l1."""
     ratios = design[1:] / design[0]
-    out: dict[str, Any] = {k: np.nan for k in TRUE_COLUMNS if k not in STRENGTH_COLUMNS}
+    out: dict[str, Any] = {
+        k: np.nan for k in TRUE_COLUMNS if k not in STRENGTH_COLUMNS and k not in DRIVE_COLUMNS
+    }
     checks = kinematic_checks(ratios, fit.op, fit.min_transmission_angle_deg)
     out.update({name: bool(ok[0]) for name, ok in checks.items()})
     out["task_contained"] = False
@@ -92,16 +96,21 @@ def verify_front(
     check: StrengthCheck,
     ratio_bounds: Mapping[str, Sequence[float]],
     volume_mm: Sequence[float],
+    drives: DriveCheck | None = None,
 ) -> pd.DataFrame:
     """``pareto`` (lengths and predictions) with the true values beside the predictions, whether
     each design's ratios lie within ``ratio_bounds`` (Table 1, where the data were sampled),
     whether its links fit the printer ``volume_mm`` and whether they hold their loads over
-    ``check``'s duty with its payload, section and material (see :data:`TRUE_COLUMNS`)."""
+    ``check``'s duty with its payload, section and material, and (with ``drives``) whether each
+    motor has a drive in the catalogue (see :data:`TRUE_COLUMNS`)."""
     lengths = pareto[list(INPUTS)].to_numpy()
     cad, duty, payload_kg = check.cad, check.duty, check.payload_kg
     rows = [verify_design(d, fit, duty, cad, payload_kg) for d in lengths]
     true = pd.DataFrame(rows)
     true = with_strength(true.rename(columns={"dynamics_status": "status"}), lengths, check)
+    true = with_drives(
+        true, lengths, drives or DriveCheck(cad=cad, payload_kg=payload_kg, duty=duty)
+    )
     true = true.rename(columns={"status": "dynamics_status"})
     table = pd.concat([pareto.reset_index(drop=True), true], axis=1)
     ratios = lengths[:, 1:] / lengths[:, :1]

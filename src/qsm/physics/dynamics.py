@@ -191,14 +191,18 @@ def inverse_dynamics(model: mujoco.MjModel, design: ArrayLike, state: LoopState)
 
 
 def tree_inverse_dynamics(
-    design: ArrayLike, bodies: dict[str, Any], state: LoopState
+    design: ArrayLike,
+    bodies: dict[str, Any],
+    state: LoopState,
+    armature: tuple[float, float] = (0.0, 0.0),
 ) -> InverseResult:
     """:func:`inverse_dynamics` without a model of the design: the open tree's generalized
     forces come from :func:`qsm.physics.tiled.tree_forces` with ``bodies``
-    (:func:`qsm.physics.mjcf.body_inertials`), all states in one ``mj_inverse`` call."""
+    (:func:`qsm.physics.mjcf.body_inertials`), all states in one ``mj_inverse`` call;
+    ``armature`` (kg m^2) on theta1 and theta2 (the drives' reflected inertia)."""
     qfrc = np.full((len(state.q), 4), np.nan)
     rows = np.flatnonzero(state.closes)
-    qfrc[rows] = tree_forces(bodies, state.q[rows], state.qd[rows], state.qdd[rows])
+    qfrc[rows] = tree_forces(bodies, state.q[rows], state.qd[rows], state.qdd[rows], armature)
     return _motor_forces(design, state, qfrc)
 
 

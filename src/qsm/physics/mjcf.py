@@ -100,9 +100,11 @@ def model_spec(
     settings: CadSettings = DEFAULT_CAD,
     payload_kg: float = 0.0,
     props: dict[str, MassProperties] | None = None,
+    armature: tuple[float, float] = (0.0, 0.0),
 ) -> mujoco.MjSpec:
     """MjSpec of the mechanism; ``props`` (link mass properties) default to
-    :mod:`qsm.physics.cad`'s."""
+    :mod:`qsm.physics.cad`'s; ``armature`` (kg m^2) on theta1 and theta2 is each drive's
+    reflected inertia (J_motor + J_gear,in) N^2."""
     l1, l2, l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
     if props is None:
         props = mass_properties(design, settings)
@@ -117,7 +119,7 @@ def model_spec(
 
     bodies = body_inertials(design, props, payload_kg)
     lower = spec.worldbody.add_body(name="lower_arm", pos=bodies["lower_arm"][0])
-    lower.add_joint(name="theta1", **hinge)
+    lower.add_joint(name="theta1", armature=float(armature[0]), **hinge)
     _set_inertial(lower, bodies["lower_arm"][1])
     _visual(lower, [(0.0, 0.0), (l1, 0.0)], 0.0, r)
 
@@ -129,7 +131,7 @@ def model_spec(
     upper.add_site(name="payload", pos=[ee_x, -ee_y, 0.0], size=[2 * r, 0.0, 0.0])
 
     crank = spec.worldbody.add_body(name="crank", pos=bodies["crank"][0])
-    crank.add_joint(name="theta2", **hinge)
+    crank.add_joint(name="theta2", armature=float(armature[1]), **hinge)
     _set_inertial(crank, bodies["crank"][1])
     _visual(crank, [(0.0, 0.0), (l2, 0.0)], dz, r)
 

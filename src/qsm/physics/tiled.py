@@ -64,10 +64,12 @@ def tree_forces(
     q: NDArray[np.float64],
     qd: NDArray[np.float64],
     qdd: NDArray[np.float64],
+    armature: tuple[float, float] = (0.0, 0.0),
 ) -> NDArray[np.float64]:
     """``qfrc_inverse`` (N, 4) of the open tree with ``bodies`` (from
     :func:`qsm.physics.mjcf.body_inertials`) at joint positions, velocities and accelerations
-    (N, 4) in :data:`qsm.physics.mjcf.JOINT_NAMES` order (rad, rad/s, rad/s^2)."""
+    (N, 4) in :data:`qsm.physics.mjcf.JOINT_NAMES` order (rad, rad/s, rad/s^2), with the joint
+    ``armature`` (kg m^2) on theta1 and theta2 (the drives' reflected inertia)."""
     pos = np.array([bodies[b][0] for b in BODY_ORDER])
     mass = np.array([bodies[b][1].mass_kg for b in BODY_ORDER])
     ipos = np.array([bodies[b][1].com_m for b in BODY_ORDER])
@@ -84,6 +86,7 @@ def tree_forces(
         model.body_ipos[1:] = np.tile(ipos, (n, 1))
         model.body_inertia[1:] = np.tile(inertia, (n, 1))
         model.body_iquat[1:] = np.tile(quat, (n, 1))
+        model.dof_armature[:] = np.tile([armature[0], 0.0, armature[1], 0.0], n)
         data.qpos[:] = q[rows].ravel()
         data.qvel[:] = qd[rows].ravel()
         data.qacc[:] = qdd[rows].ravel()

@@ -9,6 +9,15 @@ properties) is simulated forward:
   solved by :mod:`qsm.physics.inverse_kinematics` (solution closest to the previous one), joined by
   rest-to-rest minimum-jerk segments in joint space of ``segment_duration_s``, each followed by
   a ``dwell_s`` hold (the test starts with one hold at the first point);
+* drives: each motor is the drive chosen for it (:mod:`qsm.embodiment.drive_checks`); the
+  model and the plant carry its reflected inertia as joint armature on theta1 / theta2, and the
+  torque it can give at the joint is its torque-speed envelope on the output side
+  (:class:`qsm.embodiment.drives.selection.OutputEnvelope`: gear efficiency eta both ways,
+  eta N T_m driving and N T_m / eta back-driven, the gearbox's intermittent torque), evaluated
+  at the plant's joint speed at every step. The gear losses act through that envelope: the
+  controller asks for a joint torque and the motor supplies joint torque / (eta N) when driving.
+  ``torque_limits_Nm`` (an explicit override) replaces the envelopes by fixed limits, the
+  paper's 150 / 100 N m for example;
 * control: feed-forward torques from the closed-chain inverse dynamics
   (:func:`qsm.physics.dynamics.inverse_dynamics`, same model and properties) plus joint PD feedback
   ``kp (theta_ref - theta) + kd (dtheta_ref - dtheta)``; the *requested* torque is clamped to the
@@ -18,14 +27,15 @@ properties) is simulated forward:
   light arm has little inertia at the crank, so the step is cut (from the model's
   ``opt.timestep``) until ``kd dt / M <= 0.5`` at every waypoint, and the data are sampled at the
   model's step as before;
-* pass: the requested torque never exceeds the limits (no saturation) and the largest tracking
-  error of either motor stays within ``tracking_tolerance_deg``.
+* pass: the requested torque never exceeds what the drives give (no saturation) and the
+  largest tracking error of either motor stays within ``tracking_tolerance_deg``.
 """
 
 from __future__ import annotations
 
 import itertools
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -35,6 +45,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.embodiment.drives.selection import OutputEnvelope
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
 from qsm.physics.duty import minimum_jerk
 from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, inverse_dynamics, loop_state
@@ -49,7 +60,8 @@ class PayloadSettings:
 
     payload_kg: mass at the end effector, gripper included, default 5 kg (the paper's 3 kg object
         and 2 kg gripper); the workflow passes task.payload_kg.
-    torque_limits_Nm: motor torque limits after gearing, default (150, 100) N m (paper).
+    torque_limits_Nm: fixed motor torque limits at the joints, an explicit override of the
+        drives' envelopes (the paper's: (150, 100) N m); default None, the drives'.
     segment_duration_s: duration of each point-to-point move, default 1.5 s.
     dwell_s: hold at each task point (and before the first move), default 0.5 s.
     return_to_start: move back to the first point at the end, default True.
@@ -63,7 +75,7 @@ class PayloadSettings:
     """
 
     payload_kg: float = 5.0
-    torque_limits_Nm: tuple[float, float] = (150.0, 100.0)
+    torque_limits_Nm: tuple[float, float] | None = None
     segment_duration_s: float = 1.5
     dwell_s: float = 0.5
     return_to_start: bool = True
@@ -77,7 +89,8 @@ class PayloadSettings:
     def __post_init__(self) -> None:
         if self.segment_duration_s <= 0 or self.dwell_s < 0:
             raise ValueError("need segment_duration_s > 0 and dwell_s >= 0")
-        if min(self.torque_limits_Nm) <= 0 or self.tracking_tolerance_deg <= 0:
+        limits = self.torque_limits_Nm
+        if (limits is not None and min(limits) <= 0) or self.tracking_tolerance_deg <= 0:
             raise ValueError("torque limits and tracking tolerance must be positive")
 
 
@@ -118,15 +131,17 @@ def _plant(
     cad: CadSettings,
     props: dict[str, MassProperties] | None,
     s: PayloadSettings,
+    armature: tuple[float, float] = (0.0, 0.0),
 ) -> mujoco.MjModel:
-    """The simulated mechanism: links and payload ``plant_mass_error`` heavier than modelled."""
+    """The simulated mechanism: links and payload ``plant_mass_error`` heavier than modelled,
+    the drives' reflected inertia as armature (a catalogue value, not scaled)."""
     factor = 1.0 + s.plant_mass_error
     nominal = mass_properties(design, cad) if props is None else props
     heavier = {
         name: MassProperties(p.mass_kg * factor, p.com_m, np.asarray(p.inertia_kg_m2) * factor)
         for name, p in nominal.items()
     }
-    return model_spec(design, cad, s.payload_kg * factor, heavier).compile()
+    return model_spec(design, cad, s.payload_kg * factor, heavier, armature).compile()
 
 
 def motor_inertia(
@@ -146,9 +161,13 @@ def payload_test(
     cad: CadSettings = DEFAULT_CAD,
     props: dict[str, MassProperties] | None = None,
     settings: PayloadSettings = DEFAULT_PAYLOAD_TEST,
+    drives: Sequence[OutputEnvelope] | None = None,
 ) -> dict[str, Any]:
     """Forward-simulate the payload test of ``design`` (6 lengths, m) through task ``points``
-    (n, 2) m with link mass properties ``props`` (default: the CAD links).
+    (n, 2) m with link mass properties ``props`` (default: the CAD links), each motor being
+    ``drives[j]`` (its envelope and reflected inertia) unless ``settings.torque_limits_Nm``
+    overrides the limits (one of the two is needed). With drives the result adds ``drives``
+    (their names) and ``limit_Nm`` is each drive's standstill torque at the joint.
 
     Returns scalars: ``passed``, ``saturated``, ``max_tracking_error_deg``,
     ``tracking_tolerance_deg``, ``peak_torque_Nm`` (peak |requested| per motor),
@@ -161,12 +180,25 @@ def payload_test(
     leaves the region where the loop closes.
     """
     s = settings
+    if s.torque_limits_Nm is None and drives is None:
+        raise ValueError("payload test needs drives or payload_test.torque_limits_Nm")
+    fixed = None if s.torque_limits_Nm is None else np.asarray(s.torque_limits_Nm, float)
+    envelopes = None if drives is None else list(drives)
+    armature = (0.0, 0.0) if envelopes is None else tuple(e.reflected_inertia for e in envelopes)
+
+    def limits(torque: NDArray[np.float64], dq: NDArray[np.float64]) -> NDArray[np.float64]:
+        if fixed is not None:
+            return fixed
+        return np.array(
+            [float(e.limit(t, w)) for e, t, w in zip(envelopes, torque, dq, strict=True)]
+        )
+
     d = as_design(design)
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     if s.return_to_start and len(pts) > 1:
         pts = np.vstack([pts, pts[:1]])
     way = joint_path(d, pts, s.theta1_range_deg, s.theta2_min_deg)
-    model = model_spec(d, cad, s.payload_kg, props).compile()
+    model = model_spec(d, cad, s.payload_kg, props, armature).compile()
     dt = float(model.opt.timestep)
     t, th, dth, ddth = reference_trajectory(way, s.segment_duration_s, s.dwell_s, dt)
     state = loop_state(d, th, dth, ddth)
@@ -179,7 +211,7 @@ def payload_test(
     if state.sin_transmission.min() < MIN_SIN_TRANSMISSION:
         raise ValueError("reference passes through a transmission singularity")
     tau_ff = inverse_dynamics(model, d, state).tau
-    plant = _plant(d, cad, props, s)
+    plant = _plant(d, cad, props, s, armature)
     data = mujoco.MjData(plant)
     data.qpos[:], data.qvel[:] = state.q[0], state.qd[0]
     mujoco.mj_forward(plant, data)
@@ -187,25 +219,32 @@ def payload_test(
     inertia = np.array([np.diag(motor_inertia(model, d, q)) for q in way]).min(axis=0)
     substeps = max(1, math.ceil(np.max(kd * dt / inertia) / STABLE_KD_DT_OVER_M))
     plant.opt.timestep = dt / substeps
-    limit = np.asarray(s.torque_limits_Nm, float)
     n = len(t)
     q_act = np.empty((n, 2))
     req = np.zeros((n, 2))
     applied = np.zeros((n, 2))
+    available = np.zeros((n, 2))
     q_act[0] = data.qpos[[0, 2]]
+    over_any = np.zeros((n, 2), bool)
     for k in range(n - 1):
         for j in range(substeps):  # the PD loop runs at the (sub)step; the reference is held
             q, dq = data.qpos[[0, 2]], data.qvel[[0, 2]]
             torque = tau_ff[k] + kp * (th[k] - q) + kd * (dth[k] - dq)
-            data.ctrl[:] = np.clip(torque, -limit, limit)
+            lim = limits(torque, dq)
+            data.ctrl[:] = np.clip(torque, -lim, lim)
+            over_any[k] |= np.abs(torque) > lim
             if j == 0:
-                req[k], applied[k] = torque, data.ctrl
+                req[k], applied[k], available[k] = torque, data.ctrl, lim
             mujoco.mj_step(plant, data)
         q_act[k + 1] = data.qpos[[0, 2]]
-    req[-1] = tau_ff[-1] + kp * (th[-1] - q_act[-1]) + kd * (dth[-1] - data.qvel[[0, 2]])
-    applied[-1] = np.clip(req[-1], -limit, limit)
+    dq = data.qvel[[0, 2]]
+    req[-1] = tau_ff[-1] + kp * (th[-1] - q_act[-1]) + kd * (dth[-1] - dq)
+    available[-1] = limits(req[-1], dq)
+    applied[-1] = np.clip(req[-1], -available[-1], available[-1])
+    over_any[-1] = np.abs(req[-1]) > available[-1]
+    limit = fixed if fixed is not None else limits(np.ones(2), np.zeros(2))
     err = np.degrees(np.abs(q_act - th))
-    over = np.abs(req) > limit
+    over = over_any
     saturated = bool(over.any())
     max_err = float(err.max())
     tracked = max_err <= s.tracking_tolerance_deg
@@ -216,9 +255,12 @@ def payload_test(
     point_err = np.linalg.norm(ee - pts, axis=1) * 1e3
     reasons = []
     if saturated:
+        worst = (np.abs(req) / available).max(axis=0)
+        what = "fixed limits" if fixed is not None else "drives' torque-speed envelopes"
         reasons.append(
-            "requested torque exceeds the limit "
-            f"(peak {np.abs(req).max(axis=0).round(1).tolist()} > {limit.tolist()} N m)"
+            f"requested torque exceeds the {what} (peak |requested| / available "
+            f"{worst.round(3).tolist()}; peak {np.abs(req).max(axis=0).round(1).tolist()} N m, "
+            f"{limit.round(1).tolist()} N m at standstill)"
         )
     if not tracked:
         reasons.append(f"tracking error {max_err:.3f} deg > {s.tracking_tolerance_deg} deg")
@@ -230,6 +272,10 @@ def payload_test(
         "peak_torque_Nm": np.abs(req).max(axis=0).tolist(),
         "peak_feedforward_Nm": np.abs(tau_ff).max(axis=0).tolist(),
         "limit_Nm": limit.tolist(),
+        "limits_from": "payload_test.torque_limits_Nm" if fixed is not None else "drives",
+        "drives": [e.name for e in envelopes] if envelopes is not None else None,
+        "reflected_inertia_kgm2": list(armature),
+        "peak_torque_over_available": (np.abs(req) / available).max(axis=0).tolist(),
         "saturated_fraction": float(over.any(axis=1).mean()),
         "point_error_mm": point_err.tolist(),
         "waypoints_deg": np.degrees(way).tolist(),
@@ -243,6 +289,7 @@ def payload_test(
         "theta_deg": np.degrees(q_act),
         "torque_requested_Nm": req,
         "torque_applied_Nm": applied,
+        "torque_available_Nm": available,
     }
 
 
@@ -252,6 +299,7 @@ SERIES_KEYS: tuple[str, ...] = (
     "theta_deg",
     "torque_requested_Nm",
     "torque_applied_Nm",
+    "torque_available_Nm",
 )
 
 
@@ -265,7 +313,7 @@ SERIES_COLUMNS: dict[str, str] = {
     },
     **{
         f"tau{j}_{kind}_Nm": f"motor {j} torque, {kind} (N m)"
-        for kind in ("requested", "applied")
+        for kind in ("requested", "applied", "available")
         for j in (1, 2)
     },
 }
@@ -278,6 +326,7 @@ def series_table(result: dict[str, Any]) -> pd.DataFrame:
         "theta{}_deg": "theta_deg",
         "tau{}_requested_Nm": "torque_requested_Nm",
         "tau{}_applied_Nm": "torque_applied_Nm",
+        "tau{}_available_Nm": "torque_available_Nm",
     }
     data = {"t_s": np.asarray(result["t_s"], dtype=float)}
     for pattern, key in pairs.items():
@@ -312,9 +361,9 @@ def plot_payload_test(result: dict[str, Any], path: str | Path) -> Path:
         axes[1].plot(
             t, result["torque_requested_Nm"][:, j], color=c, lw=1, label=f"tau{j + 1} requested"
         )
-        lim = result["limit_Nm"][j]
-        axes[1].axhline(lim, color=c, ls=":", lw=1)
-        axes[1].axhline(-lim, color=c, ls=":", lw=1)
+        lim = np.abs(result["torque_available_Nm"][:, j])
+        axes[1].plot(t, lim, color=c, ls=":", lw=1)
+        axes[1].plot(t, -lim, color=c, ls=":", lw=1)
         axes[2].plot(
             t,
             np.abs(result["theta_deg"][:, j] - result["theta_ref_deg"][:, j]),

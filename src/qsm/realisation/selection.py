@@ -6,12 +6,17 @@ Order of the search (:func:`choose_design`), each step applying the selection ru
 front (``optimization.formulation``), then the other fronts in order, then the dataset (every
 design of which truly holds the task, with true dynamics):
 
-1. the truly feasible designs whose links hold their loads and fit the printer;
-2. without one: those whose links hold their loads, marked *not printable*, with what it would
-   take to print them (:func:`printing_advice`);
-3. without one: the truly feasible design whose links come nearest to holding (the smallest
-   strength utilisation), marked *not strong enough*; a part that breaks is worse than one that
-   needs a larger printer, so strength comes before printability.
+1. the truly feasible designs whose links hold their loads, whose motors each have a drive in the
+   catalogue (:mod:`qsm.embodiment.drive_checks`) and that fit the printer;
+2. without one: those that hold their loads and have drives, marked *not printable*, with what
+   it would take to print them (:func:`printing_advice`);
+3. without one: steps 1 and 2 among the designs that hold their loads without drives for both
+   motors (the outputs then say which motor has none, by how much, and what the strongest drive
+   offers);
+4. without one: the truly feasible design whose links come nearest to holding (the smallest
+   strength utilisation), marked *not strong enough*; a part that breaks is worse than a motor
+   you must source elsewhere, which is worse than a part that needs a larger printer: strength
+   comes first, then drives, then printability.
 
 Every step that is skipped is recorded with its counts, so the output says why it fell back.
 """
@@ -26,7 +31,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.mechanisms.dataset import STRENGTH_COLUMNS
+from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.optimisation.constraints import (
     box_excess_mm,
     printability_violation_mm,
@@ -51,7 +56,7 @@ def dataset_candidates(dataset: pd.DataFrame) -> pd.DataFrame:
     out["tau2_true_Nm"] = dataset["tau2_Nm"]
     out["feasible"] = True
     out["dynamics_status"] = dataset["status"]
-    for column in STRENGTH_COLUMNS:
+    for column in [*STRENGTH_COLUMNS, *DRIVE_COLUMNS]:
         out[column] = dataset[column]
     return out.reset_index(drop=True)
 
@@ -81,32 +86,43 @@ def choose_design(
 ) -> tuple[pd.Series, dict[str, Any]]:
     """The design to realise (see the module docstring) and how it was found.
 
-    Returns the row and ``{"source", "printable", "holds_loads", "fallback"}``: the front or
-    ``dataset`` it came from, whether it fits the printer and holds its loads, and one line per
-    skipped step with its counts.
+    Returns the row and ``{"source", "printable", "holds_loads", "has_drives", "fallback"}``:
+    the front or ``dataset`` it came from, whether it fits the printer, holds its loads and has a
+    drive in the catalogue for each motor, and one line per skipped step with its counts.
     """
     sources = {name: fronts[name] for name in [primary, *(k for k in fronts if k != primary)]}
     sources["dataset"] = dataset_candidates(dataset)
     feasible = {name: _feasible(table) for name, table in sources.items()}
     strong = {name: table[table["holds_loads"].astype(bool)] for name, table in feasible.items()}
+    driven = {name: table[_has_drives(table)] for name, table in strong.items()}
     skipped: list[str] = []
     volume = " x ".join(f"{v:g}" for v in volume_mm)
-    for name, table in strong.items():
-        fits = _printable(table, cad, volume_mm)
-        what = "front" if name != "dataset" else "designs"
-        if fits.any():
-            row = select_design(table[fits], rule, cad, volume_mm)
-            how = {"source": name, "printable": True, "holds_loads": True, "fallback": skipped}
-            return _tag(row, name, True), how
-        skipped.append(
-            f"{name} {what}: {len(sources[name])} designs, {len(feasible[name])} truly feasible, "
-            f"{len(table)} of them hold their loads, 0 of those printable on {volume} mm"
-        )
-    for name, table in strong.items():
-        if len(table):
-            row = select_design(table, rule, cad, (np.inf, np.inf, np.inf))
-            how = {"source": name, "printable": False, "holds_loads": True, "fallback": skipped}
-            return _tag(row, name, False), how
+    for tier, has_drives in ((driven, True), (strong, False)):
+        for name, table in tier.items():
+            fits = _printable(table, cad, volume_mm)
+            what = "front" if name != "dataset" else "designs"
+            if fits.any():
+                row = select_design(table[fits], rule, cad, volume_mm)
+                how = {"source": name, "printable": True, "holds_loads": True}
+                how |= {"has_drives": has_drives, "fallback": skipped}
+                return _tag(row, name, True), how
+            skipped.append(
+                f"{name} {what}: {len(sources[name])} designs, {len(feasible[name])} truly "
+                f"feasible, {len(strong[name])} of them hold their loads"
+                + (f", {len(table)} of those have drives" if has_drives else "")
+                + f", 0 of those printable on {volume} mm"
+            )
+        for name, table in tier.items():
+            if len(table):
+                row = select_design(table, rule, cad, (np.inf, np.inf, np.inf))
+                how = {"source": name, "printable": False, "holds_loads": True}
+                how |= {"has_drives": has_drives, "fallback": skipped}
+                return _tag(row, name, False), how
+        if has_drives:
+            skipped.append(
+                "no truly feasible design of the fronts or the dataset that holds its loads has "
+                "a drive in the catalogue for each motor"
+            )
     skipped.append("no truly feasible design of the fronts or the dataset holds its loads")
     for name, table in feasible.items():
         if len(table):
@@ -116,6 +132,7 @@ def choose_design(
             row["n_candidates"] = len(table)
             printable = bool(_printable(table.loc[[row.name]], cad, volume_mm).iloc[0])
             how = {"source": name, "printable": printable, "holds_loads": False}
+            how |= {"has_drives": bool(_has_drives(table.loc[[row.name]]).iloc[0])}
             return _tag(row, name, printable), {**how, "fallback": skipped}
     raise NoFeasibleDesign(
         "no truly feasible design on any front nor in the dataset: " + "; ".join(skipped)
@@ -130,6 +147,13 @@ def candidate_pool(fronts: Mapping[str, pd.DataFrame], dataset: pd.DataFrame) ->
         for name, table in {**fronts, "dataset": dataset_candidates(dataset)}.items()
     ]
     return pd.concat(tables, ignore_index=True)
+
+
+def _has_drives(table: pd.DataFrame) -> pd.Series:
+    """Whether each design has a drive for each motor (False where the column is missing)."""
+    if "has_drives" not in table:
+        return pd.Series(False, index=table.index)
+    return table["has_drives"].fillna(False).astype(bool)
 
 
 def _tag(row: pd.Series, source: str, printable: bool) -> pd.Series:

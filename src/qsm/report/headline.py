@@ -41,6 +41,14 @@ def build_verdict(
                 f"{r['max_von_mises_after_MPa']:.1f} MPa in the FE check, "
                 f"{r['allowable_stress_MPa']:.1f} MPa allowed"
             )
+    for key, m in selected.get("drives", {}).get("motors", {}).items():
+        if not m["has_drive"]:
+            worst = max(m["failing"].items(), key=lambda kv: kv[1])
+            problems.append(
+                f"motor {key.removeprefix('motor')} ({m['drives']}) has no drive in the catalogue "
+                f"(the nearest exceeds its {worst[0].replace('_', ' ')} limit by "
+                f"{100 * worst[1]:.0f} %)"
+            )
     if not payload["passed"]:
         problems.append(
             f"the payload test failed (max tracking error {payload['max_tracking_error_deg']:.3f}"
@@ -92,6 +100,42 @@ def _strength_rows(strength: Mapping[str, Any]) -> list[str]:
     ]
 
 
+def _drive_rows(drives: Mapping[str, Any]) -> list[str]:
+    rows = []
+    for key, m in drives.get("motors", {}).items():
+        d = m.get("drive") or m["best_drive"]
+        r = m["required"]
+        margins = ", ".join(
+            f"{k.replace('_', ' ')} {100 * v:.0f} %" for k, v in m["margins"].items()
+        )
+        rows.append(
+            f"| {key.removeprefix('motor')} ({m['drives']}) | {d['motor']} + {d['gearbox']}"
+            f"{'' if m['has_drive'] else ' (NONE meets the duty: nearest)'} | {d['ratio']:.4g} "
+            f"| {d['mass_kg']:.2f} | {r['peak_torque_Nm']:.1f} | {r['rms_torque_Nm']:.1f} "
+            f"| {r['peak_speed_rad_s']:.2f} | {r['peak_power_W']:.0f} | {margins} |"
+        )
+    return rows
+
+
+def _drive_failures(drives: Mapping[str, Any]) -> list[str]:
+    lines = []
+    for key, m in drives.get("motors", {}).items():
+        if m["has_drive"]:
+            continue
+        s = m["strongest_drive"]
+        fails = ", ".join(
+            f"{k.replace('_', ' ')} by {100 * v:.0f} %" for k, v in m["failing"].items()
+        )
+        lines.append(
+            f"- motor {key.removeprefix('motor')} ({m['drives']}): no drive of the catalogue meets "
+            f"its duty; the nearest exceeds its {fails}. The strongest drive, {s['motor']} + "
+            f"{s['gearbox']} ({s['ratio']:.4g}:1), offers {s['peak_torque_Nm']:.0f} N m peak, "
+            f"{s['cont_torque_Nm']:.0f} N m continuous and {s['top_speed_rad_s']:.2f} rad/s at "
+            "the joint."
+        )
+    return lines
+
+
 def _topology_rows(topology: Mapping[str, Any]) -> list[str]:
     rows = []
     for link, r in topology["links"].items():
@@ -127,7 +171,8 @@ def headline_markdown(
         "",
         "**"
         + (
-            "Ready to build: printable, every part holds its loads, payload test passed."
+            "Ready to build: printable, every part holds its loads, each motor has a drive, "
+            "payload test passed."
             if ready
             else "NOT READY TO BUILD: " + "; ".join(problems) + "."
         )
@@ -149,6 +194,16 @@ def headline_markdown(
         f"hold their loads ({_pct(_ratio(status['strength']))}); weakest link: "
         + ", ".join(f"{k} {v:,}" for k, v in status["strength"]["weakest_link"].items())
         + ".",
+        *(
+            [
+                f"- {status['drives']['have_drives']:,} of "
+                f"{status['drives']['with_dynamics']:,} have a drive in the catalogue for each "
+                f"motor (motor 1: {status['drives']['motor1_has_drive']:,}, motor 2: "
+                f"{status['drives']['motor2_has_drive']:,})."
+            ]
+            if "drives" in status
+            else []
+        ),
         "",
         "## Stage 3: surrogate",
         f"- test R^2 eta {r2['eta']:.4f}, tau1 {r2['tau1']:.4f}, tau2 {r2['tau2']:.4f} "
@@ -156,14 +211,15 @@ def headline_markdown(
         "",
         "## Stage 4: optimisation, checked against the physics",
         "| front | constraints | designs | truly hold the task | printable | links hold "
-        "| median error eta / tau1 / tau2 | true HV |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+        "| have drives | median error eta / tau1 / tau2 | true HV |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     for name, e in comparison["fronts"].items():
         err = " / ".join(_pct(e["median_rel_error"][k]) for k in ("eta", "tau1", "tau2"))
         lines.append(
             f"| {name} | {e['constraints']} | {e['n']} | {_pct(e['holds_task_share'])} "
-            f"| {_pct(e['printable_share'])} | {_pct(e['holds_loads_share'])} | {err} "
+            f"| {_pct(e['printable_share'])} | {_pct(e['holds_loads_share'])} "
+            f"| {_pct(e.get('has_drives_share', float('nan')))} | {err} "
             f"| {e['true_hypervolume']:.3f} |"
         )
     agree = int((findings["agree"] == "agree").sum())
@@ -189,6 +245,15 @@ def headline_markdown(
         "| --- | --- | --- | --- | --- | --- |",
         *_strength_rows(selected["strength"]),
         "",
+        f"Drives ({selected.get('drives', {}).get('rule', '')} of the catalogue that meet each "
+        "motor's duty, reflected inertia included; margins 1 - utilisation):",
+        "",
+        "| motor | drive | ratio | mass (kg) | peak torque (N m) | RMS torque (N m) "
+        "| peak speed (rad/s) | peak power (W) | margins |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        *_drive_rows(selected.get("drives", {})),
+        *_drive_failures(selected.get("drives", {})),
+        "",
         "Topology-optimised plates (plane-stress FE of the printed plate):",
         "",
         "| link | mass (kg) | peak von Mises (MPa) | allowable (MPa) | printed part |",
@@ -204,10 +269,18 @@ def headline_markdown(
         )
     peak = ", ".join(f"{v:.1f}" for v in payload["peak_torque_Nm"])
     limit = ", ".join(f"{v:.0f}" for v in payload["limit_Nm"])
+    if payload.get("drives"):
+        used = ", ".join(f"{v:.0%}" for v in payload["peak_torque_over_available"])
+        limits = (
+            f"on the drives' torque-speed envelopes ({'; '.join(payload['drives'])}; "
+            f"{limit} N m at standstill, peak use {used})"
+        )
+    else:
+        limits = f"fixed limits {limit} N m"
     lines.append(
         f"- payload test ({payload['payload_kg']:g} kg): "
-        f"{'passed' if payload['passed'] else 'FAILED'}, max tracking error "
-        f"{payload['max_tracking_error_deg']:.3f} deg, peak torques {peak} N m "
-        f"(limits {limit} N m)."
+        f"{'passed' if payload['passed'] else 'FAILED: ' + payload.get('reason', '')}, max "
+        f"tracking error {payload['max_tracking_error_deg']:.3f} deg, peak torques {peak} N m "
+        f"({limits})."
     )
     return "\n".join(lines) + "\n"

@@ -42,7 +42,8 @@ def _number(value: float, digits: int) -> str:
 
 def hover_texts(verified: pd.DataFrame, ranks: Sequence[int], front: str) -> list[str]:
     """One hover text per design (HTML with ``<br>``): rank and export command, lengths (mm),
-    predicted and true objectives, whether it holds the task and whether it is printable."""
+    predicted and true objectives, whether it holds the task, whether it is printable and each
+    motor's drive (when the table has the drive columns)."""
     texts = []
     n = len(verified)
     for rank, (_, row) in zip(ranks, verified.iterrows(), strict=True):
@@ -67,6 +68,17 @@ def hover_texts(verified: pd.DataFrame, ranks: Sequence[int], front: str) -> lis
             _number(row[f"needed_volume_{k}_mm"], 0) for k in ("long", "mid", "short")
         )
         lines.append(f"printable: {_yes_no(row['printable'])} (needs {needed} mm)")
+        for j, motor in ((1, "lower arm"), (2, "crank")):
+            if f"drive{j}_motor" not in row or not row[f"drive{j}_motor"]:
+                continue
+            ok = row[f"drive{j}_violation"] <= 0
+            lines.append(
+                f"motor {j} ({motor}): {row[f'drive{j}_motor']} + {row[f'drive{j}_gearbox']} "
+                f"({_number(row[f'drive{j}_ratio'], 1)}:1, "
+                f"{_number(row[f'drive{j}_mass_kg'], 2)} kg"
+                + (")" if ok else "; NONE meets the duty, nearest shown)")
+                + f", peak {_number(row[f'drive{j}_peak_torque_Nm'], 1)} N m"
+            )
         texts.append("<br>".join(lines))
     return texts
 

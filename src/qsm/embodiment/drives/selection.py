@@ -31,6 +31,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from qsm.embodiment.drives.catalogue import Catalogue
 
@@ -83,6 +84,16 @@ class DriveArrays:
             gear_cont_torque=col(g, "max_cont_torque"),
             tables=tables,
         )
+
+    def take(self, idx: np.ndarray) -> DriveArrays:
+        """The limits of drives ``idx`` (indices into the catalogue's drives), in that order."""
+        idx = np.asarray(idx, dtype=int)
+        where = {int(i): k for k, i in enumerate(idx)}
+        fields = {
+            name: getattr(self, name)[idx] for name in self.__dataclass_fields__ if name != "tables"
+        }
+        tables = {where[i]: t for i, t in self.tables.items() if i in where}
+        return DriveArrays(**fields, tables=tables)
 
 
 def utilisation(
@@ -242,6 +253,7 @@ def select_drives(
     omega: np.ndarray,
     weights: np.ndarray,
     rule: str = "lightest",
+    accel: np.ndarray | None = None,
 ) -> Selection:
     """Choose, for each duty, the drive that meets every sample and is first by ``rule``.
 
@@ -249,11 +261,22 @@ def select_drives(
     rule 'lightest' orders by total mass (kg), 'smallest_inertia' by reflected inertia (kg m^2);
     ties go to the other key, then to catalogue order. A duty with a non-finite sample gets no
     drive and an infinite violation.
+
+    ``accel`` (rad/s^2, the joint's acceleration, shaped as tau), when given, checks each drive c
+    against its own output torque ``tau + J_c accel``, J_c its reflected inertia (the torque of
+    the joint with that drive's rotor, MuJoCo's joint armature): exact, with no iteration between
+    the choice and the torques. The required torques, speed and power are then those of ``best``.
     """
     if rule not in RULES:
         raise ValueError(f"unknown drive rule {rule!r}; expected one of {sorted(RULES)}")
     arr = DriveArrays.of(cat)
     tau, omega, w = _duty(tau, omega, weights)
+    acc = (
+        None
+        if accel is None
+        else np.broadcast_to(np.atleast_2d(np.asarray(accel, float)), tau.shape)
+    )
+    inertia = cat.drives["reflected_inertia"].to_numpy(float)
     keys = [cat.drives[RULES[rule]].to_numpy(float)]
     keys.append(cat.drives[next(v for v in RULES.values() if v != RULES[rule])].to_numpy(float))
     order = np.lexsort([np.nan_to_num(k, nan=np.inf) for k in reversed(keys)])
@@ -263,13 +286,18 @@ def select_drives(
     choice, best = np.full(n_d, -1), np.zeros(n_d, int)
     violation, util = np.full(n_d, np.inf), np.full((n_d, len(CHECKS)), np.inf)
     finite = np.isfinite(tau).all(axis=1) & np.isfinite(omega).all(axis=1)
+    if acc is not None:
+        finite &= np.isfinite(acc).all(axis=1)
     step = max(1, _CHUNK // max(1, n_c * tau.shape[1]))
     for lo in range(0, n_d, step):
         d = np.arange(lo, min(n_d, lo + step))
         d = d[finite[d]]
         if d.size == 0:
             continue
-        u = utilisation(arr, tau[d], omega[d], w[d])
+        if acc is None:
+            u = utilisation(arr, tau[d], omega[d], w[d])
+        else:
+            u = _utilisation_with_inertia(arr, inertia, tau[d], acc[d], omega[d], w[d])
         v = u.max(axis=2) - 1
         best[d] = v.argmin(axis=1)
         violation[d] = v[np.arange(d.size), best[d]]
@@ -278,6 +306,8 @@ def select_drives(
         choice[d[ok]] = ranked[ok]
         best[d[ok]] = ranked[ok]
         util[d] = u[np.arange(d.size), best[d]]
+    if acc is not None:
+        tau = tau + np.nan_to_num(inertia[best])[:, None] * acc
     a = np.abs(tau)
     wn = w / w.sum(axis=1, keepdims=True)
     return Selection(
@@ -293,3 +323,109 @@ def select_drives(
         peak_power=np.abs(tau * omega).max(axis=1),
         strongest=int(np.nanargmax([o["peak_torque_Nm"] for o in offer(cat)])),
     )
+
+
+def _utilisation_with_inertia(
+    arr: DriveArrays,
+    inertia: np.ndarray,
+    tau: np.ndarray,
+    accel: np.ndarray,
+    omega: np.ndarray,
+    w: np.ndarray,
+) -> np.ndarray:
+    """:func:`utilisation` (D, C, checks) with drive c loaded by ``tau + inertia[c] accel``;
+    drives of equal reflected inertia are checked together; an unknown (nan) inertia is never
+    met.
+
+    Screening, exact for the choice and for g14: on the samples without acceleration the torque
+    does not depend on the drive, so their peak checks bound each drive's utilisation from below
+    at the cost of one small :func:`utilisation` call. A drive whose bound exceeds 1 cannot meet
+    the duty; it is evaluated (its entries are inf until then) only for the duties that no
+    unscreened drive meets, where g14 needs the least violation over the whole catalogue.
+    """
+    n_d, n_c = tau.shape[0], inertia.size
+    out = np.full((n_d, n_c, len(CHECKS)), np.inf)
+    known = np.isfinite(inertia)
+    still = np.all(accel == 0, axis=0)
+    if still.any():
+        u0 = utilisation(arr, tau[:, still], omega[:, still], np.ones(int(still.sum())))
+        candidate = u0[..., [0, 3]].max(axis=-1) <= 1  # (D, C)
+    else:
+        candidate = np.ones((n_d, n_c), bool)
+    done = np.zeros((n_d, n_c), bool)
+    values, group = np.unique(inertia[known], return_inverse=True)
+    groups = [np.flatnonzero(known)[group == k] for k in range(values.size)]
+
+    def run(rows_of: np.ndarray) -> None:
+        for j, idx in zip(values, groups, strict=True):
+            rows = np.flatnonzero(rows_of[:, idx].any(axis=1) & ~done[:, idx].all(axis=1))
+            if rows.size:
+                u = utilisation(arr.take(idx), tau[rows] + j * accel[rows], omega[rows], w[rows])
+                out[np.ix_(rows, idx)] = u
+                done[np.ix_(rows, idx)] = True
+
+    run(candidate)
+    met = (out.max(axis=2) <= 1).any(axis=1)
+    run(np.broadcast_to(~met[:, None], (n_d, n_c)))
+    return out
+
+
+@dataclass(frozen=True)
+class OutputEnvelope:
+    """The torque one drive can give at the joint (output side), by speed and direction, for a
+    simulation that saturates the motor on it (the conventions of :func:`utilisation`: a driving
+    sample gets eta N T_m, a back-driven one N T_m / eta, both at most the gearbox's intermittent
+    torque; T_m is the motor's torque-speed line or table at N |omega|, at most its intermittent
+    torque, and 0 beyond its speed limit)."""
+
+    name: str
+    ratio: float
+    efficiency: float
+    stall_torque: float
+    no_load_speed: float
+    int_torque: float
+    int_speed: float
+    gear_int_torque: float
+    reflected_inertia: float
+    table: tuple[np.ndarray, np.ndarray] | None = None
+
+    @classmethod
+    def of(cls, cat: Catalogue, motor_key: str, gearbox_key: str) -> OutputEnvelope:
+        """The envelope of the catalogue's drive (motor_key, gearbox_key)."""
+        rows = np.flatnonzero(
+            (cat.drives["motor"] == motor_key).to_numpy()
+            & (cat.drives["gearbox"] == gearbox_key).to_numpy()
+        )
+        if not rows.size:
+            raise KeyError(f"no drive ({motor_key}, {gearbox_key}) in the catalogue")
+        i = int(rows[0])
+        arr = DriveArrays.of(cat).take(np.array([i]))
+        m, g = cat.motors.loc[motor_key], cat.gearboxes.loc[gearbox_key]
+        return cls(
+            name=f"{m['manufacturer']} {m['ID']} + {g['manufacturer']} {g['ID']}",
+            ratio=float(arr.ratio[0]),
+            efficiency=float(arr.efficiency[0]),
+            stall_torque=float(arr.stall_torque[0]),
+            no_load_speed=float(arr.no_load_speed[0]),
+            int_torque=float(arr.int_torque[0]),
+            int_speed=float(arr.int_speed[0]),
+            gear_int_torque=float(arr.gear_int_torque[0]),
+            reflected_inertia=float(cat.drives["reflected_inertia"].iloc[i]),
+            table=arr.tables.get(0),
+        )
+
+    def limit(self, tau: ArrayLike, omega: ArrayLike) -> np.ndarray:
+        """Largest |torque| (N m) the drive gives at the joint in the direction of ``tau`` at
+        joint speed ``omega`` (rad/s)."""
+        tau, omega = np.asarray(tau, float), np.asarray(omega, float)
+        w_m = self.ratio * np.abs(omega)
+        driving = tau * omega >= 0
+        if self.table is not None:
+            t_m = np.interp(w_m, *self.table)
+        else:
+            line = self.stall_torque * np.clip(1.0 - w_m / self.no_load_speed, 0.0, None)
+            t_m = np.where(driving, line, self.stall_torque)
+        t_m = np.where(w_m > self.int_speed, 0.0, np.fmin(t_m, self.int_torque))
+        eta = self.efficiency
+        out = np.where(driving, eta * self.ratio * t_m, self.ratio * t_m / eta)
+        return np.fmin(out, self.gear_int_torque)

@@ -1,0 +1,217 @@
+"""Whether each motor of a design has a drive in the catalogue, for one design or thousands.
+
+:class:`DriveCheck` bundles what the check needs (catalogue, rule, section, payload and duty) and
+evaluates designs in chunks, every step vectorised over the chunk: the joint torques come from
+the Newton-Euler loads of :mod:`qsm.embodiment.loads` (tested against MuJoCo), the speeds and
+accelerations from the duty (both motors are absolute joint angles), the time weights are the
+duty's ``weight_s``; :func:`qsm.embodiment.drives.selection.select_drives` then checks every
+drive against every sample.
+
+Reflected inertia: with ``reflected_inertia`` on, each candidate drive c is checked against the
+torque ``tau + J_c theta''``, J_c = (J_motor + J_gear,in) N^2 its reflected inertia. That term is
+exactly what MuJoCo's joint ``armature`` J_c on theta1 / theta2 adds to the inverse dynamics
+(the motors' joints are the absolute angles, so G's rows for them are the unit vectors; tested
+against a model with armature), so the choice and the torques agree without iterating. Motor
+masses do not load the links: both motors sit at the base joint A.
+
+It gives Stage 2's drive columns (:data:`DRIVE_COLUMNS`) and the optimisation's g14.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.embodiment.drives.catalogue import Catalogue, default_catalogue_folder, read_catalogue
+from qsm.embodiment.drives.selection import CHECKS, Selection, select_drives
+from qsm.embodiment.loads import Inertials, joint_loads
+from qsm.mechanisms.dataset import DRIVE_COLUMNS, MOTORS
+from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
+from qsm.physics.duty import Duty, duty_cycle
+from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, loop_state
+from qsm.physics.kinematics import as_design
+
+#: Violation g14 gives a design whose loop does not close or is singular over the duty.
+UNDEFINED_VIOLATION = 10.0
+#: Designs evaluated together.
+CHUNK = 128
+
+
+def _default_catalogue() -> Catalogue:
+    return read_catalogue(default_catalogue_folder())
+
+
+@dataclass(frozen=True)
+class DriveCheck:
+    """What the drive check needs: the ``catalogue``, the selection ``rule`` (lightest or
+    smallest_inertia), whether the drives' ``reflected_inertia`` loads the joints, the link
+    section ``cad``, the payload (kg) at E and the duty."""
+
+    catalogue: Catalogue = field(default_factory=_default_catalogue)
+    rule: str = "lightest"
+    reflected_inertia: bool = True
+    cad: CadSettings = DEFAULT_CAD
+    payload_kg: float = 5.0
+    duty: Duty = field(default_factory=duty_cycle)
+
+    def torques(self, designs: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+        """Motor torques (D, N, 2) in N m of designs (D, 6) m over the duty, without drives, and
+        whether each design's loop closes, away from singularities, over the whole duty (D,)."""
+        d = np.atleast_2d(as_design(designs))
+        inertials = Inertials(*batch_mass_properties(d, self.cad))
+        du = self.duty
+        state = loop_state(d, du.theta, du.dtheta, du.ddtheta)
+        tau = joint_loads(d, inertials, self.payload_kg, state).tau
+        good = state.closes.all(-1) & (
+            np.nan_to_num(state.sin_transmission).min(-1) >= MIN_SIN_TRANSMISSION
+        )
+        return tau, good
+
+    def select(self, tau: ArrayLike) -> list[Selection]:
+        """One :class:`Selection` per motor for motor torques (D, N, 2) N m over the duty."""
+        tau = np.asarray(tau, dtype=float)
+        du = self.duty
+        n_d = tau.shape[0]
+        out = []
+        for j in range(2):
+            omega = np.broadcast_to(du.dtheta[:, j], (n_d, len(du.weight_s)))
+            accel = np.broadcast_to(du.ddtheta[:, j], omega.shape)
+            out.append(
+                select_drives(
+                    self.catalogue,
+                    tau[..., j],
+                    omega,
+                    du.weight_s,
+                    self.rule,
+                    accel if self.reflected_inertia else None,
+                )
+            )
+        return out
+
+    def _chunk(self, d: NDArray[np.float64]) -> dict[str, NDArray]:
+        tau, good = self.torques(d)
+        tau[~good] = np.nan  # no drive, infinite violation
+        drives = self.catalogue.drives
+        out: dict[str, NDArray] = {}
+        for j, sel in zip(MOTORS, self.select(tau), strict=True):
+            b = sel.best
+            out[f"drive{j}_peak_torque_Nm"] = sel.peak_torque
+            out[f"drive{j}_rms_torque_Nm"] = sel.rms_torque
+            out[f"drive{j}_peak_speed_rad_s"] = sel.peak_speed
+            out[f"drive{j}_peak_power_W"] = sel.peak_power
+            out[f"drive{j}_motor"] = drives["motor"].to_numpy(object)[b]
+            out[f"drive{j}_gearbox"] = drives["gearbox"].to_numpy(object)[b]
+            out[f"drive{j}_ratio"] = drives["ratio"].to_numpy(float)[b]
+            out[f"drive{j}_mass_kg"] = drives["mass"].to_numpy(float)[b]
+            out[f"drive{j}_reflected_inertia_kgm2"] = drives["reflected_inertia"].to_numpy(float)[b]
+            for k, check in enumerate(CHECKS):
+                out[f"drive{j}_margin_{check}"] = 1.0 - sel.utilisation[:, k]
+            out[f"drive{j}_violation"] = sel.violation
+        for j in MOTORS:
+            for key in (f"drive{j}_motor", f"drive{j}_gearbox"):
+                out[key] = np.where(good, out[key], "")
+            for key in DRIVE_COLUMNS:
+                if key.startswith(f"drive{j}_") and out[key].dtype.kind == "f":
+                    out[key] = np.where(good, out[key], np.nan)
+        out["drive_mass_kg"] = out["drive1_mass_kg"] + out["drive2_mass_kg"]
+        viol = np.maximum(out["drive1_violation"], out["drive2_violation"])
+        out["drive_violation"] = np.where(good, viol, np.nan)
+        out["has_drives"] = good & (viol <= 0)
+        return out
+
+    def evaluate(self, designs: ArrayLike) -> pd.DataFrame:
+        """:data:`DRIVE_COLUMNS` of designs (N, 6) m; NaN (and no drives) where the loop does not
+        close or is singular on the duty."""
+        d = np.atleast_2d(as_design(designs))
+        parts = [self._chunk(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
+        if not parts:
+            return pd.DataFrame(columns=list(DRIVE_COLUMNS))
+        return pd.DataFrame({k: np.concatenate([p[k] for p in parts]) for k in DRIVE_COLUMNS})
+
+    def violation(self, designs: ArrayLike) -> NDArray[np.float64]:
+        """g14: the larger motor violation of designs (N, 6) m (<= 0: each motor has a drive),
+        or :data:`UNDEFINED_VIOLATION` where it is undefined (the loop does not close, or a
+        value the check needs is missing)."""
+        table = self.evaluate(designs)
+        v = table["drive_violation"].to_numpy(float)
+        return np.where(np.isfinite(v), v, UNDEFINED_VIOLATION)
+
+    def report(self, design: ArrayLike) -> dict[str, Any]:
+        """JSON-ready account of one design's drives: per motor, the drive (or the nearest and
+        what fails, and the strongest drive's offer), margins and requirements
+        (:meth:`Selection.report`), and whether each motor has a drive."""
+        tau, good = self.torques(np.atleast_2d(as_design(design)))
+        if not good[0]:
+            return {"has_drives": False, "defined": False, "rule": self.rule, "motors": {}}
+        motors = {
+            f"motor{j}": {"drives": MOTORS[j], **sel.report(0)}
+            for j, sel in zip(MOTORS, self.select(tau), strict=True)
+        }
+        return {
+            "has_drives": all(m["has_drive"] for m in motors.values()),
+            "defined": True,
+            "rule": self.rule,
+            "reflected_inertia": self.reflected_inertia,
+            "motors": motors,
+        }
+
+
+def with_drives(table: pd.DataFrame, designs: ArrayLike, check: DriveCheck) -> pd.DataFrame:
+    """``table`` (dynamics results, one row per design of ``designs`` (N, 6) m) with
+    :data:`DRIVE_COLUMNS` appended for its rows whose ``status`` is 'ok' (NaN elsewhere)."""
+    ok = table["status"].eq("ok").to_numpy()
+    out = pd.DataFrame(index=table.index, columns=list(DRIVE_COLUMNS), dtype=float)
+    drives = check.evaluate(np.asarray(designs, dtype=float)[ok])
+    for key in DRIVE_COLUMNS:
+        values: Any = drives[key].to_numpy()
+        if values.dtype.kind in "OUb":
+            out[key] = out[key].astype(object)
+        out.loc[ok, key] = values
+    out["has_drives"] = out["has_drives"].eq(True)
+    return pd.concat([table, out], axis=1)
+
+
+def _drive_name(d: dict[str, Any]) -> str:
+    return f"{d['motor']} + {d['gearbox']} ({d['ratio']:.4g}:1, {d['mass_kg']:.2f} kg)"
+
+
+def _required(m: dict[str, Any]) -> str:
+    r = m["required"]
+    return (
+        f"{r['peak_torque_Nm']:.1f} N m peak, {r['rms_torque_Nm']:.1f} N m RMS, "
+        f"{r['peak_speed_rad_s']:.2f} rad/s, {r['peak_power_W']:.0f} W"
+    )
+
+
+def drive_sentences(report: dict[str, Any]) -> list[str]:
+    """One plain sentence per motor of a :meth:`DriveCheck.report`: its drive with the smallest
+    margin and what it must give, or, without a drive, by how much the nearest drive fails and
+    what the strongest drive of the catalogue offers. Every number from ``report``."""
+    if not report.get("defined", True):
+        return ["no drives: the loop does not close (or is singular) over the duty"]
+    out = []
+    for key, m in report["motors"].items():
+        head = f"motor {key.removeprefix('motor')} ({m['drives']})"
+        if m["has_drive"]:
+            check, margin = min(m["margins"].items(), key=lambda kv: kv[1])
+            out.append(
+                f"{head}: {_drive_name(m['drive'])}, smallest margin {100 * margin:.0f} % "
+                f"({check.replace('_', ' ')}); it must give {_required(m)}"
+            )
+            continue
+        fails = ", ".join(
+            f"{k.replace('_', ' ')} by {100 * v:.0f} %"
+            for k, v in sorted(m["failing"].items(), key=lambda kv: -kv[1])
+        )
+        s = m["strongest_drive"]
+        out.append(
+            f"{head}: NO DRIVE in the catalogue meets its duty ({_required(m)}); the nearest, "
+            f"{_drive_name(m['best_drive'])}, exceeds its {fails}; the strongest drive, "
+            f"{_drive_name(s)}, offers {s['peak_torque_Nm']:.0f} N m peak, "
+            f"{s['cont_torque_Nm']:.0f} N m continuous and {s['top_speed_rad_s']:.2f} rad/s"
+        )
+    return out
