@@ -44,6 +44,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         p.material["name"],
         {name: name in held for name in parts},
         out.bom_csv.rsplit("/", 1)[0],
+        selected.get("drives"),
     )
     props = written.pop("masses")
     written["masses_kg"] = {name: m.mass_kg for name, m in props.items()}

@@ -59,6 +59,26 @@ def final_parts(
     return parts
 
 
+def drive_rows(report: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+    """BOM values of the motor and gearbox rows from a drives report
+    (:meth:`qsm.embodiment.drive_checks.DriveCheck.report`); none for a motor without a drive."""
+    rows: dict[str, dict[str, Any]] = {}
+    for k, motor in enumerate(report.get("motors", {}).values(), start=1):
+        if not motor.get("has_drive"):
+            continue
+        drive = motor["drive"]
+        rows[f"motor {k}"] = {
+            "designation": drive["motor"],
+            "mass_kg": drive["mass_kg"],
+            "notes": f"with {drive['gearbox']}; mass of motor and gearbox together",
+        }
+        rows[f"gearbox {k}"] = {
+            "designation": drive["gearbox"],
+            "notes": f"ratio {drive['ratio']:.2f}:1",
+        }
+    return rows
+
+
 def write_parts(
     design: ArrayLike,
     parts: Mapping[str, LinkPart],
@@ -68,15 +88,23 @@ def write_parts(
     material: str,
     optimised: Mapping[str, bool],
     directory: str | Path,
+    drives: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
     """Write the drawing of the solid bored links (``drawing.svg`` / ``.png``) and the BOM
-    (``bom.csv`` / ``bom.md``) into ``directory``; return their paths, the parts' hole counts
-    and mass properties."""
+    (``bom.csv`` / ``bom.md``, with the motors and gearboxes of the ``drives`` report when given)
+    into ``directory``; return their paths, the parts' hole counts and mass properties."""
     out = Path(directory)
     masses: dict[str, MassProperties] = part_mass_properties(parts, settings.cad)
     svg, png = draw_links(design, solid, out / "drawing", settings.cad)
     bom = bill_of_materials(
-        parts, masses, bearing_index, settings.table, settings.cad, material, optimised
+        parts,
+        masses,
+        bearing_index,
+        settings.table,
+        settings.cad,
+        material,
+        optimised,
+        drive_rows(drives or {}),
     )
     csv, md = write_bom(bom, out)
     return {
