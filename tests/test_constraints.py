@@ -1,19 +1,18 @@
 """g11 (task containment, m) and g12 (printability, mm) against hand-computed cases and
 independent references: point membership by inverse kinematics, Stage 1's containment test and
-the box check of qsm.realisation.printing on the link outlines."""
+the box check of qsm.embodiment.printing on the link outlines."""
 
 import numpy as np
 import pytest
 from reference_workspace import reachable
 
+from qsm.embodiment.printing import all_links_fit, link_boxes_mm, needed_volume_mm, outline_boxes_mm
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimisation.constraints import (
     OPEN_LOOP_VIOLATION_M,
     containment_margin_m,
-    link_boxes_mm,
     printability_violation_mm,
-    smallest_build_volume_mm,
 )
 from qsm.optimisation.problems import (
     ExtraConstraints,
@@ -25,8 +24,6 @@ from qsm.optimisation.problems import (
 from qsm.physics.cad import CadSettings
 from qsm.physics.task import Disk, min_enclosing_circle
 from qsm.physics.workspace import OperatingRange, containment_margin, slice_workspace
-from qsm.realisation.printing import all_links_fit
-from qsm.realisation.printing import link_boxes_mm as outline_boxes_mm
 
 OP = OperatingRange.from_degrees([45.0, 180.0], -37.5)
 DISK = min_enclosing_circle([[-0.53, 0.17], [-0.70, 0.02], [-0.60, 0.02], [-0.70, 0.12]])
@@ -48,14 +45,14 @@ def test_g12_by_hand():
     # boxes (mm): lower arm 550 x 50, crank 250 x 50, coupler 650 x 50,
     # upper arm (200 + 500 + 50) x (300 + 50); every plate 20 thick
     design = np.array([0.5, 0.2, 0.6, 0.2, 0.5, 0.3])
-    boxes = link_boxes_mm(design, CAD)[0]
+    boxes = link_boxes_mm(design, None, CAD)[0]
     np.testing.assert_allclose(boxes[:, 0], [550, 250, 650, 750])
     np.testing.assert_allclose(boxes[:, 1], [50, 50, 50, 350])
     np.testing.assert_allclose(boxes[:, 2], 20)
     # sorted printer (350, 350, 600): the upper arm's 750 mm exceeds 600 mm by 150 mm
     assert printability_violation_mm(design, CAD, PRINTER)[0] == pytest.approx(150.0)
     assert printability_violation_mm(design, CAD, (800, 400, 400))[0] == pytest.approx(-50.0)
-    np.testing.assert_allclose(smallest_build_volume_mm(design, CAD)[0], [750, 350, 20])
+    np.testing.assert_allclose(needed_volume_mm(design, None, CAD)[0], [750, 350, 20])
 
 
 def test_g12_section_too_large_for_a_link_is_a_violation():
@@ -66,7 +63,7 @@ def test_g12_section_too_large_for_a_link_is_a_violation():
 
 def test_g12_agrees_with_the_outline_boxes_of_qsm_printing():
     designs = random_designs(200, 1, scale=(0.25, 0.5))
-    ours = link_boxes_mm(designs, CAD)
+    ours = link_boxes_mm(designs, None, CAD)
     outlines = np.array([list(outline_boxes_mm(d, CAD).values()) for d in designs])
     np.testing.assert_allclose(ours, outlines, atol=0.05)  # the boss polygons' chord error
     g12 = printability_violation_mm(designs, CAD, PRINTER)

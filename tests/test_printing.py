@@ -6,9 +6,10 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from qsm.embodiment import printing
 from qsm.physics import cad
 from qsm.physics.kinematics import DESIGN_COLUMNS
-from qsm.realisation import printing
+from qsm.realisation.selection import select_design
 
 SMALL = [0.30, 0.10, 0.30, 0.15, 0.36, 0.12]  # upper arm 0.56 m: fits 600 x 350 x 350 mm
 LARGE = [0.40, 0.12, 0.40, 0.20, 0.48, 0.16]  # upper arm 0.73 m: does not fit
@@ -51,7 +52,7 @@ def table() -> pd.DataFrame:
     [("min_tau1", 12), ("min_tau2", 11), ("min_torque_sum", 12), ("min_eta", 11), ("knee", 11)],
 )
 def test_select_design_rules(rule: str, expected: int) -> None:
-    row = printing.select_design(table(), rule)
+    row = select_design(table(), rule)
     assert row.name == expected
     assert row["selection_rule"] == rule and row["n_candidates"] == 3
 
@@ -59,6 +60,6 @@ def test_select_design_rules(rule: str, expected: int) -> None:
 def test_select_design_raises_when_nothing_fits() -> None:
     df = table()
     with pytest.raises(ValueError, match="build volume"):
-        printing.select_design(df, "knee", cad.CadSettings(), volume_mm=(300.0, 300.0, 300.0))
+        select_design(df, "knee", cad.CadSettings(), volume_mm=(300.0, 300.0, 300.0))
     with pytest.raises(ValueError, match="unknown selection rule"):
-        printing.select_design(df, "max_beauty")
+        select_design(df, "max_beauty")

@@ -13,6 +13,7 @@ from workflow_helpers import copy_run, copy_workflow, planned_jobs, snakemake
 
 from qsm import settings
 from qsm.config import settings_hash, validate_config
+from qsm.embodiment.printing import all_links_fit
 from qsm.evaluate import evaluate_ratios
 from qsm.mechanisms.dataset import DATASET_COLUMNS
 from qsm.mechanisms.filters import kinematic_filters
@@ -22,7 +23,6 @@ from qsm.optimisation.comparison import summary
 from qsm.optimisation.verify import verify_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.workspace import OperatingRange
-from qsm.realisation.printing import all_links_fit
 from qsm.report.headline import headline_markdown
 from qsm.surrogate.model import INPUTS
 from qsm.surrogate.model import load as load_surrogate

@@ -36,9 +36,10 @@ from numpy.typing import ArrayLike
 
 from qsm import settings
 from qsm.config import load_config, validate_config
+from qsm.embodiment.printing import fits_build_volume, needed_volume_mm
 from qsm.evaluate import checked_ratios, evaluate_ratios
 from qsm.mechanisms.dataset import DATASET_COLUMNS
-from qsm.optimisation.constraints import printability_violation_mm, smallest_build_volume_mm
+from qsm.optimisation.constraints import printability_violation_mm
 from qsm.optimisation.ranking import front_ranks
 from qsm.optimisation.verify import verify_design
 from qsm.physics.cad import CadError, link_meshes, link_outlines
@@ -48,7 +49,6 @@ from qsm.physics.mjcf import mjcf_xml
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.urdf import LOOP_NOTE, urdf_xml
 from qsm.realisation.export import export_stls
-from qsm.realisation.printing import fits_build_volume
 from qsm.realisation.selection import printing_advice
 from qsm.report.figures import draw_design
 from qsm.workflow.tables import read_meta, read_table
@@ -98,11 +98,16 @@ def _plain(value: Any) -> Any:
     return value
 
 
+#: Settings a run derives and stores beside the config's (the drive catalogue's hash).
+DERIVED_KEYS = frozenset({"catalogue_sha256"})
+
+
 def _same(stored: Any, current: Any) -> bool:
-    """Whether ``current`` holds every value of ``stored`` (numbers compared as floats)."""
+    """Whether ``current`` holds every value of ``stored`` (numbers compared as floats), the
+    derived :data:`DERIVED_KEYS` aside."""
     if isinstance(stored, Mapping):
         return isinstance(current, Mapping) and all(
-            _same(v, current.get(k)) for k, v in stored.items()
+            _same(v, current.get(k)) for k, v in stored.items() if k not in DERIVED_KEYS
         )
     if isinstance(stored, list | tuple):
         return (
@@ -287,7 +292,7 @@ def export_design(
         "printable": printable,
         "build_volume_mm": list(volume),
         "print_excess_mm": float(printability_violation_mm(d[None], cad, volume)[0]),
-        "needed_volume_mm": smallest_build_volume_mm(d[None], cad)[0].tolist(),
+        "needed_volume_mm": needed_volume_mm(d[None], None, cad)[0].tolist(),
         "links": links,
     }
     if not printable:

@@ -9,7 +9,7 @@ from qsm import settings
 from qsm.embodiment.advice import advice_sentences as strength_sentences
 from qsm.embodiment.advice import strength_advice
 from qsm.embodiment.drive_checks import drive_sentences
-from qsm.embodiment.printing_advice import advice_sentence, smallest_build_volume
+from qsm.embodiment.printing import advice_sentence, smallest_build_volume
 from qsm.embodiment.verdict import strength_record, strength_verdict
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.physics.clearance import disk_clearance_m

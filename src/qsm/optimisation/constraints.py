@@ -19,7 +19,7 @@ workspace's edge. The margin itself is an arc length, an upper bound on that cle
 (:mod:`qsm.physics.clearance` computes the clearance).
 
 **g12, printability** (millimetres). A link fits when its bounding box in the link frame
-(:func:`link_boxes_mm`, the same boxes :mod:`qsm.realisation.printing` measures on the outlines),
+(:func:`qsm.embodiment.printing.link_boxes_mm`, the closed form of the outlines),
 sorted, is no larger than the sorted build volume. g12 = the largest excess over every link and
 dimension; a design whose section does not fit its links at all (:class:`qsm.physics.cad.CadError`)
 also violates it, by how much a bar is too short.
@@ -30,6 +30,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.embodiment.printing import box_excess_mm
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import as_design
@@ -141,30 +142,6 @@ def containment_margin_m(
     return out
 
 
-def link_boxes_mm(designs: ArrayLike, cad: CadSettings) -> NDArray[np.float64]:
-    """Bounding boxes (N, 4, 3) in mm of the links (in
-    :data:`qsm.physics.kinematics.LINK_NAMES` order) in their link frames.
-
-    Closed form of the outlines of :mod:`qsm.physics.cad`: a bar of length L with bosses of radius r
-    is ``(L + 2 r) x 2 r``; the upper arm spans ``l4 + EE_x + 2 r`` along its x axis and
-    ``EE_y + 2 r`` across; every plate is ``thickness`` thick.
-    """
-    d = np.atleast_2d(as_design(designs))
-    r = cad.boss_radius_m
-    x = np.column_stack([d[:, 0], d[:, 1], d[:, 2], d[:, 3] + d[:, 4]]) + 2 * r
-    y = np.column_stack([np.full((len(d), 3), 2 * r), d[:, 5] + 2 * r])
-    z = np.full_like(x, cad.thickness_m)
-    return np.stack([x, y, z], axis=-1) * 1e3
-
-
-def box_excess_mm(
-    designs: ArrayLike, cad: CadSettings, volume_mm: ArrayLike
-) -> NDArray[np.float64]:
-    """Largest excess (mm) of a link's sorted box over the sorted build volume, per design."""
-    boxes = np.sort(link_boxes_mm(designs, cad), axis=-1)
-    return (boxes - np.sort(np.asarray(volume_mm, dtype=float))).max(axis=(1, 2))
-
-
 def printability_violation_mm(
     designs: ArrayLike, cad: CadSettings, volume_mm: ArrayLike
 ) -> NDArray[np.float64]:
@@ -180,9 +157,3 @@ def printability_violation_mm(
         [2 * x0 - d[:, :4].min(axis=1), x0 + h - d[:, 4], x0 + h - d[:, 5]]
     ).max(axis=1)
     return np.maximum(excess, short * 1e3)
-
-
-def smallest_build_volume_mm(designs: ArrayLike, cad: CadSettings) -> NDArray[np.float64]:
-    """Smallest build volume (N, 3), sorted descending (mm), holding every link of each design."""
-    boxes = np.sort(link_boxes_mm(designs, cad), axis=-1)[..., ::-1]
-    return boxes.max(axis=1)

@@ -10,14 +10,11 @@ import pandas as pd
 
 from qsm.embodiment.drive_checks import DriveCheck, with_drives
 from qsm.embodiment.link_checks import StrengthCheck, with_strength
+from qsm.embodiment.printing import all_links_fit, needed_volume_mm
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
-from qsm.optimisation.constraints import (
-    containment_margin_m,
-    printability_violation_mm,
-    smallest_build_volume_mm,
-)
+from qsm.optimisation.constraints import containment_margin_m, printability_violation_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.clearance import disk_clearance_m
 from qsm.physics.duty import Duty
@@ -25,7 +22,6 @@ from qsm.physics.dynamics import evaluate_mechanism
 from qsm.physics.kinematics import RATIO_NAMES
 from qsm.physics.task import Disk
 from qsm.physics.workspace import slice_workspace
-from qsm.realisation.printing import all_links_fit
 from qsm.surrogate.model import INPUTS
 
 #: Circles through the task disk on which containment is verified (g11 uses 64).
@@ -119,7 +115,7 @@ def verify_front(
     table["in_table1"] = np.all((ratios >= lo - 1e-12) & (ratios <= hi + 1e-12), axis=1)
     table["printable"] = [all_links_fit(d, cad, tuple(volume_mm)) for d in lengths]
     table["print_excess_mm"] = printability_violation_mm(lengths, cad, volume_mm)
-    needed = smallest_build_volume_mm(lengths, cad)
+    needed = needed_volume_mm(lengths, None, cad)
     for k, side in enumerate(("long", "mid", "short")):
         table[f"needed_volume_{side}_mm"] = needed[:, k]
     return table

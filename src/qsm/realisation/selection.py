@@ -2,9 +2,9 @@
 feasible always.
 
 Order of the search (:func:`choose_design`), each step applying the selection rule of
-:func:`qsm.realisation.printing.select_design` to its candidates, taken first from the primary
-front (``optimization.formulation``), then the other fronts in order, then the dataset (every
-design of which truly holds the task, with true dynamics):
+:func:`select_design` (:func:`qsm.optimisation.ranking.rule_scores`) to its candidates, taken
+first from the primary front (``optimization.formulation``), then the other fronts in order,
+then the dataset (every design of which truly holds the task, with true dynamics):
 
 1. the truly feasible designs whose links hold their loads, whose motors each have a drive in the
    catalogue (:mod:`qsm.embodiment.drive_checks`) and that fit the printer;
@@ -31,16 +31,19 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
-from qsm.optimisation.constraints import (
+from qsm.embodiment.printing import (
+    BUILD_VOLUME_MM,
+    all_links_fit,
     box_excess_mm,
-    printability_violation_mm,
-    smallest_build_volume_mm,
+    fits_build_volume,
+    needed_volume_mm,
 )
-from qsm.physics.cad import CadSettings
+from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
+from qsm.optimisation.constraints import printability_violation_mm
+from qsm.optimisation.ranking import OBJECTIVES, RULES, rule_scores
+from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task import Disk
-from qsm.realisation.printing import OBJECTIVES, all_links_fit, select_design
 
 
 class NoFeasibleDesign(ValueError):
@@ -67,13 +70,56 @@ def _feasible(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def _printable(table: pd.DataFrame, cad: CadSettings, volume_mm: tuple[float, ...]) -> pd.Series:
-    """Whether every link fits, decided by :func:`qsm.realisation.printing.all_links_fit` on the
+    """Whether every link fits, decided by :func:`qsm.embodiment.printing.all_links_fit` on the
     outlines (the closed-form boxes only pre-screen the designs clearly too large)."""
     designs = table.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)
     near = printability_violation_mm(designs, cad, volume_mm) <= 0.5
     fits = np.zeros(len(table), dtype=bool)
     fits[near] = [all_links_fit(d, cad, volume_mm) for d in designs[near]]
     return pd.Series(fits, index=table.index)
+
+
+def select_design(
+    verified: pd.DataFrame,
+    rule: str = "knee",
+    cad: CadSettings = DEFAULT_CAD,
+    volume_mm: tuple[float, float, float] = BUILD_VOLUME_MM,
+) -> pd.Series:
+    """The row of ``verified`` chosen by ``rule`` (see the module docstring) among the feasible,
+    dynamically verified (``dynamics_status == 'ok'``) designs whose links all fit ``volume_mm``.
+
+    The returned row (a copy, same index label) gains ``selection_rule``, ``selection_score``,
+    ``n_candidates`` (rows that fit) and, per link, ``<link>_box_mm`` (x, y, thickness).
+    Raises ``ValueError`` when no row qualifies or the rule is unknown.
+    """
+    if rule not in RULES:
+        raise ValueError(f"unknown selection rule {rule!r}; choose one of {RULES}")
+    missing = [
+        c
+        for c in (*DESIGN_COLUMNS, *OBJECTIVES, "feasible", "dynamics_status")
+        if c not in verified.columns
+    ]
+    if missing:
+        raise ValueError(f"verified table lacks columns {missing}")
+    ok = verified[(verified["feasible"].astype(bool)) & (verified["dynamics_status"] == "ok")]
+    ok = ok[np.isfinite(ok.loc[:, list(OBJECTIVES)].to_numpy(float)).all(axis=1)]
+    designs = ok.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)
+    fit = np.array([all_links_fit(d, cad, volume_mm) for d in designs], dtype=bool)
+    cand = ok[fit]
+    if cand.empty:
+        raise ValueError(
+            f"no design qualifies: {len(verified)} rows, {len(ok)} feasible with dynamics 'ok', "
+            f"none of them has every link within the build volume {tuple(volume_mm)} mm"
+        )
+    scores = rule_scores(cand, rule)
+    k = int(np.argmin(scores))
+    row = cand.iloc[k].copy()
+    row["selection_rule"] = rule
+    row["selection_score"] = float(scores[k])
+    row["n_candidates"] = len(cand)
+    for name, info in fits_build_volume(designs[fit][k], cad, volume_mm).items():
+        row[f"{name}_box_mm"] = info["dims_mm"]
+    return row
 
 
 def choose_design(
@@ -176,7 +222,7 @@ def printing_advice(
     """
     d = np.asarray(design, dtype=float)
     out: dict[str, Any] = {
-        "needed_volume_mm": smallest_build_volume_mm(d, cad)[0].tolist(),
+        "needed_volume_mm": needed_volume_mm(d, None, cad)[0].tolist(),
         "build_volume_mm": [float(v) for v in volume_mm],
     }
 

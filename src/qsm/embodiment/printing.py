@@ -1,4 +1,11 @@
-"""Printing advice from every design: the smallest printer on which some verified design fits.
+"""Printability: link boxes, the fit test, and the smallest printer on which a design fits.
+
+A link fits when its axis-aligned bounding box (outline extents in its link frame x plate
+thickness, mm), sorted, is no larger than the sorted build volume dimension by dimension (the part
+may be laid in any orientation aligned with the build axes). :func:`link_boxes_mm` gives the boxes
+in closed form for a whole population (the optimisation's g12 and every fit test use it);
+:func:`outline_boxes_mm` measures them on the outlines of :mod:`qsm.physics.cad` (a test holds
+the two together).
 
 The build volume a design needs is the largest sorted bounding box over its four links (each link
 may be turned to any axis-aligned orientation, so only the sorted sides matter). With bored parts
@@ -21,8 +28,11 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.cad import DEFAULT_CAD, CadSettings
+from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, link_outlines
 from qsm.physics.kinematics import DESIGN_COLUMNS, as_design
+
+#: The paper's printer, W x L x H (mm).
+BUILD_VOLUME_MM: tuple[float, float, float] = (600.0, 350.0, 350.0)
 
 
 def link_boxes_mm(
@@ -69,6 +79,15 @@ def needed_volume_mm(
     """Smallest build volume (N, 3) holding every link, sides from the largest (mm, exact)."""
     boxes = np.sort(link_boxes_mm(designs, radii, cad), axis=-1)[..., ::-1]
     return boxes.max(axis=1)
+
+
+def box_excess_mm(
+    designs: ArrayLike, cad: CadSettings, volume_mm: ArrayLike, radii: ArrayLike | None = None
+) -> NDArray[np.float64]:
+    """Largest excess (mm) of a link's sorted box over the sorted build volume, per design: the
+    fit test (<= 0 fits)."""
+    boxes = np.sort(link_boxes_mm(designs, radii, cad), axis=-1)
+    return (boxes - np.sort(np.asarray(volume_mm, dtype=float))).max(axis=(1, 2))
 
 
 def round_up_mm(sizes_mm: ArrayLike) -> list[int]:
@@ -132,3 +151,41 @@ def advice_sentence(advice: dict[str, Any] | None, volume_mm: ArrayLike) -> str:
         f"a printer of at least {need} mm (configured: {have} mm): the smallest that fits a design "
         f"holding the task, design {who}{where}, of {advice['designs_holding']} that hold it"
     )
+
+
+def outline_boxes_mm(design: ArrayLike, cad: CadSettings) -> dict[str, tuple[float, float, float]]:
+    """Bounding box (x extent, y extent, thickness) in mm of every link's outline in its frame."""
+    out = {}
+    for name, poly in link_outlines(design, cad).items():
+        ext = (poly.max(axis=0) - poly.min(axis=0)) * 1e3
+        out[name] = (float(ext[0]), float(ext[1]), cad.thickness_m * 1e3)
+    return out
+
+
+def fits_build_volume(
+    design: ArrayLike,
+    cad: CadSettings = DEFAULT_CAD,
+    volume_mm: tuple[float, float, float] = BUILD_VOLUME_MM,
+) -> dict[str, dict[str, Any]]:
+    """Per link: ``{"fits": bool, "dims_mm": (x, y, thickness)}``; a link fits when its sorted
+    box does not exceed the sorted build volume ``volume_mm``.
+
+    Raises :class:`qsm.physics.cad.CadError` when the section does not fit the design at all.
+    """
+    vol = np.sort(np.asarray(volume_mm, dtype=float))
+    out = {}
+    for name, dims in outline_boxes_mm(design, cad).items():
+        out[name] = {"fits": bool(np.all(np.sort(dims) <= vol + 1e-9)), "dims_mm": dims}
+    return out
+
+
+def all_links_fit(
+    design: ArrayLike,
+    cad: CadSettings = DEFAULT_CAD,
+    volume_mm: tuple[float, float, float] = BUILD_VOLUME_MM,
+) -> bool:
+    """Whether every link fits the build volume (False when the CAD section is invalid)."""
+    try:
+        return all(v["fits"] for v in fits_build_volume(design, cad, volume_mm).values())
+    except CadError:
+        return False
