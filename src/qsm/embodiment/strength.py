@@ -246,6 +246,69 @@ class LinkStrength(NamedTuple):
     labels: tuple[str, ...]
 
 
+def cut_forces(
+    design: ArrayLike,
+    sec: Section,
+    inertials: Inertials,
+    loads: JointLoads,
+    motion: LinkMotion,
+    link: str,
+    cuts: Cuts | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Axial force N (tension > 0, N) and in-plane moment M (N m) at every cut of ``link``, each
+    (..., N, C) over the duty samples of ``loads`` and ``motion`` (..., N): its own cuts of
+    :func:`link_cuts`, or ``cuts`` (for example extra cuts along a bar)."""
+    d = as_design(design)
+    k = list(LOADS).index(link)
+    cuts = link_cuts(d, sec)[link] if cuts is None else cuts
+    mu = inertials.mass_kg[..., k] / _SPINE[link](d)
+    cn, cm = cut_coefficients(cuts, len(LOADS[link]), mu)
+    g_rel = (
+        np.broadcast_to(GRAVITY, motion.origin_acc[..., k, :].shape) - motion.origin_acc[..., k, :]
+    )
+    forces = loads._asdict()
+    sample = np.concatenate(
+        [
+            *(sign * motion.rotate_to_link(forces[n], k) for n, sign in LOADS[link]),
+            motion.rotate_to_link(g_rel, k),
+            motion.alpha[..., k, None],
+            motion.omega[..., k, None] ** 2,
+        ],
+        axis=-1,
+    )  # (..., N, 2 n_loads + 4)
+    both = sample @ np.swapaxes(np.concatenate([cn, cm], axis=-2), -1, -2)  # (..., N, 2C)
+    n_cuts = len(cuts.labels)
+    return both[..., :n_cuts], both[..., n_cuts:]
+
+
+def section_stress(
+    axial_N: ArrayLike, moment_Nm: ArrayLike, sec: Section, bore: ArrayLike = False
+) -> NDArray[np.float64]:
+    """Beam stress (Pa) of a cut: the bar's ``|N| / (w t) + 6 |M| / (t w^2)``, or where ``bore``
+    the net section's ``|N| / (t (2R - d_b)) + |M| R / I_net``."""
+    w, t, r, d_b = sec.width_m, sec.thickness_m, sec.boss_radius_m, sec.bore_m
+    bore = np.asarray(bore, dtype=bool)
+    area = np.where(bore, t * (2 * r - d_b), w * t)
+    modulus = np.where(bore, t * ((2 * r) ** 3 - d_b**3) / (12 * r), t * w**2 / 6)
+    return np.abs(axial_N) / area + np.abs(moment_Nm) / modulus
+
+
+def cut_stresses(
+    design: ArrayLike,
+    sec: Section,
+    inertials: Inertials,
+    loads: JointLoads,
+    motion: LinkMotion,
+    link: str,
+) -> tuple[NDArray[np.float64], tuple[str, ...]]:
+    """Beam stress (Pa) at every cut of ``link`` (:func:`link_cuts`) and every duty sample,
+    (..., N, C), and the cuts' labels (the per-cut, per-sample values :func:`link_strength`
+    takes the peak of, before its lug checks)."""
+    cuts = link_cuts(as_design(design), sec)[link]
+    axial, moment = cut_forces(design, sec, inertials, loads, motion, link, cuts)
+    return section_stress(axial, moment, sec, cuts.bore), cuts.labels
+
+
 def link_strength(
     design: ArrayLike,
     sec: Section,
@@ -258,40 +321,14 @@ def link_strength(
     """Peak stress and compression of each link of ``design`` (..., 6) m over the duty samples
     of ``loads`` and ``motion`` (..., N)."""
     d = as_design(design)
-    w, t, r, bore = sec.width_m, sec.thickness_m, sec.boss_radius_m, sec.bore_m
-    net_area = t * (2 * r - bore)
-    net_z = t * ((2 * r) ** 3 - bore**3) / (12 * r)
+    net_area = sec.thickness_m * (2 * sec.boss_radius_m - sec.bore_m)
     forces = loads._asdict()
     out = {}
-    for k, (link, cuts) in enumerate(link_cuts(d, sec).items()):
-        mu = inertials.mass_kg[..., k] / _SPINE[link](d)
-        cn, cm = cut_coefficients(cuts, len(LOADS[link]), mu)
-        g_rel = (
-            np.broadcast_to(GRAVITY, motion.origin_acc[..., k, :].shape)
-            - motion.origin_acc[..., k, :]
-        )
-        sample = np.concatenate(
-            [
-                *(sign * motion.rotate_to_link(forces[n], k) for n, sign in LOADS[link]),
-                motion.rotate_to_link(g_rel, k),
-                motion.alpha[..., k, None],
-                motion.omega[..., k, None] ** 2,
-            ],
-            axis=-1,
-        )  # (..., N, 2 n_loads + 4)
-        n_cuts = len(cuts.labels)
-        both = sample @ np.swapaxes(np.concatenate([cn, cm], axis=-2), -1, -2)  # (..., N, 2C)
+    for link, cuts in link_cuts(d, sec).items():
+        axial, moment = cut_forces(d, sec, inertials, loads, motion, link, cuts)
         column = np.flatnonzero(cuts.column)
-        compression = -both[..., column].min(axis=(-2, -1))
-        np.abs(both, out=both)
-        weights = np.zeros((2 * n_cuts, n_cuts))
-        weights[np.arange(n_cuts), np.arange(n_cuts)] = np.where(
-            cuts.bore, 1 / net_area, 1 / (w * t)
-        )
-        weights[n_cuts + np.arange(n_cuts), np.arange(n_cuts)] = np.where(
-            cuts.bore, 1 / net_z, 6 / (t * w**2)
-        )
-        stress = (both @ weights).max(axis=-2)
+        compression = -axial[..., column].min(axis=(-2, -1))
+        stress = section_stress(axial, moment, sec, cuts.bore).max(axis=-2)
         lug = [
             strength.lug_stress_concentration
             / net_area
