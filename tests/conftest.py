@@ -10,3 +10,10 @@ def run(tmp_path_factory):
     work = copy_workflow(tmp_path_factory.mktemp("wf"))
     snakemake(work)
     return work
+
+
+def pytest_collection_modifyitems(items):
+    """Every test that reads the shared run is a workflow test (it starts Snakemake)."""
+    for item in items:
+        if "run" in getattr(item, "fixturenames", ()):
+            item.add_marker(pytest.mark.workflow)

@@ -18,6 +18,26 @@ from typing import Any
 
 __version__ = "0.1.0"
 
+#: The packages and top-level modules of ``qsm`` by layer, lowest first: a layer imports only
+#: from the layers before it (tests/test_layers.py holds the code to this).
+LAYERS: tuple[tuple[str, ...], ...] = (
+    ("physics",),  # kinematics, workspace, solids, MuJoCo dynamics, clearance
+    ("mechanisms", "surrogate"),  # Stage 1 designs and the dataset's columns; the MLP
+    ("embodiment",),  # loads, strength, bearings, drives, parts, printability
+    ("optimisation",),  # NSGA-II, constraints, verification, ranking
+    ("realisation",),  # selection, topology, assembly, payload test
+    ("report",),  # figures, drawings, headline, interactive pages
+    ("design_rules",),  # Stage 5 and the study
+    ("workflow",),  # tables, logs, shards, provenance: plumbing for the rules
+    ("config_checks",),
+    ("config",),
+    ("settings",),
+    ("evaluate",),
+    ("export_design",),
+    ("cli",),
+    ("__main__",),
+)
+
 _EXPORTS: dict[str, tuple[str, str]] = {
     "end_effector": ("qsm.physics.kinematics", "end_effector"),
     "joint_torques": ("qsm.physics.dynamics", "joint_torques"),

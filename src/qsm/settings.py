@@ -27,6 +27,7 @@ if TYPE_CHECKING:
     from qsm.embodiment.drives.catalogue import Catalogue
     from qsm.embodiment.link_checks import StrengthCheck
     from qsm.embodiment.material import Material, StrengthSettings
+    from qsm.embodiment.parts import PartSettings
     from qsm.optimisation.problems import ExtraConstraints
     from qsm.physics.cad import CadSettings
     from qsm.physics.duty import DutySettings
@@ -80,6 +81,17 @@ def material(section: Section) -> Material:
     from qsm.embodiment.material import Material
 
     return Material(**section)
+
+
+def parts(
+    cad_section: Section, material_section: Section, strength_section: Section
+) -> PartSettings:
+    """The bored parts: the link solids and ``strength.boss_wall_m`` around the bearing seats."""
+    from qsm.embodiment.parts import PartSettings
+
+    return PartSettings(
+        cad(cad_section, material_section), boss_wall_m=strength_section["boss_wall_m"]
+    )
 
 
 def strength(section: Section) -> StrengthSettings:

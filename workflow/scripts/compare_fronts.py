@@ -7,10 +7,10 @@ from qsm.optimisation.comparison import compare, comparison_markdown
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    inp = snakemake.input  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    out = snakemake.output  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    inp = snakemake.input
+    p = snakemake.params
+    out = snakemake.output
     dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
     paths = dict(zip(p.formulations, inp.fronts, strict=True))
     fronts = {name: read_table(path) for name, path in paths.items()}

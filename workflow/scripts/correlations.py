@@ -5,11 +5,11 @@ from qsm.design_rules.plots import correlation_figure
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    alpha = snakemake.params.alpha  # noqa: F821
-    designs = read_table(snakemake.input.designs, [*FEATURES_MM, *OBJECTIVES])  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    alpha = snakemake.params.alpha
+    designs = read_table(snakemake.input.designs, [*FEATURES_MM, *OBJECTIVES])
     table = correlations(designs, FEATURES_MM, list(OBJECTIVES))
-    write_table(table, snakemake.output.table, {"n_designs": len(designs)})  # noqa: F821
-    correlation_figure(table, FEATURES_MM, list(OBJECTIVES), alpha, snakemake.output.figure)  # noqa: F821
+    write_table(table, snakemake.output.table, {"n_designs": len(designs)})
+    correlation_figure(table, FEATURES_MM, list(OBJECTIVES), alpha, snakemake.output.figure)
     tau = table[(table["a"] == "tau1_pred_Nm") & (table["b"] == "tau2_pred_Nm")].iloc[0]
     log.info("Pearson(tau1, tau2) = %.3f on %d designs", tau["pearson"], len(designs))

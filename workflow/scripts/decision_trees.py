@@ -9,10 +9,10 @@ from qsm.optimisation.nsga import PREDICTION_COLUMNS
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    inp = snakemake.input  # noqa: F821
-    out = snakemake.output  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    inp = snakemake.input
+    out = snakemake.output
     designs = mining_designs(
         read_table(inp.pareto, PREDICTION_COLUMNS), read_table(inp.generations, PREDICTION_COLUMNS)
     )

@@ -9,9 +9,9 @@ from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    inp = snakemake.input  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    inp = snakemake.input
     with open(inp.first_splits) as fh:
         trees = json.load(fh)
     dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
@@ -46,8 +46,8 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         study=study,
     )
     table = findings(evidence, p.alpha)
-    write_table(table, snakemake.output.table)  # noqa: F821
-    with open(snakemake.output.summary, "w") as fh:  # noqa: F821
+    write_table(table, snakemake.output.table)
+    with open(snakemake.output.summary, "w") as fh:
         fh.write(summary_markdown(table, evidence, p.primary))
     for row in table.itertuples():
         log.info("%s: %s; %s", row.finding, row.agree, row.verdict)

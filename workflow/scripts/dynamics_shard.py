@@ -6,26 +6,23 @@ from qsm.embodiment.drive_checks import with_drives
 from qsm.embodiment.link_checks import with_strength
 from qsm.mechanisms.dataset import status_counts
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
-from qsm.physics.dynamics import evaluate_shard
+from qsm.physics.duty import duty_cycle
+from qsm.physics.dynamics import evaluate_table
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    shard = int(snakemake.wildcards.shard)  # noqa: F821
-    mechanisms = read_table(snakemake.input[0], MECHANISM_COLUMNS)  # noqa: F821
-    result = evaluate_shard(
-        mechanisms,
-        p.shards,
-        shard,
-        settings.cad(p.cad, p.material),
-        duty := settings.duty(p.duty, p.operating_range),
-        p.payload_kg,
-    )
-    check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    shard = int(snakemake.wildcards.shard)
+    mechanisms = read_table(snakemake.input[0], MECHANISM_COLUMNS)
+    duty = settings.duty(p.duty, p.operating_range)
     rows = mechanisms.iloc[shard_slice(len(mechanisms), p.shards, shard)]
+    result = evaluate_table(
+        rows, duty_cycle(duty), settings.cad(p.cad, p.material), p.payload_kg
+    ).reset_index(drop=True)
+    check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
     result = with_strength(result, rows[list(DESIGN_COLUMNS)], check)
     drives = settings.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
     result = with_drives(result, rows[list(DESIGN_COLUMNS)], drives)
@@ -38,4 +35,4 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         int(result["holds_loads"].sum()),
         int(result["has_drives"].sum()),
     )
-    write_table(result, snakemake.output[0])  # noqa: F821
+    write_table(result, snakemake.output[0])

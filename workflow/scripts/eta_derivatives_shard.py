@@ -9,13 +9,13 @@ from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    shard = int(snakemake.wildcards.shard)  # noqa: F821
-    table = read_table(snakemake.input[0], MECHANISM_COLUMNS)  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    shard = int(snakemake.wildcards.shard)
+    table = read_table(snakemake.input[0], MECHANISM_COLUMNS)
     rows = table.iloc[shard_slice(len(table), p.shards, shard)]
     op = settings.operating_range(p.operating_range)
     res = Resolution(p.resolution["n_delta"], p.resolution["n_levels"])
     grads = eta_gradients(rows, op, min_enclosing_circle(p.task_points), res, p.step)
-    write_table(grads, snakemake.output[0])  # noqa: F821
+    write_table(grads, snakemake.output[0])
     log.info("shard %d of %d: derivatives of %d mechanisms", shard, p.shards, len(grads))

@@ -8,13 +8,13 @@ from qsm.physics.kinematics import RATIO_NAMES
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    samples = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    samples = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])
     op = settings.operating_range(p.operating_range)
     candidates, counts = kinematic_filters(samples, op, p.filters["min_transmission_angle_deg"])
     for step, n in counts.items():
         log.info("%-20s %7d", step, n)
-    write_table(candidates, snakemake.output.candidates)  # noqa: F821
-    with open(snakemake.output.counts, "w") as fh:  # noqa: F821
+    write_table(candidates, snakemake.output.candidates)
+    with open(snakemake.output.counts, "w") as fh:
         json.dump(counts, fh, indent=2)

@@ -7,12 +7,12 @@ from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    shard = int(snakemake.wildcards.shard)  # noqa: F821
-    candidates = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    shard = int(snakemake.wildcards.shard)
+    candidates = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])
     rows = candidates.iloc[shard_slice(len(candidates), p.shards, shard)]
     log.info("shard %d of %d: %d designs", shard, p.shards, len(rows))
     fit_settings = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace)
     fits = fit_designs(rows, fit_settings, stop_after=p.n_mechanisms)
-    write_table(fits, snakemake.output[0])  # noqa: F821
+    write_table(fits, snakemake.output[0])

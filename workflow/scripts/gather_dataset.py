@@ -17,9 +17,9 @@ from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    inp = snakemake.input  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    inp = snakemake.input
     mechanisms = read_table(inp.mechanisms, MECHANISM_COLUMNS)
     columns = ["mechanism_id", *DYNAMICS_COLUMNS, *STRENGTH_COLUMNS, *DRIVE_COLUMNS]
     shards = [read_table(path, columns) for path in inp.shards]
@@ -48,11 +48,11 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         "settings": p.settings,
         "columns": DATASET_COLUMNS,
     }
-    write_table(dataset, snakemake.output.dataset, meta)  # noqa: F821
+    write_table(dataset, snakemake.output.dataset, meta)
     summary = {"mechanisms": len(dataset), "status": counts, "strength": strength}
     summary["drives"] = drives
     summary["failures"] = {
         str(row.mechanism_id): f"{row.status}: {row.status_reason}" for row in failed.itertuples()
     }
-    with open(snakemake.output.status, "w") as fh:  # noqa: F821
+    with open(snakemake.output.status, "w") as fh:
         json.dump(summary, fh, indent=2)

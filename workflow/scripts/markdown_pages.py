@@ -3,8 +3,8 @@
 from qsm.report.markdown_pages import write_markdown_html
 from qsm.workflow.logs import logged
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    titles = snakemake.params.titles  # noqa: F821
-    for key, source in snakemake.input.items():  # noqa: F821
-        write_markdown_html(source, snakemake.output[key], titles[key])  # noqa: F821
-        log.info(f"{source} -> {snakemake.output[key]}")  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    titles = snakemake.params.titles
+    for key, source in snakemake.input.items():
+        write_markdown_html(source, snakemake.output[key], titles[key])
+        log.info(f"{source} -> {snakemake.output[key]}")

@@ -8,11 +8,11 @@ from qsm.surrogate.model import load
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    out = snakemake.output  # noqa: F821
-    model = load(snakemake.input.model)  # noqa: F821
-    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    out = snakemake.output
+    model = load(snakemake.input.model)
+    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))
     fit = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
     every = max(1, p.optimization["generations"] // 10)
 

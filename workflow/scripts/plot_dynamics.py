@@ -5,8 +5,8 @@ from qsm.report.figures import performance_figure
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    dataset = read_table(snakemake.input[0], DATASET_COLUMNS)  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    dataset = read_table(snakemake.input[0], DATASET_COLUMNS)
     ok = ok_rows(dataset)
-    performance_figure(ok, snakemake.output[0])  # noqa: F821
+    performance_figure(ok, snakemake.output[0])
     log.info("drew %d of %d mechanisms (status ok)", len(ok), len(dataset))

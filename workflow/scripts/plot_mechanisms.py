@@ -7,10 +7,10 @@ from qsm.report.figures import distributions_figure, examples_figure
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    out = snakemake.output  # noqa: F821
-    table = read_table(snakemake.input[0], MECHANISM_COLUMNS)  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    out = snakemake.output
+    table = read_table(snakemake.input[0], MECHANISM_COLUMNS)
     op = settings.operating_range(p.operating_range)
     disk = min_enclosing_circle(p.task_points)
     examples_figure(table, op, disk, out.examples, p.figures["n_examples"])

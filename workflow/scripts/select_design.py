@@ -25,10 +25,10 @@ from qsm.report.figures import draw_design
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    inp = snakemake.input  # noqa: F821
-    out = snakemake.output  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    inp = snakemake.input
+    out = snakemake.output
     fronts = {name: read_table(path) for name, path in zip(p.formulations, inp.fronts, strict=True)}
     dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
     rule = p.printing["selection_rule"]

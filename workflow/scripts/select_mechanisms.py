@@ -14,14 +14,14 @@ from qsm.mechanisms.scale import (
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
     fits = pd.concat(
-        [read_table(f, ["sample_id", "feasible", "reason"]) for f in snakemake.input.fits],  # noqa: F821
+        [read_table(f, ["sample_id", "feasible", "reason"]) for f in snakemake.input.fits],
         ignore_index=True,
     )
     fits = examined_fits(fits, p.n_mechanisms)
-    with open(snakemake.input.counts) as fh:  # noqa: F821
+    with open(snakemake.input.counts) as fh:
         counts = json.load(fh)
     counts.update(fit_counts(fits))
     if counts["task_fits"] == 0:
@@ -46,6 +46,6 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         "settings": p.settings,
         "columns": MECHANISM_COLUMNS,
     }
-    write_table(table, snakemake.output.mechanisms, meta)  # noqa: F821
-    with open(snakemake.output.report, "w") as fh:  # noqa: F821
+    write_table(table, snakemake.output.mechanisms, meta)
+    with open(snakemake.output.report, "w") as fh:
         json.dump(counts, fh, indent=2)

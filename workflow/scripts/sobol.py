@@ -11,11 +11,11 @@ from qsm.workflow.tables import read_table, write_table
 
 OUTPUTS = ["eta", "tau1", "tau2"]
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    out = snakemake.output  # noqa: F821
-    model = load(snakemake.input.model)  # noqa: F821
-    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    out = snakemake.output
+    model = load(snakemake.input.model)
+    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))
     lo, hi = bounds_from(dataset, INPUTS, p.bounds)
     result = sobol_indices(
         model.predict,

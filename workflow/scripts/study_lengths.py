@@ -11,10 +11,10 @@ from qsm.physics.duty import duty_cycle
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    out = snakemake.output  # noqa: F821
-    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    out = snakemake.output
+    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))
     duty = duty_cycle(settings.duty(p.duty, p.operating_range))
     sample = independent_lengths(
         dataset,

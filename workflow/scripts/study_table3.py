@@ -13,12 +13,12 @@ from qsm.realisation.export import props_from_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    out = snakemake.output  # noqa: F821
-    with open(snakemake.input.selected) as fh:  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    out = snakemake.output
+    with open(snakemake.input.selected) as fh:
         design = np.asarray(json.load(fh)["design_m"])
-    with open(snakemake.input.links) as fh:  # noqa: F821
+    with open(snakemake.input.links) as fh:
         optimised = props_from_json(json.load(fh))
     duty = duty_cycle(settings.duty(p.duty, p.operating_range))
     sweep = table3_sweep(design, settings.cad(p.cad, p.material), duty, optimised, p.payloads_kg)

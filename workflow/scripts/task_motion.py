@@ -8,10 +8,10 @@ from qsm.report.animation import frames_record, write_task_motion, write_viewer_
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    inp = snakemake.input  # noqa: F821
-    out = snakemake.output  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    inp = snakemake.input
+    out = snakemake.output
     with open(inp.selected) as fh:
         selected = json.load(fh)
     with open(inp.payload) as fh:

@@ -6,26 +6,27 @@ import json
 import numpy as np
 
 from qsm import settings
-from qsm.embodiment.parts import PartSettings, link_parts, part_meshes
+from qsm.embodiment.parts import link_parts, part_meshes
 from qsm.physics.duty import duty_cycle
 from qsm.realisation.assembly import bearing_rows, final_parts, write_parts
 from qsm.realisation.export import export_stls, props_to_json, torques_markdown
 from qsm.realisation.geometry import extrude
 from qsm.realisation.topology import optimise_links, plot_links
 from qsm.realisation.torques import torques_before_after
+from qsm.report.drawing import draw_links
 from qsm.workflow.logs import logged
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    out = snakemake.output  # noqa: F821
-    with open(snakemake.input.selected) as fh:  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    out = snakemake.output
+    with open(snakemake.input.selected) as fh:
         selected = json.load(fh)
     design = np.asarray(selected["design_m"])
     cad = settings.cad(p.cad, p.material)
     duty = duty_cycle(settings.duty(p.duty, p.operating_range))
     topo = settings.topology(p.topology, p.material, p.strength)
     result = optimise_links(design, cad, p.payload_kg, duty, topo)
-    part_settings = PartSettings(cad, boss_wall_m=p.strength["boss_wall_m"])
+    part_settings = settings.parts(p.cad, p.material, p.strength)
     names = {j: b["designation"] for j, b in selected["strength"]["bearings"].items()}
     rows = bearing_rows(names, part_settings.table)
     solid = link_parts(design, rows, part_settings)
@@ -36,9 +37,7 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
     }
     parts = final_parts(design, rows, part_settings, held)
     written = write_parts(
-        design,
         parts,
-        solid,
         rows,
         part_settings,
         p.material["name"],
@@ -46,6 +45,8 @@ with logged(snakemake.log[0]) as log:  # noqa: F821
         out.bom_csv.rsplit("/", 1)[0],
         selected.get("drives"),
     )
+    svg, png = draw_links(design, solid, f"{out.bom_csv.rsplit('/', 1)[0]}/drawing", cad)
+    written["drawing"] = {"svg": str(svg), "png": str(png)}
     props = written.pop("masses")
     written["masses_kg"] = {name: m.mass_kg for name, m in props.items()}
     torques = torques_before_after(design, cad, p.payload_kg, duty, props)

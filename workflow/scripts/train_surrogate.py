@@ -9,10 +9,10 @@ from qsm.surrogate.model import INPUTS, OUTPUTS, metrics_markdown, train
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    out = snakemake.output  # noqa: F821
-    surrogate_settings = settings.surrogate(snakemake.params.surrogate)  # noqa: F821
-    dataset = ok_rows(read_table(snakemake.input[0], DATASET_COLUMNS))  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    out = snakemake.output
+    surrogate_settings = settings.surrogate(snakemake.params.surrogate)
+    dataset = ok_rows(read_table(snakemake.input[0], DATASET_COLUMNS))
     x = dataset[list(INPUTS)].to_numpy()
     y = dataset[list(OUTPUTS)].to_numpy()
     log.info("training on %d designs (status ok) with %s", len(x), surrogate_settings)

@@ -10,10 +10,10 @@ from qsm.surrogate.model import INPUTS
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table, write_table
 
-with logged(snakemake.log[0]) as log:  # noqa: F821
-    p = snakemake.params  # noqa: F821
-    out = snakemake.output  # noqa: F821
-    path = snakemake.input.pareto  # noqa: F821
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    out = snakemake.output
+    path = snakemake.input.pareto
     pareto = read_table(path, [*INPUTS, *PREDICTION_COLUMNS])
     meta = read_meta(path)
     fit = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)

@@ -248,6 +248,71 @@ class LinkStrength(NamedTuple):
     labels: tuple[str, ...]
 
 
+def cut_forces(
+    design: ArrayLike,
+    sec: Section,
+    inertials: Inertials,
+    loads: JointLoads,
+    motion: LinkMotion,
+    link: str,
+    cuts: Cuts | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """Axial force N (tension > 0, N) and in-plane moment M (N m) at every cut of ``link``, each
+    (..., N, C) over the duty samples of ``loads`` and ``motion`` (..., N): its own cuts of
+    :func:`link_cuts`, or ``cuts`` (for example extra cuts along a bar)."""
+    d = as_design(design)
+    k = list(LOADS).index(link)
+    cuts = link_cuts(d, sec)[link] if cuts is None else cuts
+    mu = inertials.mass_kg[..., k] / _SPINE[link](d)
+    cn, cm = cut_coefficients(cuts, len(LOADS[link]), mu)
+    g_rel = (
+        np.broadcast_to(GRAVITY, motion.origin_acc[..., k, :].shape) - motion.origin_acc[..., k, :]
+    )
+    forces = loads._asdict()
+    sample = np.concatenate(
+        [
+            *(sign * motion.rotate_to_link(forces[n], k) for n, sign in LOADS[link]),
+            motion.rotate_to_link(g_rel, k),
+            motion.alpha[..., k, None],
+            motion.omega[..., k, None] ** 2,
+        ],
+        axis=-1,
+    )  # (..., N, 2 n_loads + 4)
+    both = sample @ np.swapaxes(np.concatenate([cn, cm], axis=-2), -1, -2)  # (..., N, 2C)
+    n_cuts = len(cuts.labels)
+    return both[..., :n_cuts], both[..., n_cuts:]
+
+
+def section_stress(
+    axial_N: ArrayLike, moment_Nm: ArrayLike, sec: Section, bore_m: ArrayLike = 0.0
+) -> NDArray[np.float64]:
+    """Beam stress (Pa) of a cut: the bar's ``|N| / (w t) + 6 |M| / (t w^2)``, or where
+    ``bore_m`` (m, broadcast with the cuts) is positive the net section through a bore of that
+    diameter across the boss, ``|N| / (t (2R - d_b)) + |M| R / I_net``."""
+    w, t, r = sec.width_m, sec.thickness_m, sec.boss_radius_m
+    d_b = np.asarray(bore_m, dtype=float)
+    bored = d_b > 0
+    area = np.where(bored, t * (2 * r - d_b), w * t)
+    modulus = np.where(bored, t * ((2 * r) ** 3 - d_b**3) / (12 * r), t * w**2 / 6)
+    return np.abs(axial_N) / area + np.abs(moment_Nm) / modulus
+
+
+def cut_stresses(
+    design: ArrayLike,
+    sec: Section,
+    inertials: Inertials,
+    loads: JointLoads,
+    motion: LinkMotion,
+    link: str,
+) -> tuple[NDArray[np.float64], tuple[str, ...]]:
+    """Beam stress (Pa) at every cut of ``link`` (:func:`link_cuts`) and every duty sample,
+    (..., N, C), and the cuts' labels, for a solid plate (no bores: the net-section cuts take the
+    full bar section)."""
+    cuts = link_cuts(as_design(design), sec)[link]
+    axial, moment = cut_forces(design, sec, inertials, loads, motion, link, cuts)
+    return section_stress(axial, moment, sec), cuts.labels
+
+
 def link_strength(
     design: ArrayLike,
     sec: Section,
@@ -262,41 +327,20 @@ def link_strength(
     of ``loads`` and ``motion`` (..., N), with bores of diameter ``bores_m`` (..., 4) m at the
     joints A-D (each smaller than the boss)."""
     d = as_design(design)
-    w, t, r = sec.width_m, sec.thickness_m, sec.boss_radius_m
+    r = sec.boss_radius_m
     bores = np.broadcast_to(np.asarray(bores_m, dtype=float), (*d.shape[:-1], len(JOINTS)))
     if not (bores < 2 * r).all():
         raise ValueError("every bore must be smaller than the boss diameter")
-    net_area = {j: t * (2 * r - bores[..., k]) for k, j in enumerate(JOINTS)}
-    net_z = {j: t * ((2 * r) ** 3 - bores[..., k] ** 3) / (12 * r) for k, j in enumerate(JOINTS)}
+    net_area = {j: sec.thickness_m * (2 * r - bores[..., k]) for k, j in enumerate(JOINTS)}
     forces = loads._asdict()
     out = {}
-    for k, (link, cuts) in enumerate(link_cuts(d, sec).items()):
-        mu = inertials.mass_kg[..., k] / _SPINE[link](d)
-        cn, cm = cut_coefficients(cuts, len(LOADS[link]), mu)
-        g_rel = (
-            np.broadcast_to(GRAVITY, motion.origin_acc[..., k, :].shape)
-            - motion.origin_acc[..., k, :]
-        )
-        sample = np.concatenate(
-            [
-                *(sign * motion.rotate_to_link(forces[n], k) for n, sign in LOADS[link]),
-                motion.rotate_to_link(g_rel, k),
-                motion.alpha[..., k, None],
-                motion.omega[..., k, None] ** 2,
-            ],
-            axis=-1,
-        )  # (..., N, 2 n_loads + 4)
-        n_cuts = len(cuts.labels)
-        both = sample @ np.swapaxes(np.concatenate([cn, cm], axis=-2), -1, -2)  # (..., N, 2C)
+    for link, cuts in link_cuts(d, sec).items():
+        axial, moment = cut_forces(d, sec, inertials, loads, motion, link, cuts)
         column = np.flatnonzero(cuts.column)
-        compression = -both[..., column].min(axis=(-2, -1))
-        np.abs(both, out=both)
-        joint = NET_SECTION_JOINT.get(link, "A")  # the coupler has no net-section cut
-        inv_a = np.where(cuts.bore, 1 / net_area[joint][..., None], 1 / (w * t))
-        inv_z = np.where(cuts.bore, 1 / net_z[joint][..., None], 6 / (t * w**2))
-        stress = (
-            both[..., :n_cuts] * inv_a[..., None, :] + both[..., n_cuts:] * inv_z[..., None, :]
-        ).max(axis=-2)
+        compression = -axial[..., column].min(axis=(-2, -1))
+        joint = JOINTS.index(NET_SECTION_JOINT.get(link, "A"))  # the coupler has no net section
+        bore = np.where(cuts.bore, bores[..., joint, None], 0.0)[..., None, :]  # (..., 1, C)
+        stress = section_stress(axial, moment, sec, bore).max(axis=-2)
         lug = [
             strength.lug_stress_concentration
             / net_area[j]

@@ -1,7 +1,7 @@
 """Stage 2's table: its columns with units, the gathered dataset and its healthy rows.
 
 Light on purpose (no MuJoCo, no trimesh): most later rules read the dataset through it. One shard's
-dynamics is :func:`qsm.physics.dynamics.evaluate_shard`, its strength
+dynamics is :func:`qsm.physics.dynamics.evaluate_table` of its rows, its strength
 :func:`qsm.embodiment.link_checks.with_strength`, its drives
 :func:`qsm.embodiment.drive_checks.with_drives`."""
 

@@ -31,11 +31,10 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
-from qsm.physics.duty import Duty, DutySettings, duty_cycle
+from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.kinematics import DESIGN_COLUMNS, as_design, perp, pose
 from qsm.physics.mjcf import JOINT_NAMES, body_inertials
 from qsm.physics.tiled import tree_forces
-from qsm.workflow.sharding import shard_slice
 
 log = logging.getLogger(__name__)
 
@@ -340,16 +339,3 @@ def evaluate_table(
     if "mechanism_id" in df.columns:
         out.insert(0, "mechanism_id", df["mechanism_id"].to_numpy())
     return out
-
-
-def evaluate_shard(
-    mechanisms: pd.DataFrame,
-    n_shards: int,
-    shard: int,
-    cad: CadSettings,
-    duty: DutySettings,
-    payload_kg: float,
-) -> pd.DataFrame:
-    """:func:`evaluate_table` of the rows of shard ``shard`` of ``n_shards``, renumbered from 0."""
-    rows = mechanisms.iloc[shard_slice(len(mechanisms), n_shards, shard)]
-    return evaluate_table(rows, duty_cycle(duty), cad, payload_kg).reset_index(drop=True)

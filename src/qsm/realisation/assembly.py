@@ -1,6 +1,5 @@
 """The parts to build for the realised design: bored links (topology-optimised where the printed
-plate holds its loads, solid otherwise), their mass properties, STL files, a dimensioned drawing
-and a bill of materials."""
+plate holds its loads, solid otherwise), their mass properties and a bill of materials."""
 
 from __future__ import annotations
 
@@ -22,7 +21,6 @@ from qsm.embodiment.parts import (
     part_mass_properties,
 )
 from qsm.physics.cad import MassProperties
-from qsm.report.drawing import draw_links
 
 
 def bearing_rows(designations: Mapping[str, str], table: BearingTable) -> list[int]:
@@ -80,9 +78,7 @@ def drive_rows(report: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
 
 
 def write_parts(
-    design: ArrayLike,
     parts: Mapping[str, LinkPart],
-    solid: Mapping[str, LinkPart],
     bearing_index: list[int],
     settings: PartSettings,
     material: str,
@@ -90,12 +86,11 @@ def write_parts(
     directory: str | Path,
     drives: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """Write the drawing of the solid bored links (``drawing.svg`` / ``.png``) and the BOM
-    (``bom.csv`` / ``bom.md``, with the motors and gearboxes of the ``drives`` report when given)
-    into ``directory``; return their paths, the parts' hole counts and mass properties."""
+    """Write the BOM (``bom.csv`` / ``bom.md``, with the motors and gearboxes of the ``drives``
+    report when given) into ``directory``; return its paths, the parts' hole counts and mass
+    properties."""
     out = Path(directory)
     masses: dict[str, MassProperties] = part_mass_properties(parts, settings.cad)
-    svg, png = draw_links(design, solid, out / "drawing", settings.cad)
     bom = bill_of_materials(
         parts,
         masses,
@@ -108,7 +103,6 @@ def write_parts(
     )
     csv, md = write_bom(bom, out)
     return {
-        "drawing": {"svg": str(svg), "png": str(png)},
         "bom": {"csv": str(csv), "md": str(md)},
         "masses": masses,
         "holes": {name: p.holes for name, p in parts.items()},
