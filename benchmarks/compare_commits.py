@@ -7,6 +7,7 @@ records the wall time, then a second invocation with nothing to do; per stage it
 times of Snakemake's benchmark files. It prints the medians per commit and the ratio head / base.
 
     python benchmarks/compare_commits.py [--base e845efc] [--head HEAD] [--runs 2] [--cores 2]
+        [--keep DIR]
 """
 
 from __future__ import annotations
@@ -69,8 +70,11 @@ def stage_seconds(work: Path) -> dict[str, float]:
     return out
 
 
-def run_once(commit: str, cores: int, tmp: Path, k: int) -> dict[str, float]:
-    """One from-scratch run and one no-op rerun of ``commit``: wall seconds and stage seconds."""
+def run_once(
+    commit: str, cores: int, tmp: Path, k: int, keep: Path | None = None
+) -> dict[str, float]:
+    """One from-scratch run and one no-op rerun of ``commit``: wall seconds and stage seconds;
+    the finished working directory moves to ``keep`` when given (else it is deleted)."""
     work = export(commit, tmp / f"{commit.replace('/', '_')}-{k}")
     env = {**os.environ, "PYTHONPATH": str(work / "src")}
     cmd = [sys.executable, "-m", "snakemake", "--cores", str(cores)]
@@ -82,7 +86,11 @@ def run_once(commit: str, cores: int, tmp: Path, k: int) -> dict[str, float]:
     noop = time.perf_counter() - start
     result = {"whole DAG": full, "no-op rerun": noop}
     result.update({f"stage {s} (job s)": v for s, v in sorted(stage_seconds(work).items())})
-    shutil.rmtree(work)
+    if keep is not None:
+        shutil.rmtree(keep, ignore_errors=True)
+        shutil.move(work, keep)
+    else:
+        shutil.rmtree(work)
     return result
 
 
@@ -92,12 +100,14 @@ def main() -> None:
     parser.add_argument("--head", default="HEAD")
     parser.add_argument("--runs", type=int, default=2)
     parser.add_argument("--cores", type=int, default=2)
+    parser.add_argument("--keep", type=Path, help="keep the head's last run in this directory")
     args = parser.parse_args()
     results: dict[str, list[dict[str, float]]] = {args.base: [], args.head: []}
     with tempfile.TemporaryDirectory(prefix="qsm-compare-") as tmp:
         for k in range(args.runs):
             for commit in (args.base, args.head):
-                results[commit].append(run_once(commit, args.cores, Path(tmp), k))
+                keep = args.keep if commit == args.head and k == args.runs - 1 else None
+                results[commit].append(run_once(commit, args.cores, Path(tmp), k, keep))
                 print(f"run {k + 1} {commit}: {results[commit][-1]}", flush=True)
     keys = [key for key in results[args.base][0] if key in results[args.head][0]]
     print(f"\n| measure | {args.base} (s) | {args.head} (s) | ratio {args.head} / {args.base} |")
