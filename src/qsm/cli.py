@@ -12,12 +12,20 @@ from pathlib import Path
 from qsm import settings
 from qsm.config import ConfigError, load_config, validate_config
 from qsm.config_checks import config_warnings
-from qsm.evaluate import checked_ratios, evaluate_ratios
+from qsm.evaluate import checked_ratios, evaluate_lengths, evaluate_ratios
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.cad import export_stl
 from qsm.physics.kinematics import DESIGN_NAMES
 from qsm.physics.mjcf import mjcf_xml
 from qsm.workflow.tables import read_table
+
+#: ``--lengths``: one design as its six lengths, evaluated at that scale.
+LENGTHS: dict = {
+    "nargs": 6,
+    "type": float,
+    "metavar": ("L1", "L2", "L3", "L4", "EEX", "EEY"),
+    "help": "the design's six lengths in metres, evaluated at that scale without refitting",
+}
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -29,14 +37,15 @@ def _parser() -> argparse.ArgumentParser:
     )
     sub = parser.add_subparsers(dest="command", required=True)
     ev = sub.add_parser("evaluate", help="evaluate one design; prints one JSON object")
-    ev.add_argument(
+    given = ev.add_mutually_exclusive_group(required=True)
+    given.add_argument(
         "--ratios",
         nargs=5,
         type=float,
-        required=True,
         metavar=("L2", "L3", "L4", "EEX", "EEY"),
-        help="link ratios to l1 (l1 = 1)",
+        help="link ratios to l1 (l1 = 1), scaled to the task as Stage 1 does",
     )
+    given.add_argument("--lengths", **LENGTHS)
     ev.add_argument(
         "--task-points",
         nargs="+",
@@ -74,6 +83,7 @@ def _export_parser(sub: argparse._SubParsersAction) -> None:
     )
     which = ex.add_mutually_exclusive_group(required=True)
     which.add_argument("--front", help="a front of the run (paper, ratios); needs --rank")
+    which.add_argument("--lengths", **LENGTHS)
     which.add_argument("--id", type=int, help="mechanism_id of a dataset mechanism")
     which.add_argument(
         "--ratios",
@@ -134,6 +144,7 @@ def main(argv: Sequence[str] | None = None) -> int:
                 rank=args.rank,
                 mechanism_id=args.id,
                 ratios=args.ratios,
+                lengths=args.lengths,
                 task_points=config["task"]["points"] if args.task_points else None,
                 config=config,
                 results=args.results,
@@ -143,6 +154,11 @@ def main(argv: Sequence[str] | None = None) -> int:
             result = _export(args, config)
         elif args.command == "check-config":
             result = {"valid": True, "warnings": config_warnings(config)}
+        elif args.lengths is not None:
+            try:
+                result = evaluate_lengths(args.lengths, config)
+            except ValueError as exc:
+                raise ValueError(f"--lengths: {exc}") from exc
         else:
             try:
                 ratios = checked_ratios(args.ratios)

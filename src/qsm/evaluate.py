@@ -76,3 +76,53 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
         out["tau2_Nm"] = dyn["tau2_Nm"] if ok else None
         out["dynamics_status"] = dyn["status"] + (f": {dyn['status_reason']}" if not ok else "")
     return out
+
+
+def checked_lengths(lengths: Sequence[float]) -> np.ndarray:
+    """The 6 lengths (m) as an array; ``ValueError`` naming any that is not finite and
+    positive."""
+    d = np.asarray(lengths, dtype=float)
+    if d.shape != (len(DESIGN_NAMES),):
+        raise ValueError(f"give the 6 lengths {', '.join(DESIGN_NAMES)} in m; got {d.size} values")
+    bad = [
+        f"{n}={v}" for n, v in zip(DESIGN_NAMES, d, strict=True) if not (np.isfinite(v) and v > 0)
+    ]
+    if bad:
+        raise ValueError(f"lengths must be finite and positive (m): {', '.join(bad)}")
+    return d
+
+
+def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dict[str, Any]:
+    """One design given as its 6 lengths (m), at that scale (no refit), under a validated config:
+    the true kinematics, task containment and clearance, eta and the MuJoCo torques of the
+    optimisation's verification, each link's strength and each joint's bearing, and each
+    motor's drive. JSON-friendly (NaN as None)."""
+    from qsm.embodiment.verdict import strength_record
+    from qsm.optimisation.verify import verify_design
+
+    d = checked_lengths(lengths)
+    fit_settings = settings.fit(
+        config["operating_range"],
+        config["task"]["points"],
+        config["scale"],
+        config["workspace"],
+        config["filters"],
+    )
+    duty = settings.duty(config["dynamics"]["duty"], config["operating_range"])
+    cad, payload = settings.cad(config["cad"], config["material"]), config["task"]["payload_kg"]
+    out: dict[str, Any] = {"design_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True))}
+    true = verify_design(d, fit_settings, duty_cycle(duty), cad, payload)
+    out.update(
+        {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in true.items()}
+    )
+    if out["loop_closes"]:
+        out["strength"] = strength_record(
+            d,
+            settings.strength_check(
+                config["cad"], config["material"], config["strength"], payload, duty
+            ),
+        )
+        out["drives"] = settings.drive_check(
+            config["drives"], config["cad"], config["material"], payload, duty
+        ).report(d)
+    return out

@@ -36,20 +36,26 @@ from numpy.typing import ArrayLike
 
 from qsm import settings
 from qsm.config import load_config, validate_config
+from qsm.embodiment.parts import link_parts, part_meshes
 from qsm.embodiment.printing import fits_build_volume, needed_volume_mm
-from qsm.evaluate import checked_ratios, evaluate_ratios
+from qsm.embodiment.verdict import strength_record
+from qsm.evaluate import checked_lengths, checked_ratios, evaluate_ratios
 from qsm.mechanisms.dataset import DATASET_COLUMNS
 from qsm.optimisation.constraints import printability_violation_mm
 from qsm.optimisation.ranking import front_ranks
 from qsm.optimisation.verify import verify_design
-from qsm.physics.cad import CadError, link_meshes, link_outlines
+from qsm.physics.cad import CadError, link_outlines
 from qsm.physics.duty import duty_cycle
+from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import DESIGN_COLUMNS, DESIGN_NAMES, RATIO_NAMES, as_design
 from qsm.physics.mjcf import mjcf_xml
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.urdf import LOOP_NOTE, urdf_xml
+from qsm.physics.workspace import OperatingRange
+from qsm.realisation.assembly import bearing_rows
 from qsm.realisation.export import export_stls
 from qsm.realisation.selection import printing_advice
+from qsm.report.drawing import draw_links
 from qsm.report.figures import draw_design
 from qsm.workflow.tables import read_meta, read_table
 
@@ -272,11 +278,20 @@ def export_design(
         link_outlines(d, cad)
     except CadError as exc:
         raise ValueError(f"config 'cad': the link section does not fit this design: {exc}") from exc
-    duty = duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"]))
+    duty_settings = settings.duty(config["dynamics"]["duty"], config["operating_range"])
+    duty = duty_cycle(duty_settings)
     verified = verify_design(d, fit, duty, cad, payload)
     performance = {k: verified[k] for k in TRUE_KEYS}
-    (folder / "model.xml").write_text(mjcf_xml(d, cad, payload))
-    stl = export_stls(link_meshes(d, cad), folder / "stl", volume)
+    (folder / "model.xml").write_text(mjcf_xml(d, cad, payload, home_pose(d, fit.op)))
+    check = settings.strength_check(
+        config["cad"], config["material"], config["strength"], payload, duty_settings
+    )
+    strength = strength_record(d, check)
+    part_settings = settings.parts(config["cad"], config["material"], config["strength"])
+    names = {j: b["designation"] for j, b in strength["bearings"].items()}
+    parts = link_parts(d, bearing_rows(names, part_settings.table), part_settings)
+    stl = export_stls(part_meshes(parts, cad), folder / "stl", volume)
+    draw_links(d, parts, folder / "drawing", cad)
     fits = fits_build_volume(d, cad, volume)
     links = {
         name: {
@@ -330,12 +345,15 @@ def export_design(
         },
         "true_performance": performance,
         "printability": printability,
+        "strength": strength,
+        "parts": {name: {"holes": p.holes} for name, p in parts.items()},
         "drives": drives,
         "files": {
             "mjcf": "model.xml",
             "urdf": "model.urdf",
             "stl": [link["file"] for link in links.values()],
             "drawing": "design.png",
+            "dimensioned_drawing": ["drawing.svg", "drawing.png"],
             "json": "design.json",
         },
         "urdf": {
@@ -349,12 +367,22 @@ def export_design(
         f"true eta {_fmt(performance['eta_true'], 4)}, tau1 {_fmt(performance['tau1_true_Nm'], 1)}"
         f" N m, tau2 {_fmt(performance['tau2_true_Nm'], 1)} N m; "
         f"{'holds the task' if performance['feasible'] else 'does NOT hold the task'}, "
-        f"{'printable' if printable else 'NOT printable'}"
+        f"{'printable' if printable else 'NOT printable'}, "
+        f"{'links hold their loads' if strength['holds_loads'] else 'NOT STRONG ENOUGH'}"
     )
     drawing(d, config, links, title, folder / "design.png")
     (folder / "design.json").write_text(json.dumps(record, indent=2) + "\n")
     (folder / "README.md").write_text(_readme(record, title))
     return record
+
+
+def home_pose(design: ArrayLike, op: OperatingRange) -> np.ndarray:
+    """Joint positions (rad, :data:`qsm.physics.mjcf.JOINT_NAMES` order) of the loop at the
+    middle of the motor ranges: theta1 mid-range, theta2 midway between its limit and theta1."""
+    t1 = 0.5 * (op.theta1_min + op.theta1_max)
+    t2 = 0.5 * (op.theta2_min + t1)
+    zero = np.zeros((1, 2))
+    return loop_state(design, [[t1, t2]], zero, zero).q[0]
 
 
 def _fmt(value: float | None, digits: int) -> str:
@@ -369,6 +397,8 @@ def _describe(source: Mapping[str, Any]) -> str:
         return f"dataset mechanism {source['mechanism_id']}"
     if kind == "ratios":
         return "ratios " + ", ".join(f"{k} {v:.4g}" for k, v in source["ratios"].items())
+    if kind == "lengths":
+        return "lengths (m) " + ", ".join(f"{k} {v:.4g}" for k, v in source["lengths_m"].items())
     return "design"
 
 
@@ -379,11 +409,19 @@ def _readme(record: Mapping[str, Any], title: str) -> str:
         "| file | what |\n| --- | --- |\n"
         "| `model.xml` | MuJoCo model (MJCF): the closed chain, its loop closed by an equality "
         "`connect` at D |\n"
-        "| `stl/*.stl` | the four link solids in millimetres, in their link frames |\n"
+        "| `stl/*.stl` | the four links to print, in millimetres, in their link frames: solid "
+        "plates (not topology-optimised; the workflow's `realization/stl/after` has those) with "
+        "a through bore per joint, sized for the joint's bearing (seat at B, C, D, pin or motor "
+        "shaft in the other link; `design.json`, `strength.bearings`) |\n"
+        "| `drawing.svg`, `drawing.png` | the dimensioned drawing of the links: lengths, hole "
+        "centres, bore diameters, section |\n"
         "| `model.urdf` | the spanning tree of the closed chain (see below) |\n"
         "| `design.json` | the design, its source, its true performance from a fresh "
         "evaluation and its printability |\n"
         "| `design.png` | the design with workspace, task and link outlines |\n\n"
+        "The MJCF's keyframe `home` is a pose with the loop closed (the middle of the motor "
+        "ranges). The payload is a point mass at E merged into the upper arm's inertial (the "
+        "site `payload` marks E).\n\n"
         f"URDF and the closed loop: {LOOP_NOTE}\n"
     )
 
@@ -394,25 +432,27 @@ def export(
     rank: int | None = None,
     mechanism_id: int | None = None,
     ratios: Sequence[float] | None = None,
+    lengths: Sequence[float] | None = None,
     task_points: Sequence[Sequence[float]] | None = None,
     config: str | Path | Mapping[str, Any] | None = None,
     results: str | Path = "results",
     out: str | Path | None = None,
 ) -> dict[str, Any]:
     """Export one design (see the module docstring): a Pareto design (``front`` and ``rank``), a
-    dataset mechanism (``mechanism_id``) or a unit design (``ratios``, scaled to the task, which
-    ``task_points`` may replace). ``config`` is a YAML path, a config mapping or None (defaults);
-    ``results`` the run's results folder; ``out`` the export folder (default
-    ``results/exports/...``). Returns the ``design.json`` record with ``folder``."""
-    given = [v is not None for v in (front, mechanism_id, ratios)]
+    dataset mechanism (``mechanism_id``), a unit design (``ratios``, scaled to the task, which
+    ``task_points`` may replace) or a design's six ``lengths`` (m, at that scale). ``config`` is
+    a YAML path, a config mapping or None (defaults); ``results`` the run's results folder;
+    ``out`` the export folder (default ``results/exports/...``). Returns the ``design.json``
+    record with ``folder``."""
+    given = [v is not None for v in (front, mechanism_id, ratios, lengths)]
     if sum(given) != 1:
-        raise ValueError("give exactly one of --front (with --rank), --id or --ratios")
+        raise ValueError("give exactly one of --front (with --rank), --id, --ratios or --lengths")
     if (front is None) != (rank is None):
         raise ValueError("--front and --rank go together: --front NAME --rank K")
-    if task_points is not None and ratios is None:
+    if task_points is not None and ratios is None and lengths is None:
         raise ValueError(
-            "--task-points applies to --ratios only: a front or dataset design was made for the "
-            "run's task"
+            "--task-points applies to --ratios and --lengths only: a front or dataset design was "
+            "made for the run's task"
         )
     cfg = dict(config) if isinstance(config, Mapping) else load_config(config)
     if task_points is not None:
@@ -427,10 +467,20 @@ def export(
     elif mechanism_id is not None:
         design, source = dataset_design(results, int(mechanism_id))
         default = f"mechanism-{mechanism_id}"
+    elif lengths is not None:
+        try:
+            design = checked_lengths(lengths)
+        except ValueError as exc:
+            raise ValueError(f"--lengths: {exc}") from exc
+        source = {
+            "kind": "lengths",
+            "lengths_m": dict(zip(DESIGN_NAMES, design.tolist(), strict=True)),
+        }
+        default = "lengths-" + "-".join(f"{v:.4f}" for v in design)
     else:
         design, source = ratios_design(ratios, cfg)  # type: ignore[arg-type]
         default = "ratios-" + "-".join(f"{v:.4f}" for v in source["ratios"].values())
-    if source["kind"] != "ratios":
+    if source["kind"] not in ("ratios", "lengths"):
         check_run_config(Path(results) / "dataset.parquet", cfg)
     folder = Path(out) if out is not None else Path(results) / "exports" / default
     record = export_design(design, cfg, folder, source)

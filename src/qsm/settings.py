@@ -220,28 +220,26 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
     ``printable``, ``strong`` and, when on, ``tolerance_m``, ``cad`` and ``material`` (sections),
     ``build_volume_mm``, for g13 ``strength``, ``payload_kg``, ``duty`` and
     ``operating_range``, and for g14 (``drives``) the ``drives_section`` with ``cad``,
-    ``material``, ``payload_kg``, ``duty`` and ``operating_range``."""
-    from qsm.optimisation.problems import ExtraConstraints
+    ``material``, ``payload_kg``, ``duty`` and ``operating_range``. g13 and g14 run on the
+    optimisation's coarser duty (:func:`qsm.optimisation.problems.loop_duty`)."""
+    from qsm.optimisation.problems import ExtraConstraints, loop_duty
     from qsm.physics.cad import DEFAULT_CAD
 
     printable, strong = bool(section["printable"]), bool(section.get("strong", False))
-    drives = None
+    drives = check = None
+    if strong or section.get("drives", False):
+        coarse = loop_duty(duty(section["duty"], section["operating_range"]))
     if section.get("drives", False):
         drives = drive_check(
             section["drives_section"],
             section["cad"],
             section["material"],
             section["payload_kg"],
-            duty(section["duty"], section["operating_range"]),
+            coarse,
         )
-    check = None
     if strong:
         check = strength_check(
-            section["cad"],
-            section["material"],
-            section["strength"],
-            section["payload_kg"],
-            duty(section["duty"], section["operating_range"]),
+            section["cad"], section["material"], section["strength"], section["payload_kg"], coarse
         )
     return ExtraConstraints(
         containment=bool(section["containment"]),

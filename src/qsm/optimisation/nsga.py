@@ -22,6 +22,7 @@ from qsm.optimisation.problems import (
     G12,
     G13,
     G14,
+    LOOP_ALLOWANCE,
     ExtraConstraints,
     LabelStats,
     PaperProblem,
@@ -218,7 +219,8 @@ def optimise(
             else:
                 dropped.append(
                     "g13 dropped: no design whose links hold their loads (least strength "
-                    f"utilisation in the last generation {1 + least[G13]:.2f})"
+                    f"utilisation in the last generation "
+                    f"{(1 + least[G13]) / (1 + LOOP_ALLOWANCE):.2f})"
                 )
                 extra = replace(extra, strength=None)
             problem = make(extra)

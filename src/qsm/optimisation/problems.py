@@ -33,7 +33,7 @@ surrogate.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -46,6 +46,7 @@ from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings, fit_rows
 from qsm.optimisation.constraints import containment_margin_m, printability_violation_mm
 from qsm.physics.cad import CadSettings
+from qsm.physics.duty import DutySettings
 from qsm.physics.kinematics import design_from_ratios
 from qsm.surrogate.model import Surrogate
 
@@ -64,7 +65,22 @@ PAPER_CONSTRAINTS: tuple[str, ...] = (
 G11 = "g11_task_contained"
 G12 = "g12_printable"
 G13 = "g13_links_hold"
+#: The optimisation's g13 and g14 sample each duty segment this many times fewer (the peaks of a
+#: smooth minimum-jerk move change little), and keep :data:`LOOP_ALLOWANCE` in hand for it: on
+#: 600 designs of the default dataset the full duty's strength utilisation was at most 1.4 % above
+#: the coarse duty's (99th percentile 0.4 %) and the drive violation at most 0.0012 above, so no
+#: design that held on the coarse duty with the allowance failed on the full one. Verification
+#: uses the full duty.
+LOOP_SAMPLES_DIVISOR = 4
+LOOP_ALLOWANCE = 0.02
 G14 = "g14_drives_exist"
+
+
+def loop_duty(settings: DutySettings) -> DutySettings:
+    """The coarser duty of the optimisation's g13 and g14: each segment sampled
+    :data:`LOOP_SAMPLES_DIVISOR` times fewer, the holding poses all kept."""
+    fewer = max(2, settings.samples_per_segment // LOOP_SAMPLES_DIVISOR)
+    return replace(settings, samples_per_segment=fewer)
 
 
 @dataclass(frozen=True)
@@ -129,9 +145,9 @@ class ExtraConstraints:
         if self.printable:
             cols.append(printability_violation_mm(design, self.cad, self.volume_mm))
         if self.strength is not None:
-            cols.append(self.strength.violation(design))
+            cols.append((1.0 + self.strength.violation(design)) * (1.0 + LOOP_ALLOWANCE) - 1.0)
         if self.drives is not None:
-            cols.append(self.drives.violation(design))
+            cols.append(self.drives.violation(design) + LOOP_ALLOWANCE)
         return cols
 
 

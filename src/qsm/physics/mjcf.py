@@ -165,11 +165,19 @@ def build_model(
 
 
 def mjcf_xml(
-    design: ArrayLike, settings: CadSettings = DEFAULT_CAD, payload_kg: float = 0.0
+    design: ArrayLike,
+    settings: CadSettings = DEFAULT_CAD,
+    payload_kg: float = 0.0,
+    home_qpos: ArrayLike | None = None,
 ) -> str:
-    """Standalone MJCF XML of the model of :func:`build_model`.
+    """Standalone MJCF XML of the model of :func:`build_model`, with a keyframe ``home`` at the
+    joint positions ``home_qpos`` (rad, :data:`JOINT_NAMES` order) when given: a pose where the
+    loop is closed, so a simulation loaded from it starts consistent.
 
     MuJoCo writes numbers with 6 significant digits, so a model loaded from this XML reproduces
     the torques of :func:`build_model` to about 1e-5 relative.
     """
-    return model_spec(design, settings, payload_kg).to_xml()
+    spec = model_spec(design, settings, payload_kg)
+    if home_qpos is not None:
+        spec.add_key(name="home", qpos=[float(v) for v in np.asarray(home_qpos)])
+    return spec.to_xml()
