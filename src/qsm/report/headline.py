@@ -87,6 +87,14 @@ def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom
     ]
 
 
+def _verdict_counts(findings: pd.DataFrame) -> str:
+    """How many findings got each kind of verdict: agrees, reproduced under a condition, not
+    reproduced, unexplained."""
+    kinds = findings["verdict"].astype(str).str.split(":").str[0].str.strip()
+    counts = kinds.value_counts()
+    return ", ".join(f"{n} {kind}" for kind, n in counts.items())
+
+
 def _factor(x: float | None) -> str:
     return "inf" if x is None else f"{x:.2f}"
 
@@ -222,12 +230,11 @@ def headline_markdown(
             f"| {_pct(e.get('has_drives_share', float('nan')))} | {err} "
             f"| {e['true_hypervolume']:.3f} |"
         )
-    agree = int((findings["agree"] == "agree").sum())
     lines += [
         "",
         "## Stage 5: design rules",
-        f"- {agree} of {len(findings)} of the paper's findings agree "
-        "(results/design_rules/summary.md).",
+        f"- the paper's {len(findings)} findings: {_verdict_counts(findings)} "
+        "(the table and each verdict's experiment: results/design_rules/summary.md).",
         "",
         "## Stage 6: realisation",
         f"- selected ({selected['selection_rule']}, from the {selected['source']}"
