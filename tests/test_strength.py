@@ -256,3 +256,20 @@ def test_spinning_bar_hand_computed():
     x0 = math.sqrt(0.025**2 - 0.02**2)
     bar = 6 * moment(x0) / (0.02 * 0.04**2)
     assert res["crank"].stress_pa == pytest.approx(max(net, bar), rel=1e-12)
+
+
+def test_peak_joint_forces_and_their_poses(duty):
+    """The table's peak force at each joint and the motor angles where it occurs, against the
+    joint loads over the duty computed here."""
+    table = StrengthCheck(payload_kg=PAYLOAD_KG, duty=duty).evaluate(DESIGNS)
+    for k, design in enumerate(DESIGNS):
+        props = mass_properties(design)
+        state = loop_state(design, duty.theta, duty.dtheta, duty.ddtheta)
+        loads = joint_loads(design, Inertials.of(props), PAYLOAD_KG, state)
+        for column, force in (("B", loads.b), ("D", loads.d), ("A_crank", loads.a_crank)):
+            magnitude = np.hypot(force[:, 0], force[:, 1])
+            peak = int(np.argmax(magnitude))
+            row = table.iloc[k]
+            assert row[f"joint_force_peak_{column}_N"] == pytest.approx(magnitude[peak], rel=1e-9)
+            pose = [row[f"joint_force_peak_{column}_theta{i}_deg"] for i in (1, 2)]
+            assert pose == pytest.approx(np.degrees(duty.theta[peak]), abs=1e-9)

@@ -162,10 +162,13 @@ class StrengthCheck:
             -1,
         )
         out["weakest_check"] = np.take_along_axis(checks, weakest[:, None], -1)[:, 0]
+        theta = np.degrees(self.duty.theta)
         for suffix, name in JOINT_COLUMNS.items():
-            out[f"joint_force_peak_{suffix}_N"] = np.hypot(*np.moveaxis(forces[name], -1, 0)).max(
-                -1
-            )
+            magnitude = np.nan_to_num(np.hypot(*np.moveaxis(forces[name], -1, 0)), nan=-1.0)
+            k = magnitude.argmax(-1)
+            out[f"joint_force_peak_{suffix}_N"] = magnitude.max(-1)
+            out[f"joint_force_peak_{suffix}_theta1_deg"] = theta[k, 0]
+            out[f"joint_force_peak_{suffix}_theta2_deg"] = theta[k, 1]
         for col in out.values():
             col[bad] = np.nan if col.dtype.kind == "f" else ""
         out["holds_loads"] = out["strength_utilisation"] <= 1.0

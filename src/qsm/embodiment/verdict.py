@@ -45,10 +45,21 @@ def strength_record(design: ArrayLike, check: StrengthCheck) -> dict[str, Any]:
     bearings = {}
     for joint in ("A", "B", "C", "D"):
         name = str(row[f"bearing_{joint}"])
-        force = float(row[f"joint_force_peak_{'A_lower_arm' if joint == 'A' else joint}_N"])
-        if joint == "A":
-            force = max(force, float(row["joint_force_peak_A_crank_N"]))
-        entry: dict[str, Any] = {"designation": name, "peak_force_N": force}
+        column = "A_lower_arm" if joint == "A" else joint
+        if (
+            joint == "A"
+            and row["joint_force_peak_A_crank_N"] > row["joint_force_peak_A_lower_arm_N"]
+        ):
+            column = "A_crank"
+        force = float(row[f"joint_force_peak_{column}_N"])
+        entry: dict[str, Any] = {
+            "designation": name,
+            "peak_force_N": force,
+            "at_theta_deg": [
+                float(row[f"joint_force_peak_{column}_theta1_deg"]),
+                float(row[f"joint_force_peak_{column}_theta2_deg"]),
+            ],
+        }
         if name:
             b = table.row(int(np.flatnonzero(table.designation == name)[0]))
             entry.update(

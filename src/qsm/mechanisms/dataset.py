@@ -71,8 +71,16 @@ STRENGTH_COLUMNS: dict[str, str] = {
     "weakest_check": "where the weakest link is most loaded (a cut, a bore, buckling, or a "
     "bearing's static load rating)",
     **{
-        f"joint_force_peak_{j}_N": f"peak force through joint {j.replace('_', ' of the ')} (N)"
+        key: text
         for j in JOINT_COLUMNS
+        for key, text in (
+            (
+                f"joint_force_peak_{j}_N",
+                f"peak force through joint {j.replace('_', ' of the ')} (N)",
+            ),
+            (f"joint_force_peak_{j}_theta1_deg", f"theta1 where the force at {j} peaks (deg)"),
+            (f"joint_force_peak_{j}_theta2_deg", f"theta2 where the force at {j} peaks (deg)"),
+        )
     },
 }
 

@@ -66,7 +66,8 @@ def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom
     parts = topology["parts"]
     masses = ", ".join(f"{k} {v:.3f}" for k, v in parts["masses_kg"].items())
     bearings = "; ".join(
-        f"{j} {b['designation'] or 'NONE FITS'} ({b['peak_force_N']:.0f} N peak"
+        f"{j} {b['designation'] or 'NONE FITS'} ({b['peak_force_N']:.0f} N peak at theta "
+        f"{b['at_theta_deg'][0]:.0f} / {b['at_theta_deg'][1]:.0f} deg"
         + (f", C0 / F = {b['static_safety']:.1f})" if b.get("static_safety") else ")")
         for j, b in selected["strength"]["bearings"].items()
     )
