@@ -146,6 +146,8 @@ def advice_sentence(advice: dict[str, Any] | None, volume_mm: ArrayLike) -> str:
         )
     need = " x ".join(str(v) for v in advice["needed_volume_mm"])
     who = advice.get("mechanism_id", advice["row"])
+    if isinstance(who, float) and who.is_integer():
+        who = int(who)
     where = f" ({advice['source']})" if "source" in advice else ""
     return (
         f"a printer of at least {need} mm (configured: {have} mm): the smallest that fits a design "
