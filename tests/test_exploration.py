@@ -123,6 +123,7 @@ def test_rank_one_is_the_knee_that_selection_picks_and_unprintable_designs_come_
 
 
 def test_the_html_front_holds_every_pareto_row_with_its_values(run):
+    selected = json.loads((run / "results/realization/selected.json").read_text())
     for front in ("paper", "ratios"):
         path = run / f"results/optimization/{front}/pareto.html"
         table = read_table(run / f"results/optimization/{front}/verification.parquet")
@@ -131,8 +132,17 @@ def test_the_html_front_holds_every_pareto_row_with_its_values(run):
         assert "plotly.js v" in html
         figure = plotly_figure(path)
         traces = figure["data"]
-        assert len(traces) == 8  # (3D + 3 pairwise) x (predicted, true)
-        for trace in traces:
+        marked = selected["source"] == front
+        # (3D + 3 pairwise) x (predicted, true), and the realised design's star when it is here
+        assert len(traces) == 8 + (4 if marked else 0)
+        if marked:
+            star = traces[8]
+            assert star["legendgroup"] == "selected"
+            true = [selected["eta_true"], selected["tau1_true_Nm"], selected["tau2_true_Nm"]]
+            shown = [decoded(star[a])[0] for a in ("x", "y", "z")]
+            np.testing.assert_allclose(shown, true, rtol=1e-12)
+        assert "lower is better" in figure["layout"]["scene"]["xaxis"]["title"]["text"]
+        for trace in traces[:8]:
             which = "pred" if trace["legendgroup"] == "predicted" else "true"
             names = [f"eta_{which}", f"tau1_{which}_Nm", f"tau2_{which}_Nm"]
             axes = ["x", "y", "z"] if trace["type"] == "scatter3d" else ["x", "y"]

@@ -9,6 +9,7 @@ EXPLORATION_OUTPUTS = [
 rule pareto_html:
     input:
         verification=f"{OPT}/{{formulation}}/verification.parquet",
+        selected=rules.select_design.output.selected,
     output:
         html=report(
             f"{OPT}/{{formulation}}/pareto.html",

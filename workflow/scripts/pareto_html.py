@@ -1,6 +1,8 @@
 """Rule pareto_html: one verified front as a self-contained interactive HTML page."""
 
-from qsm.report.interactive import write_front_html
+import json
+
+from qsm.report.interactive import selected_row, write_front_html
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table
 
@@ -9,5 +11,8 @@ with logged(snakemake.log[0]) as log:
     path = snakemake.input.verification
     table = read_table(path)
     constraints = read_meta(path).get("constraints") or ""
-    out = write_front_html(table, p.formulation, snakemake.output.html, constraints)
+    with open(snakemake.input.selected) as fh:
+        selected = json.load(fh)
+    row = selected_row(table, selected["design_m"]) if selected["source"] == p.formulation else None
+    out = write_front_html(table, p.formulation, snakemake.output.html, constraints, row)
     log.info("%s front: %d designs, %.1f MB", p.formulation, len(table), out.stat().st_size / 1e6)

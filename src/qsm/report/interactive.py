@@ -29,6 +29,8 @@ OBJECTIVE_COLUMNS: tuple[tuple[str, str, str], ...] = (
     ("tau2_pred_Nm", "tau2_true_Nm", "tau2 (N m)"),
 )
 PAIRS: tuple[tuple[int, int], ...] = ((0, 1), (0, 2), (1, 2))
+#: Every objective is minimised: the axis titles say so.
+BETTER = ", lower is better"
 COLOUR_TITLE = "scale factor l1 (m)"
 
 
@@ -83,11 +85,27 @@ def hover_texts(verified: pd.DataFrame, ranks: Sequence[int], front: str) -> lis
     return texts
 
 
-def front_figure(verified: pd.DataFrame, front: str, constraints: str = "") -> go.Figure:
-    """The Plotly figure of a verified front (see the module docstring)."""
+def _flag(verified: pd.DataFrame, column: str) -> pd.Series:
+    """A boolean column of the verified table (True where the table lacks it)."""
+    if column not in verified:
+        return pd.Series(True, index=verified.index)
+    return verified[column].fillna(False).astype(bool)
+
+
+def front_figure(
+    verified: pd.DataFrame, front: str, constraints: str = "", selected: int | None = None
+) -> go.Figure:
+    """The Plotly figure of a verified front (see the module docstring); ``selected`` is the row
+    (position) of the design the run realised, marked with a star, when it comes from this
+    front."""
     ranks = front_ranks(verified)
     texts = hover_texts(verified, ranks, front)
-    good = verified["task_contained"].astype(bool) & verified["printable"].astype(bool)
+    good = (
+        _flag(verified, "task_contained")
+        & _flag(verified, "printable")
+        & _flag(verified, "holds_loads")
+        & _flag(verified, "has_drives")
+    )
     symbol_3d = np.where(good, "circle", "x").tolist()
     symbol_2d = np.where(good, "circle", "x-thin-open").tolist()
     colour = verified["scale_m"].to_numpy(float)
@@ -136,17 +154,36 @@ def front_figure(verified: pd.DataFrame, front: str, constraints: str = "") -> g
         for row, (i, j) in enumerate(PAIRS, start=1):
             trace = go.Scatter(x=values[i], y=values[j], showlegend=False, marker=flat, **common)
             fig.add_trace(trace, row=row, col=2)
-            fig.update_xaxes(title_text=OBJECTIVE_COLUMNS[i][2], row=row, col=2)
-            fig.update_yaxes(title_text=OBJECTIVE_COLUMNS[j][2], row=row, col=2)
-    labels = [c[2] for c in OBJECTIVE_COLUMNS]
+            fig.update_xaxes(title_text=f"{OBJECTIVE_COLUMNS[i][2]}{BETTER}", row=row, col=2)
+            fig.update_yaxes(title_text=f"{OBJECTIVE_COLUMNS[j][2]}{BETTER}", row=row, col=2)
+    if selected is not None:
+        values = [verified[cols[1]].to_numpy(float)[selected] for cols in OBJECTIVE_COLUMNS]
+        star = {
+            "mode": "markers",
+            "name": "the realised design (true values)",
+            "legendgroup": "selected",
+            "text": [texts[selected]],
+            "hovertemplate": "%{text}<extra></extra>",
+            "marker": {"color": "red", "size": 16, "symbol": "star", "line": {"width": 1}},
+        }
+        three_d = {**star, "marker": {**star["marker"], "symbol": "diamond", "size": 9}}
+        fig.add_trace(go.Scatter3d(x=[values[0]], y=[values[1]], z=[values[2]], **three_d), 1, 1)
+        for row, (i, j) in enumerate(PAIRS, start=1):
+            fig.add_trace(
+                go.Scatter(x=[values[i]], y=[values[j]], showlegend=False, **star), row=row, col=2
+            )
+    labels = [f"{c[2]}{BETTER}" for c in OBJECTIVE_COLUMNS]
     n_good, n = int(good.sum()), len(verified)
     held = int(verified["task_contained"].astype(bool).sum())
     printable = int(verified["printable"].astype(bool).sum())
+    strong = int(_flag(verified, "holds_loads").sum())
+    driven = int(_flag(verified, "has_drives").sum())
     fig.update_layout(
         title={
             "text": (
                 f"{front} front: {n} Pareto designs; {held} truly hold the task, {printable} "
-                f"printable, {n_good} both (crosses: not both)"
+                f"printable, {strong} hold their loads, {driven} have drives, {n_good} all four "
+                "(crosses: not all)"
                 + (f"<br><sup>constraints: {constraints}</sup>" if constraints else "")
             ),
             "font": {"size": 15},
@@ -185,13 +222,25 @@ def front_figure(verified: pd.DataFrame, front: str, constraints: str = "") -> g
     return fig
 
 
+def selected_row(verified: pd.DataFrame, design_m: Sequence[float]) -> int | None:
+    """Position of the row of ``verified`` whose lengths are ``design_m`` (m), or None."""
+    lengths = verified.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)
+    hits = np.flatnonzero(np.all(np.isclose(lengths, np.asarray(design_m), rtol=1e-12), axis=1))
+    return int(hits[0]) if len(hits) else None
+
+
 def write_front_html(
-    verified: pd.DataFrame, front: str, path: str | Path, constraints: str = ""
+    verified: pd.DataFrame,
+    front: str,
+    path: str | Path,
+    constraints: str = "",
+    selected: int | None = None,
 ) -> Path:
-    """Write the front as one self-contained HTML file (plotly.js inlined, opens offline)."""
+    """Write the front as one self-contained HTML file (plotly.js inlined, opens offline), with
+    the realised design marked when ``selected`` gives its row."""
     out = Path(path)
     out.parent.mkdir(parents=True, exist_ok=True)
-    front_figure(verified, front, constraints).write_html(
+    front_figure(verified, front, constraints, selected).write_html(
         out,
         include_plotlyjs=True,
         full_html=True,
