@@ -165,3 +165,21 @@ def test_payload_test_fails_with_a_drive_just_too_weak_and_passes_with_the_next(
     assert good["passed"], good["reason"]
     assert good["reflected_inertia_kgm2"] == pytest.approx([1e-4, 1e-4])
     assert good["limits_from"] == "drives" and good["drives"][0] == "Test M1 + Test G10"
+
+
+def test_many_task_points_visit_a_bounded_subset() -> None:
+    """2,000 points in the task region: the test visits the points visited_points picks (at
+    most 8), so it lasts as long as with those points given alone."""
+    from qsm.physics.task_points import MAX_VISITED_POINTS, visited_points
+
+    rng = np.random.default_rng(3)
+    centre, radius = np.array([-0.70, 0.10]), 0.06
+    angle, r = rng.uniform(0, 2 * np.pi, 2000), radius * np.sqrt(rng.uniform(0, 1, 2000))
+    many = centre + np.column_stack([r * np.cos(angle), r * np.sin(angle)])
+    settings = payload.PayloadSettings(**FAST, **PAPER)
+    subset = many[visited_points(many)]
+    assert len(subset) <= MAX_VISITED_POINTS
+    full = payload.payload_test(DESIGN, many, settings=settings)
+    alone = payload.payload_test(DESIGN, subset, settings=settings)
+    assert full["duration_s"] == pytest.approx(alone["duration_s"])
+    assert len(full["point_error_mm"]) == len(alone["point_error_mm"])

@@ -5,7 +5,10 @@ through the task with motors geared to 150 N m and 100 N m (NEMA 17 + 50:1 gear 
 closed-chain MuJoCo model (:mod:`qsm.physics.mjcf`, optionally with the optimised link mass
 properties) is simulated forward:
 
-* reference: the task points in order (and back to the first when ``return_to_start``), each
+* reference: the task points in order (at most
+  :data:`qsm.physics.task_points.MAX_VISITED_POINTS` of them, chosen by
+  :func:`qsm.physics.task_points.visited_points` when there are more; and back to the first when
+  ``return_to_start``), each
   solved by :mod:`qsm.physics.inverse_kinematics` (solution closest to the previous one), joined by
   rest-to-rest minimum-jerk segments in joint space of ``segment_duration_s``, each followed by
   a ``dwell_s`` hold (the test starts with one hold at the first point);
@@ -52,6 +55,7 @@ from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, inverse_dynamics, loop_st
 from qsm.physics.inverse_kinematics import THETA1_RANGE_DEG, THETA2_MIN_DEG, joint_path
 from qsm.physics.kinematics import as_design, pose
 from qsm.physics.mjcf import model_spec
+from qsm.physics.task_points import visited_points
 
 
 @dataclass(frozen=True)
@@ -195,6 +199,7 @@ def payload_test(
 
     d = as_design(design)
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    pts = pts[visited_points(pts)]  # a bounded, ordered subset of many points
     if s.return_to_start and len(pts) > 1:
         pts = np.vstack([pts, pts[:1]])
     way = joint_path(d, pts, s.theta1_range_deg, s.theta2_min_deg)
