@@ -116,3 +116,18 @@ def test_g14_and_the_dataset_columns_on_a_real_design(three):
     # an undefined design (the loop does not close): NaN columns and the fixed g14
     bad = np.array([[0.5, 0.45, 0.2, 0.1, 0.6, 0.2]])
     assert check.violation(bad)[0] == pytest.approx(10.0)
+
+
+def test_g14_from_the_strength_checks_torques_equals_its_own():
+    """The optimisation computes the loads once: g14 from the strength check's torques is the
+    drive check's own g14 (the same section, payload and duty)."""
+    from qsm.embodiment.link_checks import StrengthCheck
+    from qsm.physics.duty import DutySettings, duty_cycle
+
+    duty = duty_cycle(DutySettings(samples_per_segment=6))
+    designs = np.array([[0.5, 0.15, 0.5, 0.22, 0.6, 0.2], [0.35, 0.1, 0.38, 0.14, 0.42, 0.2]])
+    _, tau, good = StrengthCheck(duty=duty).violation_and_torques(designs)
+    drives = DriveCheck(duty=duty)
+    np.testing.assert_array_equal(
+        drives.violation_from_torques(designs, tau, good), drives.violation(designs)
+    )

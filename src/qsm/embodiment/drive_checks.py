@@ -92,8 +92,10 @@ class DriveCheck:
             )
         return out
 
-    def _chunk(self, d: NDArray[np.float64]) -> dict[str, NDArray]:
-        tau, good = self.torques(d)
+    def _chunk(
+        self, d: NDArray[np.float64], torques: tuple[NDArray, NDArray] | None = None
+    ) -> dict[str, NDArray]:
+        tau, good = self.torques(d) if torques is None else (torques[0].copy(), torques[1])
         tau[~good] = np.nan  # no drive, infinite violation
         drives = self.catalogue.drives
         out: dict[str, NDArray] = {}
@@ -131,6 +133,20 @@ class DriveCheck:
         if not parts:
             return pd.DataFrame(columns=list(DRIVE_COLUMNS))
         return pd.DataFrame({k: np.concatenate([p[k] for p in parts]) for k in DRIVE_COLUMNS})
+
+    def violation_from_torques(
+        self, designs: ArrayLike, tau: NDArray[np.float64], good: NDArray[np.bool_]
+    ) -> NDArray[np.float64]:
+        """:meth:`violation` from motor torques (N, samples, 2) N m over this check's duty and
+        where they are defined (N,), computed elsewhere for the same designs, payload and link
+        section (:meth:`qsm.embodiment.link_checks.StrengthCheck.violation_and_torques`)."""
+        d = np.atleast_2d(as_design(designs))
+        parts = [
+            self._chunk(d[k : k + CHUNK], (tau[k : k + CHUNK], good[k : k + CHUNK]))
+            for k in range(0, len(d), CHUNK)
+        ]
+        v = np.concatenate([p["drive_violation"] for p in parts]) if parts else np.zeros(0)
+        return np.where(np.isfinite(v), v, UNDEFINED_VIOLATION)
 
     def violation(self, designs: ArrayLike) -> NDArray[np.float64]:
         """g14: the larger motor violation of designs (N, 6) m (<= 0: each motor has a drive),

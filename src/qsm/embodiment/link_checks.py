@@ -172,6 +172,7 @@ class StrengthCheck:
         for col in out.values():
             col[bad] = np.nan if col.dtype.kind == "f" else ""
         out["holds_loads"] = out["strength_utilisation"] <= 1.0
+        out["_tau"], out["_good"] = loads.tau, ~bad
         return out
 
     def evaluate(self, designs: ArrayLike) -> pd.DataFrame:
@@ -187,18 +188,21 @@ class StrengthCheck:
     def violation(self, designs: ArrayLike) -> NDArray[np.float64]:
         """g13: strength utilisation - 1 of designs (N, 6) m (<= 0 holds), or
         :data:`UNDEFINED_VIOLATION` where it is undefined."""
+        return self.violation_and_torques(designs)[0]
+
+    def violation_and_torques(
+        self, designs: ArrayLike
+    ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
+        """g13 of designs (N, 6) m (:meth:`violation`), and the motor torques (N, samples, 2) in
+        N m over the duty and where they are defined (N,), for the drive check to reuse."""
         d = np.atleast_2d(as_design(designs))
-        util = (
-            np.concatenate(
-                [
-                    self._chunk(d[k : k + CHUNK])["strength_utilisation"]
-                    for k in range(0, len(d), CHUNK)
-                ]
-            )
-            if len(d)
-            else np.zeros(0)
-        )
-        return np.where(np.isfinite(util), util - 1.0, UNDEFINED_VIOLATION)
+        parts = [self._chunk(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
+        if not parts:
+            return np.zeros(0), np.zeros((0, len(self.duty.theta), 2)), np.zeros(0, bool)
+        util = np.concatenate([p["strength_utilisation"] for p in parts])
+        tau = np.concatenate([p["_tau"] for p in parts])
+        good = np.concatenate([p["_good"] for p in parts])
+        return np.where(np.isfinite(util), util - 1.0, UNDEFINED_VIOLATION), tau, good
 
 
 def with_strength(table: pd.DataFrame, designs: ArrayLike, check: StrengthCheck) -> pd.DataFrame:

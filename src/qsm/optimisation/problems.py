@@ -76,6 +76,20 @@ LOOP_ALLOWANCE = 0.02
 G14 = "g14_drives_exist"
 
 
+def _same_loads(strength: StrengthCheck | None, drives: DriveCheck) -> bool:
+    """Whether the strength check's motor torques are the drive check's: same link section,
+    payload and duty."""
+    return (
+        strength is not None
+        and strength.cad == drives.cad
+        and strength.payload_kg == drives.payload_kg
+        and all(
+            np.array_equal(a, b, equal_nan=True)
+            for a, b in zip(strength.duty, drives.duty, strict=True)
+        )
+    )
+
+
 def loop_duty(settings: DutySettings) -> DutySettings:
     """The coarser duty of the optimisation's g13 and g14: each segment sampled
     :data:`LOOP_SAMPLES_DIVISOR` times fewer, the holding poses all kept."""
@@ -144,10 +158,18 @@ class ExtraConstraints:
             cols.append(-margin)
         if self.printable:
             cols.append(printability_violation_mm(design, self.cad, self.volume_mm))
+        torques = None
         if self.strength is not None:
-            cols.append((1.0 + self.strength.violation(design)) * (1.0 + LOOP_ALLOWANCE) - 1.0)
+            g13, *torques = self.strength.violation_and_torques(design)
+            cols.append((1.0 + g13) * (1.0 + LOOP_ALLOWANCE) - 1.0)
         if self.drives is not None:
-            cols.append(self.drives.violation(design) + LOOP_ALLOWANCE)
+            shared = torques is not None and _same_loads(self.strength, self.drives)
+            g14 = (
+                self.drives.violation_from_torques(design, *torques)
+                if shared
+                else self.drives.violation(design)
+            )
+            cols.append(g14 + LOOP_ALLOWANCE)
         return cols
 
 
