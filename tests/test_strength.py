@@ -273,3 +273,25 @@ def test_peak_joint_forces_and_their_poses(duty):
             assert row[f"joint_force_peak_{column}_N"] == pytest.approx(magnitude[peak], rel=1e-9)
             pose = [row[f"joint_force_peak_{column}_theta{i}_deg"] for i in (1, 2)]
             assert pose == pytest.approx(np.degrees(duty.theta[peak]), abs=1e-9)
+
+
+def test_a_joint_without_a_bearing_is_not_ready_to_build():
+    """The headline's verdict names a joint whose load no bearing carries, even when every
+    link holds."""
+    from qsm.report.headline import build_verdict
+
+    link = {"holds": True}
+    strength = {
+        "links": dict.fromkeys(LINK_NAMES, link),
+        "bearings": {"A": {"designation": "", "peak_force_N": 9000.0}},
+        "required_bearing_safety": 2.0,
+        "holds_loads": False,
+        "utilisation": 1.3,
+    }
+    selected = {"printable": True, "strength": strength}
+    ready, problems = build_verdict(selected, {"links": {}}, {"passed": True})
+    assert not ready
+    assert problems == [
+        "no bearing of the catalogue fits joint A (9000 N peak, static safety 2 required, "
+        "within the boss)"
+    ]

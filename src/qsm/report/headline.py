@@ -20,8 +20,8 @@ def build_verdict(
     selected: Mapping[str, Any], topology: Mapping[str, Any], payload: Mapping[str, Any]
 ) -> tuple[bool, list[str]]:
     """Whether the realised design is ready to build, and each reason it is not (with the
-    run's numbers): not printable, a solid link or a printed plate that does not hold its loads,
-    a failed payload test."""
+    run's numbers): not printable, a solid link, a joint bearing or a printed plate that does not
+    hold its loads, a motor without a drive, a failed payload test."""
     problems = []
     if not selected["printable"]:
         problems.append("not printable on the configured printer (see the verdict below)")
@@ -34,6 +34,16 @@ def build_verdict(
                 f"buckling factor {_factor(r['buckling_factor'])}, "
                 f"{r['required_buckling_factor']:g} required)"
             )
+    for joint, b in strength.get("bearings", {}).items():
+        if not b["designation"]:
+            problems.append(
+                f"no bearing of the catalogue fits joint {joint} ({b['peak_force_N']:.0f} N peak, "
+                f"static safety {strength['required_bearing_safety']:g} required, within the boss)"
+            )
+    if not strength["holds_loads"] and len(problems) == (0 if selected["printable"] else 1):
+        problems.append(
+            f"the strength check fails (utilisation {strength['utilisation']:.2f}, at most 1)"
+        )
     for link, r in topology["links"].items():
         if not r["carries_loads"]:
             problems.append(
