@@ -24,7 +24,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.physics.cad import MassProperties
 from qsm.physics.dynamics import LoopState
-from qsm.physics.kinematics import LINK_NAMES, as_design, perp
+from qsm.physics.kinematics import LINK_NAMES, as_design, cross, perp
 from qsm.physics.mjcf import GRAVITY_M_S2
 
 GRAVITY = np.array([0.0, -GRAVITY_M_S2])
@@ -96,10 +96,6 @@ class JointLoads(NamedTuple):
     tau: NDArray[np.float64]
 
 
-def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-
-
 def _dir(angle: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
 
@@ -148,7 +144,7 @@ def joint_loads(
         supply)."""
         pos, acc = com(k)
         f = m[..., k, None] * (acc - GRAVITY)
-        return f, izz[..., k] * mo.alpha[..., k] + _cross(pos - about, f)
+        return f, izz[..., k] * mo.alpha[..., k] + cross(pos - about, f)
 
     zero = np.zeros(2)
     a_pos = np.broadcast_to(zero, mo.origin[..., 0, :].shape)
@@ -161,8 +157,8 @@ def joint_loads(
     f_u, m_u = resultant(upper, b_pos)
     # (D - C) x d = m_cp;  (D - B) x d = (E - B) x f_e - m_u
     r1, r2 = d_pos - c_pos, d_pos - b_pos
-    rhs2 = _cross(e_pos - b_pos, f_e) - m_u
-    det = _cross(r1, r2)
+    rhs2 = cross(e_pos - b_pos, f_e) - m_u
+    det = cross(r1, r2)
     with np.errstate(invalid="ignore", divide="ignore"):
         fd = (
             np.stack(
@@ -175,5 +171,5 @@ def joint_loads(
     fb = f_u + fd - f_e
     f_l, m_l = resultant(lower, a_pos)
     f_k, m_k = resultant(crank, a_pos)
-    tau = np.stack([m_l + _cross(b_pos, fb), m_k + _cross(c_pos, fc)], axis=-1)
+    tau = np.stack([m_l + cross(b_pos, fb), m_k + cross(c_pos, fc)], axis=-1)
     return JointLoads(f_l + fb, f_k + fc, fb, fc, fd, f_e, tau)

@@ -44,7 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.embodiment.loads import GRAVITY, Inertials, JointLoads, LinkMotion
 from qsm.embodiment.material import Material, StrengthSettings
 from qsm.physics.cad import CadSettings
-from qsm.physics.kinematics import as_design
+from qsm.physics.kinematics import as_design, cross
 
 #: Euler effective-length factor (K) of every member checked for buckling: pinned-pinned.
 BUCKLING_K = 1.0
@@ -195,10 +195,6 @@ _COLUMN = {
 _SIMPSON = np.array([1.0, 4.0, 1.0]) / 6
 
 
-def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-
-
 def cut_coefficients(cuts: Cuts, n_loads: int, mu: NDArray) -> tuple[NDArray, NDArray]:
     """Coefficients (..., C, 2 n_loads + 4) of the axial force N (tension > 0) and the moment M
     at each cut, linear in the link-frame sample vector ``[F_1, ..., F_n, g - a_0, alpha,
@@ -217,9 +213,9 @@ def cut_coefficients(cuts: Cuts, n_loads: int, mu: NDArray) -> tuple[NDArray, ND
         (-3, -2)
     )
     m_alpha = -mu[..., None] * (wl * (r * pts).sum(-1)).sum((-2, -1))
-    m_omega = mu[..., None] * (wl * _cross(r, pts)).sum((-2, -1))
+    m_omega = mu[..., None] * (wl * cross(r, pts)).sum((-2, -1))
     n_uniform = mu[..., None, None] * seg.sum(-1)[..., None] * t
-    n_alpha = mu[..., None] * (seg * _cross(t[:, None, :], pm)).sum(-1)
+    n_alpha = mu[..., None] * (seg * cross(t[:, None, :], pm)).sum(-1)
     n_omega = mu[..., None] * (seg * (pm * t[:, None, :]).sum(-1)).sum(-1)
     lead = cuts.at.shape[:-1]
     cn = np.zeros((*lead, 2 * n_loads + 4))

@@ -32,7 +32,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
 from qsm.physics.duty import Duty, duty_cycle
-from qsm.physics.kinematics import DESIGN_COLUMNS, as_design, perp, pose
+from qsm.physics.kinematics import DESIGN_COLUMNS, as_design, cross, perp, pose
 from qsm.physics.mjcf import JOINT_NAMES, body_inertials
 from qsm.physics.tiled import tree_forces
 
@@ -79,10 +79,6 @@ class LoopState(NamedTuple):
     closes: NDArray[np.bool_]
 
 
-def _cross(a: NDArray[np.float64], b: NDArray[np.float64]) -> NDArray[np.float64]:
-    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
-
-
 def loop_state(
     design: ArrayLike, theta: ArrayLike, dtheta: ArrayLike, ddtheta: ArrayLike
 ) -> LoopState:
@@ -113,10 +109,10 @@ def _loop_state(
     e2 = np.stack([np.cos(th[..., 1]), np.sin(th[..., 1])], axis=-1)
     # M [phi_dot, psi_dot] = C_dot - B_dot with columns a = -l4 perp(u), b = -l3 perp(v)
     a, b = -l4[..., None] * perp(u), -l3[..., None] * perp(v)
-    det = _cross(a, b)
+    det = cross(a, b)
 
     def solve(rhs: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        return _cross(rhs, b) / det, _cross(a, rhs) / det
+        return cross(rhs, b) / det, cross(a, rhs) / det
 
     phi_1, psi_1 = solve(-l1[..., None] * perp(e1))  # d/dtheta1
     phi_2, psi_2 = solve(l2[..., None] * perp(e2))  # d/dtheta2
@@ -149,7 +145,7 @@ def _loop_state(
         ],
         axis=-2,
     )
-    return LoopState(q, qd, qdd, G, u, v, np.abs(_cross(u, v)), p.closes)
+    return LoopState(q, qd, qdd, G, u, v, np.abs(cross(u, v)), p.closes)
 
 
 class InverseResult(NamedTuple):
@@ -210,7 +206,7 @@ def _motor_forces(design: ArrayLike, state: LoopState, qfrc: NDArray[np.float64]
     tau = np.einsum("nij,ni->nj", state.G, qfrc)
     d = as_design(design)
     a, b = d[3] * perp(state.rocker_dir), d[2] * perp(state.coupler_dir)
-    det = _cross(a, b)
+    det = cross(a, b)
     f1, f2 = qfrc[:, 1], qfrc[:, 3]  # rows of the passive joints: a . lambda = f1, b . lambda = f2
     lam = np.column_stack(
         [(f1 * b[:, 1] - f2 * a[:, 1]) / det, (a[:, 0] * f2 - b[:, 0] * f1) / det]

@@ -97,6 +97,12 @@ def perp(v: ArrayLike) -> NDArray[np.float64]:
     return np.stack([-w[..., 1], w[..., 0]], axis=-1)
 
 
+def cross(a: ArrayLike, b: ArrayLike) -> NDArray[np.float64]:
+    """z-component of the cross product of plane vectors (..., 2)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    return a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+
+
 def _dir(angle: NDArray[np.float64]) -> NDArray[np.float64]:
     return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
 
