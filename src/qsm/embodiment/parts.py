@@ -52,7 +52,13 @@ from qsm.embodiment.bearings import (
     boss_radius_m,
     load_catalogue,
 )
-from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, MassProperties
+from qsm.physics.cad import (
+    DEFAULT_CAD,
+    CadError,
+    CadSettings,
+    MassProperties,
+    prism_properties,
+)
 from qsm.physics.kinematics import LINK_NAMES, as_design
 
 #: Default tool-mount hole at E (m): ISO 273 medium-series clearance hole for an M8 screw.
@@ -339,20 +345,8 @@ def polygon_with_holes_mass_properties(
     if not area > 0:
         raise CadError("polygon must have positive area")
     cx, cy = qx / area, qy / area
-    sxx = ixx - area * cx * cx
-    syy = iyy - area * cy * cy
-    sxy = ixy - area * cx * cy
-    sigma = density_kg_m3 * thickness_m
-    mass = sigma * area
-    t2 = mass * thickness_m**2 / 12
-    inertia = np.array(
-        [
-            [sigma * syy + t2, -sigma * sxy, 0.0],
-            [-sigma * sxy, sigma * sxx + t2, 0.0],
-            [0.0, 0.0, sigma * (sxx + syy)],
-        ]
-    )
-    return MassProperties(float(mass), np.array([cx, cy, 0.0]), inertia)
+    second = (ixx - area * cx * cx, iyy - area * cy * cy, ixy - area * cx * cy)
+    return prism_properties(area, (cx, cy), second, thickness_m, density_kg_m3)
 
 
 def part_mass_properties(

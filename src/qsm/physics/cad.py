@@ -167,6 +167,20 @@ def polygon_mass_properties(
     sxx = ((x * x + x * xn + xn * xn) * c).sum() / 12 - area * cx * cx  # integral x^2 dA
     syy = ((y * y + y * yn + yn * yn) * c).sum() / 12 - area * cy * cy  # integral y^2 dA
     sxy = ((x * yn + 2 * x * y + 2 * xn * yn + xn * y) * c).sum() / 24 - area * cx * cy
+    return prism_properties(area, (cx, cy), (sxx, syy, sxy), thickness_m, density_kg_m3)
+
+
+def prism_properties(
+    area: float,
+    centroid: tuple[float, float],
+    second: tuple[float, float, float],
+    thickness_m: float,
+    density_kg_m3: float,
+) -> MassProperties:
+    """Mass properties of a plate extruded symmetrically in z from a plane region of ``area``
+    (m^2), ``centroid`` (m) and ``second`` moments (int x^2, int y^2, int x y dA about the
+    centroid, m^4)."""
+    sxx, syy, sxy = second
     sigma = density_kg_m3 * thickness_m  # areal density
     mass = sigma * area
     t2 = mass * thickness_m**2 / 12
@@ -177,7 +191,7 @@ def polygon_mass_properties(
             [0.0, 0.0, sigma * (sxx + syy)],
         ]
     )
-    return MassProperties(float(mass), np.array([cx, cy, 0.0]), inertia)
+    return MassProperties(float(mass), np.array([centroid[0], centroid[1], 0.0]), inertia)
 
 
 def mass_properties(
