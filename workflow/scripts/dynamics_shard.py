@@ -2,8 +2,7 @@
 mechanisms."""
 
 from qsm import settings
-from qsm.embodiment.drive_checks import with_drives
-from qsm.embodiment.link_checks import with_strength
+from qsm.embodiment.drive_checks import with_embodiment
 from qsm.mechanisms.dataset import status_counts
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.duty import duty_cycle
@@ -23,9 +22,8 @@ with logged(snakemake.log[0]) as log:
         rows, duty_cycle(duty), settings.cad(p.cad, p.material), p.payload_kg
     ).reset_index(drop=True)
     check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
-    result = with_strength(result, rows[list(DESIGN_COLUMNS)], check)
     drives = settings.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
-    result = with_drives(result, rows[list(DESIGN_COLUMNS)], drives)
+    result = with_embodiment(result, rows[list(DESIGN_COLUMNS)], check, drives)
     log.info(
         "shard %d of %d: %d mechanisms, status %s, %d hold their loads, %d have drives",
         shard,

@@ -28,6 +28,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.drives.catalogue import Catalogue, default_catalogue_folder, read_catalogue
 from qsm.embodiment.drives.selection import CHECKS, Selection, select_drives
+from qsm.embodiment.link_checks import StrengthCheck, append_columns
 from qsm.embodiment.loads import Inertials, joint_loads
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, MOTORS
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
@@ -125,11 +126,21 @@ class DriveCheck:
         out["has_drives"] = good & (viol <= 0)
         return out
 
-    def evaluate(self, designs: ArrayLike) -> pd.DataFrame:
+    def evaluate(
+        self, designs: ArrayLike, torques: tuple[NDArray, NDArray] | None = None
+    ) -> pd.DataFrame:
         """:data:`DRIVE_COLUMNS` of designs (N, 6) m; NaN (and no drives) where the loop does not
-        close or is singular on the duty."""
+        close or is singular on the duty. ``torques``: the motor torques (N, samples, 2) N m
+        over this check's duty and where they are defined (N,), when computed elsewhere
+        (:meth:`qsm.embodiment.link_checks.StrengthCheck.evaluate_with_torques`)."""
         d = np.atleast_2d(as_design(designs))
-        parts = [self._chunk(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
+        parts = [
+            self._chunk(
+                d[k : k + CHUNK],
+                None if torques is None else (torques[0][k : k + CHUNK], torques[1][k : k + CHUNK]),
+            )
+            for k in range(0, len(d), CHUNK)
+        ]
         if not parts:
             return pd.DataFrame(columns=list(DRIVE_COLUMNS))
         return pd.DataFrame({k: np.concatenate([p[k] for p in parts]) for k in DRIVE_COLUMNS})
@@ -137,24 +148,15 @@ class DriveCheck:
     def violation_from_torques(
         self, designs: ArrayLike, tau: NDArray[np.float64], good: NDArray[np.bool_]
     ) -> NDArray[np.float64]:
-        """:meth:`violation` from motor torques (N, samples, 2) N m over this check's duty and
-        where they are defined (N,), computed elsewhere for the same designs, payload and link
-        section (:meth:`qsm.embodiment.link_checks.StrengthCheck.violation_and_torques`)."""
-        d = np.atleast_2d(as_design(designs))
-        parts = [
-            self._chunk(d[k : k + CHUNK], (tau[k : k + CHUNK], good[k : k + CHUNK]))
-            for k in range(0, len(d), CHUNK)
-        ]
-        v = np.concatenate([p["drive_violation"] for p in parts]) if parts else np.zeros(0)
+        """:meth:`violation` from motor torques computed elsewhere (see :meth:`evaluate`)."""
+        v = self.evaluate(designs, (tau, good))["drive_violation"].to_numpy(float)
         return np.where(np.isfinite(v), v, UNDEFINED_VIOLATION)
 
     def violation(self, designs: ArrayLike) -> NDArray[np.float64]:
         """g14: the larger motor violation of designs (N, 6) m (<= 0: each motor has a drive),
         or :data:`UNDEFINED_VIOLATION` where it is undefined (the loop does not close, or a
         value the check needs is missing)."""
-        table = self.evaluate(designs)
-        v = table["drive_violation"].to_numpy(float)
-        return np.where(np.isfinite(v), v, UNDEFINED_VIOLATION)
+        return self.violation_from_torques(designs, *self.torques(np.atleast_2d(designs)))
 
     def report(self, design: ArrayLike) -> dict[str, Any]:
         """JSON-ready account of one design's drives: per motor, the drive (or the nearest and
@@ -176,19 +178,32 @@ class DriveCheck:
         }
 
 
-def with_drives(table: pd.DataFrame, designs: ArrayLike, check: DriveCheck) -> pd.DataFrame:
+def same_loads(strength: StrengthCheck, drives: DriveCheck) -> bool:
+    """Whether the strength check's motor torques are the drive check's: same link section,
+    payload and duty."""
+    return (
+        strength.cad == drives.cad
+        and strength.payload_kg == drives.payload_kg
+        and all(
+            np.array_equal(a, b, equal_nan=True)
+            for a, b in zip(strength.duty, drives.duty, strict=True)
+        )
+    )
+
+
+def with_embodiment(
+    table: pd.DataFrame, designs: ArrayLike, strength: StrengthCheck, drives: DriveCheck
+) -> pd.DataFrame:
     """``table`` (dynamics results, one row per design of ``designs`` (N, 6) m) with
-    :data:`DRIVE_COLUMNS` appended for its rows whose ``status`` is 'ok' (NaN elsewhere)."""
+    :data:`STRENGTH_COLUMNS` and :data:`DRIVE_COLUMNS` appended for its rows whose ``status`` is
+    'ok' (NaN elsewhere); the joint loads are computed once for both checks when they share
+    section, payload and duty."""
     ok = table["status"].eq("ok").to_numpy()
-    out = pd.DataFrame(index=table.index, columns=list(DRIVE_COLUMNS), dtype=float)
-    drives = check.evaluate(np.asarray(designs, dtype=float)[ok])
-    for key in DRIVE_COLUMNS:
-        values: Any = drives[key].to_numpy()
-        if values.dtype.kind in "OUb":
-            out[key] = out[key].astype(object)
-        out.loc[ok, key] = values
-    out["has_drives"] = out["has_drives"].eq(True)
-    return pd.concat([table, out], axis=1)
+    d = np.asarray(designs, dtype=float)[ok]
+    links, tau, good = strength.evaluate_with_torques(d)
+    motors = drives.evaluate(d, (tau, good) if same_loads(strength, drives) else None)
+    out = append_columns(table, ok, links, "holds_loads")
+    return append_columns(out, ok, motors, "has_drives")
 
 
 def _drive_name(d: dict[str, Any]) -> str:

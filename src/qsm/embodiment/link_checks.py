@@ -178,12 +178,21 @@ class StrengthCheck:
     def evaluate(self, designs: ArrayLike) -> pd.DataFrame:
         """:data:`STRENGTH_COLUMNS` of designs (N, 6) m; NaN (and not holding) where the loop
         does not close or is singular on the duty."""
+        return self.evaluate_with_torques(designs)[0]
+
+    def evaluate_with_torques(
+        self, designs: ArrayLike
+    ) -> tuple[pd.DataFrame, NDArray[np.float64], NDArray[np.bool_]]:
+        """:meth:`evaluate`, and the motor torques (N, samples, 2) in N m over the duty and where
+        they are defined (N,), for the drive check to reuse."""
         d = np.atleast_2d(as_design(designs))
         parts = [self._chunk(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
         if not parts:
-            return pd.DataFrame(columns=list(STRENGTH_COLUMNS))
-        table = {k: np.concatenate([p[k] for p in parts]) for k in STRENGTH_COLUMNS}
-        return pd.DataFrame(table)
+            empty = np.zeros((0, len(self.duty.theta), 2))
+            return pd.DataFrame(columns=list(STRENGTH_COLUMNS)), empty, np.zeros(0, bool)
+        table = pd.DataFrame({k: np.concatenate([p[k] for p in parts]) for k in STRENGTH_COLUMNS})
+        tau = np.concatenate([p["_tau"] for p in parts])
+        return table, tau, np.concatenate([p["_good"] for p in parts])
 
     def violation(self, designs: ArrayLike) -> NDArray[np.float64]:
         """g13: strength utilisation - 1 of designs (N, 6) m (<= 0 holds), or
@@ -195,26 +204,21 @@ class StrengthCheck:
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
         """g13 of designs (N, 6) m (:meth:`violation`), and the motor torques (N, samples, 2) in
         N m over the duty and where they are defined (N,), for the drive check to reuse."""
-        d = np.atleast_2d(as_design(designs))
-        parts = [self._chunk(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
-        if not parts:
-            return np.zeros(0), np.zeros((0, len(self.duty.theta), 2)), np.zeros(0, bool)
-        util = np.concatenate([p["strength_utilisation"] for p in parts])
-        tau = np.concatenate([p["_tau"] for p in parts])
-        good = np.concatenate([p["_good"] for p in parts])
+        table, tau, good = self.evaluate_with_torques(designs)
+        util = table["strength_utilisation"].to_numpy(float)
         return np.where(np.isfinite(util), util - 1.0, UNDEFINED_VIOLATION), tau, good
 
 
-def with_strength(table: pd.DataFrame, designs: ArrayLike, check: StrengthCheck) -> pd.DataFrame:
-    """``table`` (dynamics results, one row per design of ``designs`` (N, 6) m) with
-    :data:`STRENGTH_COLUMNS` appended for its rows whose ``status`` is 'ok' (NaN elsewhere)."""
-    ok = table["status"].eq("ok").to_numpy()
-    out = pd.DataFrame(index=table.index, columns=list(STRENGTH_COLUMNS), dtype=float)
-    strength = check.evaluate(np.asarray(designs, dtype=float)[ok])
-    for key in STRENGTH_COLUMNS:
-        values: Any = strength[key].to_numpy()
-        if values.dtype.kind in "OUb":
+def append_columns(
+    table: pd.DataFrame, ok: NDArray[np.bool_], values: pd.DataFrame, flag: str
+) -> pd.DataFrame:
+    """``table`` with the columns of ``values`` (one row per True of ``ok``) appended, NaN on the
+    other rows, whose boolean ``flag`` column is False there."""
+    out = pd.DataFrame(index=table.index, columns=list(values.columns), dtype=float)
+    for key in values.columns:
+        column: Any = values[key].to_numpy()
+        if column.dtype.kind in "OUb":
             out[key] = out[key].astype(object)
-        out.loc[ok, key] = values
-    out["holds_loads"] = out["holds_loads"].eq(True)
+        out.loc[ok, key] = column
+    out[flag] = out[flag].eq(True)
     return pd.concat([table, out], axis=1)

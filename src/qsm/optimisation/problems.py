@@ -40,7 +40,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 
-from qsm.embodiment.drive_checks import DriveCheck
+from qsm.embodiment.drive_checks import DriveCheck, same_loads
 from qsm.embodiment.link_checks import StrengthCheck
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings, fit_rows
@@ -74,20 +74,6 @@ G13 = "g13_links_hold"
 LOOP_SAMPLES_DIVISOR = 4
 LOOP_ALLOWANCE = 0.02
 G14 = "g14_drives_exist"
-
-
-def _same_loads(strength: StrengthCheck | None, drives: DriveCheck) -> bool:
-    """Whether the strength check's motor torques are the drive check's: same link section,
-    payload and duty."""
-    return (
-        strength is not None
-        and strength.cad == drives.cad
-        and strength.payload_kg == drives.payload_kg
-        and all(
-            np.array_equal(a, b, equal_nan=True)
-            for a, b in zip(strength.duty, drives.duty, strict=True)
-        )
-    )
 
 
 def loop_duty(settings: DutySettings) -> DutySettings:
@@ -163,7 +149,7 @@ class ExtraConstraints:
             g13, *torques = self.strength.violation_and_torques(design)
             cols.append((1.0 + g13) * (1.0 + LOOP_ALLOWANCE) - 1.0)
         if self.drives is not None:
-            shared = torques is not None and _same_loads(self.strength, self.drives)
+            shared = torques is not None and same_loads(self.strength, self.drives)
             g14 = (
                 self.drives.violation_from_torques(design, *torques)
                 if shared

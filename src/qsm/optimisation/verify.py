@@ -8,8 +8,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.embodiment.drive_checks import DriveCheck, with_drives
-from qsm.embodiment.link_checks import StrengthCheck, with_strength
+from qsm.embodiment.drive_checks import DriveCheck, with_embodiment
+from qsm.embodiment.link_checks import StrengthCheck
 from qsm.embodiment.printing import all_links_fit, needed_volume_mm
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.mechanisms.filters import kinematic_checks
@@ -103,9 +103,11 @@ def verify_front(
     cad, duty, payload_kg = check.cad, check.duty, check.payload_kg
     rows = [verify_design(d, fit, duty, cad, payload_kg) for d in lengths]
     true = pd.DataFrame(rows)
-    true = with_strength(true.rename(columns={"dynamics_status": "status"}), lengths, check)
-    true = with_drives(
-        true, lengths, drives or DriveCheck(cad=cad, payload_kg=payload_kg, duty=duty)
+    true = with_embodiment(
+        true.rename(columns={"dynamics_status": "status"}),
+        lengths,
+        check,
+        drives or DriveCheck(cad=cad, payload_kg=payload_kg, duty=duty),
     )
     true = true.rename(columns={"status": "dynamics_status"})
     table = pd.concat([pareto.reset_index(drop=True), true], axis=1)
