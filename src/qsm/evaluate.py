@@ -15,17 +15,23 @@ from qsm.physics.dynamics import evaluate_mechanism
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
 
 
+def _checked(
+    values: Sequence[float], names: Sequence[str], what: str, unit: str = ""
+) -> np.ndarray:
+    """``values`` as an array of ``len(names)``; ``ValueError`` naming any that is not finite
+    and positive."""
+    v = np.asarray(values, dtype=float)
+    if v.shape != (len(names),):
+        raise ValueError(f"give the {len(names)} {what} {', '.join(names)}; got {v.size} values")
+    bad = [f"{n}={x}" for n, x in zip(names, v, strict=True) if not (np.isfinite(x) and x > 0)]
+    if bad:
+        raise ValueError(f"{what} must be finite and positive{unit}: {', '.join(bad)}")
+    return v
+
+
 def checked_ratios(ratios: Sequence[float]) -> np.ndarray:
     """The 5 ratios as an array; ``ValueError`` naming any that is not finite and positive."""
-    r = np.asarray(ratios, dtype=float)
-    if r.shape != (len(RATIO_NAMES),):
-        raise ValueError(f"give the 5 ratios {', '.join(RATIO_NAMES)}; got {r.size} values")
-    bad = [
-        f"{n}={v}" for n, v in zip(RATIO_NAMES, r, strict=True) if not (np.isfinite(v) and v > 0)
-    ]
-    if bad:
-        raise ValueError(f"ratios must be finite and positive: {', '.join(bad)}")
-    return r
+    return _checked(ratios, RATIO_NAMES, "ratios")
 
 
 def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[str, Any]:
@@ -81,15 +87,7 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
 def checked_lengths(lengths: Sequence[float]) -> np.ndarray:
     """The 6 lengths (m) as an array; ``ValueError`` naming any that is not finite and
     positive."""
-    d = np.asarray(lengths, dtype=float)
-    if d.shape != (len(DESIGN_NAMES),):
-        raise ValueError(f"give the 6 lengths {', '.join(DESIGN_NAMES)} in m; got {d.size} values")
-    bad = [
-        f"{n}={v}" for n, v in zip(DESIGN_NAMES, d, strict=True) if not (np.isfinite(v) and v > 0)
-    ]
-    if bad:
-        raise ValueError(f"lengths must be finite and positive (m): {', '.join(bad)}")
-    return d
+    return _checked(lengths, DESIGN_NAMES, "lengths", " (m)")
 
 
 def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dict[str, Any]:
