@@ -10,6 +10,7 @@ import scipy.sparse as sps
 from numpy.typing import ArrayLike, NDArray
 from scipy.sparse.linalg import splu
 
+from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH
 from qsm.realisation.pymoto_quiet import pym
 
 
@@ -24,8 +25,8 @@ class TopologySettings:
         falls below ``change_tol`` (default 0.01).
     penal: SIMP exponent, default 3. filter_radius_cells: density filter radius, default 1.5.
     move: OC move limit, default 0.2. min_density: void stiffness factor, default 1e-9.
-    youngs_modulus_pa, poisson_ratio: ABS-M30, default 2.2 GPa and 0.35.
-    yield_strength_pa: ABS-M30 tensile strength (XZ), default 31 MPa; safety_factor default 2.
+    youngs_modulus_pa, poisson_ratio, yield_strength_pa, safety_factor: the material's and the
+    strength requirement's (:mod:`qsm.embodiment.material`; the workflow passes the config's).
     threshold: density above which a cell is solid in the printed part, default 0.5.
     """
 
@@ -37,10 +38,10 @@ class TopologySettings:
     filter_radius_cells: float = 1.5
     move: float = 0.2
     min_density: float = 1e-9
-    youngs_modulus_pa: float = 2.2e9
-    poisson_ratio: float = 0.35
-    yield_strength_pa: float = 31e6
-    safety_factor: float = 2.0
+    youngs_modulus_pa: float = DEFAULT_MATERIAL.youngs_modulus_pa
+    poisson_ratio: float = DEFAULT_MATERIAL.poisson_ratio
+    yield_strength_pa: float = DEFAULT_MATERIAL.yield_strength_pa
+    safety_factor: float = DEFAULT_STRENGTH.safety_factor
     threshold: float = 0.5
 
     def __post_init__(self) -> None:
