@@ -12,6 +12,8 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from qsm.physics.cad import ABS_M30_DENSITY_KG_M3
+
 
 @dataclass(frozen=True)
 class Material:
@@ -23,7 +25,7 @@ class Material:
     """
 
     name: str = "ABS-M30"
-    density_kg_m3: float = 1040.0
+    density_kg_m3: float = ABS_M30_DENSITY_KG_M3
     youngs_modulus_pa: float = 2.2e9
     poisson_ratio: float = 0.35
     yield_strength_pa: float = 31e6
