@@ -8,6 +8,9 @@ that is printable; the selected design (printable or not, its true peak torques)
 run that stops (a rejected config, a task nothing holds) shows its error instead.
 
     python benchmarks/bench_tasks.py [--tasks default near_light ...] [--out tasks.json]
+        [--set cad.section=sized optimization.objectives=drive_mass ...]
+
+``--set KEY=VALUE`` overrides one config key (dotted path; VALUE read as YAML) in every task.
 """
 
 from __future__ import annotations
@@ -101,8 +104,35 @@ def row(work: Path, name: str) -> dict[str, Any]:
     }
 
 
-def run_task(name: str, samples: int, mechanisms: int, cores: int) -> dict[str, Any]:
-    """Run the default target for one task in a fresh directory; its row or its error."""
+def overrides(pairs: list[str]) -> dict[str, Any]:
+    """``["a.b=1", "c=x"]`` -> ``{"a": {"b": 1}, "c": "x"}`` (values read as YAML)."""
+    tree: dict[str, Any] = {}
+    for pair in pairs:
+        key, sep, value = pair.partition("=")
+        if not sep or not key:
+            raise SystemExit(f"--set expects KEY=VALUE, got {pair!r}")
+        *parents, leaf = key.split(".")
+        node = tree
+        for part in parents:
+            node = node.setdefault(part, {})
+        node[leaf] = yaml.safe_load(value)
+    return tree
+
+
+def merged(base: dict[str, Any], extra: dict[str, Any]) -> dict[str, Any]:
+    """``base`` with ``extra`` merged in, nested dictionaries key by key."""
+    out = dict(base)
+    for key, value in extra.items():
+        both = isinstance(value, dict) and isinstance(out.get(key), dict)
+        out[key] = merged(out[key], value) if both else value
+    return out
+
+
+def run_task(
+    name: str, samples: int, mechanisms: int, cores: int, extra: dict[str, Any] | None = None
+) -> dict[str, Any]:
+    """Run the default target for one task in a fresh directory (config keys ``extra`` overridden);
+    its row or its error."""
     _, points, payload = TASKS[name]
     with tempfile.TemporaryDirectory(prefix=f"qsm-task-{name}-") as tmp:
         work = Path(tmp)
@@ -111,6 +141,7 @@ def run_task(name: str, samples: int, mechanisms: int, cores: int) -> dict[str, 
             "sampling": {"n_samples": samples, "n_mechanisms": mechanisms},
             "task": {"points": points, "payload_kg": payload},
         }
+        overlay = merged(overlay, extra or {})
         (work / "task.yaml").write_text(yaml.safe_dump(overlay))
         cmd = [sys.executable, "-m", "snakemake", "--cores", str(cores)]
         cmd += ["--configfile", "config/config.yaml", "task.yaml"]
@@ -172,10 +203,14 @@ def main() -> None:
     parser.add_argument("--mechanisms", type=int, default=2_000)
     parser.add_argument("--cores", type=int, default=2)
     parser.add_argument("--out", type=Path, help="also write the rows as JSON here")
+    parser.add_argument(
+        "--set", nargs="+", default=[], metavar="KEY=VALUE", help="config overrides, every task"
+    )
     args = parser.parse_args()
+    extra = overrides(args.set)
     rows = []
     for name in args.tasks:
-        rows.append(run_task(name, args.samples, args.mechanisms, args.cores))
+        rows.append(run_task(name, args.samples, args.mechanisms, args.cores, extra))
         print(f"{name}: {json.dumps(rows[-1])}", flush=True)
     print(markdown(rows))
     if args.out:
