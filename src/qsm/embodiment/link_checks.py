@@ -21,21 +21,22 @@ difference).
 from __future__ import annotations
 
 from dataclasses import dataclass, field, fields
-from typing import Any
+from typing import Any, NamedTuple
 
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.bearings import (
+    BearingChoice,
     BearingTable,
     load_catalogue,
     min_shaft_diameter_m,
     select_bearings,
 )
-from qsm.embodiment.loads import Inertials, joint_loads, link_motion
+from qsm.embodiment.loads import Inertials, JointLoads, joint_loads, link_motion
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH, Material, StrengthSettings
-from qsm.embodiment.strength import JOINTS, Section, link_strength
+from qsm.embodiment.strength import JOINTS, LinkStrength, Section, link_strength
 from qsm.mechanisms.dataset import JOINT_COLUMNS, STRENGTH_COLUMNS
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
 from qsm.physics.duty import Duty, duty_cycle
@@ -46,6 +47,24 @@ from qsm.physics.kinematics import LINK_NAMES, as_design
 UNDEFINED_VIOLATION = 10.0
 #: Designs evaluated together (memory: about 0.4 MB per design on the default duty).
 CHUNK = 128
+
+
+class _Core(NamedTuple):
+    """What the full table and g13 share for a chunk of designs: the joint loads, where the
+    check is undefined, each link's peaks and its stress and buckling utilisations, the bearing
+    choice (its rows in ``table``) and utilisation, and the largest utilisation."""
+
+    loads: JointLoads
+    bad: NDArray[np.bool_]
+    per_link: dict[str, LinkStrength]
+    stress_u: dict[str, NDArray[np.float64]]
+    buckle_u: dict[str, NDArray[np.float64]]
+    choice: BearingChoice
+    row: NDArray[np.intp]
+    table: BearingTable
+    bearing_util: NDArray[np.float64]
+    link_util: NDArray[np.float64]
+    util: NDArray[np.float64]
 
 
 def _peak(force: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -88,7 +107,8 @@ class StrengthCheck:
         """Largest allowed stress (Pa)."""
         return self.strength.allowable_stress_pa(self.material)
 
-    def _chunk(self, d: NDArray[np.float64]) -> dict[str, NDArray]:
+    def _core(self, d: NDArray[np.float64]) -> _Core:
+        """Loads, bearings and link peaks of the designs ``d`` (n, 6) m, and their utilisations."""
         sec = Section.of(self.cad)
         inertials = Inertials(*batch_mass_properties(d, self.cad))
         du = self.duty
@@ -124,35 +144,60 @@ class StrengthCheck:
             np.nan_to_num(state.sin_transmission).min(-1) < MIN_SIN_TRANSMISSION
         )
         yield_pa = self.material.yield_strength_pa
-        out: dict[str, NDArray] = {}
-        util = []
-        for link, res in per_link.items():
-            with np.errstate(divide="ignore"):
-                out[f"buckling_factor_{link}"] = res.euler_N / res.compression_N
-            out[f"stress_peak_{link}_MPa"] = res.stress_pa / 1e6
-            out[f"safety_factor_{link}"] = yield_pa / res.stress_pa
-            stress_u = res.stress_pa * self.strength.safety_factor / yield_pa
-            buckle_u = res.compression_N * self.strength.buckling_safety_factor / res.euler_N
-            util.append(np.maximum(stress_u, buckle_u))
-            labels = np.array([*res.labels, "buckling"], dtype=object)
-            out[f"_check_{link}"] = np.where(buckle_u > stress_u, labels[-1], labels[res.where])
+        stress_u = {
+            k: v.stress_pa * self.strength.safety_factor / yield_pa for k, v in per_link.items()
+        }
+        buckle_u = {
+            k: v.compression_N * self.strength.buckling_safety_factor / v.euler_N
+            for k, v in per_link.items()
+        }
         # the chosen bearing's s0 F / C0 and needed / actual bore; 1 + violation where none fits
         bearing_util = np.where(
             choice.index < 0,
             1.0 + choice.violation,
             np.maximum(choice.required_C0_N / table.C0_N[row], choice.min_bore_m / table.d_m[row]),
         )
+        link_util = np.stack([np.maximum(stress_u[k], buckle_u[k]) for k in per_link], -1)
+        util = np.concatenate([link_util, bearing_util], axis=-1).max(-1)
+        return _Core(
+            loads,
+            bad,
+            per_link,
+            stress_u,
+            buckle_u,
+            choice,
+            row,
+            table,
+            bearing_util,
+            link_util,
+            util,
+        )
+
+    def _chunk(self, d: NDArray[np.float64]) -> dict[str, NDArray]:
+        """The :data:`STRENGTH_COLUMNS` of the designs ``d`` (n, 6) m, and their motor torques."""
+        core = self._core(d)
+        choice, row, table, bad = core.choice, core.row, core.table, core.bad
+        forces, bearing_util = core.loads._asdict(), core.bearing_util
+        yield_pa = self.material.yield_strength_pa
+        out: dict[str, NDArray] = {}
+        for link, res in core.per_link.items():
+            with np.errstate(divide="ignore"):
+                out[f"buckling_factor_{link}"] = res.euler_N / res.compression_N
+            out[f"stress_peak_{link}_MPa"] = res.stress_pa / 1e6
+            out[f"safety_factor_{link}"] = yield_pa / res.stress_pa
+            stress_u, buckle_u = core.stress_u[link], core.buckle_u[link]
+            labels = np.array([*res.labels, "buckling"], dtype=object)
+            out[f"_check_{link}"] = np.where(buckle_u > stress_u, labels[-1], labels[res.where])
         for k, joint in enumerate(JOINTS):
             out[f"bearing_{joint}"] = np.where(
                 choice.index[..., k] < 0, "", table.designation[row[..., k]]
             ).astype(object)
         out["bearing_violation"] = choice.violation.max(-1)
         out["bearing_utilisation"] = bearing_util.max(-1)
-        utils = np.concatenate([np.stack(util, -1), bearing_util], axis=-1)
-        out["strength_utilisation"] = utils.max(-1)
+        out["strength_utilisation"] = core.util
         # the chosen bearing sits near its rating by design: name it only when it fails
         weakest = np.concatenate(
-            [np.stack(util, -1), np.where(bearing_util > 1.0, bearing_util, 0.0)], axis=-1
+            [core.link_util, np.where(bearing_util > 1.0, bearing_util, 0.0)], axis=-1
         ).argmax(-1)
         names = [*LINK_NAMES, *(f"bearing {j}" for j in JOINTS)]
         out["weakest_link"] = np.asarray(names, dtype=object)[weakest]
@@ -172,7 +217,7 @@ class StrengthCheck:
         for col in out.values():
             col[bad] = np.nan if col.dtype.kind == "f" else ""
         out["holds_loads"] = out["strength_utilisation"] <= 1.0
-        out["_tau"], out["_good"] = loads.tau, ~bad
+        out["_tau"], out["_good"] = core.loads.tau, ~bad
         return out
 
     def evaluate(self, designs: ArrayLike) -> pd.DataFrame:
@@ -204,8 +249,13 @@ class StrengthCheck:
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
         """g13 of designs (N, 6) m (:meth:`violation`), and the motor torques (N, samples, 2) in
         N m over the duty and where they are defined (N,), for the drive check to reuse."""
-        table, tau, good = self.evaluate_with_torques(designs)
-        util = table["strength_utilisation"].to_numpy(float)
+        d = np.atleast_2d(as_design(designs))
+        cores = [self._core(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
+        if not cores:
+            return np.zeros(0), np.zeros((0, len(self.duty.theta), 2)), np.zeros(0, bool)
+        util = np.concatenate([np.where(c.bad, np.nan, c.util) for c in cores])
+        good = np.concatenate([~c.bad for c in cores])
+        tau = np.concatenate([c.loads.tau for c in cores])
         return np.where(np.isfinite(util), util - 1.0, UNDEFINED_VIOLATION), tau, good
 
 
