@@ -213,3 +213,27 @@ def test_g11_holds_exactly_when_the_euclidean_clearance_reaches_the_tolerance():
         assert (g <= 0) == (clearance >= tolerance), (g, clearance)
         checked += 1
     assert checked >= 10
+
+
+def test_g13_g14_evaluated_only_where_the_cheaper_constraints_hold():
+    """g13 / g14 of the designs that meet g1..g12 equal the checks' own values (with the loop's
+    allowance); the others read 0 (not evaluated), and never reach the checks."""
+    from qsm.embodiment.drive_checks import DriveCheck
+    from qsm.embodiment.link_checks import StrengthCheck
+    from qsm.optimisation.problems import LOOP_ALLOWANCE
+    from qsm.physics.duty import DutySettings, duty_cycle
+
+    duty = duty_cycle(DutySettings(samples_per_segment=6))
+    strength, drives = StrengthCheck(duty=duty), DriveCheck(duty=duty)
+    fit = FitSettings(op=OP, disk=DISK, scale_max=2.0)
+    extra = ExtraConstraints(False, True, fit, CAD, PRINTER, strength=strength, drives=drives)
+    designs = random_designs(12, 5)
+    g = np.zeros((len(designs), 10))
+    g[::3, 4] = 0.5  # every third design fails a surrogate bound
+    g12, g13, g14 = extra.columns("paper", designs, g)
+    todo = (g <= 0).all(1) & (g12 <= 0)
+    assert 0 < todo.sum() < len(designs)
+    assert np.all(g13[~todo] == 0) and np.all(g14[~todo] == 0)
+    expected13 = (1 + strength.violation(designs[todo])) * (1 + LOOP_ALLOWANCE) - 1
+    assert g13[todo] == pytest.approx(expected13, rel=1e-12)
+    assert g14[todo] == pytest.approx(drives.violation(designs[todo]) + LOOP_ALLOWANCE, rel=1e-12)
