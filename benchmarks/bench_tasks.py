@@ -79,6 +79,8 @@ def row(work: Path, name: str) -> dict[str, Any]:
     filters = json.loads((res / "mechanisms/filter_report.json").read_text())
     fronts = json.loads((res / "optimization/comparison.json").read_text())["fronts"]
     selected = json.loads((res / "realization/selected.json").read_text())
+    topology = json.loads((res / "realization/topology.json").read_text())
+    payload = json.loads((res / "realization/payload_test.json").read_text())
     return {
         "task": name,
         "feasible_mechanisms": filters["task_fits"],
@@ -90,9 +92,12 @@ def row(work: Path, name: str) -> dict[str, Any]:
                 "feasible_and_printable": v["feasible_and_printable_share"],
                 "median_rel_error": v["median_rel_error"],
                 "true_hypervolume": v["true_hypervolume"],
+                "holds_loads": v["holds_loads_share"],
+                "has_drives": v["has_drives_share"],
             }
             for k, v in fronts.items()
         },
+        "embodiment": embodiment(selected, topology, payload),
         "selected": {
             "source": selected["source"],
             "printable": selected["printable"],
@@ -126,6 +131,45 @@ def merged(base: dict[str, Any], extra: dict[str, Any]) -> dict[str, Any]:
         both = isinstance(value, dict) and isinstance(out.get(key), dict)
         out[key] = merged(out[key], value) if both else value
     return out
+
+
+def embodiment(
+    selected: dict[str, Any], topology: dict[str, Any], payload: dict[str, Any]
+) -> dict[str, Any]:
+    """The selected design's strength, drives, optimised links and payload test."""
+    links = selected["strength"]["links"]
+    weakest = min(
+        links, key=lambda k: links[k]["safety_factor"] / links[k]["required_safety_factor"]
+    )
+    motors = selected["drives"]["motors"]
+    return {
+        "holds_loads": selected["holds_loads"],
+        "weakest_link": weakest,
+        "weakest_stress_MPa": links[weakest]["stress_peak_MPa"],
+        "allowable_MPa": links[weakest]["allowable_MPa"],
+        "min_buckling_factor": min(v["buckling_factor"] for v in links.values()),
+        "drives": {
+            k: (
+                f"{m['drive']['motor']} + {m['drive']['gearbox']} ({m['drive']['ratio']:.4g}:1)"
+                if m["has_drive"]
+                else "none"
+            )
+            for k, m in motors.items()
+        },
+        "min_drive_margin": min(
+            (min(m["margins"].values()) for m in motors.values() if m["has_drive"]), default=None
+        ),
+        "drive_mass_kg": selected["drive_mass_kg"],
+        "optimised_links": {
+            k: {
+                "stress_MPa": v["max_von_mises_after_MPa"],
+                "allowable_MPa": v["allowable_stress_MPa"],
+                "kept_solid": v["kept_solid"],
+            }
+            for k, v in topology["links"].items()
+        },
+        "payload_test_passed": payload["passed"],
+    }
 
 
 def run_task(
@@ -196,6 +240,40 @@ def markdown(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def embodiment_markdown(rows: list[dict[str, Any]]) -> str:
+    """One row per task that ran: strength and drives of the fronts and the selected design."""
+    lines = [
+        "| task | paper / ratios front: hold loads, have drives "
+        "| selected: weakest link (stress / allowed MPa), least buckling factor "
+        "| drives (motor 1; motor 2), least margin, drive mass "
+        "| optimised links: peak / allowed MPa | payload test |",
+        "| --- | --- | --- | --- | --- | --- |",
+    ]
+    for r in rows:
+        if "error" in r:
+            continue
+        e = r["embodiment"]
+        fronts = " ; ".join(
+            f"{100 * f['holds_loads']:.0f} %, {100 * f['has_drives']:.0f} %"
+            for f in (r["fronts"].get("paper"), r["fronts"].get("ratios"))
+            if f
+        )
+        link = (
+            f"{e['weakest_link'].replace('_', ' ')} ({e['weakest_stress_MPa']:.1f} / "
+            f"{e['allowable_MPa']:.1f}), {e['min_buckling_factor']:.1f}"
+        )
+        margin = "-" if e["min_drive_margin"] is None else f"{100 * e['min_drive_margin']:.0f} %"
+        drives = f"{'; '.join(e['drives'].values())}, {margin}, {e['drive_mass_kg']:.2f} kg"
+        topo = ", ".join(
+            f"{k.replace('_', ' ')} {v['stress_MPa']:.1f} / {v['allowable_MPa']:.1f}"
+            + (" (kept solid)" if v["kept_solid"] else "")
+            for k, v in e["optimised_links"].items()
+        )
+        passed = "passed" if e["payload_test_passed"] else "FAILED"
+        lines.append(f"| {r['task']} | {fronts} | {link} | {drives} | {topo} | {passed} |")
+    return "\n".join(lines)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tasks", nargs="+", default=list(TASKS), choices=list(TASKS))
@@ -213,6 +291,8 @@ def main() -> None:
         rows.append(run_task(name, args.samples, args.mechanisms, args.cores, extra))
         print(f"{name}: {json.dumps(rows[-1])}", flush=True)
     print(markdown(rows))
+    print()
+    print(embodiment_markdown(rows))
     if args.out:
         args.out.write_text(json.dumps(rows, indent=2))
 
