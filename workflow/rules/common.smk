@@ -3,6 +3,10 @@ from qsm.workflow.provenance import source_hash
 
 ENV = "../envs/qsm.yaml"
 RESULTS = "results"
+# The result folders of Stages 4 and 6, and the fronts Stage 4 makes (rule files share these).
+OPT = f"{RESULTS}/optimization"
+REAL = f"{RESULTS}/realization"
+FORMULATIONS = config["optimization"]["formulations"]
 # The rule scripts, found from this file (workflow/rules) whether the workflow runs from the
 # checkout or as a module of another workflow.
 SCRIPTS = Path(str(workflow.current_basedir)).parent / "scripts"

@@ -1,7 +1,5 @@
 # Stage 4: NSGA-II on the surrogate, one folder per formulation, checked against the physics.
 
-OPT = f"{RESULTS}/optimization"
-FORMULATIONS = config["optimization"]["formulations"]
 STAGE4_OUTPUTS = [
     *expand(f"{OPT}/{{formulation}}/verification.json", formulation=FORMULATIONS),
     *expand(f"{RESULTS}/figures/{{formulation}}/pareto_3d.png", formulation=FORMULATIONS),

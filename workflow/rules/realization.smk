@@ -1,6 +1,5 @@
 # Stage 6: printable design, topology-optimised links, STL files and a simulated payload test.
 
-REAL = f"{RESULTS}/realization"
 LINKS = ["lower_arm", "crank", "coupler", "upper_arm"]
 STAGE6_OUTPUTS = [f"{REAL}/torques.json", f"{REAL}/payload_test.json"]
 
