@@ -66,6 +66,15 @@ def _significant(pe: PairDict, alpha: float) -> bool:
     return _lowers_eta_raises_torques(signs) and all(p < alpha for _, p in pe.values())
 
 
+def _lengths_spearman(length: str, prefix: str) -> Probe:
+    """The scale-apart-from-ratios experiment's Spearman coefficients of ``length`` with each
+    objective."""
+    return _lengths(
+        lambda lo: {o: lo["spearman"][o][length] for o in OBJ.values()},
+        lambda _, v: _signed(prefix, v),
+    )
+
+
 def _sobol_claim(out: str, paper: str, holds: Callable[[list[str]], bool]) -> Claim:
     """The Sobol top three of objective ``out``."""
     return Claim(
@@ -150,12 +159,7 @@ CLAIMS: tuple[Claim, ...] = (
             _signed("Spearman(EE_x, .) ", v)
             + f"; all mechanisms: tau1 {ev.spearman_all('ee_x_m', 'tau1_Nm'):+.2f}"
         ),
-        (
-            _lengths(
-                lambda lo: {o: lo["spearman"][o]["ee_x"] for o in OBJ.values()},
-                lambda _, v: _signed("Spearman(EE_x, .) ", v),
-            ),
-        ),
+        (_lengths_spearman("ee_x", "Spearman(EE_x, .) "),),
     ),
     Claim(
         "Pearson(tau1, tau2)",
@@ -214,12 +218,7 @@ CLAIMS: tuple[Claim, ...] = (
                 for c, o in (("eta", "eta"), ("tau1_Nm", "tau1"), ("tau2_Nm", "tau2"))
             )
         ),
-        (
-            _lengths(
-                lambda lo: {o: lo["spearman"][o]["l1"] for o in OBJ.values()},
-                lambda _, v: _signed("Spearman(scale, .) ", v),
-            ),
-        ),
+        (_lengths_spearman("l1", "Spearman(scale, .) "),),
     ),
     Claim(
         "Largest median abs(d eta / d x) (true eta, all mechanisms)",
