@@ -24,11 +24,10 @@ properties) is simulated forward:
   (:func:`qsm.physics.dynamics.inverse_dynamics`, same model and properties) plus joint PD feedback
   ``kp (theta_ref - theta) + kd (dtheta_ref - dtheta)``; the *requested* torque is clamped to the
   motor limits before it is applied;
-* integration: the PD torque is applied explicitly, which is stable only while
-  ``kd dt / M < 2`` for the smallest motor-space inertia ``M`` (:func:`motor_inertia`); a small
-  light arm has little inertia at the crank, so the step is cut (from the model's
-  ``opt.timestep``) until ``kd dt / M <= 0.5`` at every waypoint, while the data are sampled at
-  the model's step;
+* integration: the PD torque is applied explicitly, which is stable only while ``kd dt / M < 2``
+  for the smallest motor-space inertia ``M`` (:func:`motor_inertia`); a small light arm has little
+  inertia at the crank, so the step is cut (from the model's ``opt.timestep``) until
+  ``kd dt / M <= 0.5`` at every waypoint, while the data are sampled at the model's step;
 * pass: the requested torque never exceeds what the drives give (no saturation) and the
   largest tracking error of either motor stays within ``tracking_tolerance_deg``.
 """
