@@ -22,16 +22,13 @@ def evidence(with_study: bool) -> Evidence:
         table3_run={},
         payload_to_link_mass=0.0,
     )
+    frames = dict.fromkeys(("sobol", "correlations", "gradients", "pareto", "dataset"), empty)
     return Evidence(
-        sobol=empty,
+        **frames,
         n_sobol=0,
         first_splits={},
         n_designs=5,
         n_unique=5,
-        correlations=empty,
-        gradients=empty,
-        pareto=empty,
-        dataset=empty,
         study=study if with_study else None,
     )
 
