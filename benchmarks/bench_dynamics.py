@@ -22,6 +22,7 @@ import numpy as np
 import pandas as pd
 
 from qsm.embodiment.link_checks import StrengthCheck
+from qsm.mechanisms.evaluation import evaluate_table
 from qsm.physics import cad, duty, dynamics, kinematics, mjcf
 from qsm.physics.kinematics import DESIGN_COLUMNS
 
@@ -79,7 +80,7 @@ def mujoco_floor_ms(design: np.ndarray, d: duty.Duty, payload_kg: float, repeats
 
 def _table_chunk(designs: np.ndarray) -> pd.DataFrame:
     df = pd.DataFrame(designs, columns=list(DESIGN_COLUMNS))
-    return dynamics.evaluate_table(df, duty.duty_cycle(), payload_kg=5.0)
+    return evaluate_table(df, duty.duty_cycle(), payload_kg=5.0)
 
 
 def main() -> None:

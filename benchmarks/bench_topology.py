@@ -19,6 +19,7 @@ from qsm.realisation import payload, topology
 from qsm.realisation.fe import DEFAULT_TOPOLOGY, SymmetricLU, stiffness
 from qsm.realisation.loads import link_problem, peak_loads
 from qsm.realisation.torques import torques_before_after
+from qsm.report.payload import summary
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])  # m
 POINTS = [[-0.62, 0.20], [-0.82, 0.02], [-0.70, 0.02], [-0.82, 0.14], [-0.70, 0.14]]
@@ -65,7 +66,7 @@ def main() -> None:
         "payload_test_s": t3 - t2,
         "links": {k: v.summary() for k, v in res.links.items()},
         "torques": tq,
-        "payload_test": payload.summary(test),
+        "payload_test": summary(test),
         "factorisation": factorisations(cs, d),
     }
     print(json.dumps(out, indent=1, default=float))

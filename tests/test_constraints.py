@@ -22,8 +22,9 @@ from qsm.optimisation.problems import (
     paper_constraints,
 )
 from qsm.physics.cad import CadSettings
+from qsm.physics.containment import containment_margin
 from qsm.physics.task import Disk, min_enclosing_circle
-from qsm.physics.workspace import OperatingRange, containment_margin, slice_workspace
+from qsm.physics.workspace import OperatingRange, slice_workspace
 
 OP = OperatingRange.from_degrees([45.0, 180.0], -37.5)
 DISK = min_enclosing_circle([[-0.53, 0.17], [-0.70, 0.02], [-0.60, 0.02], [-0.70, 0.12]])

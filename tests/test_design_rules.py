@@ -7,9 +7,10 @@ import pandas as pd
 import pytest
 from SALib.test_functions import Ishigami
 
+from qsm.design_rules.claims import Evidence
 from qsm.design_rules.correlations import FEATURES_MM, correlations
 from qsm.design_rules.eta_derivatives import eta_gradient, true_etas
-from qsm.design_rules.findings import Evidence, findings, summary_markdown
+from qsm.design_rules.findings import findings, summary_markdown
 from qsm.design_rules.sensitivity import ranking, sobol_indices
 from qsm.design_rules.trees import fit_tree, mining_designs, rule_sentence
 from qsm.physics.kinematics import DESIGN_NAMES

@@ -9,6 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from qsm.mechanisms.evaluation import evaluate_table
 from qsm.physics import duty, dynamics, kinematics, mjcf
 from qsm.physics.kinematics import DESIGN_COLUMNS
 
@@ -157,7 +158,7 @@ def test_failures_are_reported_not_lost() -> None:
     ]
     df = pd.DataFrame(rows, columns=list(DESIGN_COLUMNS))
     df.insert(0, "mechanism_id", [10, 11, 12, 13, 14])
-    out = dynamics.evaluate_table(df, duty.duty_cycle(), payload_kg=5.0)
+    out = evaluate_table(df, duty.duty_cycle(), payload_kg=5.0)
     assert list(out["mechanism_id"]) == [10, 11, 12, 13, 14]
     assert list(out["status"]) == ["ok", "loop_open", "cad_invalid", "singular", "ok"]
     assert "theta1=" in out.loc[1, "status_reason"] and np.isnan(out.loc[1, "tau1_Nm"])

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from qsm.realisation import payload
+from qsm.report.payload import plot_payload_test, summary
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])
 POINTS = [[-0.62, 0.20], [-0.82, 0.02], [-0.70, 0.14]]
@@ -16,7 +17,7 @@ PAPER = {"torque_limits_Nm": (150.0, 100.0)}  # the paper's motors, as an explic
 def test_passes_with_generous_limits(tmp_path) -> None:
     exact = payload.PayloadSettings(plant_mass_error=0.0, **FAST, **PAPER)
     res = payload.payload_test(DESIGN, POINTS, settings=exact)
-    print(payload.summary(res))
+    print(summary(res))
     assert res["passed"] and not res["saturated"]
     # the plant is the model: only the integrator and the constraint softness remain
     assert res["max_tracking_error_deg"] < 0.1
@@ -25,7 +26,7 @@ def test_passes_with_generous_limits(tmp_path) -> None:
     assert res["payload_kg"] == 5.0
     n = len(res["t_s"])
     assert res["theta_deg"].shape == res["torque_requested_Nm"].shape == (n, 2)
-    assert payload.plot_payload_test(res, tmp_path / "p.png").stat().st_size > 0
+    assert plot_payload_test(res, tmp_path / "p.png").stat().st_size > 0
 
 
 def test_model_error_shows_in_tracking_and_soft_gains_fail() -> None:

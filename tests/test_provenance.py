@@ -58,7 +58,7 @@ def test_importing_the_figure_modules_leaves_matplotlib_backend_alone():
 
     code = (
         "import matplotlib; matplotlib.use('svg'); "
-        "import qsm.report.figures, qsm.design_rules.plots, qsm.realisation.payload; "
+        "import qsm.report.figures, qsm.design_rules.plots, qsm.report.payload; "
         "import qsm.realisation.topology; "
         "print(matplotlib.get_backend())"
     )

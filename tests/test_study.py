@@ -10,9 +10,10 @@ from test_design_rules import agreeing_evidence
 
 from qsm import settings
 from qsm.config import load_config
+from qsm.design_rules.claims import Study
 from qsm.design_rules.eta_derivatives import true_etas
 from qsm.design_rules.experiments import independent_lengths, table3_sweep
-from qsm.design_rules.findings import Study, findings
+from qsm.design_rules.findings import findings
 from qsm.design_rules.study import elasticities, given_data_sobol, ratio_reaching
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube

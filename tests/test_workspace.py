@@ -4,17 +4,19 @@ import numpy as np
 import pytest
 from reference_workspace import pixel_area, reachable
 
+from qsm.physics.containment import (
+    _interp_rows,
+    containment_margin,
+    minimal_scale,
+    minimal_scales,
+    radial_misfit,
+)
 from qsm.physics.kinematics import design_from_ratios, loop_closes_everywhere
 from qsm.physics.task import Disk
 from qsm.physics.workspace import (
     OperatingRange,
     Resolution,
-    _interp_rows,
     _union_length,
-    containment_margin,
-    minimal_scale,
-    minimal_scales,
-    radial_misfit,
     slice_workspace,
     union_and_margin,
     unit_areas,

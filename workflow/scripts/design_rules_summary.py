@@ -2,8 +2,9 @@
 
 import json
 
+from qsm.design_rules.claims import Evidence, Study
 from qsm.design_rules.correlations import FEATURES_MM, OBJECTIVES, correlations
-from qsm.design_rules.findings import Evidence, Study, findings, summary_markdown
+from qsm.design_rules.findings import findings, summary_markdown
 from qsm.design_rules.study import distinct_rows, elasticities
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.workflow.logs import logged

@@ -4,9 +4,9 @@ mechanisms."""
 from qsm import settings
 from qsm.embodiment.drive_checks import with_embodiment
 from qsm.mechanisms.dataset import status_counts
+from qsm.mechanisms.evaluation import evaluate_table
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.duty import duty_cycle
-from qsm.physics.dynamics import evaluate_table
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice

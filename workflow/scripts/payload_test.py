@@ -7,13 +7,8 @@ import numpy as np
 from qsm import settings
 from qsm.embodiment.drives.selection import OutputEnvelope
 from qsm.realisation.export import props_from_json
-from qsm.realisation.payload import (
-    SERIES_COLUMNS,
-    payload_test,
-    plot_payload_test,
-    series_table,
-    summary,
-)
+from qsm.realisation.payload import payload_test
+from qsm.report.payload import SERIES_COLUMNS, plot_payload_test, series_table, summary
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import write_table
 

@@ -42,7 +42,7 @@ BOM_COLUMNS: tuple[str, ...] = (
     "source",
     "notes",
 )
-#: The drive rows kept ready for the drives issue: (item, where).
+#: The bill's drive rows, filled with the chosen drives when given: (item, where).
 DRIVE_ROWS: tuple[tuple[str, str], ...] = (
     ("motor 1", "A, theta1 (lower arm)"),
     ("gearbox 1", "A, theta1 (lower arm)"),

@@ -1,7 +1,7 @@
 """Stage 2's table: its columns with units, the gathered dataset and its healthy rows.
 
 Light on purpose (no MuJoCo, no trimesh): most later rules read the dataset through it. One shard's
-dynamics is :func:`qsm.physics.dynamics.evaluate_table` of its rows, then
+dynamics is :func:`qsm.mechanisms.evaluation.evaluate_table` of its rows, then
 :func:`qsm.embodiment.drive_checks.with_embodiment` (strength and drives)."""
 
 from __future__ import annotations

@@ -12,17 +12,10 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from qsm.physics.containment import minimal_scales, radial_misfit
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
 from qsm.physics.task import Disk
-from qsm.physics.workspace import (
-    OperatingRange,
-    Resolution,
-    Slices,
-    arcs,
-    minimal_scales,
-    radial_misfit,
-    slices_of_arcs,
-)
+from qsm.physics.workspace import OperatingRange, Resolution, Slices, arcs, slices_of_arcs
 
 log = logging.getLogger(__name__)
 

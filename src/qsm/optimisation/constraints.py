@@ -33,15 +33,10 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.embodiment.printing import box_excess_mm
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.physics.cad import CadSettings
+from qsm.physics.containment import disk_arc_half_width
 from qsm.physics.kinematics import as_design
 from qsm.physics.task import Disk
-from qsm.physics.workspace import (
-    OperatingRange,
-    arcs,
-    disk_arc_half_width,
-    margin_about_zero,
-    wrap_about,
-)
+from qsm.physics.workspace import OperatingRange, arcs, margin_about_zero, wrap_about
 
 #: Violation (m) given to a design whose loop does not close over the operating range.
 OPEN_LOOP_VIOLATION_M = 10.0

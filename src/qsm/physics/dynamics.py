@@ -1,16 +1,14 @@
 """Closed-chain inverse dynamics of the mechanism with MuJoCo: motor torques over a duty.
 
-MuJoCo's inverse dynamics with the loop equality active does not give the motor torques of a
-closed chain (its soft constraint force is zero on a consistent trajectory). Instead
-(docs/stages.md, Stage 2):
+``mj_inverse`` with the loop equality active does not give a closed chain's motor torques (its
+soft constraint force is zero on a consistent trajectory), so (docs/stages.md, Stage 2):
 
 1. the passive joint angles, velocities and accelerations follow analytically from the loop
    closure B - l4 dir(phi) = C + l3 dir(psi) (phi: upper arm, psi: coupler CD) and its first and
    second time derivatives, including the velocity-product (Jdot v) terms;
 2. ``mj_inverse`` on the open tree (equality disabled through ``opt.disableflags``) gives the
-   generalized force ``qfrc`` that the tree needs on that consistent state; the stage evaluates
-   all of a design's states in one call on a model of many tree copies
-   (:mod:`qsm.physics.tiled`), which gives the numbers of the design's own model;
+   generalized force ``qfrc`` the tree needs on that state, for all of a design's states in one
+   call on a model of many tree copies (:mod:`qsm.physics.tiled`: the design's own numbers);
 3. with G = dq/dtheta (4 x 2) the motor torques are tau = G^T qfrc, and the coupler force lambda
    (force on the coupler at D from the upper arm, the D bearing load) solves the passive rows of
    qfrc = S^T tau + Jc^T lambda.
@@ -21,22 +19,17 @@ Sign: tau_i is the torque motor i applies to its own link (lower arm, crank) abo
 
 from __future__ import annotations
 
-import logging
-import time
 from typing import Any, NamedTuple
 
 import mujoco
 import numpy as np
-import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
-from qsm.physics.duty import Duty, duty_cycle
-from qsm.physics.kinematics import DESIGN_COLUMNS, as_design, cross, perp, pose
+from qsm.physics.duty import Duty
+from qsm.physics.kinematics import as_design, cross, perp, pose
 from qsm.physics.mjcf import JOINT_NAMES, body_inertials
 from qsm.physics.tiled import tree_forces
-
-log = logging.getLogger(__name__)
 
 # |sin| of the transmission angle at D below which a mechanism is reported as singular
 MIN_SIN_TRANSMISSION = 1e-3
@@ -136,15 +129,8 @@ def _loop_state(
     qd = joints(dth[..., 0], phi_d, dth[..., 1], psi_d)
     qdd = joints(ddth[..., 0], phi_dd, ddth[..., 1], psi_dd)
     one, zero = np.ones_like(phi_1), np.zeros_like(phi_1)
-    G = np.stack(
-        [
-            np.stack([one, zero], axis=-1),
-            np.stack([phi_1 - 1.0, phi_2], axis=-1),
-            np.stack([zero, one], axis=-1),
-            np.stack([psi_1, psi_2 - 1.0], axis=-1),
-        ],
-        axis=-2,
-    )
+    rows = ((one, zero), (phi_1 - 1.0, phi_2), (zero, one), (psi_1, psi_2 - 1.0))  # dq_i/dtheta
+    G = np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
     return LoopState(q, qd, qdd, G, u, v, np.abs(cross(u, v)), p.closes)
 
 
@@ -237,6 +223,7 @@ def joint_torques(
 
 
 def _failure(status: str, reason: str, masses: dict[str, float]) -> dict[str, Any]:
+    """The result of a design whose dynamics failed: NaN but its masses, and why."""
     out: dict[str, Any] = dict.fromkeys(RESULT_KEYS, np.nan)
     out.update(masses, status=status, status_reason=reason)
     return out
@@ -306,32 +293,3 @@ def evaluate_mechanism(
         "status": "ok",
         "status_reason": "",
     }
-
-
-def evaluate_table(
-    df: pd.DataFrame,
-    duty: Duty | None = None,
-    settings: CadSettings = DEFAULT_CAD,
-    payload_kg: float = 5.0,
-    log_every: int = 1000,
-) -> pd.DataFrame:
-    """:func:`evaluate_mechanism` for every row of ``df`` (columns l1_m ... ee_y_m, m).
-
-    Returns one row per input row, in the same order and with the same index, holding
-    ``mechanism_id`` (when ``df`` has it) and the :data:`RESULT_KEYS` columns. ``duty`` defaults to
-    :func:`qsm.physics.duty.duty_cycle` with default settings. Progress is logged every
-    ``log_every`` rows.
-    """
-    duty = duty_cycle() if duty is None else duty
-    designs = df.loc[:, list(DESIGN_COLUMNS)].to_numpy(dtype=float)
-    rows = []
-    start = time.perf_counter()
-    for i, design in enumerate(designs, start=1):
-        rows.append(evaluate_mechanism(design, duty, settings, payload_kg))
-        if i % log_every == 0 or i == len(designs):
-            elapsed = time.perf_counter() - start
-            log.info("dynamics: %d/%d mechanisms, %.1f mechanisms/s", i, len(designs), i / elapsed)
-    out = pd.DataFrame(rows, index=df.index, columns=list(RESULT_KEYS))
-    if "mechanism_id" in df.columns:
-        out.insert(0, "mechanism_id", df["mechanism_id"].to_numpy())
-    return out

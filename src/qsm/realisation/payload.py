@@ -5,13 +5,12 @@ through the task with motors geared to 150 N m and 100 N m (NEMA 17 + 50:1 gear 
 closed-chain MuJoCo model (:mod:`qsm.physics.mjcf`, optionally with the optimised link mass
 properties) is simulated forward:
 
-* reference: the task points in order (at most
-  :data:`qsm.physics.task_points.MAX_VISITED_POINTS` of them, chosen by
-  :func:`qsm.physics.task_points.visited_points` when there are more; and back to the first when
-  ``return_to_start``), each
-  solved by :mod:`qsm.physics.inverse_kinematics` (solution closest to the previous one), joined by
-  rest-to-rest minimum-jerk segments in joint space of ``segment_duration_s``, each followed by
-  a ``dwell_s`` hold (the test starts with one hold at the first point);
+* reference: the task points in order (at most :data:`qsm.physics.task_points.MAX_VISITED_POINTS`
+  of them, chosen by :func:`qsm.physics.task_points.visited_points` when there are more; and back
+  to the first when ``return_to_start``), each solved by :mod:`qsm.physics.inverse_kinematics`
+  (solution closest to the previous one), joined by rest-to-rest minimum-jerk segments in joint
+  space of ``segment_duration_s``, each followed by a ``dwell_s`` hold (the test starts with one
+  hold at the first point);
 * drives: each motor is the drive chosen for it (:mod:`qsm.embodiment.drive_checks`); the
   model and the plant carry its reflected inertia as joint armature on theta1 / theta2, and the
   torque it can give at the joint is its torque-speed envelope on the output side
@@ -25,11 +24,10 @@ properties) is simulated forward:
   (:func:`qsm.physics.dynamics.inverse_dynamics`, same model and properties) plus joint PD feedback
   ``kp (theta_ref - theta) + kd (dtheta_ref - dtheta)``; the *requested* torque is clamped to the
   motor limits before it is applied;
-* integration: the PD torque is applied explicitly, which is stable only while
-  ``kd dt / M < 2`` for the smallest motor-space inertia ``M`` (:func:`motor_inertia`); a small
-  light arm has little inertia at the crank, so the step is cut (from the model's
-  ``opt.timestep``) until ``kd dt / M <= 0.5`` at every waypoint, and the data are sampled at the
-  model's step as before;
+* integration: the PD torque is applied explicitly, which is stable only while ``kd dt / M < 2``
+  for the smallest motor-space inertia ``M`` (:func:`motor_inertia`); a small light arm has little
+  inertia at the crank, so the step is cut (from the model's ``opt.timestep``) until
+  ``kd dt / M <= 0.5`` at every waypoint, while the data are sampled at the model's step;
 * pass: the requested torque never exceeds what the drives give (no saturation) and the
   largest tracking error of either motor stays within ``tracking_tolerance_deg``.
 """
@@ -40,12 +38,10 @@ import itertools
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
-from pathlib import Path
 from typing import Any
 
 import mujoco
 import numpy as np
-import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.drives.selection import OutputEnvelope
@@ -101,6 +97,15 @@ class PayloadSettings:
 DEFAULT_PAYLOAD_TEST = PayloadSettings()
 #: Largest kd dt / M the explicit PD loop is stepped with (stability needs < 2).
 STABLE_KD_DT_OVER_M = 0.5
+#: Keys of a :func:`payload_test` result that hold time series (the rest are scalars).
+SERIES_KEYS: tuple[str, ...] = (
+    "t_s",
+    "theta_ref_deg",
+    "theta_deg",
+    "torque_requested_Nm",
+    "torque_applied_Nm",
+    "torque_available_Nm",
+)
 
 
 def reference_trajectory(
@@ -226,18 +231,16 @@ def payload_test(
     plant.opt.timestep = dt / substeps
     n = len(t)
     q_act = np.empty((n, 2))
-    req = np.zeros((n, 2))
-    applied = np.zeros((n, 2))
-    available = np.zeros((n, 2))
+    req, applied, available = (np.zeros((n, 2)) for _ in range(3))
     q_act[0] = data.qpos[[0, 2]]
-    over_any = np.zeros((n, 2), bool)
+    over = np.zeros((n, 2), bool)
     for k in range(n - 1):
         for j in range(substeps):  # the PD loop runs at the (sub)step; the reference is held
             q, dq = data.qpos[[0, 2]], data.qvel[[0, 2]]
             torque = tau_ff[k] + kp * (th[k] - q) + kd * (dth[k] - dq)
             lim = limits(torque, dq)
             data.ctrl[:] = np.clip(torque, -lim, lim)
-            over_any[k] |= np.abs(torque) > lim
+            over[k] |= np.abs(torque) > lim
             if j == 0:
                 req[k], applied[k], available[k] = torque, data.ctrl, lim
             mujoco.mj_step(plant, data)
@@ -246,10 +249,9 @@ def payload_test(
     req[-1] = tau_ff[-1] + kp * (th[-1] - q_act[-1]) + kd * (dth[-1] - dq)
     available[-1] = limits(req[-1], dq)
     applied[-1] = np.clip(req[-1], -available[-1], available[-1])
-    over_any[-1] = np.abs(req[-1]) > available[-1]
+    over[-1] = np.abs(req[-1]) > available[-1]
     limit = fixed if fixed is not None else limits(np.ones(2), np.zeros(2))
     err = np.degrees(np.abs(q_act - th))
-    over = over_any
     saturated = bool(over.any())
     max_err = float(err.max())
     tracked = max_err <= s.tracking_tolerance_deg
@@ -296,103 +298,3 @@ def payload_test(
         "torque_applied_Nm": applied,
         "torque_available_Nm": available,
     }
-
-
-SERIES_KEYS: tuple[str, ...] = (
-    "t_s",
-    "theta_ref_deg",
-    "theta_deg",
-    "torque_requested_Nm",
-    "torque_applied_Nm",
-    "torque_available_Nm",
-)
-
-
-#: Columns of :func:`series_table`: the time series of a payload test, one row per sample.
-SERIES_COLUMNS: dict[str, str] = {
-    "t_s": "time (s)",
-    **{
-        f"theta{j}{kind}_deg": f"motor {j} angle, {what} (deg)"
-        for kind, what in (("_ref", "reference"), ("", "simulated"))
-        for j in (1, 2)
-    },
-    **{
-        f"tau{j}_{kind}_Nm": f"motor {j} torque, {kind} (N m)"
-        for kind in ("requested", "applied", "available")
-        for j in (1, 2)
-    },
-}
-
-
-def series_table(result: dict[str, Any]) -> pd.DataFrame:
-    """The time series of a :func:`payload_test` result as a table (:data:`SERIES_COLUMNS`)."""
-    pairs = {
-        "theta{}_ref_deg": "theta_ref_deg",
-        "theta{}_deg": "theta_deg",
-        "tau{}_requested_Nm": "torque_requested_Nm",
-        "tau{}_applied_Nm": "torque_applied_Nm",
-        "tau{}_available_Nm": "torque_available_Nm",
-    }
-    data = {"t_s": np.asarray(result["t_s"], dtype=float)}
-    for pattern, key in pairs.items():
-        for j in (1, 2):
-            data[pattern.format(j)] = np.asarray(result[key], dtype=float)[:, j - 1]
-    return pd.DataFrame(data)[list(SERIES_COLUMNS)]
-
-
-def summary(result: dict[str, Any]) -> dict[str, Any]:
-    """The scalar part of a :func:`payload_test` result (JSON-friendly)."""
-    return {k: v for k, v in result.items() if k not in SERIES_KEYS}
-
-
-def plot_payload_test(result: dict[str, Any], path: str | Path) -> Path:
-    """Figure: motor angles (reference and simulated), requested torques with the limits, and the
-    tracking error over time."""
-    import matplotlib.pyplot as plt
-
-    t = result["t_s"]
-    fig, axes = plt.subplots(3, 1, figsize=(8, 7.5), sharex=True)
-    colours = ("tab:blue", "tab:orange")
-    for j, c in enumerate(colours):
-        axes[0].plot(
-            t,
-            result["theta_ref_deg"][:, j],
-            color=c,
-            ls="--",
-            lw=1,
-            label=f"theta{j + 1} reference",
-        )
-        axes[0].plot(t, result["theta_deg"][:, j], color=c, lw=1, label=f"theta{j + 1} simulated")
-        axes[1].plot(
-            t, result["torque_requested_Nm"][:, j], color=c, lw=1, label=f"tau{j + 1} requested"
-        )
-        lim = np.abs(result["torque_available_Nm"][:, j])
-        axes[1].plot(t, lim, color=c, ls=":", lw=1)
-        axes[1].plot(t, -lim, color=c, ls=":", lw=1)
-        axes[2].plot(
-            t,
-            np.abs(result["theta_deg"][:, j] - result["theta_ref_deg"][:, j]),
-            color=c,
-            lw=1,
-            label=f"motor {j + 1}",
-        )
-    axes[2].axhline(result["tracking_tolerance_deg"], color="k", ls=":", lw=1, label="tolerance")
-    axes[0].set_ylabel("angle (deg)")
-    axes[1].set_ylabel("torque (N m)")
-    axes[2].set_ylabel("|error| (deg)")
-    axes[2].set_xlabel("time (s)")
-    for ax in axes:
-        ax.legend(fontsize=7, loc="upper right")
-    verdict = "PASSED" if result["passed"] else f"FAILED: {result['reason']}"
-    axes[0].set_title(
-        f"payload test, {result['payload_kg']:.1f} kg at E: {verdict}\n"
-        f"peak torque {np.round(result['peak_torque_Nm'], 1).tolist()} N m "
-        f"(limits {result['limit_Nm']}), max error {result['max_tracking_error_deg']:.3f} deg",
-        fontsize=9,
-    )
-    fig.tight_layout()
-    out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(out, dpi=130)
-    plt.close(fig)
-    return out
