@@ -40,14 +40,15 @@ DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])  # a crank-rocker that c
 
 
 def plotly_figure(path: Path) -> dict:
-    """The figure JSON (data and layout) that a Plotly HTML file plots."""
+    """The figure JSON (data and layout) that a page of :mod:`qsm.report.plotly_page` plots, with
+    the shared hover texts back in their traces."""
     text = path.read_text()
-    start = text.index('"pareto-front",', text.index("Plotly.newPlot(")) + len('"pareto-front",')
-    decoder = json.JSONDecoder()
-    rest = text[start:].lstrip()
-    data, end = decoder.raw_decode(rest)
-    layout, _ = decoder.raw_decode(rest[end:].lstrip(" ,\n"))
-    return {"data": data, "layout": layout}
+    start = text.index(">", text.index("id='plotly-figure'")) + 1
+    figure = json.loads(text[start : text.index("</script>", start)])
+    for trace in figure["data"]:
+        if isinstance(trace.get("text"), dict):
+            trace["text"] = figure["shared_texts"][trace["text"]["shared"]]
+    return figure
 
 
 def decoded(value) -> np.ndarray:
@@ -128,8 +129,8 @@ def test_the_html_front_holds_every_pareto_row_with_its_values(run):
         path = run / f"results/optimization/{front}/pareto.html"
         table = read_table(run / f"results/optimization/{front}/verification.parquet")
         html = path.read_text()
-        assert "<script src=" not in html  # plotly.js inlined: the page opens offline
-        assert "plotly.js v" in html
+        assert "<script src=" not in html and "http" not in html.split("id='plotly-bundle'")[0]
+        assert "Plotly.newPlot" in html  # plotly.js inlined: the page opens offline
         figure = plotly_figure(path)
         traces = figure["data"]
         marked = selected["source"] == front
