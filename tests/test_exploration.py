@@ -362,6 +362,20 @@ def test_export_refuses_a_config_other_than_the_runs(run, tmp_path, capsys):
 # ---------------------------------------------------------------- notebook and report
 
 
+def test_the_stored_notebook_shows_its_outputs_and_stays_small():
+    """docs/quickstart.ipynb is stored executed (it reads on a code host): every code cell has
+    output, none an error, no Plotly blob, and the file stays under 300 kB."""
+    path = ROOT / "docs" / "quickstart.ipynb"
+    nb = nbformat.read(path, as_version=4)
+    code = [c for c in nb.cells if c.cell_type == "code"]
+    assert code and all(c["outputs"] for c in code)
+    outputs = [o for c in code for o in c["outputs"]]
+    assert not [o for o in outputs if o.output_type == "error"]
+    assert any("image/png" in o.get("data", {}) for o in outputs)
+    assert not any("application/vnd.plotly.v1+json" in o.get("data", {}) for o in outputs)
+    assert path.stat().st_size < 300_000
+
+
 def test_quickstart_notebook_runs_on_a_finished_run(run, tmp_path, monkeypatch):
     work = copy_run(run, tmp_path / "nb")
     monkeypatch.setenv("QSM_CONFIG", "config/test.yaml")
