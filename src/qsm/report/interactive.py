@@ -194,7 +194,7 @@ def front_figure(
             "yaxis_title": labels[1],
             "zaxis_title": labels[2],
             "aspectmode": "cube",
-            "camera": {"eye": {"x": 1.6, "y": 1.6, "z": 1.1}},  # the axis titles in view
+            "camera": {"eye": {"x": 1.8, "y": 1.8, "z": 1.2}},  # the axis titles in view
         },
         coloraxis={
             "colorscale": "Viridis",
