@@ -2,7 +2,8 @@
 
 The single-file report shows an HTML result in an iframe whose ``src`` is the file as a base64
 ``data:`` URL (Snakemake's own ``data_uri_from_file``); Chromium leaves the iframe blank when the
-URL is longer than 2 MiB. The zip report shows the file itself. Plotly paints each subplot's
+URL is longer than 2 MiB, and a page there is no secure context (no WebCodecs). The zip report
+shows the file itself. Plotly paints each subplot's
 background in its template's colour (#E5ECF6) and the realised design as a red star, so a page
 that drew has many pixels of the one and some of the other; a blank or broken page has none.
 """
@@ -62,11 +63,9 @@ def test_the_vendored_bundle_is_the_one_its_readme_names():
     assert js[:200].decode().count(f"plotly.js (gl3d - minified) v{version}") == 1
 
 
-@pytest.mark.workflow
-@pytest.mark.skipif(CHROMIUM is None, reason="needs chromium")
-def test_the_front_draws_in_the_single_file_reports_iframe(run, tmp_path):
-    selected = json.loads((run / "results/realization/selected.json").read_text())
-    page = run / f"results/optimization/{selected['source']}/pareto.html"
+def in_report_iframe(page: Path, tmp_path: Path) -> np.ndarray:
+    """Pixels of ``page`` shown as the single-file report shows it: an iframe whose ``src`` is
+    Snakemake's ``data:`` URL of the file."""
     uri = data_uri_from_file(page)
     assert len(uri) < CHROMIUM_MAX_URL_CHARS
     outer = tmp_path / "outer.html"
@@ -74,7 +73,14 @@ def test_the_front_draws_in_the_single_file_reports_iframe(run, tmp_path):
         "<html><body style='margin: 0'><iframe style='border: 0' width='1400' height='1000' "
         f"src='{html.escape(uri, quote=True)}'></iframe></body></html>"
     )
-    rgb = screenshot(outer.as_uri(), tmp_path / "front.png", tmp_path / "profile")
+    return screenshot(outer.as_uri(), tmp_path / "page.png", tmp_path / "profile")
+
+
+@pytest.mark.workflow
+@pytest.mark.skipif(CHROMIUM is None, reason="needs chromium")
+def test_the_front_draws_in_the_single_file_reports_iframe(run, tmp_path):
+    selected = json.loads((run / "results/realization/selected.json").read_text())
+    rgb = in_report_iframe(run / f"results/optimization/{selected['source']}/pareto.html", tmp_path)
     assert share_of(rgb, PLOT_BACKGROUND) > 0.15
     assert red_star_pixels(rgb) > 50  # the realised design, marked
 
@@ -91,3 +97,11 @@ def test_the_front_draws_from_the_zip_report(run, tmp_path):
     for k, page in enumerate(pages):
         rgb = screenshot(page.as_uri(), tmp_path / f"front{k}.png", tmp_path / f"profile{k}")
         assert share_of(rgb, PLOT_BACKGROUND) > 0.15, page
+
+
+@pytest.mark.workflow
+@pytest.mark.skipif(CHROMIUM is None, reason="needs chromium")
+def test_the_motion_page_draws_its_frames_in_the_single_file_reports_iframe(run, tmp_path):
+    """The page's script draws the frames into a canvas (the end effector is the only magenta)."""
+    rgb = in_report_iframe(run / "results/realization/task_motion.html", tmp_path)
+    assert share_of(rgb, (0xFF, 0x00, 0xFF), tol=30) * rgb.shape[0] * rgb.shape[1] > 20
