@@ -40,14 +40,15 @@ DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])  # a crank-rocker that c
 
 
 def plotly_figure(path: Path) -> dict:
-    """The figure JSON (data and layout) that a Plotly HTML file plots."""
+    """The figure JSON (data and layout) that a page of :mod:`qsm.report.plotly_page` plots, with
+    the shared hover texts back in their traces."""
     text = path.read_text()
-    start = text.index('"pareto-front",', text.index("Plotly.newPlot(")) + len('"pareto-front",')
-    decoder = json.JSONDecoder()
-    rest = text[start:].lstrip()
-    data, end = decoder.raw_decode(rest)
-    layout, _ = decoder.raw_decode(rest[end:].lstrip(" ,\n"))
-    return {"data": data, "layout": layout}
+    start = text.index(">", text.index("id='plotly-figure'")) + 1
+    figure = json.loads(text[start : text.index("</script>", start)])
+    for trace in figure["data"]:
+        if isinstance(trace.get("text"), dict):
+            trace["text"] = figure["shared_texts"][trace["text"]["shared"]]
+    return figure
 
 
 def decoded(value) -> np.ndarray:
@@ -128,8 +129,8 @@ def test_the_html_front_holds_every_pareto_row_with_its_values(run):
         path = run / f"results/optimization/{front}/pareto.html"
         table = read_table(run / f"results/optimization/{front}/verification.parquet")
         html = path.read_text()
-        assert "<script src=" not in html  # plotly.js inlined: the page opens offline
-        assert "plotly.js v" in html
+        assert "<script src=" not in html and "http" not in html.split("id='plotly-bundle'")[0]
+        assert "Plotly.newPlot" in html  # plotly.js inlined: the page opens offline
         figure = plotly_figure(path)
         traces = figure["data"]
         marked = selected["source"] == front
@@ -241,7 +242,8 @@ def test_the_workflow_animates_the_payload_test(run):
         tip = drawn_tip(real / "task_motion.gif", k, record["geometry"])
         assert np.linalg.norm(tip - expected) < 2.0 * pixel_m(record["geometry"])
     viewer = (real / "task_motion.html").read_text()
-    assert "data:image/gif;base64," in viewer and f"{record['n_frames']} frames" in viewer
+    data = json.loads(re.search(r"id='motion-data'>(.*?)</script>", viewer).group(1))
+    assert len(data["frames"]) == record["n_frames"] and f"{record['n_frames']} frames" in viewer
 
 
 # ---------------------------------------------------------------- the export
@@ -358,6 +360,20 @@ def test_export_refuses_a_config_other_than_the_runs(run, tmp_path, capsys):
 
 
 # ---------------------------------------------------------------- notebook and report
+
+
+def test_the_stored_notebook_shows_its_outputs_and_stays_small():
+    """docs/quickstart.ipynb is stored executed (it reads on a code host): every code cell has
+    output, none an error, no Plotly blob, and the file stays under 300 kB."""
+    path = ROOT / "docs" / "quickstart.ipynb"
+    nb = nbformat.read(path, as_version=4)
+    code = [c for c in nb.cells if c.cell_type == "code"]
+    assert code and all(c["outputs"] for c in code)
+    outputs = [o for c in code for o in c["outputs"]]
+    assert not [o for o in outputs if o.output_type == "error"]
+    assert any("image/png" in o.get("data", {}) for o in outputs)
+    assert not any("application/vnd.plotly.v1+json" in o.get("data", {}) for o in outputs)
+    assert path.stat().st_size < 300_000
 
 
 def test_quickstart_notebook_runs_on_a_finished_run(run, tmp_path, monkeypatch):

@@ -1,10 +1,12 @@
-"""Rule task_motion: the selected design moving through the payload test, as a GIF."""
+"""Rule task_motion: the selected design moving through the payload test, as a GIF and a page
+that plays it with play/pause and a slider."""
 
 import json
 
 from qsm import settings
 from qsm.physics.task import min_enclosing_circle
-from qsm.report.animation import frames_record, write_task_motion, write_viewer_html
+from qsm.report.animation import frames_record, write_task_motion
+from qsm.report.motion_page import write_viewer_html
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
@@ -47,5 +49,5 @@ with logged(snakemake.log[0]) as log:
         "error "
         f"{payload['max_tracking_error_deg']:.3f} deg",
     ]
-    write_viewer_html(out.gif, out.viewer, title, lines)
+    write_viewer_html(out.gif, out.viewer, title, lines, record["fps"])
     log.info("%d frames; %s", record["n_frames"], "; ".join(lines))

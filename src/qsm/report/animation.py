@@ -3,8 +3,9 @@
 Left: the design drawn as the report's linkage figures (:func:`qsm.report.figures.draw_workspace`
 and :func:`~qsm.report.figures.linkage_segments`) at the *simulated* motor angles of the payload
 test, with its workspace, the task disk, the task points and the path of the end effector E so
-far; E is a magenta square. Right: both motors' requested torques over the whole test with their
-limits and a cursor at the frame's time, and bars of |tau| / limit at that time.
+far; E is a magenta square. Right: both motors' requested torques over the whole test (the axis
+scaled to them, the limits dotted when in range) and a cursor at the frame's time, and bars of
+|tau| / limit at that time. :mod:`qsm.report.motion_page` makes the GIF a page to pause and scrub.
 
 The frames sample the payload test's time series (``payload_test_series.parquet``) every
 ``1 / fps`` seconds from its first to its last sample, so the first frame shows the start pose
@@ -14,8 +15,6 @@ and the last the end pose; the GIF plays in real time. :func:`motion_frames` giv
 
 from __future__ import annotations
 
-import base64
-import html
 import io
 from collections.abc import Mapping, Sequence
 from pathlib import Path
@@ -112,7 +111,9 @@ def write_task_motion(
     ``points`` (n, 2) m are the task points, ``disk`` the task disk, ``op`` the operating range,
     ``limits_Nm`` the two motor torque limits. Returns ``frames`` (the :func:`motion_frames`
     table), ``fps`` and ``geometry``: the linkage axes' data limits and their box in image pixels
-    (``left, top, right, bottom``, origin at the top left), the same for every frame.
+    (``left, top, right, bottom``, origin at the top left), the same for every frame; and
+    ``torque_geometry``, the same for the torque axes (scaled to the torques,
+    :func:`torque_range`).
 
     Everything that does not move (workspace, task, torque curves, axes and labels) is drawn once
     into a background image; each frame draws only the moving artists over it and is grabbed by
@@ -145,10 +146,13 @@ def write_task_motion(
         for sign in (1, -1):
             ax_tau.axhline(sign * limits[j], color=c, ls=":", lw=1)
     ax_tau.set_xlim(t[0], t[-1])
-    ax_tau.set_ylim(-1.08 * limits.max(), 1.08 * limits.max())
+    ax_tau.set_ylim(*torque_range(tau))
     ax_tau.set_xlabel("time (s)", labelpad=1)
     ax_tau.set_ylabel("torque (N m)")
-    ax_tau.set_title("motor torques; dotted: the limits", fontsize=9)
+    ax_tau.set_title(
+        f"motor torques; limits ±{limits[0]:g} / ±{limits[1]:g} N m (dotted when in range)",
+        fontsize=9,
+    )
     ax_tau.legend(fontsize=7, loc="upper right")
     ax_tau.grid(alpha=0.3)
     ax_bar.axvline(100.0, color="tab:red", lw=1.5)
@@ -208,8 +212,21 @@ def write_task_motion(
             draw(k)
             writer.grab_frame()
     geometry = _axes_geometry(fig, ax)
+    torque_geometry = _axes_geometry(fig, ax_tau)
     plt.close(fig)
-    return {"frames": frames, "fps": fps, "geometry": geometry}
+    return {
+        "frames": frames,
+        "fps": fps,
+        "geometry": geometry,
+        "torque_geometry": torque_geometry,
+    }
+
+
+def torque_range(tau_Nm: NDArray) -> tuple[float, float]:
+    """Torque-axis limits (N m) scaled to the torques drawn: their span and zero, 8 % margin."""
+    lo, hi = min(float(tau_Nm.min()), 0.0), max(float(tau_Nm.max()), 0.0)
+    pad = 0.08 * max(hi - lo, 1e-9)
+    return lo - pad, hi + pad
 
 
 def _fit_view(
@@ -256,20 +273,3 @@ def frames_record(result: Mapping[str, Any], design: ArrayLike) -> dict[str, Any
         "ee_m": e.tolist(),
         "geometry": result["geometry"],
     }
-
-
-def write_viewer_html(gif: str | Path, path: str | Path, title: str, lines: Sequence[str]) -> Path:
-    """A small self-contained page showing ``gif`` (inlined) under ``title`` with ``lines`` of
-    text: the form in which the Snakemake report, which shows no GIF itself, can play it."""
-    data = base64.b64encode(Path(gif).read_bytes()).decode()
-    items = "".join(f"<li>{html.escape(line)}</li>" for line in lines)
-    out = Path(path)
-    out.write_text(
-        "<!doctype html>\n<html><head><meta charset='utf-8'>"
-        f"<title>{html.escape(title)}</title></head>\n"
-        "<body style='font-family: sans-serif; margin: 12px'>\n"
-        f"<h3>{html.escape(title)}</h3>\n"
-        f"<img alt='{html.escape(title)}' src='data:image/gif;base64,{data}'>\n"
-        f"<ul style='font-size: 13px'>{items}</ul>\n</body></html>\n"
-    )
-    return out

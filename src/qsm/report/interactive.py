@@ -1,4 +1,4 @@
-"""The interactive Pareto front: one self-contained HTML file (Plotly, its JavaScript inlined).
+"""The interactive Pareto front: one self-contained HTML page (Plotly, a partial bundle inlined).
 
 The page shows a verified front (:func:`qsm.optimisation.verify.verify_front`) in 3D and in the
 three pairwise views of (eta, tau1, tau2), coloured by the scale factor l1. Each design is drawn
@@ -21,6 +21,7 @@ from plotly.subplots import make_subplots
 
 from qsm.optimisation.ranking import front_ranks
 from qsm.physics.kinematics import DESIGN_COLUMNS, DESIGN_NAMES
+from qsm.report.plotly_page import write_figure_page
 
 #: (predicted column, true column, axis label) of the three objectives.
 OBJECTIVE_COLUMNS: tuple[tuple[str, str, str], ...] = (
@@ -54,7 +55,7 @@ def hover_texts(verified: pd.DataFrame, ranks: Sequence[int], front: str) -> lis
             for name, col in zip(DESIGN_NAMES, DESIGN_COLUMNS, strict=True)
         )
         lines = [
-            f"<b>rank {rank} of {n}</b>: python -m qsm export --front {front} --rank {rank}",
+            f"<b>rank {rank} of {n}</b>: qsm export --front {front} --rank {rank}",
             f"lengths (mm): {lengths}",
         ]
         for (pred, true, label), digits in zip(OBJECTIVE_COLUMNS, (4, 2, 2), strict=True):
@@ -193,6 +194,7 @@ def front_figure(
             "yaxis_title": labels[1],
             "zaxis_title": labels[2],
             "aspectmode": "cube",
+            "camera": {"eye": {"x": 1.8, "y": 1.8, "z": 1.2}},  # the axis titles in view
         },
         coloraxis={
             "colorscale": "Viridis",
@@ -236,15 +238,13 @@ def write_front_html(
     constraints: str = "",
     selected: int | None = None,
 ) -> Path:
-    """Write the front as one self-contained HTML file (plotly.js inlined, opens offline), with
-    the realised design marked when ``selected`` gives its row."""
-    out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    front_figure(verified, front, constraints, selected).write_html(
-        out,
-        include_plotlyjs=True,
-        full_html=True,
-        config={"displaylogo": False, "responsive": True},
+    """Write the front as one self-contained HTML page (plotly.js's gl3d bundle inlined, see
+    :mod:`qsm.report.plotly_page`; it opens offline and in the single-file report), with the
+    realised design marked when ``selected`` gives its row."""
+    return write_figure_page(
+        front_figure(verified, front, constraints, selected),
+        path,
         div_id="pareto-front",
+        title=f"The {front} front",
+        config={"displaylogo": False, "responsive": True},
     )
-    return out
