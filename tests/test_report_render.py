@@ -12,6 +12,7 @@ import gzip
 import hashlib
 import html
 import json
+import os
 import re
 import shutil
 import subprocess
@@ -26,16 +27,38 @@ from workflow_helpers import copy_run, snakemake
 
 from qsm.report.plotly_page import BUNDLE, CHROMIUM_MAX_URL_CHARS
 
-CHROMIUM = shutil.which("chromium") or shutil.which("chromium-browser")
 PLOT_BACKGROUND = (0xE5, 0xEC, 0xF6)
 SIZE = (1400, 1000)
 DATA = Path(__file__).resolve().parents[1] / "src/qsm/report/data"
 
 
-def screenshot(url: str, out: Path, profile: Path) -> np.ndarray:
+def _find_chromium() -> str | None:
+    return shutil.which("chromium") or shutil.which("chromium-browser")
+
+
+@pytest.fixture(scope="session")
+def chromium() -> str:
+    """Headless Chromium: found, or installed with Debian's apt when this is root (as in CI),
+    like the SLURM tests' SLURM; otherwise the test is skipped."""
+    path = _find_chromium()
+    if path is None and os.geteuid() == 0 and shutil.which("apt-get"):
+        env = {**os.environ, "DEBIAN_FRONTEND": "noninteractive"}
+        apt = ["apt-get", "-o", "DPkg::Lock::Timeout=600", "-q"]
+        subprocess.run([*apt, "update"], capture_output=True, check=False, env=env)
+        subprocess.run(
+            [*apt, "-y", "--no-install-recommends", "install", "chromium"],
+            capture_output=True, check=False, env=env,
+        )  # fmt: skip
+        path = _find_chromium()
+    if path is None:
+        pytest.skip("needs chromium (apt-get install chromium)")
+    return path
+
+
+def screenshot(chromium: str, url: str, out: Path, profile: Path) -> np.ndarray:
     """RGB pixels of ``url`` drawn by headless Chromium in a SIZE window."""
     subprocess.run(
-        [CHROMIUM, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
+        [chromium, "--headless", "--no-sandbox", "--disable-gpu", "--disable-quic",
          "--no-first-run", "--disable-background-networking", "--disable-component-update",
          "--disable-sync", f"--user-data-dir={profile}", "--hide-scrollbars",
          "--virtual-time-budget=15000", f"--window-size={SIZE[0]},{SIZE[1]}",
@@ -63,7 +86,7 @@ def test_the_vendored_bundle_is_the_one_its_readme_names():
     assert js[:200].decode().count(f"plotly.js (gl3d - minified) v{version}") == 1
 
 
-def in_report_iframe(page: Path, tmp_path: Path) -> np.ndarray:
+def in_report_iframe(chromium: str, page: Path, tmp_path: Path) -> np.ndarray:
     """Pixels of ``page`` shown as the single-file report shows it: an iframe whose ``src`` is
     Snakemake's ``data:`` URL of the file."""
     uri = data_uri_from_file(page)
@@ -73,21 +96,21 @@ def in_report_iframe(page: Path, tmp_path: Path) -> np.ndarray:
         "<html><body style='margin: 0'><iframe style='border: 0' width='1400' height='1000' "
         f"src='{html.escape(uri, quote=True)}'></iframe></body></html>"
     )
-    return screenshot(outer.as_uri(), tmp_path / "page.png", tmp_path / "profile")
+    return screenshot(chromium, outer.as_uri(), tmp_path / "page.png", tmp_path / "profile")
 
 
 @pytest.mark.workflow
-@pytest.mark.skipif(CHROMIUM is None, reason="needs chromium")
-def test_the_front_draws_in_the_single_file_reports_iframe(run, tmp_path):
+def test_the_front_draws_in_the_single_file_reports_iframe(run, tmp_path, chromium):
     selected = json.loads((run / "results/realization/selected.json").read_text())
-    rgb = in_report_iframe(run / f"results/optimization/{selected['source']}/pareto.html", tmp_path)
+    rgb = in_report_iframe(
+        chromium, run / f"results/optimization/{selected['source']}/pareto.html", tmp_path
+    )
     assert share_of(rgb, PLOT_BACKGROUND) > 0.15
     assert red_star_pixels(rgb) > 50  # the realised design, marked
 
 
 @pytest.mark.workflow
-@pytest.mark.skipif(CHROMIUM is None, reason="needs chromium")
-def test_the_front_draws_from_the_zip_report(run, tmp_path):
+def test_the_front_draws_from_the_zip_report(run, tmp_path, chromium):
     work = copy_run(run, tmp_path / "report")
     snakemake(work, "--report", "results/report.zip")
     with zipfile.ZipFile(work / "results/report.zip") as archive:
@@ -95,13 +118,14 @@ def test_the_front_draws_from_the_zip_report(run, tmp_path):
     pages = sorted((tmp_path / "unzipped").rglob("pareto.html"))
     assert len(pages) == 2
     for k, page in enumerate(pages):
-        rgb = screenshot(page.as_uri(), tmp_path / f"front{k}.png", tmp_path / f"profile{k}")
+        rgb = screenshot(
+            chromium, page.as_uri(), tmp_path / f"front{k}.png", tmp_path / f"profile{k}"
+        )
         assert share_of(rgb, PLOT_BACKGROUND) > 0.15, page
 
 
 @pytest.mark.workflow
-@pytest.mark.skipif(CHROMIUM is None, reason="needs chromium")
-def test_the_motion_page_draws_its_frames_in_the_single_file_reports_iframe(run, tmp_path):
+def test_the_motion_page_draws_in_the_single_file_reports_iframe(run, tmp_path, chromium):
     """The page's script draws the frames into a canvas (the end effector is the only magenta)."""
-    rgb = in_report_iframe(run / "results/realization/task_motion.html", tmp_path)
+    rgb = in_report_iframe(chromium, run / "results/realization/task_motion.html", tmp_path)
     assert share_of(rgb, (0xFF, 0x00, 0xFF), tol=30) * rgb.shape[0] * rgb.shape[1] > 20
