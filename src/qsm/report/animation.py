@@ -106,6 +106,7 @@ def write_task_motion(
     path: str | Path,
     fps: float = FRAME_RATE_HZ,
     title: str = "",
+    mirrored: bool = False,
 ) -> dict[str, Any]:
     """Write the GIF of ``design`` (6 lengths, m) moving through the payload-test ``series``.
 
@@ -113,6 +114,8 @@ def write_task_motion(
     ``limits_Nm`` the two motor torque limits. Returns ``frames`` (the :func:`motion_frames`
     table), ``fps`` and ``geometry``: the linkage axes' data limits and their box in image pixels
     (``left, top, right, bottom``, origin at the top left), the same for every frame.
+    ``mirrored``: the design is of a task's mirror image (:mod:`qsm.physics.mirror`); the linkage
+    is drawn on the user's side, x reversed and its tick labels negated.
 
     Everything that does not move (workspace, task, torque curves, axes and labels) is drawn once
     into a background image; each frame draws only the moving artists over it and is grabbed by
@@ -138,6 +141,9 @@ def write_task_motion(
     ax.set_aspect("equal")
     ax.grid(alpha=0.3)
     ax.set_xlabel("x (m)")
+    if mirrored:
+        ax.invert_xaxis()
+        ax.xaxis.set_major_formatter(lambda v, _: f"{-v + 0.0:g}")
     ax.set_ylabel("y (m)")
     ax.set_title(title, fontsize=9)
     for j, c in enumerate(colours):
