@@ -54,7 +54,7 @@ def test_bad_config_names_the_key_and_keeps_results(finished, tmp_path, text, me
 
 def test_task_no_design_can_reach(finished, tmp_path):
     bad = tmp_path / "far.yaml"
-    bad.write_text("task: {points: [[3.0, 3.0], [3.2, 3.0]]}")
+    bad.write_text("task: {points: [[-3.0, 0.0], [3.0, 0.0]]}")  # a disk round the base
     out = snakemake(finished, "select_mechanisms", check=False, configs=(str(bad),))
     assert out.returncode != 0
     assert "task.points" in (finished / "results/logs/select_mechanisms.log").read_text()

@@ -1,6 +1,10 @@
 """Checks across keys and unit slips (qsm.config_checks): each names the key and the cause."""
 
 import copy
+import os
+import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -8,6 +12,8 @@ import pytest
 from qsm.config import ConfigError, load_config, merge_config, validate_config
 from qsm.config_checks import config_warnings, largest_reach
 from qsm.physics.kinematics import end_effector
+
+ROOT = Path(__file__).resolve().parents[1]
 
 # (config, the key named, the value or cause the message must also hold)
 ERRORS = [
@@ -233,10 +239,20 @@ def test_many_points_warn_that_a_subset_is_visited():
     assert "visit 8 of them" in warning
 
 
-def test_points_at_positive_x_warn():
+def test_points_at_positive_x_warn_that_the_task_is_mirrored():
     (warning,) = config_warnings(validate_config({"task": {"points": [[0.3, 0.1], [0.4, 0.1]]}}))
-    assert "config key 'task.points': 2 point(s) at x > 0" in warning
-    assert "mirror the cell" in warning
+    assert "config key 'task.points': the task's enclosing disk has its centre at" in warning
+    assert "designed as its mirror image" in warning
+
+
+@pytest.mark.parametrize(("xs", "side"), [((-0.1, 0.5), "x > 0"), ((-0.5, 0.1), "x <= 0")])
+def test_a_task_on_both_sides_is_designed_on_its_centre_side(xs, side):
+    cfg = validate_config({"task": {"points": [[xs[0], 0.3], [xs[1], 0.3]]}})
+    warnings = config_warnings(cfg)
+    assert any(
+        f"designed on the side of its enclosing disk's centre ({side})" in w for w in warnings
+    )
+    assert any("mirror image" in w for w in warnings) == (side == "x > 0")
 
 
 def test_check_config_command(tmp_path, capsys):
@@ -245,10 +261,29 @@ def test_check_config_command(tmp_path, capsys):
     mine = tmp_path / "mine.yaml"
     mine.write_text("task: {points: [[0.3, 0.1], [0.4, 0.1]]}\n")
     assert main(["check-config", "config/config.yaml", str(mine)]) == 0
-    assert "2 point(s) at x > 0" in capsys.readouterr().out
+    assert "designed as its mirror image" in capsys.readouterr().out
     mine.write_text("task:\n\tpayload_kg: 5\n")
     assert main(["check-config", str(mine)]) == 2
     assert f"config file '{mine}', line 2, column 1" in capsys.readouterr().err
     mine.write_text("task: {payload_kg: 5000}\n")
     assert main(["check-config", str(mine)]) == 2
     assert "looks like grams" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("text", "where"),
+    [
+        ("task:\n\tpayload_kg: 5\n", "line 2, column 1: not valid YAML"),
+        ("task:\n  payload_kg: 5\n   points: [[-0.6, 0.1]]\n", "line 3, column 10: not valid"),
+    ],
+)
+def test_snakemake_names_file_line_and_column_of_a_yaml_error(tmp_path, text, where):
+    """Through the workflow profile (profiles/default), before Snakemake's own message."""
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(text)
+    cmd = [sys.executable, "-m", "snakemake", "--dry-run", "--cores", "1", "--configfile", bad]
+    env = {**os.environ, "PYTHONPATH": str(ROOT / "src")}
+    out = subprocess.run(cmd, cwd=ROOT, env=env, capture_output=True, text=True, timeout=120)
+    assert out.returncode != 0
+    assert f"qsm: config file '{bad}', {where}" in out.stderr
+    assert ("never tabs" in out.stderr) == ("\t" in text)

@@ -160,11 +160,11 @@ def test_cli_reports_infeasible_designs_and_bad_input(tmp_path):
         "0.5",
         "1.2",
         "0.4",
-        "--task-points",
+        "--task-points",  # a disk round the base, which no crescent holds
+        "-3",
+        "0",
         "3",
-        "3",
-        "3.1",
-        "3",
+        "0",
     )
     assert far.returncode == 0 and json.loads(far.stdout)["feasible"] is False
     crossed = json.loads(run_cli("evaluate", "--ratios", "0.6", "1.3", "0.3", "1.2", "0.4").stdout)

@@ -127,7 +127,7 @@ def test_same_tables_whatever_the_shard_count(run, tmp_path):
 def test_task_no_design_can_reach_fails_with_the_key_named(tmp_path):
     work = copy_workflow(tmp_path / "far")
     test = yaml.safe_load((work / "config/test.yaml").read_text())
-    test["task"] = {"points": [[3.0, 3.0], [3.2, 3.0]]}
+    test["task"] = {"points": [[-3.0, 0.0], [3.0, 0.0]]}  # a disk round the base
     (work / "config/test.yaml").write_text(yaml.safe_dump(test))
     out = snakemake(work, "select_mechanisms", check=False)
     assert out.returncode != 0

@@ -16,6 +16,7 @@ from qsm.evaluate import checked_ratios, evaluate_lengths, evaluate_ratios
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.cad import export_stl
 from qsm.physics.kinematics import DESIGN_NAMES
+from qsm.physics.mirror import is_mirrored
 from qsm.physics.mjcf import mjcf_xml
 from qsm.workflow.tables import read_table
 
@@ -117,9 +118,15 @@ def _export(args: argparse.Namespace, config: dict) -> dict:
     out.mkdir(parents=True, exist_ok=True)
     cad = settings.cad(config["cad"], config["material"])
     xml = out / "model.xml"
-    xml.write_text(mjcf_xml(design, cad, config["task"]["payload_kg"]))
+    mirrored = is_mirrored(config["task"]["points"])  # the arm built for a task at x > 0
+    xml.write_text(mjcf_xml(design, cad, config["task"]["payload_kg"], mirrored=mirrored))
     stls = export_stl(design, out / "stl", cad)
-    return {"mechanism_id": args.id, "mjcf": str(xml), "stl": [str(p) for p in stls]}
+    return {
+        "mechanism_id": args.id,
+        "mirrored": mirrored,
+        "mjcf": str(xml),
+        "stl": [str(p) for p in stls],
+    }
 
 
 def main(argv: Sequence[str] | None = None) -> int:

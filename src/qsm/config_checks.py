@@ -66,13 +66,21 @@ def config_warnings(config: dict[str, Any]) -> list[str]:
             f"(the first, those on the disk's edge, then the farthest apart; README, 'Your own "
             f"task')"
         )
-    right = points[points[:, 0] > 0]
-    if len(right):
+    centre = min_enclosing_circle(points).centre
+    side = "x > 0" if centre[0] > 0 else "x <= 0"
+    if centre[0] > 0:
         out.append(
-            f"config key 'task.points': {len(right)} point(s) at x > 0, e.g. "
-            f"{_point(right[0])}; with the default operating range this family's workspace lies "
-            f"on the x < 0 side of the base, so no design may hold the task: mirror the cell "
-            f"(x -> -x) if Stage 1 finds none"
+            f"config key 'task.points': the task's enclosing disk has its centre at "
+            f"{_point(centre)}, at x > 0 (this family's workspace lies at x < 0 with the "
+            f"paper's operating range); it is designed as its mirror image through x = 0, and "
+            f"selected.json, summary.md and qsm export describe the mirrored arm to build "
+            f"(README, 'Your own task')"
+        )
+    if (points[:, 0] < 0).any() and (points[:, 0] > 0).any():
+        out.append(
+            f"config key 'task.points': the points lie on both sides of the base (x < 0 and "
+            f"x > 0); the task is designed on the side of its enclosing disk's centre ({side}), "
+            f"and a design must hold the whole disk"
         )
     return out
 

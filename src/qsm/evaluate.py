@@ -13,6 +13,7 @@ from qsm.mechanisms.scale import fit_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import evaluate_mechanism
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
+from qsm.physics.mirror import is_mirrored
 
 
 def _checked(
@@ -37,7 +38,8 @@ def checked_ratios(ratios: Sequence[float]) -> np.ndarray:
 def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[str, Any]:
     """Stages 1 and 2 for one unit design ``(l2, l3, l4, ee_x, ee_y)`` under a validated config.
 
-    Returns the filter outcomes, ``feasible``, ``scale`` (m), ``workspace_area_m2``, ``eta``, the
+    Returns the filter outcomes, ``mirrored`` (a task at x > 0, designed as its mirror image:
+    :mod:`qsm.physics.mirror`), ``feasible``, ``scale`` (m), ``workspace_area_m2``, ``eta``, the
     scaled lengths (m) and, from the MuJoCo dynamics over the configured duty, ``tau1_Nm``,
     ``tau2_Nm`` and ``dynamics_status``; values that do not exist for an infeasible design are
     None.
@@ -53,6 +55,7 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
         ).items()
     }
     out: dict[str, Any] = {"ratios": dict(zip(RATIO_NAMES, r.tolist(), strict=True)), **checks}
+    out["mirrored"] = is_mirrored(config["task"]["points"])  # designed as the mirror image
     out["task_disk"] = {
         "centre_m": list(fit_settings.disk.centre),
         "radius_m": fit_settings.disk.radius,
@@ -108,7 +111,10 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     )
     duty = settings.duty(config["dynamics"]["duty"], config["operating_range"])
     cad, payload = settings.cad(config["cad"], config["material"]), config["task"]["payload_kg"]
-    out: dict[str, Any] = {"design_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True))}
+    out: dict[str, Any] = {
+        "design_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True)),
+        "mirrored": is_mirrored(config["task"]["points"]),
+    }
     true = verify_design(d, fit_settings, duty_cycle(duty), cad, payload)
     out.update(
         {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in true.items()}

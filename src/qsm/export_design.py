@@ -48,6 +48,7 @@ from qsm.physics.cad import CadError, link_outlines
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import DESIGN_COLUMNS, DESIGN_NAMES, RATIO_NAMES, as_design
+from qsm.physics.mirror import design_points, task_record
 from qsm.physics.mjcf import mjcf_xml
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.urdf import LOOP_NOTE, urdf_xml
@@ -138,6 +139,8 @@ def check_run_config(dataset_path: str | Path, config: Mapping[str, Any]) -> Non
         current: Any = config
         for part in SETTING_PATHS.get(key, (key,)):
             current = current.get(part) if isinstance(current, Mapping) else None
+        if key == "task_points" and current is not None:  # the run stores the designed points
+            current = design_points(current)
         if not _same(value, current):
             differ.append(key)
     if differ:
@@ -223,7 +226,7 @@ def drawing(
     boxes (mm) against the printer."""
     d = as_design(design)
     op = settings.operating_range(config["operating_range"])
-    points = np.asarray(config["task"]["points"], dtype=float)
+    points = np.asarray(design_points(config["task"]["points"]))
     fig, (ax, ax_links) = plt.subplots(1, 2, figsize=(12, 5.2), width_ratios=(1, 1.1))
     draw_design(ax, d, op, min_enclosing_circle(points), title)
     ax.plot(points[:, 0], points[:, 1], "x", color="tab:red", ms=6, mew=1.5)
@@ -282,7 +285,9 @@ def export_design(
     duty = duty_cycle(duty_settings)
     verified = verify_design(d, fit, duty, cad, payload)
     performance = {k: verified[k] for k in TRUE_KEYS}
-    (folder / "model.xml").write_text(mjcf_xml(d, cad, payload, home_pose(d, fit.op)))
+    task = task_record(config["task"]["points"])
+    xml = mjcf_xml(d, cad, payload, home_pose(d, fit.op), mirrored=bool(task["mirrored"]))
+    (folder / "model.xml").write_text(xml)
     check = settings.strength_check(
         config["cad"], config["material"], config["strength"], payload, duty_settings
     )
@@ -339,7 +344,7 @@ def export_design(
         },
         "source": dict(source or {"kind": "design"}),
         "task": {
-            "points_m": [list(map(float, p)) for p in config["task"]["points"]],
+            **task,
             "payload_kg": payload,
             "disk": {"centre_m": list(fit.disk.centre), "radius_m": fit.disk.radius},
         },
@@ -369,6 +374,7 @@ def export_design(
         f"{'holds the task' if performance['feasible'] else 'does NOT hold the task'}, "
         f"{'printable' if printable else 'NOT printable'}, "
         f"{'links hold their loads' if strength['holds_loads'] else 'NOT STRONG ENOUGH'}"
+        + ("; designed MIRRORED (x -> -x)" if task["mirrored"] else "")
     )
     drawing(d, config, links, title, folder / "design.png")
     (folder / "design.json").write_text(json.dumps(record, indent=2) + "\n")
@@ -423,6 +429,14 @@ def _readme(record: Mapping[str, Any], title: str) -> str:
         "ranges). The payload is a point mass at E merged into the upper arm's inertial (the "
         "site `payload` marks E).\n\n"
         f"URDF and the closed loop: {LOOP_NOTE}\n"
+        + (
+            f"\nMirrored: {record['task']['note']}. `model.xml` is the mirrored arm (x negated, "
+            "hinge axes reversed; its end effector visits your points); the STLs are the plates "
+            "to print (turn them over to assemble); `design.png`, the drawing and `model.urdf` "
+            "show the design as computed, at x < 0.\n"
+            if record["task"]["mirrored"]
+            else ""
+        )
     )
 
 

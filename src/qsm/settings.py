@@ -19,6 +19,7 @@ from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
 
 from qsm.mechanisms.scale import FitSettings
+from qsm.physics.mirror import design_points
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import OperatingRange, Resolution
 
@@ -51,10 +52,11 @@ def fit(
     filters: Section | None = None,
 ) -> FitSettings:
     """``operating_range``, ``task.points``, ``scale``, ``workspace`` (and ``filters`` for checks
-    outside Stage 1): what the scale-up needs."""
+    outside Stage 1): what the scale-up needs. The task disk is that of the points as designed: a
+    task at x > 0 mirrored through x = 0 (:mod:`qsm.physics.mirror`)."""
     return FitSettings(
         op=operating_range(operating_range_section),
-        disk=min_enclosing_circle(task_points),
+        disk=min_enclosing_circle(design_points(task_points)),
         scale_max=float(scale["max_m"]),
         safety_margin=float(scale["safety_margin_m"]),
         resolution=Resolution(int(workspace["n_delta"]), int(workspace["n_levels"])),

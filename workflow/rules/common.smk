@@ -1,4 +1,5 @@
 # Shared definitions: the conda environment, code provenance and the settings rules depend on.
+from qsm.physics.mirror import design_points, is_mirrored
 from qsm.workflow.provenance import source_hash
 
 ENV = "../envs/qsm.yaml"
@@ -7,6 +8,10 @@ RESULTS = "results"
 OPT = f"{RESULTS}/optimization"
 REAL = f"{RESULTS}/realization"
 FORMULATIONS = config["optimization"]["formulations"]
+# The task every stage designs for: the user's points, or their mirror image through x = 0 when
+# the task lies at x > 0 (qsm.physics.mirror); the outputs say so and keep the user's points.
+MIRRORED = is_mirrored(config["task"]["points"])
+TASK_POINTS = design_points(config["task"]["points"])
 # The rule scripts, found from this file (workflow/rules) whether the workflow runs from the
 # checkout or as a module of another workflow.
 SCRIPTS = Path(str(workflow.current_basedir)).parent / "scripts"
@@ -18,7 +23,7 @@ def stage1_settings():
         "sampling": config["sampling"],
         "operating_range": config["operating_range"],
         "filters": config["filters"],
-        "task_points": config["task"]["points"],
+        "task_points": TASK_POINTS,
         "scale": config["scale"],
         "workspace": fit_workspace(),
     }

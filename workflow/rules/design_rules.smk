@@ -96,7 +96,7 @@ rule eta_derivatives_shard:
         shards=config["design_rules"]["shards"],
         step=config["design_rules"]["derivative_step"],
         operating_range=config["operating_range"],
-        task_points=config["task"]["points"],
+        task_points=TASK_POINTS,
         resolution={k: config["workspace"][k] for k in ("n_delta", "n_levels")},
     script:
         "../scripts/eta_derivatives_shard.py"

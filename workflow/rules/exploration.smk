@@ -52,7 +52,8 @@ rule task_motion:
         ENV
     params:
         code=code("task_motion.py"),
-        task_points=config["task"]["points"],
+        task_points=TASK_POINTS,
+        mirrored=MIRRORED,
         operating_range=config["operating_range"],
     script:
         "../scripts/task_motion.py"

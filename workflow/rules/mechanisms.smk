@@ -59,7 +59,7 @@ rule fit_task:
         shards=config["workspace"]["shards"],
         n_mechanisms=config["sampling"]["n_mechanisms"],
         operating_range=config["operating_range"],
-        task_points=config["task"]["points"],
+        task_points=TASK_POINTS,
         scale=config["scale"],
         workspace=fit_workspace(),
     script:
@@ -106,7 +106,7 @@ rule plot_mechanisms:
     params:
         code=code("plot_mechanisms.py"),
         operating_range=config["operating_range"],
-        task_points=config["task"]["points"],
+        task_points=TASK_POINTS,
         figures=config["figures"],
     script:
         "../scripts/plot_mechanisms.py"

@@ -51,7 +51,7 @@ rule optimize:
         constraints=lambda w: constraint_settings(w.formulation),
         ratio_bounds=config["sampling"]["bounds"],
         operating_range=config["operating_range"],
-        task_points=config["task"]["points"],
+        task_points=TASK_POINTS,
         scale=config["scale"],
         workspace=fit_workspace(),
         filters=config["filters"],
@@ -75,7 +75,7 @@ rule verify_pareto:
     params:
         code=code("verify_pareto.py"),
         operating_range=config["operating_range"],
-        task_points=config["task"]["points"],
+        task_points=TASK_POINTS,
         scale=config["scale"],
         workspace=fit_workspace(),
         filters=config["filters"],

@@ -32,7 +32,8 @@ rule select_design:
         primary=config["optimization"]["formulation"],
         formulations=FORMULATIONS,
         operating_range=config["operating_range"],
-        task_points=config["task"]["points"],
+        task_points=TASK_POINTS,
+        user_points=config["task"]["points"],
     script:
         "../scripts/select_design.py"
 
@@ -106,7 +107,7 @@ rule payload_test:
         drives=drive_settings(),
         cad=config["cad"],
         material=config["material"],
-        task_points=config["task"]["points"],
+        task_points=TASK_POINTS,
         operating_range=config["operating_range"],
     script:
         "../scripts/payload_test.py"

@@ -13,6 +13,7 @@ from qsm.embodiment.printing import advice_sentence, smallest_build_volume
 from qsm.embodiment.verdict import strength_record, strength_verdict
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.physics.clearance import disk_clearance_m
+from qsm.physics.mirror import task_record
 from qsm.physics.task import min_enclosing_circle
 from qsm.realisation.export import selection_record
 from qsm.realisation.selection import (
@@ -38,6 +39,10 @@ with logged(snakemake.log[0]) as log:
     row, how = choose_design(fronts, p.primary, dataset, rule, cad, volume)
     record = selection_record(row)
     record.update(how)
+    record["task"] = task_record(p.user_points)
+    mirrored = record["task"]["mirrored"]
+    if mirrored:
+        log.info("mirrored: %s", record["task"]["note"])
     for line in how["fallback"]:
         log.warning("skipped: %s", line)
     op = settings.operating_range(p.operating_range)
@@ -103,7 +108,8 @@ with logged(snakemake.log[0]) as log:
         f"selected ({rule}, {record['formulation']}"
         f"{'' if how['printable'] else ', NOT PRINTABLE'}"
         f"{'' if how['holds_loads'] else ', NOT STRONG ENOUGH'}"
-        f"{'' if record['drives']['has_drives'] else ', NO DRIVES'}): "
+        f"{'' if record['drives']['has_drives'] else ', NO DRIVES'}"
+        f"{', designed MIRRORED (x -> -x)' if mirrored else ''}): "
         f"l1 {record['scale_m']:.3f} m\n"
         f"eta {record['eta_true']:.3f}, tau1 {record['tau1_true_Nm']:.1f} N m, "
         f"tau2 {record['tau2_true_Nm']:.1f} N m"

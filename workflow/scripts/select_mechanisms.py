@@ -25,9 +25,18 @@ with logged(snakemake.log[0]) as log:
         counts = json.load(fh)
     counts.update(fit_counts(fits))
     if counts["task_fits"] == 0:
+        sides = {x > 0 for x, _ in p.settings["task_points"]}
         raise ValueError(
             "no design holds the task: check config key 'task.points' (the workspace of this "
-            "family lies at x < 0 of the base) and 'scale.max_m'"
+            "family lies on one side of the base, x < 0, and a task at x > 0 is designed as its "
+            "mirror image"
+            + (
+                "; these points lie on both sides, and no design's workspace holds their whole "
+                "enclosing disk: keep the task on one side"
+                if len(sides) == 2
+                else ""
+            )
+            + ") and 'scale.max_m'"
         )
     table = select_mechanisms(fits, p.n_mechanisms)
     counts["selected"] = len(table)

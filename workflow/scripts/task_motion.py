@@ -24,6 +24,7 @@ with logged(snakemake.log[0]) as log:
     title = (
         f"selected design ({selected['formulation']}): l1 {design[0]:.3f} m, "
         f"payload {payload['payload_kg']:g} kg, test {verdict}"
+        + (", mirrored (x > 0)" if p.mirrored else "")
     )
     result = write_task_motion(
         design,
@@ -34,6 +35,7 @@ with logged(snakemake.log[0]) as log:
         payload["limit_Nm"],
         out.gif,
         title=title,
+        mirrored=p.mirrored,
     )
     record = frames_record(result, design)
     with open(out.frames, "w") as fh:

@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike
 
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
 from qsm.physics.kinematics import as_design
+from qsm.physics.mirror import mirror_spec
 
 GRAVITY_M_S2 = 9.81
 TIMESTEP_S = 0.0005
@@ -169,15 +170,20 @@ def mjcf_xml(
     settings: CadSettings = DEFAULT_CAD,
     payload_kg: float = 0.0,
     home_qpos: ArrayLike | None = None,
+    mirrored: bool = False,
 ) -> str:
     """Standalone MJCF XML of the model of :func:`build_model`, with a keyframe ``home`` at the
     joint positions ``home_qpos`` (rad, :data:`JOINT_NAMES` order) when given: a pose where the
-    loop is closed, so a simulation loaded from it starts consistent.
+    loop is closed, so a simulation loaded from it starts consistent. ``mirrored``: the arm
+    mirrored through x = 0 (:func:`qsm.physics.mirror.mirror_spec`; same joint values), the one
+    built for a task at x > 0.
 
     MuJoCo writes numbers with 6 significant digits, so a model loaded from this XML reproduces
     the torques of :func:`build_model` to about 1e-5 relative.
     """
     spec = model_spec(design, settings, payload_kg)
+    if mirrored:
+        mirror_spec(spec)
     if home_qpos is not None:
         spec.add_key(name="home", qpos=[float(v) for v in np.asarray(home_qpos)])
     return spec.to_xml()

@@ -80,7 +80,7 @@ class PaletteGifWriter(AbstractMovieWriter):
 
 
 def motion_frames(series: pd.DataFrame, fps: float = FRAME_RATE_HZ) -> pd.DataFrame:
-    """The rows of a payload-test series (:data:`qsm.realisation.payload.SERIES_COLUMNS`) shown
+    """The rows of a payload-test series (:data:`qsm.report.payload.SERIES_COLUMNS`) shown
     as frames: the samples nearest to ``round(duration * fps) + 1`` evenly spaced times from the
     first to the last sample (both included), with the series' row as ``sample``."""
     t = series["t_s"].to_numpy(float)
@@ -105,6 +105,7 @@ def write_task_motion(
     path: str | Path,
     fps: float = FRAME_RATE_HZ,
     title: str = "",
+    mirrored: bool = False,
 ) -> dict[str, Any]:
     """Write the GIF of ``design`` (6 lengths, m) moving through the payload-test ``series``.
 
@@ -114,6 +115,8 @@ def write_task_motion(
     (``left, top, right, bottom``, origin at the top left), the same for every frame; and
     ``torque_geometry``, the same for the torque axes (scaled to the torques,
     :func:`torque_range`).
+    ``mirrored``: the design is of a task's mirror image (:mod:`qsm.physics.mirror`); the linkage
+    is drawn on the user's side, x reversed and its tick labels negated.
 
     Everything that does not move (workspace, task, torque curves, axes and labels) is drawn once
     into a background image; each frame draws only the moving artists over it and is grabbed by
@@ -139,6 +142,9 @@ def write_task_motion(
     ax.set_aspect("equal")
     ax.grid(alpha=0.3)
     ax.set_xlabel("x (m)")
+    if mirrored:
+        ax.invert_xaxis()
+        ax.xaxis.set_major_formatter(lambda v, _: f"{-v + 0.0:g}")
     ax.set_ylabel("y (m)")
     ax.set_title(title, fontsize=9)
     for j, c in enumerate(colours):

@@ -170,6 +170,14 @@ def _topology_rows(topology: Mapping[str, Any]) -> list[str]:
     return rows
 
 
+def _mirror_lines(task: Mapping[str, Any]) -> list[str]:
+    """The statement that the design is mirrored, with the user's points (none when not)."""
+    if not task.get("mirrored"):
+        return []
+    points = ", ".join(f"({x:g}, {y:g})" for x, y in task["points_m"])
+    return [f"**Mirrored:** your task points {points} m: {task['note']}.", ""]
+
+
 def headline_markdown(
     filters: Mapping[str, Any],
     status: Mapping[str, Any],
@@ -197,6 +205,7 @@ def headline_markdown(
         )
         + "**",
         "",
+        *_mirror_lines(selected.get("task", {})),
         *_build_section(selected, topology, bom),
         "## Stage 1: mechanisms",
         f"- {filters['samples']:,} LHS samples; crank-rocker {filters['crank_rocker']:,}; loop "
