@@ -109,18 +109,18 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     duty = settings.duty(config["dynamics"]["duty"], config["operating_range"])
     cad, payload = settings.cad(config["cad"], config["material"]), config["task"]["payload_kg"]
     out: dict[str, Any] = {"design_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True))}
-    true = verify_design(d, fit_settings, duty_cycle(duty), cad, payload)
+    check = settings.strength_check(
+        config["cad"], config["material"], config["strength"], payload, duty
+    )
+    scales = check.section_scales(d)
+    scale = None if scales is None else scales[0]
+    true = verify_design(d, fit_settings, duty_cycle(duty), cad, payload, scale)
     out.update(
         {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in true.items()}
     )
     if out["loop_closes"]:
-        out["strength"] = strength_record(
-            d,
-            settings.strength_check(
-                config["cad"], config["material"], config["strength"], payload, duty
-            ),
-        )
+        out["strength"] = strength_record(d, check)
         out["drives"] = settings.drive_check(
             config["drives"], config["cad"], config["material"], payload, duty
-        ).report(d)
+        ).report(d, scales)
     return out

@@ -28,6 +28,7 @@ if TYPE_CHECKING:
     from qsm.embodiment.link_checks import StrengthCheck
     from qsm.embodiment.material import Material, StrengthSettings
     from qsm.embodiment.parts import PartSettings
+    from qsm.embodiment.sizing import SizingSettings
     from qsm.optimisation.problems import ExtraConstraints
     from qsm.physics.cad import CadSettings
     from qsm.physics.duty import DutySettings
@@ -118,6 +119,22 @@ def strength_check(
         strength(strength_section),
         float(payload_kg),
         duty_cycle(duty_settings),
+        sizing=sizing(cad_section),
+    )
+
+
+def sizing(section: Section) -> SizingSettings | None:
+    """``cad.section`` and ``cad.sized``: None for the fixed section, else the sizing bounds."""
+    from qsm.embodiment.sizing import SizingSettings
+
+    if section.get("section", "fixed") == "fixed":
+        return None
+    sized = section["sized"]
+    return SizingSettings(
+        width_m=tuple(sized["width_m"]),
+        thickness_m=tuple(sized["thickness_m"]),
+        max_iterations=sized["max_iterations"],
+        tolerance=sized["tolerance"],
     )
 
 

@@ -27,14 +27,10 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.bearings import (
-    BearingTable,
-    load_catalogue,
-    min_shaft_diameter_m,
-    select_bearings,
-)
+from qsm.embodiment.bearings import BearingTable, load_catalogue
 from qsm.embodiment.loads import Inertials, joint_loads, link_motion
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH, Material, StrengthSettings
+from qsm.embodiment.sizing import SizingSettings, joint_bearings, size_sections
 from qsm.embodiment.strength import JOINTS, Section, link_strength
 from qsm.mechanisms.dataset import JOINT_COLUMNS, STRENGTH_COLUMNS
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
@@ -61,7 +57,8 @@ def astuple_shallow(table: BearingTable) -> tuple:
 @dataclass(frozen=True)
 class StrengthCheck:
     """What the link check needs: the CAD section, the material, the requirements, the payload
-    (kg) at E and the duty."""
+    (kg) at E, the duty, and ``sizing`` (None: every link has the CAD section; else each link's
+    section is sized by strength, :mod:`qsm.embodiment.sizing`)."""
 
     cad: CadSettings = DEFAULT_CAD
     material: Material = DEFAULT_MATERIAL
@@ -69,17 +66,18 @@ class StrengthCheck:
     payload_kg: float = 5.0
     duty: Duty = field(default_factory=duty_cycle)
     bearings: BearingTable = field(default_factory=load_catalogue, compare=False, repr=False)
+    sizing: SizingSettings | None = None
 
     def usable_bearings(self) -> BearingTable:
         """The catalogue's bearings whose seat fits the boss with its wall and whose width fits
         the plate."""
-        t = self.bearings
-        r, wall = self.cad.boss_radius_m, self.strength.boss_wall_m
-        keep = (t.D_m / 2 + wall <= r * (1 + 1e-12)) & (t.B_m <= self.cad.thickness_m * (1 + 1e-12))
+        t, cad = self.bearings, self._largest()
+        r, wall = cad.boss_radius_m, self.strength.boss_wall_m
+        keep = (t.D_m / 2 + wall <= r * (1 + 1e-12)) & (t.B_m <= cad.thickness_m * (1 + 1e-12))
         if not keep.any():
             raise ValueError(
                 f"no bearing of the catalogue fits a boss of radius {r} m with a {wall} m wall "
-                f"in a plate {self.cad.thickness_m} m thick"
+                f"in a plate {cad.thickness_m} m thick"
             )
         return BearingTable(*(np.asarray(v)[keep] for v in astuple_shallow(t)))
 
@@ -88,35 +86,39 @@ class StrengthCheck:
         """Largest allowed stress (Pa)."""
         return self.strength.allowable_stress_pa(self.material)
 
-    def _chunk(self, d: NDArray[np.float64]) -> dict[str, NDArray]:
-        sec = Section.of(self.cad)
-        inertials = Inertials(*batch_mass_properties(d, self.cad))
+    def _largest(self) -> CadSettings:
+        """The largest section a link may get: the CAD section, or its upper sizing bound."""
+        return self.cad if self.sizing is None else self.cad.scaled(self.sizing.bounds(self.cad)[1])
+
+    def section_scales(self, designs: ArrayLike) -> NDArray[np.float64] | None:
+        """Scale factor (N, 4) of each link's CAD section of designs (N, 6) m with sized sections
+        (:func:`qsm.embodiment.sizing.size_sections`), None with the fixed section."""
+        if self.sizing is None:
+            return None
+        d = np.atleast_2d(as_design(designs))
+        args = (self.cad, self.material, self.strength, self.payload_kg, self.duty)
+        parts = [
+            size_sections(d[k : k + CHUNK], *args, self.usable_bearings(), self.sizing)
+            for k in range(0, len(d), CHUNK)
+        ]
+        return np.concatenate([p[0] for p in parts]) if parts else np.ones((0, 4))
+
+    def _chunk(self, d: NDArray[np.float64], scale: NDArray | None = None) -> dict[str, NDArray]:
+        iterations = np.zeros(len(d), dtype=np.intp)
+        table = self.usable_bearings()
+        if self.sizing is not None and scale is None:
+            args = (self.cad, self.material, self.strength, self.payload_kg, self.duty)
+            scale, iterations = size_sections(d, *args, table, self.sizing)
+        sec: Section | dict[str, Section] = Section.of(self.cad)
+        if scale is not None:
+            sec = {k: Section.of(self.cad, scale[:, i]) for i, k in enumerate(LINK_NAMES)}
+        inertials = Inertials(*batch_mass_properties(d, self.cad, scale))
         du = self.duty
         state = loop_state(d, du.theta, du.dtheta, du.ddtheta)
         motion = link_motion(d, state)
         loads = joint_loads(d, inertials, self.payload_kg, state, motion)
         forces = loads._asdict()
-        peak = np.stack(
-            [
-                np.maximum(_peak(forces["a_lower"]), _peak(forces["a_crank"])),
-                _peak(forces["b"]),
-                _peak(forces["c"]),
-                _peak(forces["d"]),
-            ],
-            axis=-1,
-        )
-        table = self.usable_bearings()
-        sf, steel = self.strength.bearing_safety_factor, self.strength.pin_yield_strength_pa
-        shaft = min_shaft_diameter_m(np.nan_to_num(np.abs(loads.tau).max(-2)).max(-1), steel, sf)
-        choice = select_bearings(
-            np.nan_to_num(peak),
-            table,
-            sf,
-            pin_yield_pa=steel,
-            min_bore_m=np.stack([shaft, *[np.zeros_like(shaft)] * 3], axis=-1),
-        )
-        row = np.where(choice.index < 0, len(table) - 1, choice.index)
-        bores = np.concatenate([table.d_m[row[..., :1]], table.D_m[row[..., 1:]]], axis=-1)
+        choice, row, bores = joint_bearings(loads, table, self.strength)
         per_link = link_strength(
             d, sec, self.material, self.strength, inertials, loads, motion, bores
         )
@@ -172,6 +174,11 @@ class StrengthCheck:
         for col in out.values():
             col[bad] = np.nan if col.dtype.kind == "f" else ""
         out["holds_loads"] = out["strength_utilisation"] <= 1.0
+        factor = np.ones((len(d), 4)) if scale is None else scale
+        for i, link in enumerate(LINK_NAMES):
+            out[f"section_width_{link}_mm"] = 1e3 * self.cad.width_m * factor[:, i]
+            out[f"section_thickness_{link}_mm"] = 1e3 * self.cad.thickness_m * factor[:, i]
+        out["section_iterations"] = iterations
         out["_tau"], out["_good"] = loads.tau, ~bad
         return out
 
@@ -181,12 +188,16 @@ class StrengthCheck:
         return self.evaluate_with_torques(designs)[0]
 
     def evaluate_with_torques(
-        self, designs: ArrayLike
+        self, designs: ArrayLike, scales: NDArray[np.float64] | None = None
     ) -> tuple[pd.DataFrame, NDArray[np.float64], NDArray[np.bool_]]:
         """:meth:`evaluate`, and the motor torques (N, samples, 2) in N m over the duty and where
-        they are defined (N,), for the drive check to reuse."""
+        they are defined (N,), for the drive check to reuse; ``scales`` (N, 4): the sections of
+        :meth:`section_scales` when computed already."""
         d = np.atleast_2d(as_design(designs))
-        parts = [self._chunk(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
+        parts = [
+            self._chunk(d[k : k + CHUNK], None if scales is None else scales[k : k + CHUNK])
+            for k in range(0, len(d), CHUNK)
+        ]
         if not parts:
             empty = np.zeros((0, len(self.duty.theta), 2))
             return pd.DataFrame(columns=list(STRENGTH_COLUMNS)), empty, np.zeros(0, bool)

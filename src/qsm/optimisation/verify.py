@@ -56,9 +56,15 @@ TRUE_COLUMNS: dict[str, str] = {
 
 
 def verify_design(
-    design: np.ndarray, fit: FitSettings, duty: Duty, cad: CadSettings, payload_kg: float
+    design: np.ndarray,
+    fit: FitSettings,
+    duty: Duty,
+    cad: CadSettings,
+    payload_kg: float,
+    scale: np.ndarray | None = None,
 ) -> dict[str, Any]:
-    """True kinematics and dynamics of one design (6 lengths, m) at its own scale l1."""
+    """True kinematics and dynamics of one design (6 lengths, m) at its own scale l1; ``scale``
+    (4,): each link's section scale (sized sections)."""
     ratios = design[1:] / design[0]
     out: dict[str, Any] = {
         k: np.nan for k in TRUE_COLUMNS if k not in STRENGTH_COLUMNS and k not in DRIVE_COLUMNS
@@ -77,7 +83,7 @@ def verify_design(
         out["clearance_m"] = disk_clearance_m(design, fit.op, disk)
         out["task_contained"] = bool(margin >= 0)
         out["eta_true"] = disk.area / (slices.area * design[0] ** 2)
-        dyn = evaluate_mechanism(design, duty, cad, payload_kg)
+        dyn = evaluate_mechanism(design, duty, cad, payload_kg, scale)
         out["tau1_true_Nm"], out["tau2_true_Nm"] = dyn["tau1_Nm"], dyn["tau2_Nm"]
         out["dynamics_status"] = dyn["status"]
     out["feasible"] = all(
@@ -101,13 +107,18 @@ def verify_front(
     motor has a drive in the catalogue (see :data:`TRUE_COLUMNS`)."""
     lengths = pareto[list(INPUTS)].to_numpy()
     cad, duty, payload_kg = check.cad, check.duty, check.payload_kg
-    rows = [verify_design(d, fit, duty, cad, payload_kg) for d in lengths]
+    scales = check.section_scales(lengths)
+    each = [None] * len(lengths) if scales is None else list(scales)
+    rows = [
+        verify_design(d, fit, duty, cad, payload_kg, s) for d, s in zip(lengths, each, strict=True)
+    ]
     true = pd.DataFrame(rows)
     true = with_embodiment(
         true.rename(columns={"dynamics_status": "status"}),
         lengths,
         check,
         drives or DriveCheck(cad=cad, payload_kg=payload_kg, duty=duty),
+        scales,
     )
     true = true.rename(columns={"status": "dynamics_status"})
     table = pd.concat([pareto.reset_index(drop=True), true], axis=1)

@@ -247,8 +247,10 @@ def evaluate_mechanism(
     duty: Duty,
     settings: CadSettings = DEFAULT_CAD,
     payload_kg: float = 5.0,
+    scale: ArrayLike | None = None,
 ) -> dict[str, Any]:
-    """Peak and RMS motor torques of one design (6 lengths, m) over ``duty``.
+    """Peak and RMS motor torques of one design (6 lengths, m) over ``duty``, each link of the
+    section ``settings`` scaled by its entry of ``scale`` (4,) (None: ``settings`` for all).
 
     Returns a dict with the keys :data:`RESULT_KEYS`: peak |tau| (N m) of each motor and the motor
     angles (deg) where it occurs, time-weighted RMS torques over the moving part of the duty,
@@ -260,7 +262,7 @@ def evaluate_mechanism(
     """
     masses: dict[str, float] = {}
     try:
-        props = mass_properties(design, settings)
+        props = mass_properties(design, settings, scale)
         masses = {f"mass_{k}_kg": v.mass_kg for k, v in props.items()}
         state = loop_state(design, duty.theta, duty.dtheta, duty.ddtheta)
         if not state.closes.all():
@@ -314,8 +316,10 @@ def evaluate_table(
     settings: CadSettings = DEFAULT_CAD,
     payload_kg: float = 5.0,
     log_every: int = 1000,
+    scales: ArrayLike | None = None,
 ) -> pd.DataFrame:
-    """:func:`evaluate_mechanism` for every row of ``df`` (columns l1_m ... ee_y_m, m).
+    """:func:`evaluate_mechanism` for every row of ``df`` (columns l1_m ... ee_y_m, m), with
+    each row's section scales (rows, 4) when ``scales`` is given.
 
     Returns one row per input row, in the same order and with the same index, holding
     ``mechanism_id`` (when ``df`` has it) and the :data:`RESULT_KEYS` columns. ``duty`` defaults to
@@ -326,8 +330,9 @@ def evaluate_table(
     designs = df.loc[:, list(DESIGN_COLUMNS)].to_numpy(dtype=float)
     rows = []
     start = time.perf_counter()
-    for i, design in enumerate(designs, start=1):
-        rows.append(evaluate_mechanism(design, duty, settings, payload_kg))
+    factors = [None] * len(designs) if scales is None else np.asarray(scales, dtype=float)
+    for i, (design, scale) in enumerate(zip(designs, factors, strict=True), start=1):
+        rows.append(evaluate_mechanism(design, duty, settings, payload_kg, scale))
         if i % log_every == 0 or i == len(designs):
             elapsed = time.perf_counter() - start
             log.info("dynamics: %d/%d mechanisms, %.1f mechanisms/s", i, len(designs), i / elapsed)
