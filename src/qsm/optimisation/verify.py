@@ -43,6 +43,7 @@ TRUE_COLUMNS: dict[str, str] = {
     "tau1_true_Nm": "peak |tau1| over the duty from the MuJoCo dynamics (N m)",
     "tau2_true_Nm": "peak |tau2| over the duty from the MuJoCo dynamics (N m)",
     "dynamics_status": "status of the dynamics (ok or the failure)",
+    "mass_links_kg": "mass of the four links with their sections, payload excluded (kg)",
     "in_table1": "every ratio to l1 lies within sampling.bounds, where the data were sampled (-)",
     "printable": "every link's bounding box fits printing.build_volume_mm (-)",
     "print_excess_mm": "largest excess of a link's box over the build volume, <= 0 fits (mm)",
@@ -85,6 +86,7 @@ def verify_design(
         out["eta_true"] = disk.area / (slices.area * design[0] ** 2)
         dyn = evaluate_mechanism(design, duty, cad, payload_kg, scale)
         out["tau1_true_Nm"], out["tau2_true_Nm"] = dyn["tau1_Nm"], dyn["tau2_Nm"]
+        out["mass_links_kg"] = sum(v for k, v in dyn.items() if k.startswith("mass_"))
         out["dynamics_status"] = dyn["status"]
     out["feasible"] = all(
         out[k] for k in ("crank_rocker", "loop_closes", "transmission_ok", "task_contained")
