@@ -22,9 +22,9 @@ with logged(snakemake.log[0]) as log:
     check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
     scales = check.section_scales(designs)  # None: the fixed section
     cad = settings.cad(p.cad, p.material)
-    result = evaluate_table(
-        rows, duty_cycle(duty), cad, p.payload_kg, scales=scales
-    ).reset_index(drop=True)
+    result = evaluate_table(rows, duty_cycle(duty), cad, p.payload_kg, scales=scales).reset_index(
+        drop=True
+    )
     drives = settings.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
     result = with_embodiment(result, designs, check, drives, scales)
     log.info(

@@ -15,8 +15,9 @@ outline keeps its proportions and the bosses keep exceeding half the width. ``s`
 Within these, ``s`` is the smallest whose strength utilisation (the checks of
 :mod:`qsm.embodiment.strength` with the configured safety factors: bar bending and axial stress,
 net section at the bores, pin-loaded lugs, Euler buckling) is at most :data:`TARGET` under the
-current loads (:func:`smallest_holding`). At fixed loads each check falls as ``s`` grows. Where the upper bound does not hold, ``s`` is the
-upper bound and the link fails g13.
+current loads (:func:`smallest_holding`); at fixed loads each check falls as ``s`` grows. Where
+the upper bound does not hold, ``s`` is the upper bound and the link fails g13 (the strength
+check names it).
 
 Loads -> sections -> masses -> loads: from the configured section (within the bounds), each
 iteration computes the joint loads with the current link masses and sizes every link for them.
@@ -134,7 +135,9 @@ def seat_limit(
     """Smallest scale factor (..., 4) of ``cad``'s section each link needs for its bores (the
     catalogue ``row`` per joint A-D, :func:`joint_bearings`): every seat with ``wall_m`` inside
     the boss and no wider than the plate; at A the shaft bore with its wall."""
-    seat = np.maximum((table.D_m[row] / 2 + wall_m) / cad.boss_radius_m, table.B_m[row] / cad.thickness_m)
+    seat = np.maximum(
+        (table.D_m[row] / 2 + wall_m) / cad.boss_radius_m, table.B_m[row] / cad.thickness_m
+    )
     seat[..., 0] = (table.d_m[row[..., 0]] / 2 + wall_m) / cad.boss_radius_m
     need = [seat[..., [JOINTS.index(j) for j, _ in BORES[link]]].max(-1) for link in LINK_NAMES]
     return np.stack(need, -1)
@@ -215,7 +218,9 @@ def size_sections(
     lo, hi = sizing.bounds(cad)
     upper = np.minimum(hi, fit_limit(d, cad) * (1 - 1e-9))
     s = np.minimum(np.maximum(1.0, lo), upper)
-    bad = ~state.closes.all(-1) | (np.nan_to_num(state.sin_transmission).min(-1) < MIN_SIN_TRANSMISSION)
+    bad = ~state.closes.all(-1) | (
+        np.nan_to_num(state.sin_transmission).min(-1) < MIN_SIN_TRANSMISSION
+    )
     done = bad.copy()
     iterations = np.zeros(len(d), dtype=np.intp)
     tau_prev = np.full((len(d), 2), np.inf)
@@ -231,7 +236,7 @@ def size_sections(
             for i, k in enumerate(LINK_NAMES)
         }
 
-        def util(x: NDArray[np.float64]) -> NDArray[np.float64]:
+        def util(x: NDArray[np.float64], links: dict = links) -> NDArray[np.float64]:
             return utilisation(links, x, cad, material, strength)
 
         new = smallest_holding(util, lower, upper)

@@ -381,9 +381,7 @@ def link_peaks(
     lug = strength.lug_stress_concentration / (t * (2 * r - link.bore_m)) * link.bore_force_N
     checks = np.concatenate([stress.max(axis=-2), lug], axis=-1)
     euler = math.pi**2 * material.youngs_modulus_pa * sec.weak_inertia_m4 / link.column_m**2
-    return LinkStrength(
-        checks.max(-1), checks.argmax(-1), link.compression_N, euler, link.labels
-    )
+    return LinkStrength(checks.max(-1), checks.argmax(-1), link.compression_N, euler, link.labels)
 
 
 def link_strength(
