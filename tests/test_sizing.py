@@ -18,6 +18,7 @@ from qsm.embodiment.loads import Inertials, joint_loads, link_motion
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH
 from qsm.embodiment.sizing import (
     TARGET,
+    SizedSections,
     SizingSettings,
     size_sections,
     smallest_holding,
@@ -82,7 +83,7 @@ def _loads(designs: np.ndarray, scale: np.ndarray, payload: float = 5.0):
     return joint_loads(designs, inertials, payload, state, link_motion(designs, state))
 
 
-def _sized(max_iterations: int) -> tuple[np.ndarray, np.ndarray]:
+def _sized(max_iterations: int) -> SizedSections:
     check = StrengthCheck(duty=DUTY)
     return size_sections(
         DESIGNS, DEFAULT_CAD, check.material, check.strength, 5.0, DUTY,
@@ -120,7 +121,7 @@ def test_bounds_are_respected():
 
 def test_a_load_no_section_holds_takes_the_upper_bound_and_says_so():
     check = StrengthCheck(payload_kg=400.0, duty=DUTY, sizing=SIZING)
-    scale = check.section_scales(DESIGNS[:1])
+    scale = check.section_scales(DESIGNS[:1]).scale
     table = check.evaluate(DESIGNS[:1])
     hi = SIZING.bounds(DEFAULT_CAD)[1]
     weakest = table["weakest_link"].iloc[0]
@@ -137,7 +138,8 @@ def test_fixed_mode_is_the_unit_scale():
     sized machinery with every scale 1."""
     ones = np.ones((len(DESIGNS), 4))
     fixed, tau, _ = StrengthCheck(duty=DUTY).evaluate_with_torques(DESIGNS)
-    unit, tau_unit, _ = StrengthCheck(duty=DUTY).evaluate_with_torques(DESIGNS, ones)
+    unit_sections = SizedSections(ones, np.zeros(len(DESIGNS), dtype=np.intp))
+    unit, tau_unit, _ = StrengthCheck(duty=DUTY).evaluate_with_torques(DESIGNS, unit_sections)
     assert np.array_equal(tau, tau_unit, equal_nan=True)
     pd.testing.assert_frame_equal(fixed, unit, check_exact=True)
     assert (fixed["section_width_lower_arm_mm"] == 1e3 * DEFAULT_CAD.width_m).all()
@@ -152,8 +154,11 @@ def test_fixed_mode_is_the_unit_scale():
 def test_sized_torques_follow_the_lighter_links():
     """MuJoCo on the sized links gives the strength check's Newton-Euler torques (one path)."""
     check = StrengthCheck(duty=DUTY, sizing=SIZING)
-    scale = check.section_scales(DESIGNS[:1])
-    _, tau, _ = check.evaluate_with_torques(DESIGNS[:1], scale)
+    sized = check.section_scales(DESIGNS[:1])
+    scale = sized.scale
+    table, tau, _ = check.evaluate_with_torques(DESIGNS[:1], sized)
+    assert (table["section_iterations"] == sized.iterations).all()
+    assert sized.iterations[0] > 0
     dyn = evaluate_mechanism(DESIGNS[0], DUTY, scale=scale[0])
     assert dyn["tau1_Nm"] == pytest.approx(np.abs(tau[0, :, 0]).max(), rel=1e-6)
     assert dyn["tau2_Nm"] == pytest.approx(np.abs(tau[0, :, 1]).max(), rel=1e-6)

@@ -112,9 +112,11 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     check = settings.strength_check(
         config["cad"], config["material"], config["strength"], payload, duty
     )
-    scales = check.section_scales(d)
-    scale = None if scales is None else scales[0]
-    true = verify_design(d, fit_settings, duty_cycle(duty), cad, payload, scale)
+    sized = check.section_scales(d)
+    scale = None if sized is None else sized.scale
+    true = verify_design(
+        d, fit_settings, duty_cycle(duty), cad, payload, None if scale is None else scale[0]
+    )
     out.update(
         {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in true.items()}
     )
@@ -122,5 +124,5 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
         out["strength"] = strength_record(d, check)
         out["drives"] = settings.drive_check(
             config["drives"], config["cad"], config["material"], payload, duty
-        ).report(d, scales)
+        ).report(d, scale)
     return out

@@ -30,6 +30,7 @@ from qsm.embodiment.drives.catalogue import Catalogue, default_catalogue_folder,
 from qsm.embodiment.drives.selection import CHECKS, Selection, select_drives
 from qsm.embodiment.link_checks import StrengthCheck, append_columns
 from qsm.embodiment.loads import Inertials, joint_loads
+from qsm.embodiment.sizing import SizedSections
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, MOTORS
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
 from qsm.physics.duty import Duty, duty_cycle
@@ -200,16 +201,16 @@ def with_embodiment(
     designs: ArrayLike,
     strength: StrengthCheck,
     drives: DriveCheck,
-    scales: NDArray[np.float64] | None = None,
+    sized: SizedSections | None = None,
 ) -> pd.DataFrame:
     """``table`` (dynamics results, one row per design of ``designs`` (N, 6) m) with
     :data:`STRENGTH_COLUMNS` and :data:`DRIVE_COLUMNS` appended for its rows whose ``status`` is
     'ok' (NaN elsewhere); the joint loads are computed once for both checks when they share
-    section, payload and duty. ``scales`` (N, 4): the sized sections
+    section, payload and duty. ``sized``: the sized sections
     (:meth:`StrengthCheck.section_scales`) when computed already."""
     ok = table["status"].eq("ok").to_numpy()
     d = np.asarray(designs, dtype=float)[ok]
-    links, tau, good = strength.evaluate_with_torques(d, None if scales is None else scales[ok])
+    links, tau, good = strength.evaluate_with_torques(d, None if sized is None else sized.rows(ok))
     motors = drives.evaluate(d, (tau, good) if same_loads(strength, drives) else None)
     out = append_columns(table, ok, links, "holds_loads")
     return append_columns(out, ok, motors, "has_drives")

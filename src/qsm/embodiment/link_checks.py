@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.embodiment.bearings import BearingTable, load_catalogue
 from qsm.embodiment.loads import Inertials, joint_loads, link_motion
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH, Material, StrengthSettings
-from qsm.embodiment.sizing import SizingSettings, joint_bearings, size_sections
+from qsm.embodiment.sizing import SizedSections, SizingSettings, joint_bearings, size_sections
 from qsm.embodiment.strength import JOINTS, Section, link_strength
 from qsm.mechanisms.dataset import JOINT_COLUMNS, STRENGTH_COLUMNS
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
@@ -90,8 +90,8 @@ class StrengthCheck:
         """The largest section a link may get: the CAD section, or its upper sizing bound."""
         return self.cad if self.sizing is None else self.cad.scaled(self.sizing.bounds(self.cad)[1])
 
-    def section_scales(self, designs: ArrayLike) -> NDArray[np.float64] | None:
-        """Scale factor (N, 4) of each link's CAD section of designs (N, 6) m with sized sections
+    def section_scales(self, designs: ArrayLike) -> SizedSections | None:
+        """Each link's section of designs (N, 6) m sized by strength
         (:func:`qsm.embodiment.sizing.size_sections`), None with the fixed section."""
         if self.sizing is None:
             return None
@@ -101,14 +101,19 @@ class StrengthCheck:
             size_sections(d[k : k + CHUNK], *args, self.usable_bearings(), self.sizing)
             for k in range(0, len(d), CHUNK)
         ]
-        return np.concatenate([p[0] for p in parts]) if parts else np.ones((0, 4))
+        if not parts:
+            return SizedSections(np.ones((0, 4)), np.zeros(0, dtype=np.intp))
+        return SizedSections(*(np.concatenate(x) for x in zip(*parts, strict=True)))
 
-    def _chunk(self, d: NDArray[np.float64], scale: NDArray | None = None) -> dict[str, NDArray]:
-        iterations = np.zeros(len(d), dtype=np.intp)
+    def _chunk(
+        self, d: NDArray[np.float64], sized: SizedSections | None = None
+    ) -> dict[str, NDArray]:
         table = self.usable_bearings()
-        if self.sizing is not None and scale is None:
+        if self.sizing is not None and sized is None:
             args = (self.cad, self.material, self.strength, self.payload_kg, self.duty)
-            scale, iterations = size_sections(d, *args, table, self.sizing)
+            sized = size_sections(d, *args, table, self.sizing)
+        scale = None if sized is None else sized.scale
+        iterations = np.zeros(len(d), dtype=np.intp) if sized is None else sized.iterations
         sec: Section | dict[str, Section] = Section.of(self.cad)
         if scale is not None:
             sec = {k: Section.of(self.cad, scale[:, i]) for i, k in enumerate(LINK_NAMES)}
@@ -188,14 +193,16 @@ class StrengthCheck:
         return self.evaluate_with_torques(designs)[0]
 
     def evaluate_with_torques(
-        self, designs: ArrayLike, scales: NDArray[np.float64] | None = None
+        self, designs: ArrayLike, sized: SizedSections | None = None
     ) -> tuple[pd.DataFrame, NDArray[np.float64], NDArray[np.bool_]]:
         """:meth:`evaluate`, and the motor torques (N, samples, 2) in N m over the duty and where
-        they are defined (N,), for the drive check to reuse; ``scales`` (N, 4): the sections of
+        they are defined (N,), for the drive check to reuse; ``sized``: the sections of
         :meth:`section_scales` when computed already."""
         d = np.atleast_2d(as_design(designs))
         parts = [
-            self._chunk(d[k : k + CHUNK], None if scales is None else scales[k : k + CHUNK])
+            self._chunk(
+                d[k : k + CHUNK], None if sized is None else sized.rows(slice(k, k + CHUNK))
+            )
             for k in range(0, len(d), CHUNK)
         ]
         if not parts:

@@ -31,6 +31,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
@@ -80,6 +81,18 @@ class SizingSettings:
                 f"(width {self.width_m}, thickness {self.thickness_m})"
             )
         return lo, hi
+
+
+class SizedSections(NamedTuple):
+    """Sized sections of designs: ``scale`` (N, 4) of each link's CAD section and the
+    ``iterations`` (N,) each design took."""
+
+    scale: NDArray[np.float64]
+    iterations: NDArray[np.intp]
+
+    def rows(self, index: slice | NDArray[np.bool_]) -> SizedSections:
+        """These sections for the designs ``index`` selects."""
+        return SizedSections(self.scale[index], self.iterations[index])
 
 
 def fit_limit(designs: NDArray[np.float64], cad: CadSettings) -> NDArray[np.float64]:
@@ -208,7 +221,7 @@ def size_sections(
     duty: Duty,
     table: BearingTable,
     sizing: SizingSettings,
-) -> tuple[NDArray[np.float64], NDArray[np.intp]]:
+) -> SizedSections:
     """Scale factor (D, 4) of each link's section of ``designs`` (D, 6) m and the iterations
     (D,) each design took (see the module docstring); ``table``: the bearings that fit the
     largest section."""
@@ -249,4 +262,4 @@ def size_sections(
         if done.all():
             break
         tau_prev = tau
-    return s, iterations
+    return SizedSections(s, iterations)

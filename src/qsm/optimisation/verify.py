@@ -109,8 +109,8 @@ def verify_front(
     motor has a drive in the catalogue (see :data:`TRUE_COLUMNS`)."""
     lengths = pareto[list(INPUTS)].to_numpy()
     cad, duty, payload_kg = check.cad, check.duty, check.payload_kg
-    scales = check.section_scales(lengths)
-    each = [None] * len(lengths) if scales is None else list(scales)
+    sized = check.section_scales(lengths)
+    each = [None] * len(lengths) if sized is None else list(sized.scale)
     rows = [
         verify_design(d, fit, duty, cad, payload_kg, s) for d, s in zip(lengths, each, strict=True)
     ]
@@ -120,7 +120,7 @@ def verify_front(
         lengths,
         check,
         drives or DriveCheck(cad=cad, payload_kg=payload_kg, duty=duty),
-        scales,
+        sized,
     )
     true = true.rename(columns={"status": "dynamics_status"})
     table = pd.concat([pareto.reset_index(drop=True), true], axis=1)
