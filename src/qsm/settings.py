@@ -14,6 +14,7 @@ module that uses the settings it builds anyway.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
@@ -239,7 +240,7 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
     ``operating_range``, and for g14 (``drives``) the ``drives_section`` with ``cad``,
     ``material``, ``payload_kg``, ``duty`` and ``operating_range``. g13 and g14 run on the
     optimisation's coarser duty (:func:`qsm.optimisation.problems.loop_duty`)."""
-    from qsm.optimisation.problems import ExtraConstraints, loop_duty
+    from qsm.optimisation.problems import LOOP_ALLOWANCE, ExtraConstraints, loop_duty
     from qsm.physics.cad import DEFAULT_CAD
 
     printable, strong = bool(section["printable"]), bool(section.get("strong", False))
@@ -258,6 +259,11 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
         check = strength_check(
             section["cad"], section["material"], section["strength"], section["payload_kg"], coarse
         )
+        if check.sizing is not None:  # sized within g13's allowance for the coarser duty
+            sizing = dataclasses.replace(
+                check.sizing, target=check.sizing.target / (1 + LOOP_ALLOWANCE)
+            )
+            check = dataclasses.replace(check, sizing=sizing)
     return ExtraConstraints(
         containment=bool(section["containment"]),
         printable=printable,

@@ -14,7 +14,7 @@ outline keeps its proportions and the bosses keep exceeding half the width. ``s`
 
 Within these, ``s`` is the smallest whose strength utilisation (the checks of
 :mod:`qsm.embodiment.strength` with the configured safety factors: bar bending and axial stress,
-net section at the bores, pin-loaded lugs, Euler buckling) is at most :data:`TARGET` under the
+net section at the bores, pin-loaded lugs, Euler buckling) is at most ``target`` under the
 current loads (:func:`smallest_holding`); at fixed loads each check falls as ``s`` grows. Where
 the upper bound does not hold, ``s`` is the upper bound and the link fails g13 (the strength
 check names it).
@@ -23,8 +23,8 @@ Loads -> sections -> masses -> loads: from the configured section (within the bo
 iteration computes the joint loads with the current link masses and sizes every link for them.
 A design's sections are frozen once its peak motor torques changed by less than ``tolerance``
 (relative) from the previous iteration and its sections by less than ``tolerance`` from the
-ones that gave these loads; at most ``max_iterations``. :data:`TARGET` keeps the final check
-(the sections' own masses and loads) within 1 after such a last step.
+ones that gave these loads; at most ``max_iterations``. ``target`` (:data:`TARGET`) keeps the
+final check (the sections' own masses and loads) within 1 after such a last step.
 """
 
 from __future__ import annotations
@@ -55,19 +55,22 @@ SEARCH_STEPS = 5
 @dataclass(frozen=True)
 class SizingSettings:
     """``cad.sized``: bounds (min, max) of the bar ``width_m`` and plate ``thickness_m`` (m), the
-    cap on the loads -> sections iterations and their relative ``tolerance``."""
+    cap on the loads -> sections iterations and their relative ``tolerance``, and the
+    utilisation ``target`` a link is sized to (the optimisation's g13 sizes to less, to keep
+    its allowance for the coarser duty)."""
 
     width_m: tuple[float, float] = (0.02, 0.08)
     thickness_m: tuple[float, float] = (0.01, 0.04)
     max_iterations: int = 10
     tolerance: float = 0.005
+    target: float = TARGET
 
     def __post_init__(self) -> None:
         for lo, hi in (self.width_m, self.thickness_m):
             if not 0 < lo <= hi:
                 raise ValueError("sizing bounds must be positive and ordered (min <= max)")
-        if self.max_iterations < 1 or not self.tolerance > 0:
-            raise ValueError("max_iterations must be at least 1 and tolerance positive")
+        if self.max_iterations < 1 or not self.tolerance > 0 or not 0 < self.target <= 1:
+            raise ValueError("max_iterations >= 1, tolerance > 0 and target in (0, 1] needed")
 
     def bounds(self, cad: CadSettings) -> tuple[float, float]:
         """Smallest and largest scale factor of ``cad``'s section within the width and thickness
@@ -183,14 +186,15 @@ def smallest_holding(
     util: Callable[[NDArray[np.float64]], NDArray[np.float64]],
     lower: NDArray[np.float64],
     upper: NDArray[np.float64],
+    target: float = TARGET,
 ) -> NDArray[np.float64]:
     """Smallest scale in [``lower``, ``upper``] (elementwise) whose ``util`` is at most
-    :data:`TARGET`, to :data:`SEARCH_STEPS` Illinois (regula falsi) steps on ``log util``
+    ``target``, to :data:`SEARCH_STEPS` Illinois (regula falsi) steps on ``log util``
     against ``log s`` (nearly linear: every check falls as a power of s), ending on the holding
     side; ``upper`` where even it does not hold."""
 
     def f(y: NDArray[np.float64]) -> NDArray[np.float64]:
-        return np.log(np.maximum(util(np.exp(y)), 1e-12) / TARGET)
+        return np.log(np.maximum(util(np.exp(y)), 1e-12) / target)
 
     y_lo, y_hi = np.log(lower), np.log(upper)
     f_lo, f_hi = f(y_lo), f(y_hi)
@@ -252,7 +256,7 @@ def size_sections(
         def util(x: NDArray[np.float64], links: dict = links) -> NDArray[np.float64]:
             return utilisation(links, x, cad, material, strength)
 
-        new = smallest_holding(util, lower, upper)
+        new = smallest_holding(util, lower, upper, sizing.target)
         change_tau = (np.abs(tau - tau_prev) / np.maximum(tau, 1e-12)).max(-1)
         change_s = (np.abs(new - s) / s).max(-1)
         active = ~done
