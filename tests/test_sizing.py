@@ -179,3 +179,34 @@ def test_config_checks_the_sizing_bounds():
     with pytest.raises(ConfigError, match=r"cad\.sized"):
         check_config(bad)
     assert math.isfinite(SIZING.bounds(DEFAULT_CAD)[0])
+
+
+def test_the_loop_sizes_within_its_allowance():
+    """The optimisation's g13 multiplies the utilisation by 1 + LOOP_ALLOWANCE (coarser duty):
+    its sized check sizes the links that much lower, so a sized link passes g13."""
+    from qsm import settings
+    from qsm.optimisation.problems import LOOP_ALLOWANCE
+
+    config = load_config()
+    config["cad"]["section"] = "sized"
+    section = dict(
+        config["optimization"]["constraints"],
+        cad=config["cad"],
+        material=config["material"],
+        strength=config["strength"],
+        payload_kg=5.0,
+        duty=config["dynamics"]["duty"],
+        operating_range=config["operating_range"],
+        drives_section=config["drives"],
+        build_volume_mm=config["printing"]["build_volume_mm"],
+    )
+    fit = settings.fit(
+        config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
+    )
+    check = settings.constraints(section, fit).strength
+    assert check.sizing.target == pytest.approx(TARGET / (1 + LOOP_ALLOWANCE))
+    table = check.evaluate(DESIGNS)
+    y, sf = check.material.yield_strength_pa, check.strength.safety_factor
+    for link in LINK_NAMES:
+        links = table[f"stress_peak_{link}_MPa"] * 1e6 * sf / y
+        assert (links * (1 + LOOP_ALLOWANCE) <= 1).all()
