@@ -210,3 +210,15 @@ def test_the_loop_sizes_within_its_allowance():
     for link in LINK_NAMES:
         links = table[f"stress_peak_{link}_MPa"] * 1e6 * sf / y
         assert (links * (1 + LOOP_ALLOWANCE) <= 1).all()
+
+
+def test_a_bearing_seat_the_section_cannot_take_fails_the_link_without_an_error():
+    """Short links under a heavy payload: the section's upper bound (the bosses must leave a
+    bar) is below what the joint's bearing seat needs; the check reports it, no exception."""
+    small = DESIGNS * 0.2
+    check = StrengthCheck(payload_kg=60.0, duty=DUTY, sizing=SIZING)
+    table = check.evaluate(small)
+    good = table["strength_utilisation"].notna()
+    assert good.any()
+    failing = good & ~table["holds_loads"]
+    assert table.loc[failing, "weakest_check"].eq("bearing seat").any()

@@ -30,7 +30,14 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.embodiment.bearings import BearingTable, load_catalogue
 from qsm.embodiment.loads import Inertials, joint_loads, link_motion
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH, Material, StrengthSettings
-from qsm.embodiment.sizing import SizedSections, SizingSettings, joint_bearings, size_sections
+from qsm.embodiment.sizing import (
+    SizedSections,
+    SizingSettings,
+    fitting_bores,
+    joint_bearings,
+    seat_limit,
+    size_sections,
+)
 from qsm.embodiment.strength import JOINTS, Section, link_strength
 from qsm.mechanisms.dataset import JOINT_COLUMNS, STRENGTH_COLUMNS
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
@@ -124,6 +131,10 @@ class StrengthCheck:
         loads = joint_loads(d, inertials, self.payload_kg, state, motion)
         forces = loads._asdict()
         choice, row, bores = joint_bearings(loads, table, self.strength)
+        seat = np.zeros((len(d), 4))  # each link's need for its bores over its section
+        if scale is not None:
+            seat = seat_limit(row, table, self.cad, self.strength.boss_wall_m) / scale
+            bores = fitting_bores(bores, scale, self.cad)
         per_link = link_strength(
             d, sec, self.material, self.strength, inertials, loads, motion, bores
         )
@@ -133,16 +144,18 @@ class StrengthCheck:
         yield_pa = self.material.yield_strength_pa
         out: dict[str, NDArray] = {}
         util = []
-        for link, res in per_link.items():
+        for k, (link, res) in enumerate(per_link.items()):
             with np.errstate(divide="ignore"):
                 out[f"buckling_factor_{link}"] = res.euler_N / res.compression_N
             out[f"stress_peak_{link}_MPa"] = res.stress_pa / 1e6
             out[f"safety_factor_{link}"] = yield_pa / res.stress_pa
             stress_u = res.stress_pa * self.strength.safety_factor / yield_pa
             buckle_u = res.compression_N * self.strength.buckling_safety_factor / res.euler_N
-            util.append(np.maximum(stress_u, buckle_u))
+            util.append(np.maximum(np.maximum(stress_u, buckle_u), seat[:, k]))
             labels = np.array([*res.labels, "buckling"], dtype=object)
-            out[f"_check_{link}"] = np.where(buckle_u > stress_u, labels[-1], labels[res.where])
+            check = np.where(buckle_u > stress_u, labels[-1], labels[res.where])
+            seated = ~(seat[:, k] > 1.0)  # the seat's sliver of boss is what fails
+            out[f"_check_{link}"] = np.where(seated, check, "bearing seat")
         # the chosen bearing's s0 F / C0 and needed / actual bore; 1 + violation where none fits
         bearing_util = np.where(
             choice.index < 0,

@@ -159,6 +159,20 @@ def seat_limit(
     return np.stack(need, -1)
 
 
+def fitting_bores(
+    bores: NDArray[np.float64], scale: NDArray[np.float64], cad: CadSettings
+) -> NDArray[np.float64]:
+    """Bores (..., 4) at A-D kept inside the smallest boss at each joint of the links scaled by
+    ``scale`` (..., 4): a seat that does not fit (the section at its upper bound) leaves a
+    sliver of boss, whose stresses then fail the link, instead of a geometry the checks reject."""
+    out = bores.copy()
+    for j, joint in enumerate(JOINTS):
+        links = [i for i, k in enumerate(LINK_NAMES) if joint in dict(BORES[k])]
+        boss = cad.boss_radius_m * scale[..., links].min(-1)
+        out[..., j] = np.minimum(bores[..., j], 2 * boss * (1 - 1e-6))
+    return out
+
+
 def utilisation(
     links: dict[str, LinkLoads],
     scale: NDArray[np.float64],
@@ -247,6 +261,7 @@ def size_sections(
         tau = np.nan_to_num(np.abs(loads.tau)).max(-2)
         _, row, bores = joint_bearings(loads, table, strength)
         lower = np.minimum(np.maximum(lo, seat_limit(row, table, cad, strength.boss_wall_m)), upper)
+        bores = fitting_bores(bores, lower, cad)
 
         links = {
             k: link_loads(d, Section.of(cad, s[:, i]), inertials, loads, motion, bores, k)
