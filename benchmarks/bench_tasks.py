@@ -25,6 +25,7 @@ import time
 from pathlib import Path
 from typing import Any
 
+import pandas as pd
 import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -73,6 +74,19 @@ def copy_workflow(dest: Path) -> None:
         )
 
 
+def front_medians(path: Path) -> dict[str, Any]:
+    """Median true peak torques (N m) and link mass (kg) over a verified front's designs whose
+    dynamics ran, and the truly feasible designs' true (eta, tau1, tau2) (to compare runs on
+    one normalisation)."""
+    table = pd.read_parquet(path)
+    ok = table[table["dynamics_status"].eq("ok")]
+    keys = ("tau1_true_Nm", "tau2_true_Nm", "mass_links_kg")
+    out: dict[str, Any] = {f"median_{k}": float(ok[k].median()) for k in keys if k in ok}
+    feasible = ok[ok["feasible"].astype(bool)]
+    out["true_points"] = feasible[["eta_true", "tau1_true_Nm", "tau2_true_Nm"]].to_numpy().tolist()
+    return out
+
+
 def row(work: Path, name: str) -> dict[str, Any]:
     """Figures of a finished run."""
     res = work / "results"
@@ -94,6 +108,7 @@ def row(work: Path, name: str) -> dict[str, Any]:
                 "true_hypervolume": v["true_hypervolume"],
                 "holds_loads": v["holds_loads_share"],
                 "has_drives": v["has_drives_share"],
+                **front_medians(res / f"optimization/{k}/verification.parquet"),
             }
             for k, v in fronts.items()
         },
@@ -103,6 +118,12 @@ def row(work: Path, name: str) -> dict[str, Any]:
             "printable": selected["printable"],
             "tau1_true_Nm": selected["tau1_true_Nm"],
             "tau2_true_Nm": selected["tau2_true_Nm"],
+            "mass_links_kg": selected.get("mass_links_kg"),
+            "holds_loads": selected.get("strength", {}).get("holds_loads"),
+            "sections_mm": {
+                k: [v.get("width_mm"), v.get("thickness_mm")]
+                for k, v in selected.get("strength", {}).get("links", {}).items()
+            },
             "scale_m": selected["scale_m"],
             "needed_volume_mm": selected.get("printing_advice", {}).get("needed_volume_mm"),
         },

@@ -52,6 +52,7 @@ def check_config(config: dict[str, Any]) -> None:
     _check_drives(config)
     _check_payload(config)
     _check_printer(config)
+    _check_sized(config)
     _check_optimization(config)
 
 
@@ -308,6 +309,30 @@ def _check_printer(config: dict[str, Any]) -> None:
         raise ConfigError(
             f"{key} fits no link: the shortest link's box is at least {end[0]:g} x {end[1]:g} x "
             f"{end[2]:g} mm (cad.thickness_m, twice cad.boss_radius_m), so no design is printable"
+        )
+
+
+def _check_sized(config: dict[str, Any]) -> None:
+    """Sizing bounds that are ordered, meet the section at one scale and fit the printer."""
+    cad, height = config["cad"], config["printing"]["build_volume_mm"][2]
+    sized = cad["sized"]
+    for key in ("width_m", "thickness_m"):
+        lo, hi = sized[key]
+        if lo > hi:
+            raise ConfigError(f"config key 'cad.sized.{key}': min {lo} m is above max {hi} m")
+    if 1e3 * sized["thickness_m"][1] > height:
+        raise ConfigError(
+            f"config key 'cad.sized.thickness_m': max {sized['thickness_m'][1]} m is above the "
+            f"printer's height printing.build_volume_mm[2] = {height:g} mm"
+        )
+    w, t = sized["width_m"], sized["thickness_m"]
+    lo = max(w[0] / cad["width_m"], t[0] / cad["thickness_m"])
+    hi = min(w[1] / cad["width_m"], t[1] / cad["thickness_m"])
+    if cad["section"] == "sized" and lo > hi:
+        raise ConfigError(
+            f"config key 'cad.sized': no scale of the {cad['width_m']} x {cad['thickness_m']} m "
+            f"section (cad.width_m x cad.thickness_m) has its width within {w} and its thickness "
+            f"within {t}: the sized section keeps the configured proportions"
         )
 
 

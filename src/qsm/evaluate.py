@@ -115,18 +115,20 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
         "design_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True)),
         "mirrored": is_mirrored(config["task"]["points"]),
     }
-    true = verify_design(d, fit_settings, duty_cycle(duty), cad, payload)
+    check = settings.strength_check(
+        config["cad"], config["material"], config["strength"], payload, duty
+    )
+    sized = check.section_scales(d)
+    scale = None if sized is None else sized.scale
+    true = verify_design(
+        d, fit_settings, duty_cycle(duty), cad, payload, None if scale is None else scale[0]
+    )
     out.update(
         {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in true.items()}
     )
     if out["loop_closes"]:
-        out["strength"] = strength_record(
-            d,
-            settings.strength_check(
-                config["cad"], config["material"], config["strength"], payload, duty
-            ),
-        )
+        out["strength"] = strength_record(d, check)
         out["drives"] = settings.drive_check(
             config["drives"], config["cad"], config["material"], payload, duty
-        ).report(d)
+        ).report(d, scale)
     return out

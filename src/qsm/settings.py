@@ -14,6 +14,7 @@ module that uses the settings it builds anyway.
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from collections.abc import Mapping, Sequence
 from typing import TYPE_CHECKING, Any
@@ -29,6 +30,7 @@ if TYPE_CHECKING:
     from qsm.embodiment.link_checks import StrengthCheck
     from qsm.embodiment.material import Material, StrengthSettings
     from qsm.embodiment.parts import PartSettings
+    from qsm.embodiment.sizing import SizingSettings
     from qsm.optimisation.problems import ExtraConstraints
     from qsm.physics.cad import CadSettings
     from qsm.physics.duty import DutySettings
@@ -120,6 +122,22 @@ def strength_check(
         strength(strength_section),
         float(payload_kg),
         duty_cycle(duty_settings),
+        sizing=sizing(cad_section),
+    )
+
+
+def sizing(section: Section) -> SizingSettings | None:
+    """``cad.section`` and ``cad.sized``: None for the fixed section, else the sizing bounds."""
+    from qsm.embodiment.sizing import SizingSettings
+
+    if section.get("section", "fixed") == "fixed":
+        return None
+    sized = section["sized"]
+    return SizingSettings(
+        width_m=tuple(sized["width_m"]),
+        thickness_m=tuple(sized["thickness_m"]),
+        max_iterations=sized["max_iterations"],
+        tolerance=sized["tolerance"],
     )
 
 
@@ -224,7 +242,7 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
     ``operating_range``, and for g14 (``drives``) the ``drives_section`` with ``cad``,
     ``material``, ``payload_kg``, ``duty`` and ``operating_range``. g13 and g14 run on the
     optimisation's coarser duty (:func:`qsm.optimisation.problems.loop_duty`)."""
-    from qsm.optimisation.problems import ExtraConstraints, loop_duty
+    from qsm.optimisation.problems import LOOP_ALLOWANCE, ExtraConstraints, loop_duty
     from qsm.physics.cad import DEFAULT_CAD
 
     printable, strong = bool(section["printable"]), bool(section.get("strong", False))
@@ -243,6 +261,11 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
         check = strength_check(
             section["cad"], section["material"], section["strength"], section["payload_kg"], coarse
         )
+        if check.sizing is not None:  # sized within g13's allowance for the coarser duty
+            sizing = dataclasses.replace(
+                check.sizing, target=check.sizing.target / (1 + LOOP_ALLOWANCE)
+            )
+            check = dataclasses.replace(check, sizing=sizing)
     return ExtraConstraints(
         containment=bool(section["containment"]),
         printable=printable,

@@ -18,12 +18,15 @@ with logged(snakemake.log[0]) as log:
     mechanisms = read_table(snakemake.input[0], MECHANISM_COLUMNS)
     duty = settings.duty(p.duty, p.operating_range)
     rows = mechanisms.iloc[shard_slice(len(mechanisms), p.shards, shard)]
-    result = evaluate_table(
-        rows, duty_cycle(duty), settings.cad(p.cad, p.material), p.payload_kg
-    ).reset_index(drop=True)
+    designs = rows[list(DESIGN_COLUMNS)].to_numpy(float)
     check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
+    sized = check.section_scales(designs)  # None: the fixed section
+    cad = settings.cad(p.cad, p.material)
+    result = evaluate_table(
+        rows, duty_cycle(duty), cad, p.payload_kg, scales=None if sized is None else sized.scale
+    ).reset_index(drop=True)
     drives = settings.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
-    result = with_embodiment(result, rows[list(DESIGN_COLUMNS)], check, drives)
+    result = with_embodiment(result, designs, check, drives, sized)
     log.info(
         "shard %d of %d: %d mechanisms, status %s, %d hold their loads, %d have drives",
         shard,

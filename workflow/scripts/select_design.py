@@ -54,7 +54,8 @@ with logged(snakemake.log[0]) as log:
     drives = settings.drive_check(
         p.drives, p.cad, p.material, p.payload_kg, settings.duty(p.duty, p.operating_range)
     )
-    record["drives"] = drives.report(record["design_m"])
+    sized = check.section_scales(record["design_m"])
+    record["drives"] = drives.report(record["design_m"], None if sized is None else sized.scale)
     verdicts = []
     if not how["holds_loads"]:
         advice = strength_advice(record["design_m"], check)

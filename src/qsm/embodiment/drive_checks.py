@@ -30,6 +30,7 @@ from qsm.embodiment.drives.catalogue import Catalogue, default_catalogue_folder,
 from qsm.embodiment.drives.selection import CHECKS, Selection, select_drives
 from qsm.embodiment.link_checks import StrengthCheck, append_columns
 from qsm.embodiment.loads import Inertials, joint_loads
+from qsm.embodiment.sizing import SizedSections
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, MOTORS
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
 from qsm.physics.duty import Duty, duty_cycle
@@ -59,11 +60,14 @@ class DriveCheck:
     payload_kg: float = 5.0
     duty: Duty = field(default_factory=duty_cycle)
 
-    def torques(self, designs: ArrayLike) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
+    def torques(
+        self, designs: ArrayLike, scales: ArrayLike | None = None
+    ) -> tuple[NDArray[np.float64], NDArray[np.bool_]]:
         """Motor torques (D, N, 2) in N m of designs (D, 6) m over the duty, without drives, and
-        whether each design's loop closes, away from singularities, over the whole duty (D,)."""
+        whether each design's loop closes, away from singularities, over the whole duty (D,);
+        ``scales`` (D, 4): each link's section scale (sized sections)."""
         d = np.atleast_2d(as_design(designs))
-        inertials = Inertials(*batch_mass_properties(d, self.cad))
+        inertials = Inertials(*batch_mass_properties(d, self.cad, scales))
         du = self.duty
         state = loop_state(d, du.theta, du.dtheta, du.ddtheta)
         tau = joint_loads(d, inertials, self.payload_kg, state).tau
@@ -158,11 +162,12 @@ class DriveCheck:
         value the check needs is missing)."""
         return self.violation_from_torques(designs, *self.torques(np.atleast_2d(designs)))
 
-    def report(self, design: ArrayLike) -> dict[str, Any]:
+    def report(self, design: ArrayLike, scales: ArrayLike | None = None) -> dict[str, Any]:
         """JSON-ready account of one design's drives: per motor, the drive (or the nearest and
         what fails, and the strongest drive's offer), margins and requirements
-        (:meth:`Selection.report`), and whether each motor has a drive."""
-        tau, good = self.torques(np.atleast_2d(as_design(design)))
+        (:meth:`Selection.report`), and whether each motor has a drive; ``scales`` (1, 4) as
+        :meth:`torques`."""
+        tau, good = self.torques(np.atleast_2d(as_design(design)), scales)
         if not good[0]:
             return {"has_drives": False, "defined": False, "rule": self.rule, "motors": {}}
         motors = {
@@ -192,15 +197,20 @@ def same_loads(strength: StrengthCheck, drives: DriveCheck) -> bool:
 
 
 def with_embodiment(
-    table: pd.DataFrame, designs: ArrayLike, strength: StrengthCheck, drives: DriveCheck
+    table: pd.DataFrame,
+    designs: ArrayLike,
+    strength: StrengthCheck,
+    drives: DriveCheck,
+    sized: SizedSections | None = None,
 ) -> pd.DataFrame:
     """``table`` (dynamics results, one row per design of ``designs`` (N, 6) m) with
     :data:`STRENGTH_COLUMNS` and :data:`DRIVE_COLUMNS` appended for its rows whose ``status`` is
     'ok' (NaN elsewhere); the joint loads are computed once for both checks when they share
-    section, payload and duty."""
+    section, payload and duty. ``sized``: the sized sections
+    (:meth:`StrengthCheck.section_scales`) when computed already."""
     ok = table["status"].eq("ok").to_numpy()
     d = np.asarray(designs, dtype=float)[ok]
-    links, tau, good = strength.evaluate_with_torques(d)
+    links, tau, good = strength.evaluate_with_torques(d, None if sized is None else sized.rows(ok))
     motors = drives.evaluate(d, (tau, good) if same_loads(strength, drives) else None)
     out = append_columns(table, ok, links, "holds_loads")
     return append_columns(out, ok, motors, "has_drives")

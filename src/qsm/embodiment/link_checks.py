@@ -27,15 +27,17 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.bearings import (
-    BearingChoice,
-    BearingTable,
-    load_catalogue,
-    min_shaft_diameter_m,
-    select_bearings,
-)
+from qsm.embodiment.bearings import BearingChoice, BearingTable, load_catalogue
 from qsm.embodiment.loads import Inertials, JointLoads, joint_loads, link_motion
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH, Material, StrengthSettings
+from qsm.embodiment.sizing import (
+    SizedSections,
+    SizingSettings,
+    fitting_bores,
+    joint_bearings,
+    seat_limit,
+    size_sections,
+)
 from qsm.embodiment.strength import JOINTS, LinkStrength, Section, link_strength
 from qsm.mechanisms.dataset import JOINT_COLUMNS, STRENGTH_COLUMNS
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
@@ -50,10 +52,13 @@ CHUNK = 128
 
 
 class _Core(NamedTuple):
-    """What the full table and g13 share for a chunk of designs: the joint loads, where the
+    """What the full table and g13 share for a chunk of designs: the sized sections (None with
+    the fixed section) and each link's need for its bearing seats, the joint loads, where the
     check is undefined, each link's peaks and its stress and buckling utilisations, the bearing
-    choice (its rows in ``table``) and utilisation, and the largest utilisation."""
+    choice (its rows in ``table``) and utilisation, each link's utilisation and the largest."""
 
+    sized: SizedSections | None
+    seat: NDArray[np.float64]
     loads: JointLoads
     bad: NDArray[np.bool_]
     per_link: dict[str, LinkStrength]
@@ -67,11 +72,6 @@ class _Core(NamedTuple):
     util: NDArray[np.float64]
 
 
-def _peak(force: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Peak magnitude over the duty samples of forces (..., N, 2)."""
-    return np.hypot(force[..., 0], force[..., 1]).max(-1)
-
-
 def astuple_shallow(table: BearingTable) -> tuple:
     """The fields of ``table`` in order, not copied."""
     return tuple(getattr(table, f.name) for f in fields(table))
@@ -80,7 +80,8 @@ def astuple_shallow(table: BearingTable) -> tuple:
 @dataclass(frozen=True)
 class StrengthCheck:
     """What the link check needs: the CAD section, the material, the requirements, the payload
-    (kg) at E and the duty."""
+    (kg) at E, the duty, and ``sizing`` (None: every link has the CAD section; else each link's
+    section is sized by strength, :mod:`qsm.embodiment.sizing`)."""
 
     cad: CadSettings = DEFAULT_CAD
     material: Material = DEFAULT_MATERIAL
@@ -88,17 +89,18 @@ class StrengthCheck:
     payload_kg: float = 5.0
     duty: Duty = field(default_factory=duty_cycle)
     bearings: BearingTable = field(default_factory=load_catalogue, compare=False, repr=False)
+    sizing: SizingSettings | None = None
 
     def usable_bearings(self) -> BearingTable:
         """The catalogue's bearings whose seat fits the boss with its wall and whose width fits
         the plate."""
-        t = self.bearings
-        r, wall = self.cad.boss_radius_m, self.strength.boss_wall_m
-        keep = (t.D_m / 2 + wall <= r * (1 + 1e-12)) & (t.B_m <= self.cad.thickness_m * (1 + 1e-12))
+        t, cad = self.bearings, self._largest()
+        r, wall = cad.boss_radius_m, self.strength.boss_wall_m
+        keep = (t.D_m / 2 + wall <= r * (1 + 1e-12)) & (t.B_m <= cad.thickness_m * (1 + 1e-12))
         if not keep.any():
             raise ValueError(
                 f"no bearing of the catalogue fits a boss of radius {r} m with a {wall} m wall "
-                f"in a plate {self.cad.thickness_m} m thick"
+                f"in a plate {cad.thickness_m} m thick"
             )
         return BearingTable(*(np.asarray(v)[keep] for v in astuple_shallow(t)))
 
@@ -107,36 +109,46 @@ class StrengthCheck:
         """Largest allowed stress (Pa)."""
         return self.strength.allowable_stress_pa(self.material)
 
-    def _core(self, d: NDArray[np.float64]) -> _Core:
-        """Loads, bearings and link peaks of the designs ``d`` (n, 6) m, and their utilisations."""
-        sec = Section.of(self.cad)
-        inertials = Inertials(*batch_mass_properties(d, self.cad))
+    def _largest(self) -> CadSettings:
+        """The largest section a link may get: the CAD section, or its upper sizing bound."""
+        return self.cad if self.sizing is None else self.cad.scaled(self.sizing.bounds(self.cad)[1])
+
+    def section_scales(self, designs: ArrayLike) -> SizedSections | None:
+        """Each link's section of designs (N, 6) m sized by strength
+        (:func:`qsm.embodiment.sizing.size_sections`), None with the fixed section."""
+        if self.sizing is None:
+            return None
+        d = np.atleast_2d(as_design(designs))
+        args = (self.cad, self.material, self.strength, self.payload_kg, self.duty)
+        parts = [
+            size_sections(d[k : k + CHUNK], *args, self.usable_bearings(), self.sizing)
+            for k in range(0, len(d), CHUNK)
+        ]
+        if not parts:
+            return SizedSections(np.ones((0, 4)), np.zeros(0, dtype=np.intp))
+        return SizedSections(*(np.concatenate(x) for x in zip(*parts, strict=True)))
+
+    def _core(self, d: NDArray[np.float64], sized: SizedSections | None = None) -> _Core:
+        """Sections, loads, bearings and link peaks of the designs ``d`` (n, 6) m, and their
+        utilisations; ``sized``: their sections when sized already."""
+        table = self.usable_bearings()
+        if self.sizing is not None and sized is None:
+            args = (self.cad, self.material, self.strength, self.payload_kg, self.duty)
+            sized = size_sections(d, *args, table, self.sizing)
+        scale = None if sized is None else sized.scale
+        sec: Section | dict[str, Section] = Section.of(self.cad)
+        if scale is not None:
+            sec = {k: Section.of(self.cad, scale[:, i]) for i, k in enumerate(LINK_NAMES)}
+        inertials = Inertials(*batch_mass_properties(d, self.cad, scale))
         du = self.duty
         state = loop_state(d, du.theta, du.dtheta, du.ddtheta)
         motion = link_motion(d, state)
         loads = joint_loads(d, inertials, self.payload_kg, state, motion)
-        forces = loads._asdict()
-        peak = np.stack(
-            [
-                np.maximum(_peak(forces["a_lower"]), _peak(forces["a_crank"])),
-                _peak(forces["b"]),
-                _peak(forces["c"]),
-                _peak(forces["d"]),
-            ],
-            axis=-1,
-        )
-        table = self.usable_bearings()
-        sf, steel = self.strength.bearing_safety_factor, self.strength.pin_yield_strength_pa
-        shaft = min_shaft_diameter_m(np.nan_to_num(np.abs(loads.tau).max(-2)).max(-1), steel, sf)
-        choice = select_bearings(
-            np.nan_to_num(peak),
-            table,
-            sf,
-            pin_yield_pa=steel,
-            min_bore_m=np.stack([shaft, *[np.zeros_like(shaft)] * 3], axis=-1),
-        )
-        row = np.where(choice.index < 0, len(table) - 1, choice.index)
-        bores = np.concatenate([table.d_m[row[..., :1]], table.D_m[row[..., 1:]]], axis=-1)
+        choice, row, bores = joint_bearings(loads, table, self.strength)
+        seat = np.zeros((len(d), 4))  # each link's need for its bores over its section
+        if scale is not None:
+            seat = seat_limit(row, table, self.cad, self.strength.boss_wall_m) / scale
+            bores = fitting_bores(bores, scale, self.cad)
         per_link = link_strength(
             d, sec, self.material, self.strength, inertials, loads, motion, bores
         )
@@ -151,43 +163,45 @@ class StrengthCheck:
             k: v.compression_N * self.strength.buckling_safety_factor / v.euler_N
             for k, v in per_link.items()
         }
+        link_util = np.stack(
+            [
+                np.maximum(np.maximum(stress_u[k], buckle_u[k]), seat[:, i])
+                for i, k in enumerate(per_link)
+            ],
+            -1,
+        )
         # the chosen bearing's s0 F / C0 and needed / actual bore; 1 + violation where none fits
         bearing_util = np.where(
             choice.index < 0,
             1.0 + choice.violation,
             np.maximum(choice.required_C0_N / table.C0_N[row], choice.min_bore_m / table.d_m[row]),
         )
-        link_util = np.stack([np.maximum(stress_u[k], buckle_u[k]) for k in per_link], -1)
         util = np.concatenate([link_util, bearing_util], axis=-1).max(-1)
         return _Core(
-            loads,
-            bad,
-            per_link,
-            stress_u,
-            buckle_u,
-            choice,
-            row,
-            table,
-            bearing_util,
-            link_util,
-            util,
-        )
+            sized, seat, loads, bad, per_link, stress_u, buckle_u, choice, row, table,
+            bearing_util, link_util, util,
+        )  # fmt: skip
 
-    def _chunk(self, d: NDArray[np.float64]) -> dict[str, NDArray]:
-        """The :data:`STRENGTH_COLUMNS` of the designs ``d`` (n, 6) m, and their motor torques."""
-        core = self._core(d)
-        choice, row, table, bad = core.choice, core.row, core.table, core.bad
+    def _chunk(
+        self, d: NDArray[np.float64], sized: SizedSections | None = None
+    ) -> dict[str, NDArray]:
+        """The :data:`STRENGTH_COLUMNS` of the designs ``d`` (n, 6) m, and their motor torques;
+        ``sized``: their sections when sized already."""
+        core = self._core(d, sized)
+        choice, row, table, bad, seat = core.choice, core.row, core.table, core.bad, core.seat
         forces, bearing_util = core.loads._asdict(), core.bearing_util
         yield_pa = self.material.yield_strength_pa
         out: dict[str, NDArray] = {}
-        for link, res in core.per_link.items():
+        for k, (link, res) in enumerate(core.per_link.items()):
             with np.errstate(divide="ignore"):
                 out[f"buckling_factor_{link}"] = res.euler_N / res.compression_N
             out[f"stress_peak_{link}_MPa"] = res.stress_pa / 1e6
             out[f"safety_factor_{link}"] = yield_pa / res.stress_pa
             stress_u, buckle_u = core.stress_u[link], core.buckle_u[link]
             labels = np.array([*res.labels, "buckling"], dtype=object)
-            out[f"_check_{link}"] = np.where(buckle_u > stress_u, labels[-1], labels[res.where])
+            check = np.where(buckle_u > stress_u, labels[-1], labels[res.where])
+            seated = ~(seat[:, k] > 1.0)  # the seat's sliver of boss is what fails
+            out[f"_check_{link}"] = np.where(seated, check, "bearing seat")
         for k, joint in enumerate(JOINTS):
             out[f"bearing_{joint}"] = np.where(
                 choice.index[..., k] < 0, "", table.designation[row[..., k]]
@@ -217,6 +231,13 @@ class StrengthCheck:
         for col in out.values():
             col[bad] = np.nan if col.dtype.kind == "f" else ""
         out["holds_loads"] = out["strength_utilisation"] <= 1.0
+        factor = np.ones((len(d), 4)) if core.sized is None else core.sized.scale
+        for i, link in enumerate(LINK_NAMES):
+            out[f"section_width_{link}_mm"] = 1e3 * self.cad.width_m * factor[:, i]
+            out[f"section_thickness_{link}_mm"] = 1e3 * self.cad.thickness_m * factor[:, i]
+        out["section_iterations"] = (
+            np.zeros(len(d), dtype=np.intp) if core.sized is None else core.sized.iterations
+        )
         out["_tau"], out["_good"] = core.loads.tau, ~bad
         return out
 
@@ -226,12 +247,18 @@ class StrengthCheck:
         return self.evaluate_with_torques(designs)[0]
 
     def evaluate_with_torques(
-        self, designs: ArrayLike
+        self, designs: ArrayLike, sized: SizedSections | None = None
     ) -> tuple[pd.DataFrame, NDArray[np.float64], NDArray[np.bool_]]:
         """:meth:`evaluate`, and the motor torques (N, samples, 2) in N m over the duty and where
-        they are defined (N,), for the drive check to reuse."""
+        they are defined (N,), for the drive check to reuse; ``sized``: the sections of
+        :meth:`section_scales` when computed already."""
         d = np.atleast_2d(as_design(designs))
-        parts = [self._chunk(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
+        parts = [
+            self._chunk(
+                d[k : k + CHUNK], None if sized is None else sized.rows(slice(k, k + CHUNK))
+            )
+            for k in range(0, len(d), CHUNK)
+        ]
         if not parts:
             empty = np.zeros((0, len(self.duty.theta), 2))
             return pd.DataFrame(columns=list(STRENGTH_COLUMNS)), empty, np.zeros(0, bool)

@@ -35,6 +35,7 @@ buckling_safety_factor / Euler load)`` is at most 1 then, and g13 is the largest
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import NamedTuple
 
@@ -52,27 +53,39 @@ BUCKLING_K = 1.0
 
 @dataclass(frozen=True)
 class Section:
-    """The plate section: width_m (in the plane), thickness_m, boss_radius_m (m)."""
+    """The plate section: width_m (in the plane), thickness_m, boss_radius_m (m); floats, or
+    arrays over the designs' leading axes (one section per design)."""
 
-    width_m: float
-    thickness_m: float
-    boss_radius_m: float
+    width_m: float | NDArray[np.float64]
+    thickness_m: float | NDArray[np.float64]
+    boss_radius_m: float | NDArray[np.float64]
 
     @classmethod
-    def of(cls, cad: CadSettings) -> Section:
-        """The CAD section."""
-        return cls(cad.width_m, cad.thickness_m, cad.boss_radius_m)
+    def of(cls, cad: CadSettings, scale: ArrayLike | None = None) -> Section:
+        """The CAD section, every length times ``scale`` (per design) when given."""
+        if scale is None:
+            return cls(cad.width_m, cad.thickness_m, cad.boss_radius_m)
+        f = np.asarray(scale, dtype=float)
+        return cls(cad.width_m * f, cad.thickness_m * f, cad.boss_radius_m * f)
+
+    def trailing(self, axes: int) -> Section:
+        """This section with ``axes`` trailing axes added (to broadcast against per-sample,
+        per-cut arrays)."""
+        grow = (...,) + (None,) * axes
+        return Section(
+            *(np.asarray(v)[grow] for v in (self.width_m, self.thickness_m, self.boss_radius_m))
+        )
 
     @property
-    def overlap_m(self) -> float:
+    def overlap_m(self) -> float | NDArray[np.float64]:
         """Distance from a joint centre to the boss edge along a bar (m)."""
-        return math.sqrt(self.boss_radius_m**2 - (self.width_m / 2) ** 2)
+        return np.sqrt(self.boss_radius_m**2 - (np.asarray(self.width_m) / 2) ** 2)
 
     @property
-    def weak_inertia_m4(self) -> float:
+    def weak_inertia_m4(self) -> float | NDArray[np.float64]:
         """Second moment of the bar section about its weaker axis (m^4)."""
         w, t = self.width_m, self.thickness_m
-        return min(w * t**3, t * w**3) / 12
+        return np.minimum(w * t**3, t * w**3) / 12
 
 
 def _pt(x: ArrayLike, y: ArrayLike = 0.0) -> NDArray[np.float64]:
@@ -309,9 +322,71 @@ def cut_stresses(
     return section_stress(axial, moment, sec), cuts.labels
 
 
-def link_strength(
+class LinkLoads(NamedTuple):
+    """What one link's checks need besides its section (leading axes of the designs): axial
+    force and moment (..., N, C) at its cuts, the bore diameter (..., 1, C) where a cut passes
+    through one (0 elsewhere), the peak force (..., J) and diameter (..., J) of each bore of
+    :data:`BORES`, the peak compression (...) and column length (...) of the buckling check."""
+
+    axial_N: NDArray[np.float64]
+    moment_Nm: NDArray[np.float64]
+    cut_bore_m: NDArray[np.float64]
+    bore_force_N: NDArray[np.float64]
+    bore_m: NDArray[np.float64]
+    compression_N: NDArray[np.float64]
+    column_m: NDArray[np.float64]
+    labels: tuple[str, ...]
+
+
+def link_loads(
     design: ArrayLike,
     sec: Section,
+    inertials: Inertials,
+    loads: JointLoads,
+    motion: LinkMotion,
+    bores_m: ArrayLike,
+    link: str,
+) -> LinkLoads:
+    """The loads of ``link`` of ``design`` (..., 6) m at the cuts of section ``sec`` over the
+    duty samples of ``loads`` and ``motion`` (..., N), bores of ``bores_m`` (..., 4) m at A-D."""
+    d = as_design(design)
+    bores = np.broadcast_to(np.asarray(bores_m, dtype=float), (*d.shape[:-1], len(JOINTS)))
+    cuts = link_cuts(d, sec)[link]
+    axial, moment = cut_forces(d, sec, inertials, loads, motion, link, cuts)
+    column = np.flatnonzero(cuts.column)
+    compression = -axial[..., column].min(axis=(-2, -1))
+    joint = JOINTS.index(NET_SECTION_JOINT.get(link, "A"))  # the coupler has no net section
+    forces = loads._asdict()
+    return LinkLoads(
+        axial,
+        moment,
+        np.where(cuts.bore, bores[..., joint, None], 0.0)[..., None, :],
+        np.stack([np.linalg.norm(forces[n], axis=-1).max(axis=-1) for _, n in BORES[link]], -1),
+        np.stack([bores[..., JOINTS.index(j)] for j, _ in BORES[link]], -1),
+        np.maximum(compression, 0.0),
+        _COLUMN[link](d) * BUCKLING_K,
+        cuts.labels + tuple(f"pin-loaded bore {j}" for j, _ in BORES[link]),
+    )
+
+
+def link_peaks(
+    link: LinkLoads, sec: Section, material: Material, strength: StrengthSettings
+) -> LinkStrength:
+    """A link's peak stress over its cuts and bores and its Euler load with section ``sec``
+    under ``link``'s loads (the cuts stay where :func:`link_loads` put them)."""
+    r, t = np.asarray(sec.boss_radius_m)[..., None], np.asarray(sec.thickness_m)[..., None]
+    if not (link.bore_m < 2 * r).all():
+        raise ValueError("every bore must be smaller than the boss diameter")
+    stress = section_stress(link.axial_N, link.moment_Nm, sec.trailing(2), link.cut_bore_m)
+    lug = strength.lug_stress_concentration / (t * (2 * r - link.bore_m)) * link.bore_force_N
+    checks = np.concatenate([stress.max(axis=-2), lug], axis=-1)
+    euler = math.pi**2 * material.youngs_modulus_pa * sec.weak_inertia_m4 / link.column_m**2
+    return LinkStrength(checks.max(-1), checks.argmax(-1), link.compression_N, euler, link.labels)
+
+
+def link_strength(
+    design: ArrayLike,
+    sec: Section | Mapping[str, Section],
     material: Material,
     strength: StrengthSettings,
     inertials: Inertials,
@@ -321,33 +396,11 @@ def link_strength(
 ) -> dict[str, LinkStrength]:
     """Peak stress and compression of each link of ``design`` (..., 6) m over the duty samples
     of ``loads`` and ``motion`` (..., N), with bores of diameter ``bores_m`` (..., 4) m at the
-    joints A-D (each smaller than the boss)."""
-    d = as_design(design)
-    r = sec.boss_radius_m
-    bores = np.broadcast_to(np.asarray(bores_m, dtype=float), (*d.shape[:-1], len(JOINTS)))
-    if not (bores < 2 * r).all():
-        raise ValueError("every bore must be smaller than the boss diameter")
-    net_area = {j: sec.thickness_m * (2 * r - bores[..., k]) for k, j in enumerate(JOINTS)}
-    forces = loads._asdict()
+    joints A-D (each smaller than the boss); ``sec`` is every link's section or one per link
+    (keyed by link name)."""
     out = {}
-    for link, cuts in link_cuts(d, sec).items():
-        axial, moment = cut_forces(d, sec, inertials, loads, motion, link, cuts)
-        column = np.flatnonzero(cuts.column)
-        compression = -axial[..., column].min(axis=(-2, -1))
-        joint = JOINTS.index(NET_SECTION_JOINT.get(link, "A"))  # the coupler has no net section
-        bore = np.where(cuts.bore, bores[..., joint, None], 0.0)[..., None, :]  # (..., 1, C)
-        stress = section_stress(axial, moment, sec, bore).max(axis=-2)
-        lug = [
-            strength.lug_stress_concentration
-            / net_area[j]
-            * np.linalg.norm(forces[name], axis=-1).max(axis=-1)
-            for j, name in BORES[link]
-        ]
-        checks = np.concatenate([stress, np.stack(lug, -1)], axis=-1)
-        length = _COLUMN[link](d) * BUCKLING_K
-        euler = math.pi**2 * material.youngs_modulus_pa * sec.weak_inertia_m4 / length**2
-        labels = cuts.labels + tuple(f"pin-loaded bore {j}" for j, _ in BORES[link])
-        out[link] = LinkStrength(
-            checks.max(-1), checks.argmax(-1), np.maximum(compression, 0.0), euler, labels
-        )
+    for link in LOADS:
+        s = sec if isinstance(sec, Section) else sec[link]
+        forces = link_loads(design, s, inertials, loads, motion, bores_m, link)
+        out[link] = link_peaks(forces, s, material, strength)
     return out

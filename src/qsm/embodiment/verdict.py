@@ -40,6 +40,8 @@ def strength_record(design: ArrayLike, check: StrengthCheck) -> dict[str, Any]:
                 stress <= allow * (1 + 1e-12)
                 and buckling >= check.strength.buckling_safety_factor * (1 - 1e-12)
             ),
+            "width_mm": float(row[f"section_width_{link}_mm"]),
+            "thickness_mm": float(row[f"section_thickness_{link}_mm"]),
         }
     table = check.bearings
     bearings = {}
@@ -83,6 +85,8 @@ def strength_record(design: ArrayLike, check: StrengthCheck) -> dict[str, Any]:
         "holds_loads": bool(row["holds_loads"]),
         "material": check.material.name,
         "payload_kg": check.payload_kg,
+        "section": "fixed" if check.sizing is None else "sized",
+        "section_iterations": int(row["section_iterations"]),
     }
 
 

@@ -70,6 +70,14 @@ STRENGTH_COLUMNS: dict[str, str] = {
     "weakest_check": "where the weakest link is most loaded (a cut, a bore, buckling, or a "
     "bearing's static load rating)",
     **{
+        f"section_{dim}_{k}_mm": f"{dim} of the {k}'s section (mm): cad.{dim}_m, or sized by "
+        "strength (cad.section: sized)"
+        for k in LINK_NAMES
+        for dim in ("width", "thickness")
+    },
+    "section_iterations": "loads -> sections -> masses iterations the sized sections took (0: "
+    "fixed section)",
+    **{
         key: text
         for j in JOINT_COLUMNS
         for key, text in (

@@ -10,7 +10,9 @@ from __future__ import annotations
 import logging
 import time
 
+import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike
 
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.duty import Duty, duty_cycle
@@ -26,9 +28,10 @@ def evaluate_table(
     settings: CadSettings = DEFAULT_CAD,
     payload_kg: float = 5.0,
     log_every: int = 1000,
+    scales: ArrayLike | None = None,
 ) -> pd.DataFrame:
     """:func:`qsm.physics.dynamics.evaluate_mechanism` for every row of ``df`` (columns
-    l1_m ... ee_y_m, m).
+    l1_m ... ee_y_m, m), with each row's section scales (rows, 4) when ``scales`` is given.
 
     Returns one row per input row, in the same order and with the same index, holding
     ``mechanism_id`` (when ``df`` has it) and the :data:`qsm.physics.dynamics.RESULT_KEYS`
@@ -39,8 +42,9 @@ def evaluate_table(
     designs = df.loc[:, list(DESIGN_COLUMNS)].to_numpy(dtype=float)
     rows = []
     start = time.perf_counter()
-    for i, design in enumerate(designs, start=1):
-        rows.append(evaluate_mechanism(design, duty, settings, payload_kg))
+    factors = [None] * len(designs) if scales is None else np.asarray(scales, dtype=float)
+    for i, (design, scale) in enumerate(zip(designs, factors, strict=True), start=1):
+        rows.append(evaluate_mechanism(design, duty, settings, payload_kg, scale))
         if i % log_every == 0 or i == len(designs):
             elapsed = time.perf_counter() - start
             log.info("dynamics: %d/%d mechanisms, %.1f mechanisms/s", i, len(designs), i / elapsed)

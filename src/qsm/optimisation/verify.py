@@ -43,6 +43,7 @@ TRUE_COLUMNS: dict[str, str] = {
     "tau1_true_Nm": "peak |tau1| over the duty from the MuJoCo dynamics (N m)",
     "tau2_true_Nm": "peak |tau2| over the duty from the MuJoCo dynamics (N m)",
     "dynamics_status": "status of the dynamics (ok or the failure)",
+    "mass_links_kg": "mass of the four links with their sections, payload excluded (kg)",
     "in_table1": "every ratio to l1 lies within sampling.bounds, where the data were sampled (-)",
     "printable": "every link's bounding box fits printing.build_volume_mm (-)",
     "print_excess_mm": "largest excess of a link's box over the build volume, <= 0 fits (mm)",
@@ -56,9 +57,15 @@ TRUE_COLUMNS: dict[str, str] = {
 
 
 def verify_design(
-    design: np.ndarray, fit: FitSettings, duty: Duty, cad: CadSettings, payload_kg: float
+    design: np.ndarray,
+    fit: FitSettings,
+    duty: Duty,
+    cad: CadSettings,
+    payload_kg: float,
+    scale: np.ndarray | None = None,
 ) -> dict[str, Any]:
-    """True kinematics and dynamics of one design (6 lengths, m) at its own scale l1."""
+    """True kinematics and dynamics of one design (6 lengths, m) at its own scale l1; ``scale``
+    (4,): each link's section scale (sized sections)."""
     ratios = design[1:] / design[0]
     out: dict[str, Any] = {
         k: np.nan for k in TRUE_COLUMNS if k not in STRENGTH_COLUMNS and k not in DRIVE_COLUMNS
@@ -77,8 +84,9 @@ def verify_design(
         out["clearance_m"] = disk_clearance_m(design, fit.op, disk)
         out["task_contained"] = bool(margin >= 0)
         out["eta_true"] = disk.area / (slices.area * design[0] ** 2)
-        dyn = evaluate_mechanism(design, duty, cad, payload_kg)
+        dyn = evaluate_mechanism(design, duty, cad, payload_kg, scale)
         out["tau1_true_Nm"], out["tau2_true_Nm"] = dyn["tau1_Nm"], dyn["tau2_Nm"]
+        out["mass_links_kg"] = sum(v for k, v in dyn.items() if k.startswith("mass_"))
         out["dynamics_status"] = dyn["status"]
     out["feasible"] = all(
         out[k] for k in ("crank_rocker", "loop_closes", "transmission_ok", "task_contained")
@@ -101,13 +109,18 @@ def verify_front(
     motor has a drive in the catalogue (see :data:`TRUE_COLUMNS`)."""
     lengths = pareto[list(INPUTS)].to_numpy()
     cad, duty, payload_kg = check.cad, check.duty, check.payload_kg
-    rows = [verify_design(d, fit, duty, cad, payload_kg) for d in lengths]
+    sized = check.section_scales(lengths)
+    each = [None] * len(lengths) if sized is None else list(sized.scale)
+    rows = [
+        verify_design(d, fit, duty, cad, payload_kg, s) for d, s in zip(lengths, each, strict=True)
+    ]
     true = pd.DataFrame(rows)
     true = with_embodiment(
         true.rename(columns={"dynamics_status": "status"}),
         lengths,
         check,
         drives or DriveCheck(cad=cad, payload_kg=payload_kg, duty=duty),
+        sized,
     )
     true = true.rename(columns={"status": "dynamics_status"})
     table = pd.concat([pareto.reset_index(drop=True), true], axis=1)

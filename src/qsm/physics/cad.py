@@ -26,7 +26,7 @@ defaults below are a plausible printed section for 0.3-1 m links.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import NamedTuple
 
@@ -35,7 +35,7 @@ import shapely
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.kinematics import as_design
+from qsm.physics.kinematics import LINK_NAMES, as_design
 
 ABS_M30_DENSITY_KG_M3 = 1040.0
 
@@ -75,6 +75,24 @@ class CadSettings:
         """Distance (m) from a boss centre to where the bar's edges meet the boss circle: a bar
         needs more than twice this length, the upper arm's legs more than this + width / 2."""
         return math.sqrt(self.boss_radius_m**2 - (self.width_m / 2) ** 2)
+
+    def scaled(self, factor: float) -> CadSettings:
+        """This section with width, thickness and boss radius multiplied by ``factor`` (> 0)."""
+        return replace(
+            self,
+            width_m=self.width_m * factor,
+            thickness_m=self.thickness_m * factor,
+            boss_radius_m=self.boss_radius_m * factor,
+        )
+
+
+def link_settings(settings: CadSettings, scale: ArrayLike | None) -> dict[str, CadSettings]:
+    """The section of each link (:data:`qsm.physics.kinematics.LINK_NAMES` order): ``settings``
+    scaled by that link's entry of ``scale`` (4,), or ``settings`` for every link (None)."""
+    if scale is None:
+        return dict.fromkeys(LINK_NAMES, settings)
+    factors = np.asarray(scale, dtype=float).reshape(len(LINK_NAMES))
+    return {k: settings.scaled(float(f)) for k, f in zip(LINK_NAMES, factors, strict=True)}
 
 
 DEFAULT_CAD = CadSettings()
@@ -136,17 +154,21 @@ def _upper_arm_outline(l4: float, ee_x: float, ee_y: float, s: CadSettings) -> N
     )
 
 
-def link_outlines(design: ArrayLike, settings: CadSettings = CadSettings()) -> dict[str, NDArray]:
-    """CCW outline polygons (n, 2) of the four links in their link frames (m).
+def link_outlines(
+    design: ArrayLike, settings: CadSettings = CadSettings(), scale: ArrayLike | None = None
+) -> dict[str, NDArray]:
+    """CCW outline polygons (n, 2) of the four links in their link frames (m), each link of the
+    section ``settings`` scaled by its entry of ``scale`` (4,) (:func:`link_settings`).
 
     Raises :class:`CadError` when the section does not fit the design.
     """
     l1, l2, l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
+    s = link_settings(settings, scale)
     return {
-        "lower_arm": _bar_outline(l1, settings),
-        "crank": _bar_outline(l2, settings),
-        "coupler": _bar_outline(l3, settings),
-        "upper_arm": _upper_arm_outline(l4, ee_x, ee_y, settings),
+        "lower_arm": _bar_outline(l1, s["lower_arm"]),
+        "crank": _bar_outline(l2, s["crank"]),
+        "coupler": _bar_outline(l3, s["coupler"]),
+        "upper_arm": _upper_arm_outline(l4, ee_x, ee_y, s["upper_arm"]),
     }
 
 
@@ -195,13 +217,14 @@ def prism_properties(
 
 
 def mass_properties(
-    design: ArrayLike, settings: CadSettings = CadSettings()
+    design: ArrayLike, settings: CadSettings = CadSettings(), scale: ArrayLike | None = None
 ) -> dict[str, MassProperties]:
     """Mass properties of the four links (link frames, SI units), keyed by link name
-    (:data:`qsm.physics.kinematics.LINK_NAMES`)."""
+    (:data:`qsm.physics.kinematics.LINK_NAMES`); sections as :func:`link_outlines`."""
+    s = link_settings(settings, scale)
     return {
-        name: polygon_mass_properties(poly, settings.thickness_m, settings.density_kg_m3)
-        for name, poly in link_outlines(design, settings).items()
+        name: polygon_mass_properties(poly, s[name].thickness_m, settings.density_kg_m3)
+        for name, poly in link_outlines(design, settings, scale).items()
     }
 
 
@@ -237,18 +260,26 @@ def _outline_terms(s: CadSettings) -> dict[str, list[tuple[NDArray[np.float64], 
 
 
 def batch_mass_properties(
-    designs: ArrayLike, settings: CadSettings = CadSettings()
+    designs: ArrayLike, settings: CadSettings = CadSettings(), scale: ArrayLike | None = None
 ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]]:
     """Planar mass properties of the four links (:data:`qsm.physics.kinematics.LINK_NAMES`
     order) of designs (..., 6) m, without Python work per design: mass (..., 4) kg, centre of
     mass (..., 4, 2) m in the link frames and inertia about z through it (..., 4) kg m^2; those
-    of :func:`mass_properties` to rounding. The section must fit every design
-    (:func:`link_outlines` raises otherwise)."""
+    of :func:`mass_properties` to rounding. ``scale`` (..., 4): each link's section is
+    ``settings`` scaled by it (every length of the section, so the outline's template scales).
+    The section must fit every design (:func:`link_outlines` raises otherwise)."""
     d = as_design(designs)
     masses, coms, izz = [], [], []
-    sigma = settings.density_kg_m3 * settings.thickness_m
-    for pieces in _outline_terms(settings).values():
-        p = np.concatenate([tpl + d[..., None, :] @ m.T for tpl, m in pieces], axis=-2)
+    for k, pieces in enumerate(_outline_terms(settings).values()):
+        f = None if scale is None else np.asarray(scale, dtype=float)[..., k]
+        sigma = settings.density_kg_m3 * settings.thickness_m * (1.0 if f is None else f)
+        p = np.concatenate(
+            [
+                (tpl if f is None else f[..., None, None] * tpl) + d[..., None, :] @ m.T
+                for tpl, m in pieces
+            ],
+            axis=-2,
+        )
         x, y = p[..., 0], p[..., 1]
         xn, yn = np.roll(x, -1, axis=-1), np.roll(y, -1, axis=-1)
         c = x * yn - xn * y
@@ -263,28 +294,34 @@ def batch_mass_properties(
 
 
 def link_meshes(
-    design: ArrayLike, settings: CadSettings = CadSettings()
+    design: ArrayLike, settings: CadSettings = CadSettings(), scale: ArrayLike | None = None
 ) -> dict[str, trimesh.Trimesh]:
-    """Watertight trimesh solids of the four links in their link frames (m), z in +-thickness/2."""
+    """Watertight trimesh solids of the four links in their link frames (m), z in +-thickness/2
+    (sections as :func:`link_outlines`)."""
+    s = link_settings(settings, scale)
     return {
         name: trimesh.creation.extrude_polygon(
-            shapely.Polygon(poly), settings.thickness_m, mid_plane=True, engine="earcut"
+            shapely.Polygon(poly), s[name].thickness_m, mid_plane=True, engine="earcut"
         )
-        for name, poly in link_outlines(design, settings).items()
+        for name, poly in link_outlines(design, settings, scale).items()
     }
 
 
 def export_stl(
-    design: ArrayLike, directory: str | Path, settings: CadSettings = CadSettings()
+    design: ArrayLike,
+    directory: str | Path,
+    settings: CadSettings = CadSettings(),
+    scale: ArrayLike | None = None,
 ) -> list[Path]:
-    """Write one binary STL per link (``<link>.stl``, millimetres, link frame) into ``directory``.
+    """Write one binary STL per link (``<link>.stl``, millimetres, link frame) into ``directory``
+    (sections as :func:`link_outlines`).
 
     Returns the written paths in :data:`qsm.physics.kinematics.LINK_NAMES` order.
     """
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
     paths = []
-    for name, mesh in link_meshes(design, settings).items():
+    for name, mesh in link_meshes(design, settings, scale).items():
         path = out / f"{name}.stl"
         mesh.copy().apply_scale(1000.0).export(path)
         paths.append(path)

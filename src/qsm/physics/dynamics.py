@@ -234,8 +234,10 @@ def evaluate_mechanism(
     duty: Duty,
     settings: CadSettings = DEFAULT_CAD,
     payload_kg: float = 5.0,
+    scale: ArrayLike | None = None,
 ) -> dict[str, Any]:
-    """Peak and RMS motor torques of one design (6 lengths, m) over ``duty``.
+    """Peak and RMS motor torques of one design (6 lengths, m) over ``duty``, each link of the
+    section ``settings`` scaled by its entry of ``scale`` (4,) (None: ``settings`` for all).
 
     Returns a dict with the keys :data:`RESULT_KEYS`: peak |tau| (N m) of each motor and the motor
     angles (deg) where it occurs, time-weighted RMS torques over the moving part of the duty,
@@ -247,7 +249,7 @@ def evaluate_mechanism(
     """
     masses: dict[str, float] = {}
     try:
-        props = mass_properties(design, settings)
+        props = mass_properties(design, settings, scale)
         masses = {f"mass_{k}_kg": v.mass_kg for k, v in props.items()}
         state = loop_state(design, duty.theta, duty.dtheta, duty.ddtheta)
         if not state.closes.all():
