@@ -15,10 +15,16 @@ from qsm.config import load_config
 from qsm.embodiment.drive_checks import DriveCheck
 from qsm.embodiment.drives.catalogue import read_catalogue
 from qsm.embodiment.link_checks import StrengthCheck
-from qsm.optimisation.comparison import compare
+from qsm.optimisation.comparison import compare, true_hypervolume
 from qsm.optimisation.nsga import optimise
 from qsm.optimisation.problems import ExtraConstraints, loop_duty
-from qsm.optimisation.ranking import DRIVE_MASS, front_ranks, objectives_of, rule_scores
+from qsm.optimisation.ranking import (
+    DRIVE_MASS,
+    OBJECTIVE_SETS,
+    front_ranks,
+    objectives_of,
+    rule_scores,
+)
 from qsm.physics.cad import DEFAULT_CAD
 from qsm.surrogate.model import INPUTS, SurrogateSettings, train
 
@@ -147,3 +153,22 @@ def test_comparison_gives_drive_share_mass_and_hypervolume():
     # (eta, mass) normalised: (0.25, 0.5), (0.5, 0.25), (0.75, 1); the third (0.125, 0.125)
     # has no drives. Dominated area below 1.1: 0.85 x 0.6 + 0.6 x 0.25 = 0.66
     assert e["true_hypervolume_drive_mass"] == pytest.approx(0.85 * 0.6 + 0.6 * 0.25)
+
+
+def test_a_constant_dataset_column_still_gives_a_hypervolume():
+    """One drive fits every design (a light task): the drive mass column of the dataset is
+    constant; it normalises with span 1, so the point (eta 0.5, mass 0) dominates 0.6 x 1.1."""
+    n = 1
+    table = _verified(
+        crank_rocker=[True],
+        loop_closes=[True],
+        transmission_ok=[True],
+        has_drives=[True] * n,
+        eta_true=[0.2],
+        tau1_true_Nm=[10.0],
+        drive_mass_kg=[0.96],
+    )
+    dataset = pd.DataFrame({"eta": [0.0, 0.4], "drive_mass_kg": [0.96, 0.96]})
+    assert true_hypervolume(table, dataset, OBJECTIVE_SETS["drive_mass"]) == pytest.approx(
+        0.6 * 1.1
+    )

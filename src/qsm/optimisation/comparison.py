@@ -78,16 +78,18 @@ def true_hypervolume(
 ) -> float:
     """Hypervolume of the truly feasible designs' true ``objectives`` (default eta, tau1, tau2;
     with the drive mass, only designs with drives count), each normalised by the range of its
-    column in ``dataset``, with reference point 1.1 in every objective (larger is better)."""
+    column in ``dataset`` (span 1 where it is constant), with reference point 1.1 in every
+    objective (larger is better)."""
     ok = table["feasible"].astype(bool) & table["dynamics_status"].eq("ok")
     if any(o.true == "drive_mass_kg" for o in objectives):
         ok &= table["has_drives"].fillna(False).astype(bool)
     labels = dataset[[o.dataset for o in objectives]].to_numpy(float)
     lower, upper = np.nanmin(labels, axis=0), np.nanmax(labels, axis=0)
+    span = np.where(upper > lower, upper - lower, 1.0)  # a constant column: span 1
     f = table.loc[ok, [o.true for o in objectives]].to_numpy(float)
     if not len(f):
         return 0.0
-    return float(HV(ref_point=np.full(len(objectives), 1.1))((f - lower) / (upper - lower)))
+    return float(HV(ref_point=np.full(len(objectives), 1.1))((f - lower) / span))
 
 
 def compare(

@@ -185,7 +185,8 @@ def optimise(
             )
         extra = replace(extra, drive_mass=extra.drives)
     labels = dataset[[o.dataset for o in objectives]].to_numpy(float)
-    objective_range = (np.nanmin(labels, axis=0), np.nanmax(labels, axis=0))
+    lower, upper = np.nanmin(labels, axis=0), np.nanmax(labels, axis=0)
+    objective_range = (lower, np.where(upper > lower, upper, lower + 1.0))  # a constant: span 1
     if formulation == "paper":
         lo, hi = bounds_from(dataset, INPUTS, section["bounds"])
     elif formulation == "ratios":
