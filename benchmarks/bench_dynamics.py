@@ -21,6 +21,7 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pandas as pd
 
+from qsm.embodiment.drive_checks import DriveCheck
 from qsm.embodiment.link_checks import StrengthCheck
 from qsm.mechanisms.evaluation import evaluate_table
 from qsm.physics import cad, duty, dynamics, kinematics, mjcf
@@ -130,6 +131,17 @@ def main() -> None:
         f"strength check (loads, bearings, stresses; in the stage): {1e3 * strength:.3f} "
         f"ms/mechanism = {1e3 * strength / floor:.2f} x the MuJoCo floor "
         f"({100 * strength / serial:.0f} % of the dynamics)"
+    )
+
+    drives = DriveCheck(duty=d)
+    torques = drives.torques(designs)
+    drives.evaluate(designs[:5], (torques[0][:5], torques[1][:5]))  # warm up
+    t0 = time.perf_counter()
+    drives.evaluate(designs, torques)
+    select = (time.perf_counter() - t0) / len(designs)
+    print(
+        f"drive selection (both motors, default catalogue, from the torques): "
+        f"{1e3 * select:.3f} ms/mechanism (goal 0.2)"
     )
 
     t0 = time.perf_counter()

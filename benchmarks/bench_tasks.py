@@ -3,9 +3,10 @@
 Each task (points, payload) runs in a fresh copy of the workflow at a reduced size (``--samples``
 LHS samples, ``--mechanisms`` mechanisms; default 30,000 / 2,000), everything else from
 config/config.yaml, on the real 600 x 350 x 350 mm printer. Per task it prints one table row:
-feasible mechanisms; per front the share of Pareto designs that truly hold the task and the share
-that is printable; the selected design (printable or not, its true peak torques); wall time. A
-run that stops (a rejected config, a task nothing holds) shows its error instead.
+feasible mechanisms; per front the share of Pareto designs that truly hold the task, the share
+that is printable, the true hypervolume, the share with drives and their median drive mass; the
+selected design (printable or not, its true peak torques, its drives and their mass); wall time.
+A run that stops (a rejected config, a task nothing holds) shows its error instead.
 
     python benchmarks/bench_tasks.py [--tasks default near_light ...] [--out tasks.json]
         [--set cad.section=sized optimization.objectives=drive_mass ...]
@@ -109,6 +110,8 @@ def row(work: Path, name: str) -> dict[str, Any]:
                 "holds_loads": v["holds_loads_share"],
                 "has_drives": v["has_drives_share"],
                 **front_medians(res / f"optimization/{k}/verification.parquet"),
+                "true_hypervolume_drive_mass": v.get("true_hypervolume_drive_mass"),
+                "median_drive_mass_kg": v.get("median_drive_mass_kg"),
             }
             for k, v in fronts.items()
         },
@@ -126,8 +129,22 @@ def row(work: Path, name: str) -> dict[str, Any]:
             },
             "scale_m": selected["scale_m"],
             "needed_volume_mm": selected.get("printing_advice", {}).get("needed_volume_mm"),
+            "drives": drives_of(selected.get("drives", {})),
         },
     }
+
+
+def drives_of(report: dict[str, Any]) -> dict[str, Any]:
+    """Each motor's drive (or the nearest, marked) from a selected.json ``drives`` report."""
+    out: dict[str, Any] = {"has_drives": report.get("has_drives")}
+    for key, m in report.get("motors", {}).items():
+        d = m.get("drive") or m.get("best_drive")
+        out[key] = {
+            "name": f"{d['motor']} + {d['gearbox']}" + ("" if m["has_drive"] else " (NONE)"),
+            "ratio": d["ratio"],
+            "mass_kg": d["mass_kg"],
+        }
+    return out
 
 
 def overrides(pairs: list[str]) -> dict[str, Any]:
@@ -228,16 +245,17 @@ def run_task(
 def markdown(rows: list[dict[str, Any]]) -> str:
     """One table row per task."""
     lines = [
-        "| task | what | feasible mechanisms | paper: hold task / printable / true HV "
-        "| ratios: hold task / printable / true HV "
-        "| selected: source, printable, tau1 / tau2 (N m) | wall (s) |",
-        "| --- | --- | --- | --- | --- | --- | --- |",
+        "| task | what | feasible mechanisms "
+        "| paper: hold task / printable / true HV / drives / drive mass "
+        "| ratios: hold task / printable / true HV / drives / drive mass "
+        "| selected: source, printable, tau1 / tau2 (N m) | selected drives | wall (s) |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     for r in rows:
         what = TASKS[r["task"]][0] + f", {TASKS[r['task']][2]:g} kg"
         if "error" in r:
             lines.append(
-                f"| {r['task']} | {what} | stopped: {r['error']} | | | | {r['wall_s']:.0f} |"
+                f"| {r['task']} | {what} | stopped: {r['error']} | | | | | {r['wall_s']:.0f} |"
             )
             continue
         cells = []
@@ -245,7 +263,8 @@ def markdown(rows: list[dict[str, Any]]) -> str:
             f = r["fronts"].get(front)
             cells.append(
                 f"{100 * f['holds_task']:.0f} % / {100 * f['printable']:.0f} % / "
-                f"{f['true_hypervolume']:.3f}"
+                f"{f['true_hypervolume']:.3f} / {100 * (f['has_drives'] or 0):.0f} % / "
+                f"{f['median_drive_mass_kg'] or float('nan'):.2f} kg"
                 if f
                 else "-"
             )
@@ -254,9 +273,14 @@ def markdown(rows: list[dict[str, Any]]) -> str:
             f"{s['source']}, {'printable' if s['printable'] else 'NOT printable'}, "
             f"{s['tau1_true_Nm']:.1f} / {s['tau2_true_Nm']:.1f}"
         )
+        drives = "; ".join(
+            f"{d['name']} {d['ratio']:.4g}:1 {d['mass_kg']:.2f} kg"
+            for k, d in s["drives"].items()
+            if k != "has_drives"
+        )
         lines.append(
             f"| {r['task']} | {what} | {r['feasible_mechanisms']:,} of {r['samples']:,} "
-            f"| {cells[0]} | {cells[1]} | {sel} | {r['wall_s']:.0f} |"
+            f"| {cells[0]} | {cells[1]} | {sel} | {drives} | {r['wall_s']:.0f} |"
         )
     return "\n".join(lines)
 

@@ -125,6 +125,11 @@ ERRORS = [
     ({"material": {"density_kg_m3": 1.04}}, "material.density_kg_m3", "looks like g/cm^3"),
     ({"material": {"youngs_modulus_pa": 2.2}}, "material.youngs_modulus_pa", "looks like GPa"),
     ({"material": {"yield_strength_pa": 31}}, "material.yield_strength_pa", "looks like MPa"),
+    (
+        {"optimization": {"objectives": "drive_mass", "constraints": {"drives": False}}},
+        "optimization.objectives",
+        "set optimization.constraints.drives: true",
+    ),
 ]
 
 

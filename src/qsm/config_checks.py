@@ -343,6 +343,11 @@ def _check_optimization(config: dict[str, Any]) -> None:
             f"config key 'optimization.formulation': '{opt['formulation']}' is not among "
             f"optimization.formulations = {opt['formulations']}"
         )
+    if opt["objectives"] == "drive_mass" and not opt["constraints"]["drives"]:
+        raise ConfigError(
+            "config key 'optimization.objectives': drive_mass takes its drives from g14's "
+            "check; set optimization.constraints.drives: true"
+        )
     ratios, scale = config["sampling"]["bounds"], config["scale"]["max_m"]
     for name, interval in opt["bounds"].items():
         if interval is None:

@@ -9,10 +9,12 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
+from qsm.optimisation.ranking import OBJECTIVE_SETS
 from qsm.physics.kinematics import DESIGN_NAMES
 
-#: Objectives as the optimiser saw them (surrogate predictions) and their display names.
-OBJECTIVES: dict[str, str] = {"eta_pred": "eta", "tau1_pred_Nm": "tau1", "tau2_pred_Nm": "tau2"}
+#: The paper's objectives as the surrogate predicts them (every front holds these) and their
+#: display names.
+OBJECTIVES: dict[str, str] = {o.predicted: o.name for o in OBJECTIVE_SETS["torques"]}
 FEATURES_MM: tuple[str, ...] = tuple(f"{n}_mm" for n in DESIGN_NAMES)
 
 

@@ -14,7 +14,8 @@ exactly what MuJoCo's joint ``armature`` J_c on theta1 / theta2 adds to the inve
 against a model with armature), so the choice and the torques agree without iterating. Motor
 masses do not load the links: both motors sit at the base joint A.
 
-It gives Stage 2's drive columns (:data:`DRIVE_COLUMNS`) and the optimisation's g14.
+It gives Stage 2's drive columns (:data:`DRIVE_COLUMNS`), the optimisation's g14 and its
+drive-mass objective.
 """
 
 from __future__ import annotations
@@ -153,14 +154,29 @@ class DriveCheck:
         self, designs: ArrayLike, tau: NDArray[np.float64], good: NDArray[np.bool_]
     ) -> NDArray[np.float64]:
         """:meth:`violation` from motor torques computed elsewhere (see :meth:`evaluate`)."""
-        v = self.evaluate(designs, (tau, good))["drive_violation"].to_numpy(float)
-        return np.where(np.isfinite(v), v, UNDEFINED_VIOLATION)
+        return violation_of(self.evaluate(designs, (tau, good)))
 
     def violation(self, designs: ArrayLike) -> NDArray[np.float64]:
         """g14: the larger motor violation of designs (N, 6) m (<= 0: each motor has a drive),
         or :data:`UNDEFINED_VIOLATION` where it is undefined (the loop does not close, or a
         value the check needs is missing)."""
         return self.violation_from_torques(designs, *self.torques(np.atleast_2d(designs)))
+
+    @property
+    def penalty_kg(self) -> float:
+        """The drive-mass objective (kg) of a design without drives, less its g14 violation:
+        twice the catalogue's heaviest drive."""
+        return 2.0 * float(np.nanmax(self.catalogue.drives["mass"].to_numpy(float)))
+
+    def mass_objective(self, table: pd.DataFrame) -> NDArray[np.float64]:
+        """The drive-mass objective (kg) of designs from their :meth:`evaluate` table: the mass of
+        both drives where each motor has one; else :attr:`penalty_kg` plus the g14 violation
+        (:func:`violation_of`, read as kg), so every design with drives ranks ahead of every
+        design without and the shortfall still guides the search."""
+        mass = table["drive_mass_kg"].to_numpy(float)
+        return np.where(
+            table["has_drives"].to_numpy(bool), mass, self.penalty_kg + violation_of(table)
+        )
 
     def report(self, design: ArrayLike, scales: ArrayLike | None = None) -> dict[str, Any]:
         """JSON-ready account of one design's drives: per motor, the drive (or the nearest and
@@ -181,6 +197,13 @@ class DriveCheck:
             "reflected_inertia": self.reflected_inertia,
             "motors": motors,
         }
+
+
+def violation_of(table: pd.DataFrame) -> NDArray[np.float64]:
+    """g14 of designs from their :meth:`DriveCheck.evaluate` table: the larger motor violation
+    (<= 0: each motor has a drive), :data:`UNDEFINED_VIOLATION` where it is undefined."""
+    v = table["drive_violation"].to_numpy(float)
+    return np.where(np.isfinite(v), v, UNDEFINED_VIOLATION)
 
 
 def same_loads(strength: StrengthCheck, drives: DriveCheck) -> bool:

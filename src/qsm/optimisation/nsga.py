@@ -1,6 +1,7 @@
 """Stage 4: NSGA-II (pymoo) on the surrogate in one formulation (the problems are in
-:mod:`qsm.optimisation.problems`), with the hypervolume recorded per generation, and the tables a
-run writes."""
+:mod:`qsm.optimisation.problems`) and on one set of objectives
+(:data:`qsm.optimisation.ranking.OBJECTIVE_SETS`), with the hypervolume recorded per generation,
+and the tables a run writes."""
 
 from __future__ import annotations
 
@@ -28,6 +29,7 @@ from qsm.optimisation.problems import (
     PaperProblem,
     RatiosProblem,
 )
+from qsm.optimisation.ranking import OBJECTIVE_SETS, PREDICTION_COLUMNS, Objective
 from qsm.physics.kinematics import RATIO_NAMES
 from qsm.surrogate.model import INPUTS, Surrogate
 
@@ -35,8 +37,8 @@ from qsm.surrogate.model import INPUTS, Surrogate
 @dataclass
 class Recorder(Callback):
     """Per generation: hypervolume of the feasible non-dominated set (normalised objectives);
-    the last ``keep`` populations (X, F, G). Replaces pymoo's ``save_history``, which deep-copies
-    the algorithm every generation."""
+    the last ``keep`` populations (X, F, G and the predictions P). Replaces pymoo's
+    ``save_history``, which deep-copies the algorithm every generation."""
 
     lower: NDArray[np.float64]
     upper: NDArray[np.float64]
@@ -47,7 +49,7 @@ class Recorder(Callback):
 
     def __post_init__(self) -> None:
         super().__init__()
-        self._hv = HV(ref_point=np.full(3, 1.1))
+        self._hv = HV(ref_point=np.full(len(self.lower), 1.1))
 
     def notify(self, algorithm: Any) -> None:
         pop = algorithm.pop
@@ -55,7 +57,7 @@ class Recorder(Callback):
         feasible = np.all(g <= 0, axis=1)
         norm = (f[feasible] - self.lower) / (self.upper - self.lower)
         self.hypervolume.append(float(self._hv(norm)) if len(norm) else 0.0)
-        self.populations.append({"X": x.copy(), "F": f.copy(), "G": g.copy()})
+        self.populations.append({"X": x.copy(), "F": f.copy(), "G": g.copy(), "P": pop.get("P")})
         del self.populations[: -self.keep]
         if self.progress is not None:
             self.progress(algorithm.n_gen, self.hypervolume[-1])
@@ -63,10 +65,12 @@ class Recorder(Callback):
 
 @dataclass(frozen=True)
 class OptimisationResult:
-    """Pareto designs, the last populations and the hypervolume history."""
+    """Pareto designs (variables, objectives, the surrogate's predictions), the last populations
+    and the hypervolume history."""
 
     pareto_x: NDArray[np.float64]
     pareto_f: NDArray[np.float64]
+    pareto_p: NDArray[np.float64]
     last_populations: list[dict[str, NDArray]]
     hypervolume: list[float]
 
@@ -104,6 +108,7 @@ def run_nsga2(
     return OptimisationResult(
         pareto_x=np.atleast_2d(result.opt.get("X")),
         pareto_f=np.atleast_2d(result.opt.get("F")),
+        pareto_p=np.atleast_2d(result.opt.get("P")),
         last_populations=recorder.populations,
         hypervolume=recorder.hypervolume,
     )
@@ -125,9 +130,6 @@ def bounds_from(
     return np.array(lo), np.array(hi)
 
 
-PREDICTION_COLUMNS: tuple[str, ...] = ("eta_pred", "tau1_pred_Nm", "tau2_pred_Nm")
-
-
 @dataclass(frozen=True)
 class FrontTables:
     """What an optimisation writes: the Pareto designs, the last generations, the HV history."""
@@ -138,13 +140,20 @@ class FrontTables:
     constraints: str = ""
 
 
-def _design_table(design: NDArray, objectives: NDArray) -> pd.DataFrame:
+def _design_table(
+    design: NDArray, pred: NDArray, f: NDArray, objectives: tuple[Objective, ...]
+) -> pd.DataFrame:
+    """Lengths, scale, ratios, the predictions ``pred`` and the objectives ``f`` NSGA-II
+    minimised that are not predictions."""
     table = pd.DataFrame(design, columns=list(INPUTS))
     table.insert(0, "scale_m", design[:, 0])
     for j, name in enumerate(RATIO_NAMES, start=1):
         table[name] = design[:, j] / design[:, 0]
     for j, name in enumerate(PREDICTION_COLUMNS):
-        table[name] = objectives[:, j]
+        table[name] = pred[:, j]
+    for j, o in enumerate(objectives):
+        if o.predicted not in PREDICTION_COLUMNS:
+            table[o.predicted] = f[:, j]
     return table
 
 
@@ -162,12 +171,22 @@ def optimise(
 
     ``dataset`` (status-ok rows) gives the paper formulation's bounds (unless ``section["bounds"]``
     overrides them) and the objective range that normalises the hypervolume. ``extra`` switches
-    g11 / g12 / g13 on (None: the paper's g1..g10 only); when no design meets them, g12 and then
-    g13 are dropped and the constraint label says so.
+    g11..g14 on (None: the paper's g1..g10 only); when no design meets them, g12, g14 and then
+    g13 are dropped and the constraint label says so. ``section["objectives"]`` (default
+    ``torques``) picks the objectives; ``drive_mass`` takes its drives from ``extra.drives``.
     """
     stats = LabelStats.of(model, section["z"])
-    labels = dataset[["eta", "tau1_Nm", "tau2_Nm"]].to_numpy()
-    objective_range = (labels.min(axis=0), labels.max(axis=0))
+    objectives = OBJECTIVE_SETS[section.get("objectives", "torques")]
+    if len(objectives) < 3:
+        if extra is None or extra.drives is None:
+            raise ValueError(
+                "config key 'optimization.objectives': drive_mass needs the drive check of "
+                "optimization.constraints.drives"
+            )
+        extra = replace(extra, drive_mass=extra.drives)
+    labels = dataset[[o.dataset for o in objectives]].to_numpy(float)
+    lower, upper = np.nanmin(labels, axis=0), np.nanmax(labels, axis=0)
+    objective_range = (lower, np.where(upper > lower, upper, lower + 1.0))  # a constant: span 1
     if formulation == "paper":
         lo, hi = bounds_from(dataset, INPUTS, section["bounds"])
     elif formulation == "ratios":
@@ -230,11 +249,11 @@ def optimise(
     def lengths(x: NDArray) -> NDArray:
         return problem.designs(x)[0] if isinstance(problem, RatiosProblem) else x
 
-    pareto = _design_table(lengths(result.pareto_x), result.pareto_f)
+    pareto = _design_table(lengths(result.pareto_x), result.pareto_p, result.pareto_f, objectives)
     generations = []
     first = section["generations"] - len(result.last_populations) + 1
     for offset, pop in enumerate(result.last_populations):
-        table = _design_table(lengths(pop["X"]), pop["F"])
+        table = _design_table(lengths(pop["X"]), pop["P"], pop["F"], objectives)
         table.insert(0, "generation", first + offset)
         table["feasible"] = np.all(pop["G"] <= 0, axis=1)
         table["constraint_violation"] = np.clip(pop["G"], 0.0, None).sum(axis=1)

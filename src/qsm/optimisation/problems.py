@@ -2,8 +2,13 @@
 and four of ours, g11 (the task lies in the workspace), g12 (every link fits the printer),
 g13 (every link holds its loads) and g14 (each motor has a drive you can buy).
 
-Objectives, all minimised: (eta', tau1', tau2'), the surrogate's predictions. Constraints in
-pymoo's ``G <= 0`` form:
+Objectives, all minimised (``optimization.objectives``): ``torques``, (eta', tau1', tau2'), the
+surrogate's predictions (the paper's); or ``drive_mass``, (eta', total mass of both motors'
+drives in kg), the drives chosen on the true closed-chain duty with g14's loads
+(:meth:`qsm.embodiment.drive_checks.DriveCheck.mass_objective`: a design without a drive for each
+motor gets a penalty mass plus its g14 violation). Every evaluation also records the surrogate's
+predictions as ``P`` (N, 3), which the front's tables keep. Constraints in pymoo's ``G <= 0``
+form:
 
 * g1..g3: eta' > 0, tau1' > 0, tau2' > 0  ->  ``-eta'``, ``-tau1'``, ``-tau2'``;
 * g4: crank-rocker l3 + l2 < l1 + l4      ->  ``l3 + l2 - l1 - l4``;
@@ -23,9 +28,9 @@ pymoo's ``G <= 0`` form:
   meets its duty, the larger motor's least violation over the catalogue
   (:mod:`qsm.embodiment.drive_checks`, from the same true torques).
 
-g13 and g14 are the costly ones (the closed-chain loads of every duty sample): they are evaluated
-only for the candidates that meet every other constraint, and read 0 for the rest, which are
-infeasible already (about half the candidates of a default run).
+g13, g14 and the drive mass are the costly ones (the closed-chain loads of every duty sample):
+they are evaluated only for the candidates that meet every other constraint (about half of a
+default run's), and the rest, infeasible already, read 0 in g13 and g14.
 
 With these switches off the paper formulation is the paper's g1..g10 exactly.
 
@@ -44,7 +49,7 @@ import numpy as np
 from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 
-from qsm.embodiment.drive_checks import DriveCheck, same_loads
+from qsm.embodiment.drive_checks import DriveCheck, same_loads, violation_of
 from qsm.embodiment.link_checks import StrengthCheck
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings, fit_rows
@@ -98,7 +103,9 @@ class ExtraConstraints:
     ``volume_mm`` (W, L, H in mm); ``strength`` (g13, every formulation, when given): every link
     holds its loads over the duty (:class:`qsm.embodiment.link_checks.StrengthCheck`);
     ``drives`` (g14, every formulation, when given): each motor has a drive in the catalogue
-    that meets its duty (:class:`qsm.embodiment.drive_checks.DriveCheck`).
+    that meets its duty (:class:`qsm.embodiment.drive_checks.DriveCheck`); ``drive_mass`` (when
+    given): the drive check whose selection gives the drive-mass objective (kept when g14 is
+    dropped).
     """
 
     containment: bool
@@ -109,6 +116,7 @@ class ExtraConstraints:
     tolerance_m: float = 0.001
     strength: StrengthCheck | None = None
     drives: DriveCheck | None = None
+    drive_mass: DriveCheck | None = None
 
     def names(self, formulation: str) -> tuple[str, ...]:
         """Constraint columns of ``formulation`` in order: g1..g10, then g11, g12, g13, g14 if
@@ -139,11 +147,19 @@ class ExtraConstraints:
     def columns(
         self, formulation: str, design: NDArray[np.float64], g: NDArray[np.float64] | None = None
     ) -> list[NDArray]:
-        """The g11 / g12 / g13 / g14 columns (``G <= 0``) for scaled designs (N, 6). g13 and g14
-        are evaluated only for the designs that meet every cheaper constraint (``g``, the
-        g1..g10 columns (N, 10) when given, and g11, g12); the others are infeasible already and
-        read 0 there (not evaluated), so their constraint violation ranks them by the cheaper
-        constraints alone."""
+        """The g11 / g12 / g13 / g14 columns (``G <= 0``) for scaled designs (N, 6) (see
+        :meth:`evaluate`)."""
+        return self.evaluate(formulation, design, g)[0]
+
+    def evaluate(
+        self, formulation: str, design: NDArray[np.float64], g: NDArray[np.float64] | None = None
+    ) -> tuple[list[NDArray], NDArray | None]:
+        """:meth:`columns` and the drive-mass objective (N,) in kg (None without
+        ``drive_mass``), from one drive selection. g13, g14 and the drive mass are evaluated
+        only for the designs that meet every cheaper constraint (``g``, the g1..g10 columns
+        (N, 10) when given, and g11, g12); the others are infeasible already: they read 0 in
+        g13 and g14 (not evaluated), so their constraint violation ranks them by the cheaper
+        constraints alone, and the drive-mass penalty of a design without drives."""
         cols = []
         if self.containment and formulation == "paper":
             disk = self.fit.disk
@@ -154,33 +170,38 @@ class ExtraConstraints:
             cols.append(-margin)
         if self.printable:
             cols.append(printability_violation_mm(design, self.cad, self.volume_mm))
-        if self.strength is None and self.drives is None:
-            return cols
+        if self.strength is None and (self.drives or self.drive_mass) is None:
+            return cols, None
         cheap = [np.asarray(c).reshape(len(design), -1) for c in ([] if g is None else [g])]
         cheap += [np.asarray(c).reshape(len(design), -1) for c in cols]
         todo = np.all(np.column_stack(cheap) <= 0, axis=1) if cheap else np.ones(len(design), bool)
-        for col in self._expensive(design[todo]):
+        expensive, mass = self._expensive(design[todo])
+        for col in expensive:
             full = np.zeros(len(design))
             full[todo] = col
             cols.append(full)
-        return cols
+        if mass is None:
+            return cols, None
+        every = np.full(len(design), self.drive_mass.penalty_kg)
+        every[todo] = mass
+        return cols, every
 
-    def _expensive(self, design: NDArray[np.float64]) -> list[NDArray]:
-        """The g13 / g14 columns of scaled designs (N, 6), with :data:`LOOP_ALLOWANCE`."""
+    def _expensive(self, design: NDArray[np.float64]) -> tuple[list[NDArray], NDArray | None]:
+        """The g13 / g14 columns of scaled designs (N, 6), with :data:`LOOP_ALLOWANCE`, and
+        their drive-mass objective (None without ``drive_mass``)."""
         cols = []
         torques = None
         if self.strength is not None:
             g13, *torques = self.strength.violation_and_torques(design)
             cols.append((1.0 + g13) * (1.0 + LOOP_ALLOWANCE) - 1.0)
+        check = self.drives or self.drive_mass
+        if check is None:
+            return cols, None
+        shared = torques is not None and same_loads(self.strength, check)
+        table = check.evaluate(design, tuple(torques) if shared else None)
         if self.drives is not None:
-            shared = torques is not None and same_loads(self.strength, self.drives)
-            g14 = (
-                self.drives.violation_from_torques(design, *torques)
-                if shared
-                else self.drives.violation(design)
-            )
-            cols.append(g14 + LOOP_ALLOWANCE)
-        return cols
+            cols.append(violation_of(table) + LOOP_ALLOWANCE)
+        return cols, None if self.drive_mass is None else self.drive_mass.mass_objective(table)
 
 
 @dataclass(frozen=True)
@@ -211,7 +232,8 @@ def paper_constraints(
 
 
 class _SurrogateProblem(Problem):
-    """NSGA-II on the surrogate with g1..g10 and, as ``extra`` says, g11 / g12."""
+    """NSGA-II on the surrogate with g1..g10 and, as ``extra`` says, g11..g14 and the drive-mass
+    objective."""
 
     formulation = ""
 
@@ -224,16 +246,21 @@ class _SurrogateProblem(Problem):
         extra: ExtraConstraints | None = None,
     ) -> None:
         n_constr = len(extra.names(self.formulation)) if extra else len(PAPER_CONSTRAINTS)
-        super().__init__(n_var=len(lower), n_obj=3, n_ieq_constr=n_constr, xl=lower, xu=upper)
+        n_obj = 2 if extra is not None and extra.drive_mass is not None else 3
+        super().__init__(n_var=len(lower), n_obj=n_obj, n_ieq_constr=n_constr, xl=lower, xu=upper)
         self.model = model
         self.stats = stats
         self.extra = extra
 
-    def with_extra(self, design: NDArray, g: NDArray) -> NDArray:
-        """``g`` (g1..g10) with the g11 / g12 columns of the scaled designs appended."""
-        if self.extra is None:
-            return g
-        return np.column_stack([g, *self.extra.columns(self.formulation, design, g)])
+    def fill(self, out: dict, design: NDArray, pred: NDArray, g: NDArray) -> None:
+        """Set ``out``'s F (objectives), G (``g``, i.e. g1..g10, with the g11..g14 columns of the
+        scaled designs appended) and P (the predictions ``pred``)."""
+        out["P"], out["F"], out["G"] = pred, pred, g
+        if self.extra is not None:
+            cols, mass = self.extra.evaluate(self.formulation, design, g)
+            out["G"] = np.column_stack([g, *cols])
+            if mass is not None:
+                out["F"] = np.column_stack([pred[:, 0], mass])
 
 
 class PaperProblem(_SurrogateProblem):
@@ -244,8 +271,7 @@ class PaperProblem(_SurrogateProblem):
 
     def _evaluate(self, x: NDArray, out: dict, *args: Any, **kwargs: Any) -> None:
         pred = self.model.predict(x)
-        out["F"] = pred
-        out["G"] = self.with_extra(x, paper_constraints(x, pred, self.stats))
+        self.fill(out, x, pred, paper_constraints(x, pred, self.stats))
 
 
 class RatiosProblem(_SurrogateProblem):
@@ -253,7 +279,8 @@ class RatiosProblem(_SurrogateProblem):
 
     A design whose loop does not close or whose workspace holds the task at no scale is made
     infeasible through g4 (violation 1), with finite stand-in objectives (eta = 1, torques at the
-    training means). ``extra`` adds g12 if on (g11 holds by construction).
+    training means, the drive mass that of the unit-scale design). ``extra`` adds g12..g14 if on
+    (g11 holds by construction).
     """
 
     formulation = "ratios"
@@ -291,5 +318,4 @@ class RatiosProblem(_SurrogateProblem):
         pred[~feasible, 1:] = self.stats.mean[1:]
         g = paper_constraints(design, pred, self.stats)
         g[:, 3] = np.where(feasible, g[:, 3], 1.0)
-        out["F"] = pred
-        out["G"] = self.with_extra(design, g)
+        self.fill(out, design, pred, g)

@@ -4,9 +4,9 @@ A front's designs are all non-dominated, so a *rank* here is a position in a fix
 the interactive front shows and ``python -m qsm export --front F --rank K`` takes:
 
 1. designs that truly hold the task, whose dynamics succeeded and whose every link fits the
-   printer, by the ``knee`` score of :func:`rule_scores` (distance to
-   the ideal point of the true eta, tau1 and tau2, each min-max normalised over the truly
-   feasible designs);
+   printer, by the ``knee`` score of :func:`rule_scores` (distance to the ideal point of the
+   true values of the objectives the front was optimised on, :func:`objectives_of`, each min-max
+   normalised over the truly feasible designs);
 2. the truly feasible designs that do not fit the printer, by the same score;
 3. the rest, in table order.
 
@@ -16,21 +16,72 @@ designs is printable.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
 #: Selection rules of :func:`rule_scores` (and ``printing.selection_rule``).
 RULES: tuple[str, ...] = ("min_tau1", "min_tau2", "min_torque_sum", "min_eta", "knee")
-#: The true objectives a verified table holds, all minimised.
-OBJECTIVES: tuple[str, ...] = ("eta_true", "tau1_true_Nm", "tau2_true_Nm")
+
+
+@dataclass(frozen=True)
+class Objective:
+    """One minimised objective: its ``name``, the column of a front holding the value NSGA-II
+    minimised (``predicted``), the column of a verified front holding the true value, the
+    dataset's column (which normalises the hypervolume) and an axis ``label`` with the unit."""
+
+    name: str
+    predicted: str
+    true: str
+    dataset: str
+    label: str
+
+
+ETA = Objective("eta", "eta_pred", "eta_true", "eta", "eta (-)")
+TAU1 = Objective("tau1", "tau1_pred_Nm", "tau1_true_Nm", "tau1_Nm", "tau1 (N m)")
+TAU2 = Objective("tau2", "tau2_pred_Nm", "tau2_true_Nm", "tau2_Nm", "tau2 (N m)")
+#: The mass of both motors' drives (Stage 2's selection, drive_checks); NSGA-II's value comes
+#: from the selection on the loop's coarse duty, the true one on the full duty.
+DRIVE_MASS = Objective(
+    "drive_mass", "drive_mass_pred_kg", "drive_mass_kg", "drive_mass_kg", "drive mass (kg)"
+)
+#: NSGA-II's objectives for each ``optimization.objectives`` setting, in its order.
+OBJECTIVE_SETS: dict[str, tuple[Objective, ...]] = {
+    "torques": (ETA, TAU1, TAU2),
+    "drive_mass": (ETA, DRIVE_MASS),
+}
+#: The surrogate's predictions every front holds, whatever it was optimised on.
+PREDICTION_COLUMNS: tuple[str, ...] = tuple(o.predicted for o in OBJECTIVE_SETS["torques"])
+#: The true values every verified table holds (eta, tau1, tau2), all minimised.
+OBJECTIVES: tuple[str, ...] = tuple(o.true for o in OBJECTIVE_SETS["torques"])
+
+
+def objectives_of(table: pd.DataFrame) -> tuple[Objective, ...]:
+    """The objectives a front (or its verified table) was optimised on: ``drive_mass`` when it
+    holds NSGA-II's drive-mass column, else ``torques`` (also for the dataset's rows)."""
+    return OBJECTIVE_SETS["drive_mass" if DRIVE_MASS.predicted in table else "torques"]
+
+
+def drawn_objectives(table: pd.DataFrame) -> tuple[Objective, ...]:
+    """Three objectives to draw a front on: its own (:func:`objectives_of`), then tau1 and tau2
+    to make three."""
+    own = objectives_of(table)
+    return (*own, *(o for o in OBJECTIVE_SETS["torques"] if o not in own))[:3]
+
+
+def true_columns(table: pd.DataFrame) -> list[str]:
+    """The true values a design of ``table`` needs to be ranked: eta, tau1, tau2 and the
+    objectives of :func:`objectives_of`."""
+    return list(dict.fromkeys([*OBJECTIVES, *(o.true for o in objectives_of(table))]))
 
 
 def rule_scores(df: pd.DataFrame, rule: str) -> np.ndarray:
     """Score of every row of a verified table under selection ``rule`` (smaller is better):
     ``min_tau1``, ``min_tau2``, ``min_torque_sum`` (their sum), ``min_eta`` (the true values), or
-    ``knee``, the distance to the ideal point of the three true objectives, each min-max
-    normalised over the rows."""
+    ``knee``, the distance to the ideal point of the true values of the objectives the table was
+    optimised on (:func:`objectives_of`), each min-max normalised over the rows."""
     if rule == "min_tau1":
         return df["tau1_true_Nm"].to_numpy(float)
     if rule == "min_tau2":
@@ -40,7 +91,7 @@ def rule_scores(df: pd.DataFrame, rule: str) -> np.ndarray:
     if rule == "min_eta":
         return df["eta_true"].to_numpy(float)
     if rule == "knee":
-        obj = df.loc[:, list(OBJECTIVES)].to_numpy(float)
+        obj = df.loc[:, [o.true for o in objectives_of(df)]].to_numpy(float)
         lo, hi = obj.min(axis=0), obj.max(axis=0)
         span = np.where(hi > lo, hi - lo, 1.0)
         return np.linalg.norm((obj - lo) / span, axis=1)
@@ -50,7 +101,7 @@ def rule_scores(df: pd.DataFrame, rule: str) -> np.ndarray:
 def front_ranks(verified: pd.DataFrame) -> NDArray[np.int64]:
     """1-based rank of every row of a verified front (see the module docstring)."""
     ok = verified["feasible"].astype(bool) & verified["dynamics_status"].eq("ok")
-    ok &= np.isfinite(verified.loc[:, list(OBJECTIVES)].to_numpy(float)).all(axis=1)
+    ok &= np.isfinite(verified.loc[:, true_columns(verified)].to_numpy(float)).all(axis=1)
     score = np.full(len(verified), np.inf)
     if ok.any():
         score[ok.to_numpy()] = rule_scores(verified[ok], "knee")

@@ -40,7 +40,7 @@ from qsm.embodiment.printing import (
 )
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.optimisation.constraints import printability_violation_mm
-from qsm.optimisation.ranking import OBJECTIVES, RULES, rule_scores
+from qsm.optimisation.ranking import OBJECTIVES, RULES, rule_scores, true_columns
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task import Disk
@@ -66,7 +66,7 @@ def dataset_candidates(dataset: pd.DataFrame) -> pd.DataFrame:
 
 def _feasible(table: pd.DataFrame) -> pd.DataFrame:
     ok = table[table["feasible"].astype(bool) & table["dynamics_status"].eq("ok")]
-    return ok[np.isfinite(ok.loc[:, list(OBJECTIVES)].to_numpy(float)).all(axis=1)]
+    return ok[np.isfinite(ok.loc[:, true_columns(ok)].to_numpy(float)).all(axis=1)]
 
 
 def _printable(table: pd.DataFrame, cad: CadSettings, volume_mm: tuple[float, ...]) -> pd.Series:
@@ -102,7 +102,7 @@ def select_design(
     if missing:
         raise ValueError(f"verified table lacks columns {missing}")
     ok = verified[(verified["feasible"].astype(bool)) & (verified["dynamics_status"] == "ok")]
-    ok = ok[np.isfinite(ok.loc[:, list(OBJECTIVES)].to_numpy(float)).all(axis=1)]
+    ok = ok[np.isfinite(ok.loc[:, true_columns(ok)].to_numpy(float)).all(axis=1)]
     designs = ok.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)
     fit = np.array([all_links_fit(d, cad, volume_mm) for d in designs], dtype=bool)
     cand = ok[fit]

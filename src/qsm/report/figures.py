@@ -12,6 +12,7 @@ from matplotlib.axes import Axes
 from matplotlib.tri import Triangulation
 from numpy.typing import NDArray
 
+from qsm.optimisation.ranking import drawn_objectives
 from qsm.physics.kinematics import DESIGN_NAMES, LoopPose, pose
 from qsm.physics.task import Disk
 from qsm.physics.workspace import OperatingRange
@@ -148,9 +149,12 @@ def parity_figure(
 def pareto_figures(
     pareto: pd.DataFrame, hypervolume: pd.DataFrame, path_3d: str | Path, path_pairs: str | Path
 ) -> None:
-    """The Pareto front in 3D and pairwise, coloured by the scale factor; the HV history."""
-    cols = ["eta_pred", "tau1_pred_Nm", "tau2_pred_Nm"]
-    labels = ["eta' (-)", "tau1' (N m)", "tau2' (N m)"]
+    """The Pareto front in 3D and pairwise (its objectives, then tau1 and tau2 to make three:
+    :func:`qsm.optimisation.ranking.drawn_objectives`), coloured by the scale factor; the HV
+    history."""
+    drawn = drawn_objectives(pareto)
+    cols = [o.predicted for o in drawn]
+    labels = [o.label.replace(" (", "' (", 1) for o in drawn]
     fig = plt.figure(figsize=(6.5, 5.5))
     ax = fig.add_subplot(projection="3d")
     sc = ax.scatter(*(pareto[c] for c in cols), c=pareto["scale_m"], cmap="viridis", s=14)
@@ -158,7 +162,7 @@ def pareto_figures(
     ax.set_ylabel(labels[1])
     ax.set_zlabel(labels[2])
     fig.colorbar(sc, ax=ax, shrink=0.7, label="scale factor l1 (m)")
-    ax.set_title(f"{len(pareto)} Pareto designs (surrogate predictions)")
+    ax.set_title(f"{len(pareto)} Pareto designs (NSGA-II's values)")
     fig.savefig(path_3d, dpi=110, bbox_inches="tight")
     plt.close(fig)
     fig, axes = plt.subplots(1, 4, figsize=(18, 4.2))

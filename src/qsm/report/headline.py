@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -10,6 +11,10 @@ import pandas as pd
 
 def _pct(x: float) -> str:
     return f"{100 * x:.1f} %"
+
+
+def _drive_mass(kg: float) -> str:
+    return f" ({kg:.2f} kg)" if math.isfinite(kg) else ""
 
 
 def _ratio(counts: Mapping[str, Any]) -> float:
@@ -238,16 +243,19 @@ def headline_markdown(
         f"(all {r2['all']:.4f}; paper 0.98700); fit {metrics['fit_seconds']:.1f} s.",
         "",
         "## Stage 4: optimisation, checked against the physics",
-        "| front | constraints | designs | truly hold the task | printable | links hold "
-        "| have drives | median error eta / tau1 / tau2 | true HV |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        "| front | objectives | constraints | designs | truly hold the task | printable "
+        "| links hold | have drives (median drive mass) | median error eta / tau1 / tau2 "
+        "| true HV |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     for name, e in comparison["fronts"].items():
         err = " / ".join(_pct(e["median_rel_error"][k]) for k in ("eta", "tau1", "tau2"))
         lines.append(
-            f"| {name} | {e['constraints']} | {e['n']} | {_pct(e['holds_task_share'])} "
+            f"| {name} | {', '.join(e.get('objectives', ['eta', 'tau1', 'tau2']))} "
+            f"| {e['constraints']} | {e['n']} | {_pct(e['holds_task_share'])} "
             f"| {_pct(e['printable_share'])} | {_pct(e['holds_loads_share'])} "
-            f"| {_pct(e.get('has_drives_share', float('nan')))} | {err} "
+            f"| {_pct(e.get('has_drives_share', float('nan')))}"
+            f"{_drive_mass(e.get('median_drive_mass_kg', float('nan')))} | {err} "
             f"| {e['true_hypervolume']:.3f} |"
         )
     lines += [

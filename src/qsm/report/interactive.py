@@ -1,11 +1,13 @@
 """The interactive Pareto front: one self-contained HTML page (Plotly, a partial bundle inlined).
 
 The page shows a verified front (:func:`qsm.optimisation.verify.verify_front`) in 3D and in the
-three pairwise views of (eta, tau1, tau2), coloured by the scale factor l1. Each design is drawn
-at its surrogate predictions (what NSGA-II optimised) and, in a second legend group switched off
-at first, at its true values (Stage 1 and the MuJoCo dynamics). Hovering a design shows its rank
-(:mod:`qsm.optimisation.ranking`) with the command that exports it, its six lengths, predicted
-and true eta / tau1 / tau2, whether it truly holds the task and whether it is printable. Designs
+three pairwise views of its objectives, (eta, tau1, tau2) or (eta, drive mass, tau1) for a front
+optimised on the drive mass (:func:`qsm.optimisation.ranking.drawn_objectives`), coloured by the
+scale factor l1. Each design is drawn at NSGA-II's values (the surrogate's predictions, the drive
+mass on the loop's duty) and, in a second legend group switched off at first, at its true values
+(Stage 1 and the MuJoCo dynamics). Hovering a design shows its rank
+(:mod:`qsm.optimisation.ranking`) with the command that exports it, its six lengths, NSGA-II's
+and the true objectives, whether it truly holds the task and whether it is printable. Designs
 that fail either check are drawn as crosses.
 """
 
@@ -19,16 +21,15 @@ import pandas as pd
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from qsm.optimisation.ranking import front_ranks
+from qsm.optimisation.ranking import (
+    OBJECTIVE_SETS,
+    drawn_objectives,
+    front_ranks,
+    objectives_of,
+)
 from qsm.physics.kinematics import DESIGN_COLUMNS, DESIGN_NAMES
 from qsm.report.plotly_page import write_figure_page
 
-#: (predicted column, true column, axis label) of the three objectives.
-OBJECTIVE_COLUMNS: tuple[tuple[str, str, str], ...] = (
-    ("eta_pred", "eta_true", "eta (-)"),
-    ("tau1_pred_Nm", "tau1_true_Nm", "tau1 (N m)"),
-    ("tau2_pred_Nm", "tau2_true_Nm", "tau2 (N m)"),
-)
 PAIRS: tuple[tuple[int, int], ...] = ((0, 1), (0, 2), (1, 2))
 #: Every objective is minimised: the axis titles say so.
 BETTER = ", lower is better"
@@ -58,10 +59,12 @@ def hover_texts(verified: pd.DataFrame, ranks: Sequence[int], front: str) -> lis
             f"<b>rank {rank} of {n}</b>: qsm export --front {front} --rank {rank}",
             f"lengths (mm): {lengths}",
         ]
-        for (pred, true, label), digits in zip(OBJECTIVE_COLUMNS, (4, 2, 2), strict=True):
+        shown = dict.fromkeys([*OBJECTIVE_SETS["torques"], *objectives_of(verified)])
+        for o in shown:
+            digits = 4 if o.name == "eta" else 2
             lines.append(
-                f"{label}: predicted {_number(row[pred], digits)}, "
-                f"true {_number(row[true], digits)}"
+                f"{o.label}: predicted {_number(row[o.predicted], digits)}, "
+                f"true {_number(row[o.true], digits)}"
             )
         lines.append(
             f"holds the task: {_yes_no(row['task_contained'])} "
@@ -101,6 +104,7 @@ def front_figure(
     front."""
     ranks = front_ranks(verified)
     texts = hover_texts(verified, ranks, front)
+    drawn = drawn_objectives(verified)
     good = (
         _flag(verified, "task_contained")
         & _flag(verified, "printable")
@@ -119,8 +123,8 @@ def front_figure(
         vertical_spacing=0.09,
     )
     for group, which, visible in (("predicted", 0, True), ("true", 1, "legendonly")):
-        values = [verified[cols[which]].to_numpy(float) for cols in OBJECTIVE_COLUMNS]
-        name = "surrogate predictions" if which == 0 else "true values (physics)"
+        values = [verified[o.true if which else o.predicted].to_numpy(float) for o in drawn]
+        name = "NSGA-II's values" if which == 0 else "true values (physics)"
         common = {
             "mode": "markers",
             "name": name,
@@ -155,10 +159,10 @@ def front_figure(
         for row, (i, j) in enumerate(PAIRS, start=1):
             trace = go.Scatter(x=values[i], y=values[j], showlegend=False, marker=flat, **common)
             fig.add_trace(trace, row=row, col=2)
-            fig.update_xaxes(title_text=f"{OBJECTIVE_COLUMNS[i][2]}{BETTER}", row=row, col=2)
-            fig.update_yaxes(title_text=f"{OBJECTIVE_COLUMNS[j][2]}{BETTER}", row=row, col=2)
+            fig.update_xaxes(title_text=f"{drawn[i].label}{BETTER}", row=row, col=2)
+            fig.update_yaxes(title_text=f"{drawn[j].label}{BETTER}", row=row, col=2)
     if selected is not None:
-        values = [verified[cols[1]].to_numpy(float)[selected] for cols in OBJECTIVE_COLUMNS]
+        values = [verified[o.true].to_numpy(float)[selected] for o in drawn]
         star = {
             "mode": "markers",
             "name": "the realised design (true values)",
@@ -173,7 +177,7 @@ def front_figure(
             fig.add_trace(
                 go.Scatter(x=[values[i]], y=[values[j]], showlegend=False, **star), row=row, col=2
             )
-    labels = [f"{c[2]}{BETTER}" for c in OBJECTIVE_COLUMNS]
+    labels = [f"{o.label}{BETTER}" for o in drawn]
     n_good, n = int(good.sum()), len(verified)
     held = int(verified["task_contained"].astype(bool).sum())
     printable = int(verified["printable"].astype(bool).sum())
