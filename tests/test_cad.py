@@ -6,7 +6,6 @@ import math
 
 import numpy as np
 import pytest
-import trimesh
 
 from qsm.physics import cad, kinematics
 
@@ -71,10 +70,9 @@ def test_analytic_mass_properties_match_trimesh() -> None:
     assert abs(upper.inertia_kg_m2[0, 1]) > 1e-6  # the L-shape has a product of inertia
 
 
-def test_stl_export_is_watertight_and_in_millimetres(tmp_path) -> None:
+def test_link_meshes_are_watertight_with_the_outline_extents() -> None:
     s = cad.CadSettings()
-    paths = cad.export_stl(DESIGN, tmp_path, s)
-    assert [p.name for p in paths] == [f"{n}.stl" for n in kinematics.LINK_NAMES]
+    meshes = cad.link_meshes(DESIGN, s)
     l1, l2, l3, l4, ee_x, ee_y = DESIGN
     r = s.boss_radius_m
     expected = {
@@ -83,13 +81,10 @@ def test_stl_export_is_watertight_and_in_millimetres(tmp_path) -> None:
         "coupler": (l3 + 2 * r, 2 * r),
         "upper_arm": (l4 + ee_x + 2 * r, ee_y + 2 * r),
     }
-    for path in paths:
-        mesh = trimesh.load_mesh(path)
-        assert mesh.is_watertight, path.name
-        ex, ey = expected[path.stem]
-        np.testing.assert_allclose(
-            mesh.extents, [ex * 1000, ey * 1000, s.thickness_m * 1000], rtol=1e-3
-        )
+    assert list(meshes) == list(kinematics.LINK_NAMES)
+    for name, mesh in meshes.items():
+        assert mesh.is_watertight, name
+        np.testing.assert_allclose(mesh.extents, [*expected[name], s.thickness_m], rtol=1e-3)
 
 
 def test_section_that_does_not_fit_raises_cad_error() -> None:

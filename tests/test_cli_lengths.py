@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 import trimesh
 
-from qsm.cli import main
+from qsm.app.cli import main
 from qsm.config import load_config
 from qsm.physics.cad import DEFAULT_CAD
 from qsm.physics.duty import duty_cycle

@@ -261,7 +261,7 @@ def test_a_task_on_both_sides_is_designed_on_its_centre_side(xs, side):
 
 
 def test_check_config_command(tmp_path, capsys):
-    from qsm.cli import main
+    from qsm.app.cli import main
 
     mine = tmp_path / "mine.yaml"
     mine.write_text("task: {points: [[0.3, 0.1], [0.4, 0.1]]}\n")

@@ -22,7 +22,6 @@ from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import RESULT_KEYS, joint_torques, loop_state
 from qsm.physics.kinematics import DESIGN_NAMES, pose
-from qsm.workflow.tables import write_table
 
 
 def mechanisms(ids):
@@ -93,25 +92,14 @@ def test_evaluate_reports_torques_equal_to_the_library():
     assert np.all(static <= [result["tau1_Nm"], result["tau2_Nm"]])
 
 
-def test_export_mjcf_writes_a_model_that_holds_its_loop(tmp_path):
+def test_the_exported_mjcf_holds_its_loop(tmp_path):
+    """``qsm export --lengths``: the MJCF, driven by the static torques, holds the pose and keeps
+    its loop closed."""
     design = np.array([0.4, 0.12, 0.4, 0.2, 0.48, 0.16])
-    table = pd.DataFrame(
-        [[42, *design[1:] / design[0], design[0], *design, 0.5, 0.1]],
-        columns=list(MECHANISM_COLUMNS),
-    )
-    write_table(table, tmp_path / "mech.parquet")
-    out = run_cli(
-        "export-mjcf",
-        "--id",
-        "42",
-        "--mechanisms",
-        str(tmp_path / "mech.parquet"),
-        "--out",
-        str(tmp_path / "m42"),
-    )
+    out = run_cli("export", "--lengths", *map(str, design), "--out", str(tmp_path / "m"))
     assert out.returncode == 0, out.stderr
-    paths = json.loads(out.stdout)
-    assert len(paths["stl"]) == 4
+    assert len(list((tmp_path / "m/stl").glob("*.stl"))) == 4
+    paths = {"mjcf": str(tmp_path / "m/model.xml")}
     model = mujoco.MjModel.from_xml_path(paths["mjcf"])
     data = mujoco.MjData(model)
     theta = np.radians([[110.0, 30.0]])
@@ -127,5 +115,3 @@ def test_export_mjcf_writes_a_model_that_holds_its_loop(tmp_path):
     assert np.degrees(np.abs(data.qpos[[0, 2]] - theta[0])).max() < 0.1  # and the pose holds
     e = pose(design, *theta[0]).E
     np.testing.assert_allclose(data.site("payload").xpos[:2], e, atol=1e-3)
-    missing = run_cli("export-mjcf", "--id", "7", "--mechanisms", str(tmp_path / "mech.parquet"))
-    assert missing.returncode == 2 and "mechanism_id 7" in missing.stderr

@@ -18,9 +18,9 @@ from PIL import Image
 from workflow_helpers import ROOT, copy_run, snakemake
 
 from qsm import settings
-from qsm.cli import main
+from qsm.app.cli import main
+from qsm.app.export import TRUE_KEYS, export
 from qsm.config import load_config
-from qsm.export_design import TRUE_KEYS, export
 from qsm.optimisation.ranking import front_ranks
 from qsm.optimisation.verify import verify_design
 from qsm.physics.cad import mass_properties

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from qsm import settings
+from qsm.app.evaluate import evaluate_ratios
 from qsm.config import load_config, validate_config
-from qsm.evaluate import evaluate_ratios
 from qsm.physics.dynamics import inverse_dynamics, loop_state
 from qsm.physics.inverse_kinematics import joint_angles
 from qsm.physics.mirror import design_points, is_mirrored, mirror_points, mirror_spec, task_record

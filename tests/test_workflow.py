@@ -12,9 +12,9 @@ import yaml
 from workflow_helpers import copy_run, copy_workflow, planned_jobs, snakemake
 
 from qsm import settings
+from qsm.app.evaluate import evaluate_ratios
 from qsm.config import settings_hash, validate_config
 from qsm.embodiment.printing import all_links_fit
-from qsm.evaluate import evaluate_ratios
 from qsm.mechanisms.dataset import DATASET_COLUMNS
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube

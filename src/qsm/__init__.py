@@ -32,16 +32,14 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("config_checks",),
     ("config",),
     ("settings",),
-    ("evaluate",),
-    ("export_design",),
-    ("cli",),
+    ("app",),  # the command line and notebook calls: evaluate, locate and export a design
     ("__main__",),
 )
 
 _EXPORTS: dict[str, tuple[str, str]] = {
     "end_effector": ("qsm.physics.kinematics", "end_effector"),
     "joint_torques": ("qsm.physics.dynamics", "joint_torques"),
-    "evaluate_ratios": ("qsm.evaluate", "evaluate_ratios"),
+    "evaluate_ratios": ("qsm.app.evaluate", "evaluate_ratios"),
     "load_config": ("qsm.config", "load_config"),
     "load_surrogate": ("qsm.surrogate.model", "load"),
     "choose_design": ("qsm.realisation.selection", "choose_design"),

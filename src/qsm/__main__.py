@@ -2,6 +2,6 @@
 
 import sys
 
-from qsm.cli import main
+from qsm.app.cli import main
 
 sys.exit(main())

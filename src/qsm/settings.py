@@ -1,6 +1,6 @@
 """The one settings layer: the validated config's sections as the library's frozen dataclasses.
 
-One function per section; scripts, the command line and ``qsm.evaluate`` build their settings
+One function per section; scripts, the command line and ``qsm.app.evaluate`` build their settings
 here and nowhere else. Each function takes the section(s) as validated by :mod:`qsm.config`
 (every default filled from the schema) and passes every field on, so the schema's defaults are
 the ones a run uses (a test keeps the dataclasses' own defaults, for direct notebook calls, equal

@@ -27,7 +27,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
-from pathlib import Path
 from typing import NamedTuple
 
 import numpy as np
@@ -305,24 +304,3 @@ def link_meshes(
         )
         for name, poly in link_outlines(design, settings, scale).items()
     }
-
-
-def export_stl(
-    design: ArrayLike,
-    directory: str | Path,
-    settings: CadSettings = CadSettings(),
-    scale: ArrayLike | None = None,
-) -> list[Path]:
-    """Write one binary STL per link (``<link>.stl``, millimetres, link frame) into ``directory``
-    (sections as :func:`link_outlines`).
-
-    Returns the written paths in :data:`qsm.physics.kinematics.LINK_NAMES` order.
-    """
-    out = Path(directory)
-    out.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for name, mesh in link_meshes(design, settings, scale).items():
-        path = out / f"{name}.stl"
-        mesh.copy().apply_scale(1000.0).export(path)
-        paths.append(path)
-    return paths

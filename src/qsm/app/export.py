@@ -29,231 +29,39 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
-import matplotlib.pyplot as plt
 import numpy as np
-import pandas as pd
 from numpy.typing import ArrayLike
 
 from qsm import settings
+from qsm.app.evaluate import checked_lengths
+from qsm.app.export_readme import describe_source, export_readme, fmt
+from qsm.app.locate import (
+    TRUE_KEYS,
+    check_run_config,
+    dataset_design,
+    front_design,
+    plain,
+    ratios_design,
+)
 from qsm.config import load_config, validate_config
 from qsm.embodiment.parts import link_parts, part_meshes
 from qsm.embodiment.printing import fits_build_volume, needed_volume_mm
 from qsm.embodiment.verdict import strength_record
-from qsm.evaluate import checked_lengths, checked_ratios, evaluate_ratios
-from qsm.mechanisms.dataset import DATASET_COLUMNS
 from qsm.optimisation.constraints import printability_violation_mm
-from qsm.optimisation.ranking import front_ranks
 from qsm.optimisation.verify import verify_design
 from qsm.physics.cad import CadError, link_outlines
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import loop_state
-from qsm.physics.kinematics import DESIGN_COLUMNS, DESIGN_NAMES, RATIO_NAMES, as_design
-from qsm.physics.mirror import design_points, task_record
+from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES, as_design
+from qsm.physics.mirror import task_record
 from qsm.physics.mjcf import mjcf_xml
-from qsm.physics.task import min_enclosing_circle
 from qsm.physics.urdf import LOOP_NOTE, urdf_xml
 from qsm.physics.workspace import OperatingRange
 from qsm.realisation.assembly import bearing_rows
 from qsm.realisation.export import export_stls
 from qsm.realisation.selection import printing_advice
+from qsm.report.design_sheet import design_sheet
 from qsm.report.drawing import draw_links
-from qsm.report.figures import draw_design
-from qsm.workflow.tables import read_meta, read_table
-
-#: Values of a front's row the JSON carries beside the fresh evaluation.
-FRONT_VALUES: tuple[str, ...] = (
-    "eta_pred",
-    "tau1_pred_Nm",
-    "tau2_pred_Nm",
-    "eta_true",
-    "tau1_true_Nm",
-    "tau2_true_Nm",
-    "task_contained",
-    "printable",
-)
-#: What :func:`qsm.optimisation.verify.verify_design` evaluates for one design.
-TRUE_KEYS: tuple[str, ...] = (
-    "crank_rocker",
-    "loop_closes",
-    "transmission_ok",
-    "containment_margin_m",
-    "task_contained",
-    "feasible",
-    "eta_true",
-    "tau1_true_Nm",
-    "tau2_true_Nm",
-    "dynamics_status",
-)
-#: Where each key of the run's stored settings (dataset.parquet) lives in the config.
-SETTING_PATHS: dict[str, tuple[str, ...]] = {
-    "task_points": ("task", "points"),
-    "payload_kg": ("task", "payload_kg"),
-    "duty": ("dynamics", "duty"),
-}
-
-
-def _plain(value: Any) -> Any:
-    """JSON-friendly: numpy scalars and arrays as Python values, non-finite floats as None."""
-    if isinstance(value, Mapping):
-        return {str(k): _plain(v) for k, v in value.items()}
-    if isinstance(value, list | tuple | np.ndarray):
-        return [_plain(v) for v in value]
-    if isinstance(value, np.generic):
-        value = value.item()
-    if isinstance(value, float) and not math.isfinite(value):
-        return None
-    return value
-
-
-#: Settings a run derives and stores beside the config's (the drive catalogue's hash).
-DERIVED_KEYS = frozenset({"catalogue_sha256"})
-
-
-def _same(stored: Any, current: Any) -> bool:
-    """Whether ``current`` holds every value of ``stored`` (numbers compared as floats), the
-    derived :data:`DERIVED_KEYS` aside."""
-    if isinstance(stored, Mapping):
-        return isinstance(current, Mapping) and all(
-            _same(v, current.get(k)) for k, v in stored.items() if k not in DERIVED_KEYS
-        )
-    if isinstance(stored, list | tuple):
-        return (
-            isinstance(current, list | tuple)
-            and len(stored) == len(current)
-            and all(_same(a, b) for a, b in zip(stored, current, strict=True))
-        )
-    if isinstance(stored, int | float) and not isinstance(stored, bool):
-        return isinstance(current, int | float) and float(stored) == float(current)
-    return stored == current
-
-
-def check_run_config(dataset_path: str | Path, config: Mapping[str, Any]) -> None:
-    """``ValueError`` naming the settings in which ``config`` differs from the run that wrote
-    ``dataset_path`` (its metadata holds the settings of Stages 1 and 2; all but ``sampling``
-    decide how one design evaluates)."""
-    stored = read_meta(dataset_path).get("settings", {})
-    differ = []
-    for key, value in stored.items():
-        if key == "sampling":  # which designs the run drew, not how one design is evaluated
-            continue
-        current: Any = config
-        for part in SETTING_PATHS.get(key, (key,)):
-            current = current.get(part) if isinstance(current, Mapping) else None
-        if key == "task_points" and current is not None:  # the run stores the designed points
-            current = design_points(current)
-        if not _same(value, current):
-            differ.append(key)
-    if differ:
-        raise ValueError(
-            f"the config differs from the run that wrote '{dataset_path}' in: "
-            f"{', '.join(differ)}; pass the run's config with --config"
-        )
-
-
-def front_table(results: str | Path, front: str) -> pd.DataFrame:
-    """A verified front of a run with its ``rank`` column first (:mod:`qsm.optimisation.ranking`);
-    ``ValueError`` naming the fronts there when ``front`` is not one of them."""
-    folder = Path(results) / "optimization"
-    path = folder / front / "verification.parquet"
-    if not path.is_file():
-        fronts = sorted(p.parent.name for p in folder.glob("*/verification.parquet"))
-        have = ", ".join(fronts) if fronts else "none (run the workflow first)"
-        raise ValueError(f"unknown front '{front}' (--front): {folder} holds the fronts: {have}")
-    table = read_table(path)
-    table.insert(0, "rank", front_ranks(table))
-    return table
-
-
-def front_design(results: str | Path, front: str, rank: int) -> tuple[np.ndarray, dict[str, Any]]:
-    """The design of ``front`` at ``rank`` and its source record (with the run's values)."""
-    table = front_table(results, front)
-    n = len(table)
-    if not 1 <= rank <= n:
-        raise ValueError(f"--rank {rank} is out of range: the {front} front has ranks 1 to {n}")
-    row = table.loc[table["rank"] == rank].iloc[0]
-    source = {
-        "kind": "front",
-        "front": front,
-        "rank": rank,
-        "n_designs": n,
-        "table": str(Path(results) / "optimization" / front / "verification.parquet"),
-        "run_values": {k: row[k] for k in FRONT_VALUES},
-    }
-    return row[list(DESIGN_COLUMNS)].to_numpy(float), source
-
-
-def dataset_design(results: str | Path, mechanism_id: int) -> tuple[np.ndarray, dict[str, Any]]:
-    """The dataset mechanism ``mechanism_id`` and its source record (with the run's values)."""
-    path = Path(results) / "dataset.parquet"
-    table = read_table(path, DATASET_COLUMNS)
-    row = table.loc[table["mechanism_id"] == mechanism_id]
-    if row.empty:
-        raise ValueError(
-            f"--id {mechanism_id} is not a mechanism_id in '{path}' ({len(table)} mechanisms, "
-            f"ids {table['mechanism_id'].min()} to {table['mechanism_id'].max()})"
-        )
-    first = row.iloc[0]
-    source = {
-        "kind": "dataset",
-        "mechanism_id": int(mechanism_id),
-        "table": str(path),
-        "run_values": {k: first[k] for k in ("eta", "tau1_Nm", "tau2_Nm", "status")},
-    }
-    return first[list(DESIGN_COLUMNS)].to_numpy(float), source
-
-
-def ratios_design(ratios: Sequence[float], config: Mapping[str, Any]) -> tuple[np.ndarray, dict]:
-    """The unit design ``ratios`` scaled to the config's task as Stage 1 does."""
-    try:
-        r = checked_ratios(ratios)
-    except ValueError as exc:
-        raise ValueError(f"--ratios: {exc}") from exc
-    result = evaluate_ratios(r, config)
-    if not result["feasible"]:
-        raise ValueError(f"--ratios: this design cannot hold the task: {result['reason']}")
-    design = np.array(list(result["design_m"].values()))
-    return design, {"kind": "ratios", "ratios": dict(zip(RATIO_NAMES, r.tolist(), strict=True))}
-
-
-def drawing(
-    design: ArrayLike,
-    config: Mapping[str, Any],
-    boxes: Mapping[str, Mapping[str, Any]],
-    title: str,
-    path: str | Path,
-) -> Path:
-    """PNG: the design with workspace, task disk and points, and its link outlines with their
-    boxes (mm) against the printer."""
-    d = as_design(design)
-    op = settings.operating_range(config["operating_range"])
-    points = np.asarray(design_points(config["task"]["points"]))
-    fig, (ax, ax_links) = plt.subplots(1, 2, figsize=(12, 5.2), width_ratios=(1, 1.1))
-    draw_design(ax, d, op, min_enclosing_circle(points), title)
-    ax.plot(points[:, 0], points[:, 1], "x", color="tab:red", ms=6, mew=1.5)
-    y = 0.0
-    volume = " x ".join(f"{v:g}" for v in config["printing"]["build_volume_mm"])
-    for name, outline in link_outlines(d, settings.cad(config["cad"], config["material"])).items():
-        xy = outline * 1e3
-        y -= xy[:, 1].max()
-        ax_links.fill(xy[:, 0], xy[:, 1] + y, color="0.75", ec="k", lw=0.8)
-        box = boxes[name]
-        ax_links.text(
-            xy[:, 0].min(),
-            y + xy[:, 1].max() + 8,
-            f"{name}: {' x '.join(f'{v:.0f}' for v in box['box_mm'])} mm, "
-            f"{'fits' if box['fits'] else 'does NOT fit'}",
-            fontsize=8,
-        )
-        y += xy[:, 1].min() - 45
-    ax_links.set_aspect("equal")
-    ax_links.set_xlabel("mm (link frames)")
-    ax_links.set_yticks([])
-    ax_links.set_title(f"links as printed, printer {volume} mm", fontsize=9)
-    fig.tight_layout()
-    out = Path(path)
-    fig.savefig(out, dpi=110)
-    plt.close(fig)
-    return out
 
 
 def export_design(
@@ -366,19 +174,19 @@ def export_design(
             "closed_loop": LOOP_NOTE,
         },
     }
-    record = _plain(record)
+    record = plain(record)
     title = (
-        f"{_describe(record['source'])}: l1 {d[0]:.3f} m\n"
-        f"true eta {_fmt(performance['eta_true'], 4)}, tau1 {_fmt(performance['tau1_true_Nm'], 1)}"
-        f" N m, tau2 {_fmt(performance['tau2_true_Nm'], 1)} N m; "
+        f"{describe_source(record['source'])}: l1 {d[0]:.3f} m\n"
+        f"true eta {fmt(performance['eta_true'], 4)}, tau1 {fmt(performance['tau1_true_Nm'], 1)}"
+        f" N m, tau2 {fmt(performance['tau2_true_Nm'], 1)} N m; "
         f"{'holds the task' if performance['feasible'] else 'does NOT hold the task'}, "
         f"{'printable' if printable else 'NOT printable'}, "
         f"{'links hold their loads' if strength['holds_loads'] else 'NOT STRONG ENOUGH'}"
         + ("; designed MIRRORED (x -> -x)" if task["mirrored"] else "")
     )
-    drawing(d, config, links, title, folder / "design.png")
+    design_sheet(d, config, links, title, folder / "design.png")
     (folder / "design.json").write_text(json.dumps(record, indent=2) + "\n")
-    (folder / "README.md").write_text(_readme(record, title))
+    (folder / "README.md").write_text(export_readme(record, title))
     return record
 
 
@@ -389,55 +197,6 @@ def home_pose(design: ArrayLike, op: OperatingRange) -> np.ndarray:
     t2 = 0.5 * (op.theta2_min + t1)
     zero = np.zeros((1, 2))
     return loop_state(design, [[t1, t2]], zero, zero).q[0]
-
-
-def _fmt(value: float | None, digits: int) -> str:
-    return "n/a" if value is None or not np.isfinite(value) else f"{value:.{digits}f}"
-
-
-def _describe(source: Mapping[str, Any]) -> str:
-    kind = source.get("kind")
-    if kind == "front":
-        return f"{source['front']} front, rank {source['rank']} of {source['n_designs']}"
-    if kind == "dataset":
-        return f"dataset mechanism {source['mechanism_id']}"
-    if kind == "ratios":
-        return "ratios " + ", ".join(f"{k} {v:.4g}" for k, v in source["ratios"].items())
-    if kind == "lengths":
-        return "lengths (m) " + ", ".join(f"{k} {v:.4g}" for k, v in source["lengths_m"].items())
-    return "design"
-
-
-def _readme(record: Mapping[str, Any], title: str) -> str:
-    heading = title.replace("\n", "; ")
-    return (
-        f"# {_describe(record['source'])}\n\n{heading}.\n\n"
-        "| file | what |\n| --- | --- |\n"
-        "| `model.xml` | MuJoCo model (MJCF): the closed chain, its loop closed by an equality "
-        "`connect` at D |\n"
-        "| `stl/*.stl` | the four links to print, in millimetres, in their link frames: solid "
-        "plates (not topology-optimised; the workflow's `realization/stl/after` has those) with "
-        "a through bore per joint, sized for the joint's bearing (seat at B, C, D, pin or motor "
-        "shaft in the other link; `design.json`, `strength.bearings`) |\n"
-        "| `drawing.svg`, `drawing.png` | the dimensioned drawing of the links: lengths, hole "
-        "centres, bore diameters, section |\n"
-        "| `model.urdf` | the spanning tree of the closed chain (see below) |\n"
-        "| `design.json` | the design, its source, its true performance from a fresh "
-        "evaluation and its printability |\n"
-        "| `design.png` | the design with workspace, task and link outlines |\n\n"
-        "The MJCF's keyframe `home` is a pose with the loop closed (the middle of the motor "
-        "ranges). The payload is a point mass at E merged into the upper arm's inertial (the "
-        "site `payload` marks E).\n\n"
-        f"URDF and the closed loop: {LOOP_NOTE}\n"
-        + (
-            f"\nMirrored: {record['task']['note']}. `model.xml` is the mirrored arm (x negated, "
-            "hinge axes reversed; its end effector visits your points); the STLs are the plates "
-            "to print (turn them over to assemble); `design.png`, the drawing and `model.urdf` "
-            "show the design as computed, at x < 0.\n"
-            if record["task"]["mirrored"]
-            else ""
-        )
-    )
 
 
 def export(

@@ -1,5 +1,5 @@
-"""Command line: ``qsm evaluate ...``, ``qsm export ...``, ``qsm export-mjcf ...`` and ``qsm
-check-config ...`` (``qsm`` is installed with the package; ``python -m qsm`` runs the same)."""
+"""Command line: ``qsm evaluate ...``, ``qsm export ...`` and ``qsm check-config ...`` (``qsm`` is
+installed with the package; ``python -m qsm`` runs the same)."""
 
 from __future__ import annotations
 
@@ -7,18 +7,10 @@ import argparse
 import json
 import sys
 from collections.abc import Sequence
-from pathlib import Path
 
-from qsm import settings
+from qsm.app.evaluate import checked_ratios, evaluate_lengths, evaluate_ratios
 from qsm.config import ConfigError, load_config, validate_config
 from qsm.config_checks import config_warnings
-from qsm.evaluate import checked_ratios, evaluate_lengths, evaluate_ratios
-from qsm.mechanisms.scale import MECHANISM_COLUMNS
-from qsm.physics.cad import export_stl
-from qsm.physics.kinematics import DESIGN_NAMES
-from qsm.physics.mirror import is_mirrored
-from qsm.physics.mjcf import mjcf_xml
-from qsm.workflow.tables import read_table
 
 #: ``--lengths``: one design as its six lengths, evaluated at that scale.
 LENGTHS: dict = {
@@ -33,7 +25,7 @@ def _parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(
         prog="qsm",
         description="qsm-design's command line: evaluate a design, export one (MJCF, link STLs, "
-        "URDF, JSON, drawing), write a dataset mechanism's MuJoCo model, or check config files. "
+        "URDF, JSON, drawing), or check config files. "
         "`qsm COMMAND --help` describes each command; `python -m qsm` runs the same.",
     )
     sub = parser.add_subparsers(dest="command", required=True)
@@ -55,17 +47,6 @@ def _parser() -> argparse.ArgumentParser:
         help="task points x1 y1 x2 y2 ... in metres (default: the config's task.points)",
     )
     ev.add_argument("--config", nargs="+", help="config YAML(s) (default: built-in defaults)")
-    ex = sub.add_parser(
-        "export-mjcf", help="write a mechanism's MuJoCo model (MJCF) and link STLs (mm)"
-    )
-    ex.add_argument("--id", type=int, required=True, help="mechanism_id in the mechanism table")
-    ex.add_argument(
-        "--mechanisms",
-        default="results/mechanisms/mechanisms.parquet",
-        help="mechanism table (default: %(default)s)",
-    )
-    ex.add_argument("--config", nargs="+", help="config YAML(s) for the link section and payload")
-    ex.add_argument("--out", help="output folder (default: results/models/mechanism-ID)")
     _export_parser(sub)
     check = sub.add_parser(
         "check-config",
@@ -77,7 +58,7 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def _export_parser(sub: argparse._SubParsersAction) -> None:
-    """``export``: one design's MJCF, STLs, URDF, JSON and drawing (qsm.export_design)."""
+    """``export``: one design's MJCF, STLs, URDF, JSON and drawing (qsm.app.export)."""
     ex = sub.add_parser(
         "export",
         help="write one design's MJCF, link STLs, URDF, JSON (true performance) and drawing",
@@ -108,27 +89,6 @@ def _export_parser(sub: argparse._SubParsersAction) -> None:
     ex.add_argument("--out", help="output folder (default: RESULTS/exports/...)")
 
 
-def _export(args: argparse.Namespace, config: dict) -> dict:
-    table = read_table(args.mechanisms, MECHANISM_COLUMNS)
-    row = table.loc[table["mechanism_id"] == args.id]
-    if row.empty:
-        raise ValueError(f"mechanism_id {args.id} is not in '{args.mechanisms}'")
-    design = row[[f"{n}_m" for n in DESIGN_NAMES]].to_numpy(dtype=float)[0]
-    out = Path(args.out or f"results/models/mechanism-{args.id}")
-    out.mkdir(parents=True, exist_ok=True)
-    cad = settings.cad(config["cad"], config["material"])
-    xml = out / "model.xml"
-    mirrored = is_mirrored(config["task"]["points"])  # the arm built for a task at x > 0
-    xml.write_text(mjcf_xml(design, cad, config["task"]["payload_kg"], mirrored=mirrored))
-    stls = export_stl(design, out / "stl", cad)
-    return {
-        "mechanism_id": args.id,
-        "mirrored": mirrored,
-        "mjcf": str(xml),
-        "stl": [str(p) for p in stls],
-    }
-
-
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point; returns the process exit code."""
     args = _parser().parse_args(argv)
@@ -144,7 +104,7 @@ def main(argv: Sequence[str] | None = None) -> int:
             except ConfigError as exc:
                 raise ConfigError(f"--task-points: {exc}") from exc
         if args.command == "export":
-            from qsm.export_design import export
+            from qsm.app.export import export
 
             result = export(
                 front=args.front,
@@ -157,8 +117,6 @@ def main(argv: Sequence[str] | None = None) -> int:
                 results=args.results,
                 out=args.out,
             )
-        elif args.command == "export-mjcf":
-            result = _export(args, config)
         elif args.command == "check-config":
             result = {"valid": True, "warnings": config_warnings(config)}
         elif args.lengths is not None:
