@@ -1,4 +1,4 @@
-"""Beam model against plane-stress FE of the solid arm plates (qsm.realisation.fe_check): prints
+"""Beam model against plane-stress FE of the solid arm plates (qsm.realization.fe_check): prints
 the table of docs/strength.md. Usage: python benchmarks/bench_strength_fe.py [cell_mm ...]
 (default 4 2; 1 mm takes about 30-45 s a design, 0.5 mm about 5 min)."""
 
@@ -7,7 +7,7 @@ from __future__ import annotations
 import sys
 import time
 
-from qsm.realisation.fe_check import compare_design
+from qsm.realization.fe_check import compare_design
 
 DESIGNS = {
     "T1": [0.5, 0.15, 0.5, 0.22, 0.6, 0.2],

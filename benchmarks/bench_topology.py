@@ -1,6 +1,6 @@
 """Time one design's topology optimisation (both links), the torque re-evaluation and the payload
 test, and the factorisation of its largest stiffness matrix with pyMOTO's default sparse LU
-(COLAMD ordering) against ``qsm.realisation.fe.SymmetricLU``, interleaved, with residuals.
+(COLAMD ordering) against ``qsm.realization.fe.SymmetricLU``, interleaved, with residuals.
 Run: python benchmarks/bench_topology.py"""
 
 from __future__ import annotations
@@ -15,10 +15,10 @@ from scipy.sparse.linalg import splu
 from qsm.physics import cad, duty
 from qsm.physics.cad import mass_properties
 from qsm.physics.kinematics import as_design
-from qsm.realisation import payload, topology
-from qsm.realisation.fe import DEFAULT_TOPOLOGY, SymmetricLU, stiffness
-from qsm.realisation.loads import link_problem, peak_loads
-from qsm.realisation.torques import torques_before_after
+from qsm.realization import payload, topology
+from qsm.realization.fe import DEFAULT_TOPOLOGY, SymmetricLU, stiffness
+from qsm.realization.loads import link_problem, peak_loads
+from qsm.realization.torques import torques_before_after
 from qsm.report.payload import summary
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])  # m

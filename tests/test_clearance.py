@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 import shapely
 
-from qsm.optimisation.constraints import containment_margin_m
+from qsm.optimization.constraints import containment_margin_m
 from qsm.physics.clearance import disk_clearance_m, disk_clearances_m
 from qsm.physics.kinematics import design_from_ratios, pose
 from qsm.physics.task import Disk, min_enclosing_circle

@@ -9,12 +9,12 @@ from reference_workspace import reachable
 from qsm.embodiment.printing import all_links_fit, link_boxes_mm, needed_volume_mm, outline_boxes_mm
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
-from qsm.optimisation.constraints import (
+from qsm.optimization.constraints import (
     OPEN_LOOP_VIOLATION_M,
     containment_margin_m,
     printability_violation_mm,
 )
-from qsm.optimisation.problems import (
+from qsm.optimization.problems import (
     ExtraConstraints,
     LabelStats,
     PaperProblem,
@@ -221,7 +221,7 @@ def test_g13_g14_evaluated_only_where_the_cheaper_constraints_hold():
     allowance); the others read 0 (not evaluated), and never reach the checks."""
     from qsm.embodiment.drive_checks import DriveCheck
     from qsm.embodiment.link_checks import StrengthCheck
-    from qsm.optimisation.problems import LOOP_ALLOWANCE
+    from qsm.optimization.problems import LOOP_ALLOWANCE
     from qsm.physics.duty import DutySettings, duty_cycle
 
     duty = duty_cycle(DutySettings(samples_per_segment=6))

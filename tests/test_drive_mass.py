@@ -15,10 +15,10 @@ from qsm.config import load_config
 from qsm.embodiment.drive_checks import DriveCheck
 from qsm.embodiment.drives.catalogue import read_catalogue
 from qsm.embodiment.link_checks import StrengthCheck
-from qsm.optimisation.comparison import compare, true_hypervolume
-from qsm.optimisation.nsga import optimise
-from qsm.optimisation.problems import ExtraConstraints, loop_duty
-from qsm.optimisation.ranking import (
+from qsm.optimization.comparison import compare, true_hypervolume
+from qsm.optimization.nsga import optimize
+from qsm.optimization.problems import ExtraConstraints, loop_duty
+from qsm.optimization.ranking import (
     DRIVE_MASS,
     OBJECTIVE_SETS,
     front_ranks,
@@ -86,7 +86,7 @@ def test_nsga_with_drive_mass_on_the_test_config(model):
     dataset["drive_mass_kg"] = np.linspace(0.5, 6.0, len(x))
     section = {**config["optimization"], "objectives": "drive_mass", "pop_size": 12}
     section["generations"] = 3
-    tables = optimise("paper", surrogate, dataset, section, fit, {}, extra)
+    tables = optimize("paper", surrogate, dataset, section, fit, {}, extra)
     pareto = tables.pareto
     assert objectives_of(pareto)[1] == DRIVE_MASS
     designs = pareto[list(INPUTS)].to_numpy()
@@ -94,7 +94,7 @@ def test_nsga_with_drive_mass_on_the_test_config(model):
     np.testing.assert_allclose(pareto[DRIVE_MASS.predicted], expected, rtol=1e-9)
     np.testing.assert_allclose(pareto["eta_pred"], surrogate.predict(designs)[:, 0], rtol=1e-9)
     assert np.isfinite(tables.hypervolume["hypervolume"]).all()
-    torques = optimise(
+    torques = optimize(
         "paper", surrogate, dataset, {**section, "objectives": "torques"}, fit, {}, extra
     )
     assert DRIVE_MASS.predicted not in torques.pareto

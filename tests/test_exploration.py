@@ -21,15 +21,15 @@ from qsm import settings
 from qsm.app.cli import main
 from qsm.app.export import TRUE_KEYS, export
 from qsm.config import load_config
-from qsm.optimisation.ranking import front_ranks
-from qsm.optimisation.verify import verify_design
+from qsm.optimization.ranking import front_ranks
+from qsm.optimization.verify import verify_design
 from qsm.physics.cad import mass_properties
 from qsm.physics.duty import duty_cycle, minimum_jerk
 from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import DESIGN_COLUMNS, pose
 from qsm.physics.mjcf import add_point_mass
 from qsm.physics.task import min_enclosing_circle
-from qsm.realisation.selection import select_design
+from qsm.realization.selection import select_design
 from qsm.report.animation import EE_COLOUR, frames_record, write_task_motion
 from qsm.workflow.tables import read_table
 

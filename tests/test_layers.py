@@ -48,8 +48,8 @@ def test_imports_point_down(path):
 
 
 def test_the_test_can_fail(tmp_path):
-    """A module of physics that imports the optimisation is reported."""
+    """A module of physics that imports the optimization is reported."""
     module = tmp_path / "bad.py"
-    module.write_text("from qsm.optimisation.constraints import link_boxes_mm\n")
-    assert _imports(module) == {"optimisation"}
-    assert _rank()["optimisation"] > _rank()["physics"]
+    module.write_text("from qsm.optimization.constraints import link_boxes_mm\n")
+    assert _imports(module) == {"optimization"}
+    assert _rank()["optimization"] > _rank()["physics"]

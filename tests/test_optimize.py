@@ -6,8 +6,8 @@ import pytest
 from qsm import settings
 from qsm.config import load_config
 from qsm.mechanisms.scale import fit_design
-from qsm.optimisation.nsga import run_nsga2
-from qsm.optimisation.problems import LabelStats, PaperProblem, RatiosProblem, paper_constraints
+from qsm.optimization.nsga import run_nsga2
+from qsm.optimization.problems import LabelStats, PaperProblem, RatiosProblem, paper_constraints
 from qsm.surrogate.model import SurrogateSettings, train
 
 

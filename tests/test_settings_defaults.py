@@ -12,8 +12,8 @@ from qsm.embodiment.material import Material, StrengthSettings
 from qsm.physics.cad import CadSettings
 from qsm.physics.duty import DutySettings
 from qsm.physics.workspace import Resolution
-from qsm.realisation.fe import TopologySettings
-from qsm.realisation.payload import PayloadSettings
+from qsm.realization.fe import TopologySettings
+from qsm.realization.payload import PayloadSettings
 from qsm.surrogate.model import SurrogateSettings
 
 CONFIG = load_config()

@@ -185,7 +185,7 @@ def test_the_loop_sizes_within_its_allowance():
     """The optimisation's g13 multiplies the utilisation by 1 + LOOP_ALLOWANCE (coarser duty):
     its sized check sizes the links that much lower, so a sized link passes g13."""
     from qsm import settings
-    from qsm.optimisation.problems import LOOP_ALLOWANCE
+    from qsm.optimization.problems import LOOP_ALLOWANCE
 
     config = load_config()
     config["cad"]["section"] = "sized"

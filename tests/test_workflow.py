@@ -19,8 +19,8 @@ from qsm.mechanisms.dataset import DATASET_COLUMNS
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
-from qsm.optimisation.comparison import summary
-from qsm.optimisation.verify import verify_design
+from qsm.optimization.comparison import summary
+from qsm.optimization.verify import verify_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.workspace import OperatingRange
 from qsm.report.headline import headline_markdown

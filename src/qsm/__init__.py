@@ -24,8 +24,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("physics",),  # kinematics, workspace, solids, MuJoCo dynamics, clearance
     ("mechanisms", "surrogate"),  # Stage 1 designs and the dataset's columns; the MLP
     ("embodiment",),  # loads, strength, bearings, drives, parts, printability
-    ("optimisation",),  # NSGA-II, constraints, verification, ranking
-    ("realisation",),  # selection, topology, assembly, payload test
+    ("optimization",),  # NSGA-II, constraints, verification, ranking
+    ("realization",),  # selection, topology, assembly, payload test
     ("report",),  # figures, drawings, headline, interactive pages
     ("design_rules",),  # Stage 5 and the study
     ("workflow",),  # tables, logs, shards, provenance: plumbing for the rules
@@ -42,10 +42,10 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "evaluate_ratios": ("qsm.app.evaluate", "evaluate_ratios"),
     "load_config": ("qsm.config", "load_config"),
     "load_surrogate": ("qsm.surrogate.model", "load"),
-    "choose_design": ("qsm.realisation.selection", "choose_design"),
-    "printing_advice": ("qsm.realisation.selection", "printing_advice"),
-    "containment_margin_m": ("qsm.optimisation.constraints", "containment_margin_m"),
-    "printability_violation_mm": ("qsm.optimisation.constraints", "printability_violation_mm"),
+    "choose_design": ("qsm.realization.selection", "choose_design"),
+    "printing_advice": ("qsm.realization.selection", "printing_advice"),
+    "containment_margin_m": ("qsm.optimization.constraints", "containment_margin_m"),
+    "printability_violation_mm": ("qsm.optimization.constraints", "printability_violation_mm"),
 }
 __all__ = sorted(_EXPORTS)
 

@@ -31,11 +31,11 @@ if TYPE_CHECKING:
     from qsm.embodiment.material import Material, StrengthSettings
     from qsm.embodiment.parts import PartSettings
     from qsm.embodiment.sizing import SizingSettings
-    from qsm.optimisation.problems import ExtraConstraints
+    from qsm.optimization.problems import ExtraConstraints
     from qsm.physics.cad import CadSettings
     from qsm.physics.duty import DutySettings
-    from qsm.realisation.fe import TopologySettings
-    from qsm.realisation.payload import PayloadSettings
+    from qsm.realization.fe import TopologySettings
+    from qsm.realization.payload import PayloadSettings
     from qsm.surrogate.model import SurrogateSettings
 
 Section = Mapping[str, Any]
@@ -201,7 +201,7 @@ def topology(
 ) -> TopologySettings:
     """``topology`` with ``material``'s elasticity and strength and ``strength``'s safety
     factor: SIMP and the stress check of the printed plates."""
-    from qsm.realisation.fe import TopologySettings
+    from qsm.realization.fe import TopologySettings
 
     return TopologySettings(
         **section,
@@ -216,7 +216,7 @@ def payload_test(
     section: Section, payload_kg: float, operating_range_section: Section
 ) -> PayloadSettings:
     """``payload_test`` with ``task.payload_kg`` and ``operating_range``."""
-    from qsm.realisation.payload import PayloadSettings
+    from qsm.realization.payload import PayloadSettings
 
     return PayloadSettings(
         payload_kg=payload_kg,
@@ -241,8 +241,8 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
     ``build_volume_mm``, for g13 ``strength``, ``payload_kg``, ``duty`` and
     ``operating_range``, and for g14 (``drives``) the ``drives_section`` with ``cad``,
     ``material``, ``payload_kg``, ``duty`` and ``operating_range``. g13 and g14 run on the
-    optimisation's coarser duty (:func:`qsm.optimisation.problems.loop_duty`)."""
-    from qsm.optimisation.problems import LOOP_ALLOWANCE, ExtraConstraints, loop_duty
+    optimisation's coarser duty (:func:`qsm.optimization.problems.loop_duty`)."""
+    from qsm.optimization.problems import LOOP_ALLOWANCE, ExtraConstraints, loop_duty
     from qsm.physics.cad import DEFAULT_CAD
 
     printable, strong = bool(section["printable"]), bool(section.get("strong", False))

@@ -3,7 +3,7 @@
 import json
 
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
-from qsm.optimisation.comparison import compare, comparison_markdown
+from qsm.optimization.comparison import compare, comparison_markdown
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table
 

@@ -5,7 +5,7 @@ import json
 from qsm.design_rules.correlations import FEATURES_MM, OBJECTIVES
 from qsm.design_rules.plots import trees_figure
 from qsm.design_rules.trees import fit_tree, mining_designs, rule_sentence
-from qsm.optimisation.nsga import PREDICTION_COLUMNS
+from qsm.optimization.nsga import PREDICTION_COLUMNS
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 

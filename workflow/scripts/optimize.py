@@ -2,7 +2,7 @@
 
 from qsm import settings
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
-from qsm.optimisation.nsga import optimise
+from qsm.optimization.nsga import optimize
 from qsm.report.figures import pareto_figures, representatives_figure
 from qsm.surrogate.model import load
 from qsm.workflow.logs import logged
@@ -22,7 +22,7 @@ with logged(snakemake.log[0]) as log:
 
     extra = settings.constraints(p.constraints, fit)
     log.info("%s formulation, constraints: %s", p.formulation, extra.label(p.formulation))
-    tables = optimise(
+    tables = optimize(
         p.formulation, model, dataset, p.optimization, fit, p.ratio_bounds, extra, progress
     )
     meta = {

@@ -6,8 +6,8 @@ import numpy as np
 
 from qsm import settings
 from qsm.embodiment.drives.selection import OutputEnvelope
-from qsm.realisation.export import props_from_json
-from qsm.realisation.payload import payload_test
+from qsm.realization.export import props_from_json
+from qsm.realization.payload import payload_test
 from qsm.report.payload import SERIES_COLUMNS, plot_payload_test, series_table, summary
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import write_table

@@ -15,8 +15,8 @@ from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.physics.clearance import disk_clearance_m
 from qsm.physics.mirror import task_record
 from qsm.physics.task import min_enclosing_circle
-from qsm.realisation.export import selection_record
-from qsm.realisation.selection import (
+from qsm.realization.export import selection_record
+from qsm.realization.selection import (
     advice_sentences,
     candidate_pool,
     choose_design,

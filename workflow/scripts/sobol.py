@@ -3,7 +3,7 @@
 from qsm.design_rules.plots import sobol_figure
 from qsm.design_rules.sensitivity import sobol_indices
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
-from qsm.optimisation.nsga import bounds_from
+from qsm.optimization.nsga import bounds_from
 from qsm.physics.kinematics import DESIGN_NAMES
 from qsm.surrogate.model import INPUTS, load
 from qsm.workflow.logs import logged

@@ -8,11 +8,11 @@ import numpy as np
 from qsm import settings
 from qsm.embodiment.parts import link_parts, part_meshes
 from qsm.physics.duty import duty_cycle
-from qsm.realisation.assembly import bearing_rows, final_parts, write_parts
-from qsm.realisation.export import export_stls, props_to_json, torques_markdown
-from qsm.realisation.geometry import extrude
-from qsm.realisation.topology import optimise_links, plot_links
-from qsm.realisation.torques import torques_before_after
+from qsm.realization.assembly import bearing_rows, final_parts, write_parts
+from qsm.realization.export import export_stls, props_to_json, torques_markdown
+from qsm.realization.geometry import extrude
+from qsm.realization.topology import optimise_links, plot_links
+from qsm.realization.torques import torques_before_after
 from qsm.report.drawing import draw_links
 from qsm.workflow.logs import logged
 

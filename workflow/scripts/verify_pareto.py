@@ -3,9 +3,9 @@
 import json
 
 from qsm import settings
-from qsm.optimisation.comparison import summary
-from qsm.optimisation.nsga import PREDICTION_COLUMNS
-from qsm.optimisation.verify import TRUE_COLUMNS, verify_front
+from qsm.optimization.comparison import summary
+from qsm.optimization.nsga import PREDICTION_COLUMNS
+from qsm.optimization.verify import TRUE_COLUMNS, verify_front
 from qsm.surrogate.model import INPUTS
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table, write_table

@@ -99,7 +99,7 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     optimisation's verification, each link's strength and each joint's bearing, and each
     motor's drive. JSON-friendly (NaN as None)."""
     from qsm.embodiment.verdict import strength_record
-    from qsm.optimisation.verify import verify_design
+    from qsm.optimization.verify import verify_design
 
     d = checked_lengths(lengths)
     fit_settings = settings.fit(

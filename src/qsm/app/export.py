@@ -1,7 +1,7 @@
 """Any design out in one call: MJCF, link STLs, URDF, a JSON of its true performance, a drawing.
 
 ``python -m qsm export --front paper --rank 1`` (a Pareto design; ranks as in
-:mod:`qsm.optimisation.ranking` and the interactive front), ``--id 12`` (a dataset mechanism) or
+:mod:`qsm.optimization.ranking` and the interactive front), ``--id 12`` (a dataset mechanism) or
 ``--ratios L2 L3 L4 EEX EEY [--task-points X Y ...]`` (any unit design, scaled to the task as
 Stage 1 does), or in Python :func:`export`. The folder holds:
 
@@ -10,7 +10,7 @@ Stage 1 does), or in Python :func:`export`. The folder holds:
 * ``model.urdf``: the spanning tree of the closed chain with the cut at D stated in the file
   (:mod:`qsm.physics.urdf`; URDF has no loops);
 * ``design.json``: the design, where it came from, its true performance from a fresh evaluation
-  (:func:`qsm.optimisation.verify.verify_design`: containment of the task at its own scale, eta,
+  (:func:`qsm.optimization.verify.verify_design`: containment of the task at its own scale, eta,
   the MuJoCo peak torques over the duty), its printability per link and, for a front or dataset
   design, the run's own values beside;
 * ``design.png``: the design with its workspace, task and link outlines;
@@ -47,8 +47,8 @@ from qsm.config import load_config, validate_config
 from qsm.embodiment.parts import link_parts, part_meshes
 from qsm.embodiment.printing import fits_build_volume, needed_volume_mm
 from qsm.embodiment.verdict import strength_record
-from qsm.optimisation.constraints import printability_violation_mm
-from qsm.optimisation.verify import verify_design
+from qsm.optimization.constraints import printability_violation_mm
+from qsm.optimization.verify import verify_design
 from qsm.physics.cad import CadError, link_outlines
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import loop_state
@@ -57,9 +57,9 @@ from qsm.physics.mirror import task_record
 from qsm.physics.mjcf import mjcf_xml
 from qsm.physics.urdf import LOOP_NOTE, urdf_xml
 from qsm.physics.workspace import OperatingRange
-from qsm.realisation.assembly import bearing_rows
-from qsm.realisation.export import export_stls
-from qsm.realisation.selection import printing_advice
+from qsm.realization.assembly import bearing_rows
+from qsm.realization.export import export_stls
+from qsm.realization.selection import printing_advice
 from qsm.report.design_sheet import design_sheet
 from qsm.report.drawing import draw_links
 

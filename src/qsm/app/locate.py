@@ -14,7 +14,7 @@ import pandas as pd
 
 from qsm.app.evaluate import checked_ratios, evaluate_ratios
 from qsm.mechanisms.dataset import DATASET_COLUMNS
-from qsm.optimisation.ranking import front_ranks
+from qsm.optimization.ranking import front_ranks
 from qsm.physics.kinematics import DESIGN_COLUMNS, RATIO_NAMES
 from qsm.physics.mirror import design_points
 from qsm.workflow.tables import read_meta, read_table
@@ -30,7 +30,7 @@ FRONT_VALUES: tuple[str, ...] = (
     "task_contained",
     "printable",
 )
-#: What :func:`qsm.optimisation.verify.verify_design` evaluates for one design.
+#: What :func:`qsm.optimization.verify.verify_design` evaluates for one design.
 TRUE_KEYS: tuple[str, ...] = (
     "crank_rocker",
     "loop_closes",
@@ -110,7 +110,7 @@ def check_run_config(dataset_path: str | Path, config: Mapping[str, Any]) -> Non
 
 
 def front_table(results: str | Path, front: str) -> pd.DataFrame:
-    """A verified front of a run with its ``rank`` column first (:mod:`qsm.optimisation.ranking`);
+    """A verified front of a run with its ``rank`` column first (:mod:`qsm.optimization.ranking`);
     ``ValueError`` naming the fronts there when ``front`` is not one of them."""
     folder = Path(results) / "optimization"
     path = folder / front / "verification.parquet"

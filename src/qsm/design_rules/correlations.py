@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 from scipy import stats
 
-from qsm.optimisation.ranking import OBJECTIVE_SETS
+from qsm.optimization.ranking import OBJECTIVE_SETS
 from qsm.physics.kinematics import DESIGN_NAMES
 
 #: The paper's objectives as the surrogate predicts them (every front holds these) and their

@@ -12,7 +12,7 @@ may be turned to any axis-aligned orientation, so only the sorted sides matter).
 the bosses follow the bearings (:func:`qsm.embodiment.parts.joint_radii`), so the boxes are
 computed from the per-joint boss radii (:func:`link_boxes_mm`, closed form of the outlines of
 :mod:`qsm.embodiment.parts`; with every radius equal to ``cad.boss_radius_m`` it is
-:func:`qsm.optimisation.constraints.link_boxes_mm`).
+:func:`qsm.optimization.constraints.link_boxes_mm`).
 
 "Smallest" orders the needed volumes lexicographically on their sides sorted from the largest down
 (a long link decides first: it is what rules printers out), then by the volume. Sizes are rounded

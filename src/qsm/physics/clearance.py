@@ -20,7 +20,7 @@ angular seam is no boundary).
 lies inside with that much room, negative when it is not contained. Errors: the ``delta`` sampling
 (``n_delta``, second order) and the densification (chord error ``l1 rho max_step^2 / 8``).
 
-The arc-length margin of :func:`qsm.optimisation.constraints.containment_margin_m` is **not** a
+The arc-length margin of :func:`qsm.optimization.constraints.containment_margin_m` is **not** a
 lower bound of this distance but an upper bound (up to its sampling of the circles): on each circle
 through the disk the end of the workspace arc is a boundary point, whose chord to the disk's arc end
 is at most the arc length between them, and the radial cap is the length of a ray from the disk to

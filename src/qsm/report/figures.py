@@ -12,7 +12,7 @@ from matplotlib.axes import Axes
 from matplotlib.tri import Triangulation
 from numpy.typing import NDArray
 
-from qsm.optimisation.ranking import drawn_objectives
+from qsm.optimization.ranking import drawn_objectives
 from qsm.physics.kinematics import DESIGN_NAMES, LoopPose, pose
 from qsm.physics.task import Disk
 from qsm.physics.workspace import OperatingRange
@@ -150,7 +150,7 @@ def pareto_figures(
     pareto: pd.DataFrame, hypervolume: pd.DataFrame, path_3d: str | Path, path_pairs: str | Path
 ) -> None:
     """The Pareto front in 3D and pairwise (its objectives, then tau1 and tau2 to make three:
-    :func:`qsm.optimisation.ranking.drawn_objectives`), coloured by the scale factor; the HV
+    :func:`qsm.optimization.ranking.drawn_objectives`), coloured by the scale factor; the HV
     history."""
     drawn = drawn_objectives(pareto)
     cols = [o.predicted for o in drawn]

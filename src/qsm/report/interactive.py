@@ -1,12 +1,12 @@
 """The interactive Pareto front: one self-contained HTML page (Plotly, a partial bundle inlined).
 
-The page shows a verified front (:func:`qsm.optimisation.verify.verify_front`) in 3D and in the
+The page shows a verified front (:func:`qsm.optimization.verify.verify_front`) in 3D and in the
 three pairwise views of its objectives, (eta, tau1, tau2) or (eta, drive mass, tau1) for a front
-optimised on the drive mass (:func:`qsm.optimisation.ranking.drawn_objectives`), coloured by the
+optimised on the drive mass (:func:`qsm.optimization.ranking.drawn_objectives`), coloured by the
 scale factor l1. Each design is drawn at NSGA-II's values (the surrogate's predictions, the drive
 mass on the loop's duty) and, in a second legend group switched off at first, at its true values
 (Stage 1 and the MuJoCo dynamics). Hovering a design shows its rank
-(:mod:`qsm.optimisation.ranking`) with the command that exports it, its six lengths, NSGA-II's
+(:mod:`qsm.optimization.ranking`) with the command that exports it, its six lengths, NSGA-II's
 and the true objectives, whether it truly holds the task and whether it is printable. Designs
 that fail either check are drawn as crosses.
 """
@@ -21,7 +21,7 @@ import pandas as pd
 import plotly.graph_objects as go
 from plotly.subplots import make_subplots
 
-from qsm.optimisation.ranking import (
+from qsm.optimization.ranking import (
     OBJECTIVE_SETS,
     drawn_objectives,
     front_ranks,

@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 from pymoo.indicators.hv import HV
 
-from qsm.optimisation.ranking import OBJECTIVE_SETS, Objective, objectives_of
+from qsm.optimization.ranking import OBJECTIVE_SETS, Objective, objectives_of
 
 
 def _share(mask: pd.Series) -> float:

@@ -56,21 +56,21 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.physics.cad import CadSettings, MassProperties, mass_properties
 from qsm.physics.duty import Duty
 from qsm.physics.kinematics import as_design
-from qsm.realisation.fe import (
+from qsm.realization.fe import (
     DEFAULT_TOPOLOGY,
     Grid,
     TopologySettings,
     analyse,
 )
-from qsm.realisation.geometry import (
+from qsm.realization.geometry import (
     cell_fill,
     cells_to_geometry,
     extrude,
     mesh_mass_properties,
     polygons,
 )
-from qsm.realisation.loads import OPTIMISED_LINKS, LinkLoads, joint_points, link_problem, peak_loads
-from qsm.realisation.simp import simp
+from qsm.realization.loads import OPTIMISED_LINKS, LinkLoads, joint_points, link_problem, peak_loads
+from qsm.realization.simp import simp
 
 #: Step (of the designable cells) by which the kept material grows after a plate that fails.
 VOLUME_STEP = 0.1

@@ -1,13 +1,13 @@
 """The beam model of :mod:`qsm.embodiment.strength` against plane-stress finite elements.
 
 For one design, at the duty samples of peak |tau1| and |tau2| (those of
-:func:`qsm.realisation.loads.peak_loads`), the lower and the upper arm are analysed twice under the
+:func:`qsm.realization.loads.peak_loads`), the lower and the upper arm are analysed twice under the
 same loads: the joint forces of :func:`qsm.embodiment.loads.joint_loads` plus the link's own weight
 and d'Alembert inertia.
 
 * Beam: :func:`qsm.embodiment.strength.cut_forces` with a solid section (no bore, as the FE plate
   has solid bosses), the peak over the link's bar cuts.
-* FE: the solid CAD plate of :func:`qsm.realisation.loads.link_problem` (clamped over the whole
+* FE: the solid CAD plate of :func:`qsm.realization.loads.link_problem` (clamped over the whole
   boss of A, for the lower arm, or B, for the upper arm; joint forces spread over the nodes of the
   other bosses), with the body force of every cell added at its nodes; von Mises stress per cell.
   The peak is taken over the cells outside every boss (centre farther than the boss radius from
@@ -33,7 +33,7 @@ from qsm.physics.cad import DEFAULT_CAD, CadSettings, link_outlines, mass_proper
 from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import LINK_NAMES, as_design, perp
-from qsm.realisation.fe import (
+from qsm.realization.fe import (
     DEFAULT_TOPOLOGY,
     FeProblem,
     Grid,
@@ -42,9 +42,9 @@ from qsm.realisation.fe import (
     clamped_dofs,
     nodal_forces,
 )
-from qsm.realisation.loads import LinkLoads, joint_points
+from qsm.realization.loads import LinkLoads, joint_points
 
-#: Links with a finite-element problem (:data:`qsm.realisation.loads.OPTIMISED_LINKS`).
+#: Links with a finite-element problem (:data:`qsm.realization.loads.OPTIMISED_LINKS`).
 FE_LINKS = ("lower_arm", "upper_arm")
 
 
@@ -151,7 +151,7 @@ def _custom_cuts(design: NDArray[np.float64], link: str, sections: list[Section2
 def aligned_problem(
     design: NDArray[np.float64], cad: CadSettings, link: str, case: LinkLoads, h: float
 ) -> FeProblem:
-    """The FE problem of :func:`qsm.realisation.loads.link_problem` (solid plate of the CAD
+    """The FE problem of :func:`qsm.realization.loads.link_problem` (solid plate of the CAD
     outline, bosses solid, the clamp joint's boss clamped, joint forces spread over the boss
     nodes) on a grid whose cell edges lie on the bars' edges, so that a bar is exactly
     ``width / h`` cells wide (``h`` must divide the width). link_problem centres its grid on the

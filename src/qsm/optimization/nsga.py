@@ -1,6 +1,6 @@
 """Stage 4: NSGA-II (pymoo) on the surrogate in one formulation (the problems are in
-:mod:`qsm.optimisation.problems`) and on one set of objectives
-(:data:`qsm.optimisation.ranking.OBJECTIVE_SETS`), with the hypervolume recorded per generation,
+:mod:`qsm.optimization.problems`) and on one set of objectives
+(:data:`qsm.optimization.ranking.OBJECTIVE_SETS`), with the hypervolume recorded per generation,
 and the tables a run writes."""
 
 from __future__ import annotations
@@ -19,7 +19,7 @@ from pymoo.indicators.hv import HV
 from pymoo.optimize import minimize
 
 from qsm.mechanisms.scale import FitSettings
-from qsm.optimisation.problems import (
+from qsm.optimization.problems import (
     G12,
     G13,
     G14,
@@ -29,7 +29,7 @@ from qsm.optimisation.problems import (
     PaperProblem,
     RatiosProblem,
 )
-from qsm.optimisation.ranking import OBJECTIVE_SETS, PREDICTION_COLUMNS, Objective
+from qsm.optimization.ranking import OBJECTIVE_SETS, PREDICTION_COLUMNS, Objective
 from qsm.physics.kinematics import RATIO_NAMES
 from qsm.surrogate.model import INPUTS, Surrogate
 
@@ -157,7 +157,7 @@ def _design_table(
     return table
 
 
-def optimise(
+def optimize(
     formulation: str,
     model: Surrogate,
     dataset: pd.DataFrame,
@@ -215,7 +215,7 @@ def optimise(
             break
         except InfeasibleProblem as exc:
             # no design met g12 (a far task, a small printer), g14 (a task no drive of the
-            # catalogue serves) or g13 (a heavy task): optimise without it (in that order, the
+            # catalogue serves) or g13 (a heavy task): optimize without it (in that order, the
             # least important first), and say so
             names = extra.names(formulation) if extra is not None else ()
             least = dict(zip(names, exc.least, strict=False))

@@ -18,9 +18,9 @@ form:
 * g11 (paper formulation, ``constraints.containment``): the task disk grown by
   ``containment_tolerance_m`` lies in the workspace at scale l1, so the task keeps that Euclidean
   clearance from the workspace's edge; the violation is the arc-length margin of the grown disk
-  (:mod:`qsm.optimisation.constraints`, metres; its sign is exact, its size a measure);
+  (:mod:`qsm.optimization.constraints`, metres; its sign is exact, its size a measure);
 * g12 (every formulation, ``constraints.printable``): every link's box fits the build volume
-  (:mod:`qsm.optimisation.constraints`, millimetres);
+  (:mod:`qsm.optimization.constraints`, millimetres);
 * g13 (every formulation, ``constraints.strong``): every link holds its loads over the duty, the
   largest strength utilisation less 1, from the true closed-chain loads of the design
   (:mod:`qsm.embodiment.link_checks`);
@@ -53,7 +53,7 @@ from qsm.embodiment.drive_checks import DriveCheck, same_loads, violation_of
 from qsm.embodiment.link_checks import StrengthCheck
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings, fit_rows
-from qsm.optimisation.constraints import containment_margin_m, printability_violation_mm
+from qsm.optimization.constraints import containment_margin_m, printability_violation_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.duty import DutySettings
 from qsm.physics.kinematics import design_from_ratios

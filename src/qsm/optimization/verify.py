@@ -14,7 +14,7 @@ from qsm.embodiment.printing import all_links_fit, needed_volume_mm
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
-from qsm.optimisation.constraints import containment_margin_m, printability_violation_mm
+from qsm.optimization.constraints import containment_margin_m, printability_violation_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.clearance import disk_clearance_m
 from qsm.physics.duty import Duty
@@ -33,7 +33,7 @@ TRUE_COLUMNS: dict[str, str] = {
     "transmission_ok": "the transmission angle stays within filters.min_transmission_angle_deg (-)",
     "containment_margin_m": "smallest arc-length slack of the task disk in the workspace at this "
     "scale, on 128 of the disk's own circles with twice the delta samples of the "
-    "optimisation (qsm.optimisation.constraints; m, < 0: not held)",
+    "optimisation (qsm.optimization.constraints; m, < 0: not held)",
     "task_contained": "the workspace at this scale holds the task disk: margin >= 0 (-)",
     "clearance_m": "Euclidean distance from the task disk to the nearest edge of the workspace at "
     "this scale (qsm.physics.clearance; m, < 0: not held); the arc-length margin above is an "

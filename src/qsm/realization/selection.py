@@ -2,7 +2,7 @@
 feasible always.
 
 Order of the search (:func:`choose_design`), each step applying the selection rule of
-:func:`select_design` (:func:`qsm.optimisation.ranking.rule_scores`) to its candidates, taken
+:func:`select_design` (:func:`qsm.optimization.ranking.rule_scores`) to its candidates, taken
 first from the primary front (``optimization.formulation``), then the other fronts in order,
 then the dataset (every design of which truly holds the task, with true dynamics):
 
@@ -39,8 +39,8 @@ from qsm.embodiment.printing import (
     needed_volume_mm,
 )
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
-from qsm.optimisation.constraints import printability_violation_mm
-from qsm.optimisation.ranking import OBJECTIVES, RULES, rule_scores, true_columns
+from qsm.optimization.constraints import printability_violation_mm
+from qsm.optimization.ranking import OBJECTIVES, RULES, rule_scores, true_columns
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task import Disk

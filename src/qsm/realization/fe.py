@@ -11,7 +11,7 @@ from numpy.typing import ArrayLike, NDArray
 from scipy.sparse.linalg import splu
 
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH
-from qsm.realisation.pymoto_quiet import pym
+from qsm.realization.pymoto_quiet import pym
 
 
 @dataclass(frozen=True)
