@@ -272,15 +272,30 @@ class StrengthCheck:
         return self.violation_and_torques(designs)[0]
 
     def violation_and_torques(
-        self, designs: ArrayLike
+        self, designs: ArrayLike, allowance: float = 0.0
     ) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_]]:
         """g13 of designs (N, 6) m (:meth:`violation`), and the motor torques (N, samples, 2) in
-        N m over the duty and where they are defined (N,), for the drive check to reuse."""
+        N m over the duty and where they are defined (N,), for the drive check to reuse.
+
+        ``allowance``: the links' utilisation is taken ``1 + allowance`` times larger (a coarser
+        duty's peaks kept in hand). The bearings' is not: the chosen bearing is the smallest that
+        covers its joint's force, so it sits near its rating by design, and a larger one is
+        chosen when the force grows; a joint's utilisation exceeds 1 only where no bearing fits.
+        """
         d = np.atleast_2d(as_design(designs))
         cores = [self._core(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
         if not cores:
             return np.zeros(0), np.zeros((0, len(self.duty.theta), 2)), np.zeros(0, bool)
-        util = np.concatenate([np.where(c.bad, np.nan, c.util) for c in cores])
+        util = np.concatenate(
+            [
+                np.where(
+                    c.bad,
+                    np.nan,
+                    np.maximum(c.link_util.max(-1) * (1.0 + allowance), c.bearing_util.max(-1)),
+                )
+                for c in cores
+            ]
+        )
         good = np.concatenate([~c.bad for c in cores])
         tau = np.concatenate([c.loads.tau for c in cores])
         return np.where(np.isfinite(util), util - 1.0, UNDEFINED_VIOLATION), tau, good

@@ -192,8 +192,8 @@ class ExtraConstraints:
         cols = []
         torques = None
         if self.strength is not None:
-            g13, *torques = self.strength.violation_and_torques(design)
-            cols.append((1.0 + g13) * (1.0 + LOOP_ALLOWANCE) - 1.0)
+            g13, *torques = self.strength.violation_and_torques(design, LOOP_ALLOWANCE)
+            cols.append(g13)
         check = self.drives or self.drive_mass
         if check is None:
             return cols, None
