@@ -295,3 +295,22 @@ def test_a_joint_without_a_bearing_is_not_ready_to_build():
         "no bearing of the catalogue fits joint A (9000 N peak, static safety 2 required, "
         "within the boss)"
     ]
+
+
+def test_parts_drawn_at_another_section_than_the_checked_one_are_not_ready():
+    """With sized sections the checks use each link's own section; parts drawn at the configured
+    section are not the ones checked, so the design is not ready to build (and is when they
+    match)."""
+    from qsm.report.headline import build_verdict
+
+    def selected(width_mm: float) -> dict:
+        link = {"holds": True, "width_mm": 40.0, "thickness_mm": 20.0}
+        links = dict.fromkeys(LINK_NAMES, link) | {"coupler": {**link, "width_mm": width_mm}}
+        strength = {"links": links, "bearings": {}, "holds_loads": True}
+        return {"printable": True, "strength": strength}
+
+    topology = {"links": {}, "parts": {"section_mm": [40.0, 20.0]}}
+    assert build_verdict(selected(40.0), topology, {"passed": True}) == (True, [])
+    ready, problems = build_verdict(selected(52.0), topology, {"passed": True})
+    assert not ready and len(problems) == 1
+    assert "coupler" in problems[0] and "52.0 x 20.0 mm" in problems[0]

@@ -47,6 +47,7 @@ with logged(snakemake.log[0]) as log:
     )
     svg, png = draw_links(design, solid, f"{out.bom_csv.rsplit('/', 1)[0]}/drawing", cad)
     written["drawing"] = {"svg": str(svg), "png": str(png)}
+    written["section_mm"] = [1e3 * cad.width_m, 1e3 * cad.thickness_m]  # the parts' section
     props = written.pop("masses")
     written["masses_kg"] = {name: m.mass_kg for name, m in props.items()}
     torques = torques_before_after(design, cad, p.payload_kg, duty, props)

@@ -6,6 +6,7 @@ import math
 from collections.abc import Mapping
 from typing import Any
 
+import numpy as np
 import pandas as pd
 
 
@@ -49,6 +50,16 @@ def build_verdict(
         problems.append(
             f"the strength check fails (utilisation {strength['utilisation']:.2f}, at most 1)"
         )
+    drawn = topology.get("parts", {}).get("section_mm")
+    for link, r in strength["links"].items():
+        checked = [r.get("width_mm"), r.get("thickness_mm")]
+        if drawn and None not in checked and not np.allclose(checked, drawn, rtol=1e-6):
+            problems.append(
+                f"the {link.replace('_', ' ')} was checked with its sized section "
+                f"{checked[0]:.1f} x {checked[1]:.1f} mm, but the parts, drawing and BOM are "
+                f"drawn at the configured {drawn[0]:.1f} x {drawn[1]:.1f} mm (sized parts are "
+                "not drawn yet: set cad.width_m and cad.thickness_m to the sized section)"
+            )
     for link, r in topology["links"].items():
         if not r["carries_loads"]:
             problems.append(
