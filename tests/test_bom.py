@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm.embodiment import bearings, bom, parts
+from qsm.embodiment import bearings, bom, part_mass, parts
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 
@@ -19,7 +19,7 @@ def _index(name: str) -> int:
 def test_bom_rows_and_files(tmp_path) -> None:
     idx = [_index(n) for n in ("6000", "608", "6204", "6206")]
     built = parts.link_parts(DESIGN, idx)
-    masses = parts.part_mass_properties(built)
+    masses = part_mass.part_mass_properties(built)
     frame = bom.bill_of_materials(
         built, masses, idx, topology_optimised={"lower_arm": True}, material="ABS | M30"
     )
@@ -57,7 +57,7 @@ def test_missing_bearing_and_drive_values() -> None:
     built = parts.link_parts(DESIGN, idx)
     frame = bom.bill_of_materials(
         built,
-        parts.part_mass_properties(built),
+        part_mass.part_mass_properties(built),
         idx,
         drives={"motor 1": {"designation": "T-motor AK80-64", "mass_kg": 0.85}},
     )

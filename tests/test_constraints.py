@@ -9,18 +9,13 @@ from reference_workspace import reachable
 from qsm.embodiment.printing import all_links_fit, link_boxes_mm, needed_volume_mm, outline_boxes_mm
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
+from qsm.optimization.constraint_set import ExtraConstraints
 from qsm.optimization.constraints import (
     OPEN_LOOP_VIOLATION_M,
     containment_margin_m,
     printability_violation_mm,
 )
-from qsm.optimization.problems import (
-    ExtraConstraints,
-    LabelStats,
-    PaperProblem,
-    RatiosProblem,
-    paper_constraints,
-)
+from qsm.optimization.problems import LabelStats, PaperProblem, RatiosProblem, paper_constraints
 from qsm.physics.cad import CadSettings
 from qsm.physics.containment import containment_margin
 from qsm.physics.task import Disk, min_enclosing_circle
@@ -221,7 +216,7 @@ def test_g13_g14_evaluated_only_where_the_cheaper_constraints_hold():
     allowance); the others read 0 (not evaluated), and never reach the checks."""
     from qsm.embodiment.drive_checks import DriveCheck
     from qsm.embodiment.link_checks import StrengthCheck
-    from qsm.optimization.problems import LOOP_ALLOWANCE
+    from qsm.optimization.constraint_set import LOOP_ALLOWANCE
     from qsm.physics.duty import DutySettings, duty_cycle
 
     duty = duty_cycle(DutySettings(samples_per_segment=6))

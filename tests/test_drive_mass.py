@@ -16,8 +16,8 @@ from qsm.embodiment.drive_checks import DriveCheck
 from qsm.embodiment.drives.catalogue import read_catalogue
 from qsm.embodiment.link_checks import StrengthCheck
 from qsm.optimization.comparison import compare, true_hypervolume
+from qsm.optimization.constraint_set import ExtraConstraints, loop_duty
 from qsm.optimization.nsga import optimize
-from qsm.optimization.problems import ExtraConstraints, loop_duty
 from qsm.optimization.ranking import (
     DRIVE_MASS,
     OBJECTIVE_SETS,

@@ -11,7 +11,8 @@ from qsm.embodiment.drives.catalogue import (
     default_catalogue_folder,
     read_catalogue,
 )
-from qsm.embodiment.drives.selection import CHECKS, offer, select_drives, utilisation
+from qsm.embodiment.drives.selection import offer, select_drives
+from qsm.embodiment.drives.utilisation import CHECKS, utilisation
 
 MOTORS = """key,manufacturer,ID,type,V,k_t,R,L,mass,inertia,omega_nl,I_nl,I_nom,max_int_torque,\
 max_int_speed,max_cont_speed,max_cont_power,source

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from qsm.embodiment import bearings, parts
+from qsm.embodiment import bearings, part_mass, part_outlines, parts
 from qsm.physics import cad
 from qsm.physics.kinematics import LINK_NAMES
 
@@ -69,7 +69,7 @@ def test_mass_of_bored_plate_matches_hand_computation() -> None:
     settings = parts.PartSettings(cad=section, boss_wall_m=0.004)
     # lower arm: A shaft of 6000 (d 10 mm), B seat of 608 (D 22 mm, boss 11 + 4 < 20 mm)
     idx = [_index("6000"), _index("608"), _index("608"), _index("608")]
-    mp = parts.bored_mass_properties([L, L, L, L, L, L], idx, settings)["lower_arm"]
+    mp = part_mass.bored_mass_properties([L, L, L, L, L, L], idx, settings)["lower_arm"]
     # hand: stadium (rectangle + two half discs) about its centre (L/2, 0)
     a_half = math.pi * h**2 / 2
     a_st = L * w + 2 * a_half
@@ -98,7 +98,7 @@ def test_mass_of_bored_plate_matches_hand_computation() -> None:
 def test_analytic_mass_properties_match_trimesh() -> None:
     idx = [_index(n) for n in ("6001", "6203", "6005", "6206")]
     built = parts.link_parts(DESIGN, idx)
-    analytic = parts.part_mass_properties(built)
+    analytic = part_mass.part_mass_properties(built)
     for name, mesh in parts.part_meshes(built).items():
         mesh.density = cad.ABS_M30_DENSITY_KG_M3
         a = analytic[name]
@@ -111,9 +111,9 @@ def test_outlines_with_the_configured_boss_are_qsm_cad_outlines() -> None:
     s = cad.CadSettings()
     r = s.boss_radius_m
     o = cad.link_outlines(DESIGN, s)
-    np.testing.assert_array_equal(parts.bar_outline(0.55, r, r, s), o["coupler"])
+    np.testing.assert_array_equal(part_outlines.bar_outline(0.55, r, r, s), o["coupler"])
     np.testing.assert_array_equal(
-        parts.upper_arm_outline(0.22, 0.6, 0.2, r, r, r, s), o["upper_arm"]
+        part_outlines.upper_arm_outline(0.22, 0.6, 0.2, r, r, r, s), o["upper_arm"]
     )
 
 

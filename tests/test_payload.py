@@ -126,7 +126,7 @@ def _catalogue(folder, stalls):
 
 
 def test_output_envelope_by_hand(tmp_path) -> None:
-    from qsm.embodiment.drives.selection import OutputEnvelope
+    from qsm.embodiment.drives.envelope import OutputEnvelope
 
     cat = _catalogue(tmp_path / "c", [2.0])
     env = OutputEnvelope.of(cat, "M0", "G10")
@@ -139,7 +139,7 @@ def test_output_envelope_by_hand(tmp_path) -> None:
 
 
 def test_payload_test_fails_with_a_drive_just_too_weak_and_passes_with_the_next(tmp_path):
-    from qsm.embodiment.drives.selection import OutputEnvelope
+    from qsm.embodiment.drives.envelope import OutputEnvelope
 
     # what the arm needs, with generous fixed limits (the plant 15 % heavier than the model)
     need = payload.payload_test(DESIGN, POINTS, settings=payload.PayloadSettings(**FAST, **PAPER))

@@ -12,7 +12,8 @@ import pandas as pd
 import pytest
 
 from qsm.config import load_config
-from qsm.config_checks import ConfigError, check_config
+from qsm.config_checks import check_config
+from qsm.config_errors import ConfigError
 from qsm.embodiment.link_checks import StrengthCheck
 from qsm.embodiment.loads import Inertials, joint_loads, link_motion
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH
@@ -25,7 +26,8 @@ from qsm.embodiment.sizing import (
     utilisation,
 )
 from qsm.embodiment.strength import LinkLoads
-from qsm.physics.cad import DEFAULT_CAD, batch_mass_properties
+from qsm.physics.batch_mass import batch_mass_properties
+from qsm.physics.cad import DEFAULT_CAD
 from qsm.physics.duty import DutySettings, duty_cycle
 from qsm.physics.dynamics import evaluate_mechanism, loop_state
 from qsm.physics.kinematics import LINK_NAMES
@@ -185,7 +187,7 @@ def test_the_loop_sizes_within_its_allowance():
     """The optimisation's g13 multiplies the utilisation by 1 + LOOP_ALLOWANCE (coarser duty):
     its sized check sizes the links that much lower, so a sized link passes g13."""
     from qsm import settings
-    from qsm.optimization.problems import LOOP_ALLOWANCE
+    from qsm.optimization.constraint_set import LOOP_ALLOWANCE
 
     config = load_config()
     config["cad"]["section"] = "sized"

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+from qsm.embodiment.beam import Section
 from qsm.embodiment.link_checks import STRENGTH_COLUMNS, StrengthCheck
 from qsm.embodiment.loads import (
     GRAVITY,
@@ -17,9 +18,10 @@ from qsm.embodiment.loads import (
     joint_loads,
 )
 from qsm.embodiment.material import Material, StrengthSettings
-from qsm.embodiment.strength import Section, link_strength
+from qsm.embodiment.strength import link_strength
 from qsm.physics import duty as duty_mod
-from qsm.physics.cad import CadSettings, batch_mass_properties, mass_properties
+from qsm.physics.batch_mass import batch_mass_properties
+from qsm.physics.cad import CadSettings, mass_properties
 from qsm.physics.dynamics import loop_state, tree_inverse_dynamics
 from qsm.physics.kinematics import LINK_NAMES
 from qsm.physics.mjcf import body_inertials

@@ -9,7 +9,7 @@ import shapely
 from scipy.sparse.linalg import spsolve
 
 from qsm.physics import cad, duty
-from qsm.realization import fe, geometry, simp, topology, torques
+from qsm.realization import fe, geometry, simp, topology, topology_figure, torques
 
 SETTINGS = fe.TopologySettings(volume_fraction=0.5, max_iterations=60, cell_size_m=0.01)
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])
@@ -106,7 +106,7 @@ def test_link_optimisation_lightens_links_and_lowers_torques(tmp_path) -> None:
     assert abs(DESIGN[0] * fb[1]) == pytest.approx(tq["before"]["tau1_Nm"], rel=0.1)
     assert tq["after"]["tau1_Nm"] < tq["before"]["tau1_Nm"]
     assert tq["after"]["tau2_Nm"] < tq["before"]["tau2_Nm"]
-    assert topology.plot_links(res, tmp_path / "links.png").stat().st_size > 0
+    assert topology_figure.plot_links(res, tmp_path / "links.png").stat().st_size > 0
 
 
 def test_a_plate_over_the_stress_limit_is_not_kept(tmp_path) -> None:

@@ -29,6 +29,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("report",),  # figures, drawings, headline, interactive pages
     ("design_rules",),  # Stage 5 and the study
     ("workflow",),  # tables, logs, shards, provenance: plumbing for the rules
+    ("config_errors",),
+    ("config_payload",),  # the drive catalogue and the payload the arm can hold
     ("config_checks",),
     ("config",),
     ("settings",),

@@ -15,7 +15,8 @@ from typing import Any
 import jsonschema
 import yaml
 
-from qsm.config_checks import ConfigError, check_config
+from qsm.config_checks import check_config
+from qsm.config_errors import ConfigError
 
 SCHEMA_FILE = "config.schema.yaml"
 

@@ -13,10 +13,10 @@ from typing import Any
 
 import numpy as np
 
+from qsm.config_errors import ConfigError
+from qsm.config_payload import _check_drives, _check_payload
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.task_points import MAX_VISITED_POINTS
-
-G = 9.81  # m/s^2
 
 #: Smallest radius (m) of the task circle: below it eta (task area / workspace area) is ~0.
 MIN_TASK_RADIUS_M = 1e-3
@@ -24,8 +24,6 @@ MIN_TASK_RADIUS_M = 1e-3
 MIN_THETA1_SPAN_DEG = 6.3
 #: Smallest printer side (mm); a build volume written in metres has every side below it.
 MIN_PRINTER_SIDE_MM = 10.0
-#: A payload from this mass (kg) up is reported as grams when it is too heavy.
-GRAMS_FROM_KG = 100.0
 #: A task point from this distance (m) up is reported as millimetres when it is out of reach.
 MILLIMETRES_FROM_M = 50.0
 #: Material floors below every printable solid: (key, floor, its unit, the unit a value below
@@ -35,10 +33,6 @@ MATERIAL_FLOORS = (
     (("material", "youngs_modulus_pa"), 1e6, "Pa", "GPa", 1e9),
     (("material", "yield_strength_pa"), 1e5, "Pa", "MPa", 1e6),
 )
-
-
-class ConfigError(ValueError):
-    """A configuration value is missing, unknown, of the wrong type or out of range."""
 
 
 def check_config(config: dict[str, Any]) -> None:
@@ -217,80 +211,6 @@ def _check_materials(config: dict[str, Any]) -> None:
                 f"than any printable solid; looks like {slip}: {section}.{name} is in {unit} "
                 f"({value} {slip} = {value * factor:g} {unit})"
             )
-
-
-def catalogue_folder(config: dict[str, Any]) -> str:
-    """The drive catalogue's folder: ``drives.catalogue``, or the one shipped with qsm."""
-    from qsm.embodiment.drives.catalogue import default_catalogue_folder
-
-    folder = config["drives"]["catalogue"]
-    return str(default_catalogue_folder() if folder is None else folder)
-
-
-def _check_drives(config: dict[str, Any]) -> None:
-    """The drive catalogue reads: every file, row and column valid (the error names them)."""
-    from qsm.embodiment.drives.catalogue import read_catalogue
-
-    folder = catalogue_folder(config)
-    try:
-        read_catalogue(folder)
-    except (ValueError, FileNotFoundError) as exc:
-        raise ConfigError(f"config key 'drives.catalogue': {folder}: {exc}") from None
-
-
-def motor_limits_Nm(config: dict[str, Any]) -> tuple[list[float], str]:
-    """The largest torque each motor can give at the output, and where it comes from: the
-    override ``payload_test.torque_limits_Nm``, or the strongest drive of the catalogue."""
-    limits = config["payload_test"]["torque_limits_Nm"]
-    if limits is not None:
-        return [float(v) for v in limits], "payload_test.torque_limits_Nm"
-    from qsm.embodiment.drives.catalogue import read_catalogue
-    from qsm.embodiment.drives.selection import offer
-
-    peak = max(o["peak_torque_Nm"] for o in offer(read_catalogue(catalogue_folder(config))))
-    return [peak, peak], "the strongest drive of drives.catalogue, for each motor"
-
-
-def _check_payload(config: dict[str, Any]) -> None:
-    """A payload the link section and the motors can hold at every task point (payload alone)."""
-    mass = config["task"]["payload_kg"]
-    cad = config["cad"]
-    allowable = config["material"]["yield_strength_pa"] / config["strength"]["safety_factor"]
-    section_kg = cad["width_m"] * cad["thickness_m"] * allowable / G
-    limits, source = motor_limits_Nm(config)
-    points = np.asarray(config["task"]["points"], dtype=float)
-    arm = float(np.abs(points[:, 0]).max())
-    motors_kg = sum(limits) / (G * arm) if arm > 0 else math.inf
-    if mass <= min(section_kg, motors_kg):
-        return
-    if section_kg <= motors_kg:
-        bound, basis = (
-            section_kg,
-            (
-                f"its weight would stress a link section of cad.width_m x cad.thickness_m beyond "
-                f"material.yield_strength_pa / strength.safety_factor = {allowable:.3g} Pa even in "
-                f"pure tension"
-            ),
-        )
-    else:
-        bound, basis = (
-            motors_kg,
-            (
-                f"holding it {arm:.3g} m out from the base (the task point farthest out in x) "
-                f"takes motor torques summing to m g |x| = {mass * G * arm:.0f} N m (turning both "
-                f"motors together turns the whole arm about the base; the links' own weight "
-                f"aside), beyond {limits[0]:g} + {limits[1]:g} N m ({source})"
-            ),
-        )
-    cause = (
-        f"; looks like grams: task.payload_kg is in kilograms ({mass:g} g = {mass / 1e3:g} kg)"
-        if mass >= GRAMS_FROM_KG and mass / 1e3 <= bound
-        else ""
-    )
-    raise ConfigError(
-        f"config key 'task.payload_kg': {mass:g} kg is more than the arm can hold: {basis}; at "
-        f"most {bound:.3g} kg is possible{cause}"
-    )
 
 
 def _check_printer(config: dict[str, Any]) -> None:

@@ -31,7 +31,7 @@ if TYPE_CHECKING:
     from qsm.embodiment.material import Material, StrengthSettings
     from qsm.embodiment.parts import PartSettings
     from qsm.embodiment.sizing import SizingSettings
-    from qsm.optimization.problems import ExtraConstraints
+    from qsm.optimization.constraint_set import ExtraConstraints
     from qsm.physics.cad import CadSettings
     from qsm.physics.duty import DutySettings
     from qsm.realization.fe import TopologySettings
@@ -241,8 +241,8 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
     ``build_volume_mm``, for g13 ``strength``, ``payload_kg``, ``duty`` and
     ``operating_range``, and for g14 (``drives``) the ``drives_section`` with ``cad``,
     ``material``, ``payload_kg``, ``duty`` and ``operating_range``. g13 and g14 run on the
-    optimisation's coarser duty (:func:`qsm.optimization.problems.loop_duty`)."""
-    from qsm.optimization.problems import LOOP_ALLOWANCE, ExtraConstraints, loop_duty
+    optimisation's coarser duty (:func:`qsm.optimization.constraint_set.loop_duty`)."""
+    from qsm.optimization.constraint_set import LOOP_ALLOWANCE, ExtraConstraints, loop_duty
     from qsm.physics.cad import DEFAULT_CAD
 
     printable, strong = bool(section["printable"]), bool(section.get("strong", False))

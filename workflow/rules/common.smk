@@ -47,7 +47,7 @@ def drive_settings():
     rules that choose drives (a config value alone would not)."""
     import hashlib
 
-    from qsm.config_checks import catalogue_folder
+    from qsm.config_payload import catalogue_folder
 
     digest = hashlib.sha256()
     folder = Path(catalogue_folder(config))

@@ -5,7 +5,7 @@ import json
 import numpy as np
 
 from qsm import settings
-from qsm.embodiment.drives.selection import OutputEnvelope
+from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.realization.export import props_from_json
 from qsm.realization.payload import payload_test
 from qsm.report.payload import SERIES_COLUMNS, plot_payload_test, series_table, summary

@@ -11,7 +11,8 @@ from qsm.physics.duty import duty_cycle
 from qsm.realization.assembly import bearing_rows, final_parts, write_parts
 from qsm.realization.export import export_stls, props_to_json, torques_markdown
 from qsm.realization.geometry import extrude
-from qsm.realization.topology import optimise_links, plot_links
+from qsm.realization.topology import optimise_links
+from qsm.realization.topology_figure import plot_links
 from qsm.realization.torques import torques_before_after
 from qsm.report.drawing import draw_links
 from qsm.workflow.logs import logged

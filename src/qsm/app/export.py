@@ -263,7 +263,7 @@ def export(
 def _drive_efforts(drives: Mapping[str, Any], config: Mapping[str, Any]) -> list[float]:
     """Each motor's standstill peak torque at the joint (N m) of its drive (or the nearest) in a
     :meth:`qsm.embodiment.drive_checks.DriveCheck.report`; 0 where the loop is undefined."""
-    from qsm.embodiment.drives.selection import OutputEnvelope
+    from qsm.embodiment.drives.envelope import OutputEnvelope
 
     cat = settings.catalogue(config["drives"])
     out = []

@@ -28,7 +28,7 @@ needs a boss wider than the bar).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from importlib import resources
 from pathlib import Path
 from typing import NamedTuple
@@ -220,3 +220,8 @@ def boss_radius_m(
     i = np.asarray(index, dtype=np.intp)
     i = np.where(i < 0, int(np.argmax(t.D_m)), i)
     return np.maximum(minimum_m, t.D_m[i] / 2 + wall_m)
+
+
+def astuple_shallow(table: BearingTable) -> tuple:
+    """The fields of ``table`` in order, not copied."""
+    return tuple(getattr(table, f.name) for f in fields(table))

@@ -64,7 +64,7 @@ def bill_of_materials(
     """The BOM as a DataFrame with :data:`BOM_COLUMNS`.
 
     ``parts`` and ``masses`` of the links (:func:`qsm.embodiment.parts.link_parts`,
-    :func:`qsm.embodiment.parts.part_mass_properties`, or the topology-optimised links' masses);
+    :func:`qsm.embodiment.part_mass.part_mass_properties`, or the topology-optimised links' masses);
     ``bearing_index`` the catalogue rows at A, B, C, D (-1: none fits, the row says so);
     ``topology_optimised`` per link (default all False); ``drives`` optional values per drive
     item (``"motor 1"`` ...) for the columns ``designation``, ``maker``, ``mass_kg``, ``source``,

@@ -28,12 +28,14 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.drives.catalogue import Catalogue, default_catalogue_folder, read_catalogue
-from qsm.embodiment.drives.selection import CHECKS, Selection, select_drives
-from qsm.embodiment.link_checks import StrengthCheck, append_columns
+from qsm.embodiment.drives.selection import Selection, select_drives
+from qsm.embodiment.drives.utilisation import CHECKS
+from qsm.embodiment.link_checks import StrengthCheck
 from qsm.embodiment.loads import Inertials, joint_loads
 from qsm.embodiment.sizing import SizedSections
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, MOTORS
-from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
+from qsm.physics.batch_mass import batch_mass_properties
+from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, loop_state
 from qsm.physics.kinematics import as_design
@@ -279,3 +281,18 @@ def drive_sentences(report: dict[str, Any]) -> list[str]:
             f"{s['cont_torque_Nm']:.0f} N m continuous and {s['top_speed_rad_s']:.2f} rad/s"
         )
     return out
+
+
+def append_columns(
+    table: pd.DataFrame, ok: NDArray[np.bool_], values: pd.DataFrame, flag: str
+) -> pd.DataFrame:
+    """``table`` with the columns of ``values`` (one row per True of ``ok``) appended, NaN on the
+    other rows, whose boolean ``flag`` column is False there."""
+    out = pd.DataFrame(index=table.index, columns=list(values.columns), dtype=float)
+    for key in values.columns:
+        column: Any = values[key].to_numpy()
+        if column.dtype.kind in "OUb":
+            out[key] = out[key].astype(object)
+        out.loc[ok, key] = column
+    out[flag] = out[flag].eq(True)
+    return pd.concat([table, out], axis=1)

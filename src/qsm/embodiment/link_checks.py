@@ -3,15 +3,15 @@ or thousands.
 
 :class:`StrengthCheck` bundles what the check needs (section, material, requirements, bearing
 catalogue, payload and duty) and evaluates designs in chunks, every step vectorised over the chunk:
-link mass properties (:func:`qsm.physics.cad.batch_mass_properties`), the loop state, the joint
-loads (:mod:`qsm.embodiment.loads`), the bearing of every joint (:mod:`qsm.embodiment.bearings`:
-the smallest whose static rating covers the joint's peak force with the bearing safety factor,
-among those whose seat leaves ``boss_wall_m`` of the boss and no wider than the plate, whose bore
-takes a steel pin in shear, and at A a motor shaft in torsion under the larger motor torque), and
-the
-link stresses with those bores (:mod:`qsm.embodiment.strength`: the bearing's seat at B, C, D, its
-bore, the motor shaft, at A). It gives Stage 2's strength columns (:data:`STRENGTH_COLUMNS`) and the
-optimisation's g13: the largest of the links' utilisation less 1 and the bearings' violation.
+link mass properties (:func:`qsm.physics.batch_mass.batch_mass_properties`), the loop state, the
+joint loads (:mod:`qsm.embodiment.loads`), the bearing of every joint
+(:mod:`qsm.embodiment.bearings`: the smallest whose static rating covers the joint's peak force with
+the bearing safety factor, among those whose seat leaves ``boss_wall_m`` of the boss and no wider
+than the plate, whose bore takes a steel pin in shear, and at A a motor shaft in torsion under the
+larger motor torque), and the link stresses with those bores (:mod:`qsm.embodiment.strength`: the
+bearing's seat at B, C, D, its bore, the motor shaft, at A). It gives Stage 2's strength columns
+(:data:`STRENGTH_COLUMNS`) and the optimisation's g13: the largest of the links' utilisation less 1
+and the bearings' violation.
 
 The link masses are those of solid bosses (:mod:`qsm.physics.cad`): the bores make the printed
 links lighter, so these loads bound the bored parts' from above (the realised design reports the
@@ -20,14 +20,15 @@ difference).
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field, fields
-from typing import Any, NamedTuple
+from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.bearings import BearingChoice, BearingTable, load_catalogue
+from qsm.embodiment.beam import Section
+from qsm.embodiment.bearings import BearingChoice, BearingTable, astuple_shallow, load_catalogue
 from qsm.embodiment.loads import Inertials, JointLoads, joint_loads, link_motion
 from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH, Material, StrengthSettings
 from qsm.embodiment.sizing import (
@@ -38,9 +39,10 @@ from qsm.embodiment.sizing import (
     seat_limit,
     size_sections,
 )
-from qsm.embodiment.strength import JOINTS, LinkStrength, Section, link_strength
+from qsm.embodiment.strength import JOINTS, LinkStrength, link_strength
 from qsm.mechanisms.dataset import JOINT_COLUMNS, STRENGTH_COLUMNS
-from qsm.physics.cad import DEFAULT_CAD, CadSettings, batch_mass_properties
+from qsm.physics.batch_mass import batch_mass_properties
+from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, loop_state
 from qsm.physics.kinematics import LINK_NAMES, as_design
@@ -70,11 +72,6 @@ class _Core(NamedTuple):
     bearing_util: NDArray[np.float64]
     link_util: NDArray[np.float64]
     util: NDArray[np.float64]
-
-
-def astuple_shallow(table: BearingTable) -> tuple:
-    """The fields of ``table`` in order, not copied."""
-    return tuple(getattr(table, f.name) for f in fields(table))
 
 
 @dataclass(frozen=True)
@@ -299,18 +296,3 @@ class StrengthCheck:
         good = np.concatenate([~c.bad for c in cores])
         tau = np.concatenate([c.loads.tau for c in cores])
         return np.where(np.isfinite(util), util - 1.0, UNDEFINED_VIOLATION), tau, good
-
-
-def append_columns(
-    table: pd.DataFrame, ok: NDArray[np.bool_], values: pd.DataFrame, flag: str
-) -> pd.DataFrame:
-    """``table`` with the columns of ``values`` (one row per True of ``ok``) appended, NaN on the
-    other rows, whose boolean ``flag`` column is False there."""
-    out = pd.DataFrame(index=table.index, columns=list(values.columns), dtype=float)
-    for key in values.columns:
-        column: Any = values[key].to_numpy()
-        if column.dtype.kind in "OUb":
-            out[key] = out[key].astype(object)
-        out.loc[ok, key] = column
-    out[flag] = out[flag].eq(True)
-    return pd.concat([table, out], axis=1)

@@ -30,12 +30,12 @@ Bores are regular polygons of ``cad.segments_per_circle`` sides that *circumscri
 circle (flats at the nominal radius), so a bearing or pin of the nominal diameter fits the STL; the
 mass properties are those of exactly that polygonal plate. They are exact for the holed prism: the
 area moments of the outline (the polygon formulas of
-:func:`qsm.physics.cad.polygon_mass_properties`) less the moments of every hole.
+:func:`qsm.physics.cad.polygon_mass_properties`) less the moments of every hole
+(:mod:`qsm.embodiment.part_mass`).
 """
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -52,12 +52,11 @@ from qsm.embodiment.bearings import (
     boss_radius_m,
     load_catalogue,
 )
+from qsm.embodiment.part_outlines import bar_outline, hole_polygon, upper_arm_outline
 from qsm.physics.cad import (
     DEFAULT_CAD,
     CadError,
     CadSettings,
-    MassProperties,
-    prism_properties,
 )
 from qsm.physics.kinematics import LINK_NAMES, as_design
 
@@ -166,77 +165,6 @@ def joint_radii(
     return np.concatenate([r, np.full((*r.shape[:-1], 1), r_e)], axis=-1)
 
 
-def _arc(cx: float, cy: float, r: float, a0: float, a1: float, seg: int) -> NDArray[np.float64]:
-    """Points on a CCW arc from a0 to a1 > a0 (rad), both ends included (as qsm.physics.cad)."""
-    n = max(2, math.ceil((a1 - a0) / (2 * math.pi) * seg) + 1)
-    a = np.linspace(a0, a1, n)
-    return np.column_stack([cx + r * np.cos(a), cy + r * np.sin(a)])
-
-
-def _overlap(r: float, h: float) -> float:
-    return math.sqrt(r * r - h * h)
-
-
-def bar_outline(length: float, r0: float, r1: float, cad: CadSettings) -> NDArray[np.float64]:
-    """CCW outline of a bar from (0, 0) to (length, 0) with bosses of radius r0 and r1 (m).
-
-    With ``r0 = r1 = cad.boss_radius_m`` it is the outline of :mod:`qsm.physics.cad`, point for
-    point.
-    """
-    h, seg = cad.width_m / 2, cad.segments_per_circle
-    if not (r0 > h and r1 > h):
-        raise CadError("boss radii must exceed half the bar width")
-    if not length > _overlap(r0, h) + _overlap(r1, h):
-        raise CadError(
-            f"bar of length {length:.4g} m is too short for bosses of radius {r0:.4g} and "
-            f"{r1:.4g} m"
-        )
-    b0, b1 = math.asin(h / r0), math.asin(h / r1)
-    return np.concatenate(
-        [
-            _arc(0.0, 0.0, r0, b0, 2 * math.pi - b0, seg),
-            _arc(length, 0.0, r1, b1 - math.pi, math.pi - b1, seg),
-        ]
-    )
-
-
-def upper_arm_outline(
-    l4: float, ee_x: float, ee_y: float, r_d: float, r_b: float, r_e: float, cad: CadSettings
-) -> NDArray[np.float64]:
-    """CCW outline of the L-shaped upper arm (qsm.physics.cad's) with its own boss radius at D, B
-    and E (m)."""
-    h, seg, pi = cad.width_m / 2, cad.segments_per_circle, math.pi
-    if not (r_d > h and r_b > h and r_e > h):
-        raise CadError("boss radii must exceed half the bar width")
-    bd, bb, be = (math.asin(h / r) for r in (r_d, r_b, r_e))
-    if not (
-        l4 > _overlap(r_d, h) + _overlap(r_b, h)
-        and ee_x - h > _overlap(r_b, h)
-        and ee_y - h > _overlap(r_e, h)
-    ):
-        raise CadError(
-            f"upper arm (l4={l4:.4g}, ee_x={ee_x:.4g}, ee_y={ee_y:.4g} m) is too small for bosses "
-            f"of radius {r_d:.4g}, {r_b:.4g}, {r_e:.4g} m on bars of width {cad.width_m} m"
-        )
-    return np.concatenate(
-        [
-            _arc(-l4, 0.0, r_d, bd, 2 * pi - bd, seg),
-            _arc(0.0, 0.0, r_b, pi + bb, 2 * pi - bb, seg),
-            [[ee_x - h, -h]],
-            _arc(ee_x, -ee_y, r_e, pi / 2 + be, 5 * pi / 2 - be, seg),
-            [[ee_x + h, h]],
-            _arc(0.0, 0.0, r_b, bb, pi - bb, seg),
-        ]
-    )
-
-
-def hole_polygon(centre: Sequence[float], diameter_m: float, segments: int) -> NDArray[np.float64]:
-    """Clockwise regular ``segments``-gon whose inscribed circle has ``diameter_m`` (m)."""
-    rv = diameter_m / 2 / math.cos(math.pi / segments)
-    a = -(np.arange(segments) + 0.5) * 2 * math.pi / segments  # clockwise
-    return np.column_stack([centre[0] + rv * np.cos(a), centre[1] + rv * np.sin(a)])
-
-
 def link_bores(
     design: ArrayLike, bearing_index: Sequence[int], settings: PartSettings = PartSettings()
 ) -> dict[str, tuple[Bore, ...]]:
@@ -303,68 +231,6 @@ def link_parts(
             raise CadError(f"{name}: the bores do not fit inside the outline")
         parts[name] = LinkPart(name, poly, bores[name])
     return parts
-
-
-def _moments(ring: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Signed area moments of a closed polygon about the origin: [A, int x, int y, int x^2,
-    int y^2, int x y] (positive for a CCW ring)."""
-    x, y = ring[:, 0], ring[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
-    c = x * yn - xn * y
-    return np.array(
-        [
-            c.sum() / 2,
-            ((x + xn) * c).sum() / 6,
-            ((y + yn) * c).sum() / 6,
-            ((x * x + x * xn + xn * xn) * c).sum() / 12,
-            ((y * y + y * yn + yn * yn) * c).sum() / 12,
-            ((x * yn + 2 * x * y + 2 * xn * yn + xn * y) * c).sum() / 24,
-        ]
-    )
-
-
-def _ring(coords: ArrayLike) -> NDArray[np.float64]:
-    p = np.asarray(coords, dtype=float)[:, :2]
-    return p[:-1] if len(p) > 1 and np.array_equal(p[0], p[-1]) else p
-
-
-def polygon_with_holes_mass_properties(
-    polygon: shapely.Polygon, thickness_m: float, density_kg_m3: float
-) -> MassProperties:
-    """Exact mass properties of the prism extruding ``polygon`` (m, with holes) symmetrically in z.
-
-    The outline's area moments (the formulas of :func:`qsm.physics.cad.polygon_mass_properties`)
-    less every hole's, whatever the rings' orientations.
-    """
-    ext = _moments(_ring(polygon.exterior.coords))
-    m = ext * np.sign(ext[0])
-    for interior in polygon.interiors:
-        hole = _moments(_ring(interior.coords))
-        m = m - hole * np.sign(hole[0])
-    area, qx, qy, ixx, iyy, ixy = m
-    if not area > 0:
-        raise CadError("polygon must have positive area")
-    cx, cy = qx / area, qy / area
-    second = (ixx - area * cx * cx, iyy - area * cy * cy, ixy - area * cx * cy)
-    return prism_properties(area, (cx, cy), second, thickness_m, density_kg_m3)
-
-
-def part_mass_properties(
-    parts: Mapping[str, LinkPart], cad: CadSettings = DEFAULT_CAD
-) -> dict[str, MassProperties]:
-    """Mass properties (link frames, SI) of bored parts: a drop-in for
-    :func:`qsm.physics.cad.mass_properties`."""
-    return {
-        name: polygon_with_holes_mass_properties(p.polygon, cad.thickness_m, cad.density_kg_m3)
-        for name, p in parts.items()
-    }
-
-
-def bored_mass_properties(
-    design: ArrayLike, bearing_index: Sequence[int], settings: PartSettings = PartSettings()
-) -> dict[str, MassProperties]:
-    """:func:`qsm.physics.cad.mass_properties` of the bored links of one design."""
-    return part_mass_properties(link_parts(design, bearing_index, settings), settings.cad)
 
 
 def part_meshes(

@@ -36,12 +36,14 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from qsm.embodiment.beam import Section
 from qsm.embodiment.bearings import BearingChoice, BearingTable, min_shaft_diameter_m
 from qsm.embodiment.bearings import select_bearings as _select
 from qsm.embodiment.loads import Inertials, JointLoads, joint_loads, link_motion
 from qsm.embodiment.material import Material, StrengthSettings
-from qsm.embodiment.strength import BORES, JOINTS, LinkLoads, Section, link_loads, link_peaks
-from qsm.physics.cad import CadSettings, batch_mass_properties
+from qsm.embodiment.strength import BORES, JOINTS, LinkLoads, link_loads, link_peaks
+from qsm.physics.batch_mass import batch_mass_properties
+from qsm.physics.cad import CadSettings
 from qsm.physics.duty import Duty
 from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, loop_state
 from qsm.physics.kinematics import LINK_NAMES

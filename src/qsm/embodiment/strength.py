@@ -36,90 +36,20 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass
 from typing import NamedTuple
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.embodiment.beam import LOADS, Cuts, Section, link_cuts
 from qsm.embodiment.loads import GRAVITY, Inertials, JointLoads, LinkMotion
 from qsm.embodiment.material import Material, StrengthSettings
-from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import as_design, cross
 
 #: Euler effective-length factor (K) of every member checked for buckling: pinned-pinned.
 BUCKLING_K = 1.0
 
 
-@dataclass(frozen=True)
-class Section:
-    """The plate section: width_m (in the plane), thickness_m, boss_radius_m (m); floats, or
-    arrays over the designs' leading axes (one section per design)."""
-
-    width_m: float | NDArray[np.float64]
-    thickness_m: float | NDArray[np.float64]
-    boss_radius_m: float | NDArray[np.float64]
-
-    @classmethod
-    def of(cls, cad: CadSettings, scale: ArrayLike | None = None) -> Section:
-        """The CAD section, every length times ``scale`` (per design) when given."""
-        if scale is None:
-            return cls(cad.width_m, cad.thickness_m, cad.boss_radius_m)
-        f = np.asarray(scale, dtype=float)
-        return cls(cad.width_m * f, cad.thickness_m * f, cad.boss_radius_m * f)
-
-    def trailing(self, axes: int) -> Section:
-        """This section with ``axes`` trailing axes added (to broadcast against per-sample,
-        per-cut arrays)."""
-        grow = (...,) + (None,) * axes
-        return Section(
-            *(np.asarray(v)[grow] for v in (self.width_m, self.thickness_m, self.boss_radius_m))
-        )
-
-    @property
-    def overlap_m(self) -> float | NDArray[np.float64]:
-        """Distance from a joint centre to the boss edge along a bar (m)."""
-        return np.sqrt(self.boss_radius_m**2 - (np.asarray(self.width_m) / 2) ** 2)
-
-    @property
-    def weak_inertia_m4(self) -> float | NDArray[np.float64]:
-        """Second moment of the bar section about its weaker axis (m^4)."""
-        w, t = self.width_m, self.thickness_m
-        return np.minimum(w * t**3, t * w**3) / 12
-
-
-def _pt(x: ArrayLike, y: ArrayLike = 0.0) -> NDArray[np.float64]:
-    x, y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
-    return np.stack([x, y], axis=-1)
-
-
-class Cuts(NamedTuple):
-    """The cuts through one link's spine (C of them; leading axes of the designs).
-
-    at (..., C, 2): link-frame point of each cut; tangent (C, 2): unit vector into the piece
-    beyond; piece (..., C, 3, 2): that piece's spine polyline from the cut on (a repeated point
-    is a segment of length 0); load (..., C, 2): where the piece's one joint load acts;
-    slot (C,): which of the link's joint loads (:data:`LOADS`) that is; bore (C,): the cut passes
-    through a bore (net section); column (C,): the cut feeds the buckling check; labels.
-    """
-
-    at: NDArray[np.float64]
-    tangent: NDArray[np.float64]
-    piece: NDArray[np.float64]
-    load: NDArray[np.float64]
-    slot: NDArray[np.intp]
-    bore: NDArray[np.bool_]
-    column: NDArray[np.bool_]
-    labels: tuple[str, ...]
-
-
-#: The joint loads on each link's pieces beyond its cuts: (force of :class:`JointLoads`, sign).
-LOADS: dict[str, tuple[tuple[str, float], ...]] = {
-    "lower_arm": (("b", -1.0),),
-    "crank": (("c", -1.0),),
-    "coupler": (("d", 1.0),),
-    "upper_arm": (("d", -1.0), ("e", 1.0)),
-}
 #: Joints with a bore (A-D, the order of the bore diameters) and, per link, the joint of the bore
 #: its net-section cuts pass through.
 JOINTS: tuple[str, ...] = ("A", "B", "C", "D")
@@ -131,64 +61,6 @@ BORES: dict[str, tuple[tuple[str, str], ...]] = {
     "coupler": (("C", "c"), ("D", "d")),
     "upper_arm": (("B", "b"), ("D", "d")),
 }
-
-
-def _cuts(rows: list[tuple], labels: list[str]) -> Cuts:
-    """Stack cut rows (at, tangent, piece points, load point, slot, bore, column)."""
-    at, tangent, piece, load, slot, bore, column = zip(*rows, strict=True)
-    pieces = [np.stack([*p, *[p[-1]] * (3 - len(p))], axis=-2) for p in piece]
-    return Cuts(
-        np.stack(at, -2),
-        np.array(tangent, dtype=float),
-        np.stack(pieces, -3),
-        np.stack(load, -2),
-        np.array(slot),
-        np.array(bore),
-        np.array(column),
-        tuple(labels),
-    )
-
-
-def _bar(length: NDArray[np.float64], sec: Section, bore_at_start: bool) -> Cuts:
-    """Cuts of a bar from (0, 0) to (length, 0), loaded at its far joint."""
-    x0, end, tx = sec.overlap_m, _pt(length), (1.0, 0.0)
-    rows, labels = [], []
-    if bore_at_start:
-        rows.append((_pt(0 * length), tx, (_pt(0 * length), end), end, 0, True, False))
-        labels.append("net section at the bore of the driven joint")
-    for frac, label in ((0.0, "first boss edge"), (0.5, "mid-span"), (1.0, "second boss edge")):
-        x = _pt(x0 + frac * (length - 2 * x0))
-        rows.append((x, tx, (x, end), end, 0, False, True))
-        labels.append(f"bar at the {label}")
-    return _cuts(rows, labels)
-
-
-def link_cuts(design: ArrayLike, sec: Section) -> dict[str, Cuts]:
-    """The cuts of each link of ``design`` (..., 6) m (see the module docstring)."""
-    d = as_design(design)
-    l1, l2, l3, l4, ex, ey = (d[..., i] for i in range(6))
-    x0, h, z = sec.overlap_m, sec.width_m / 2, 0 * l4
-    dp, corner, e = _pt(-l4), _pt(ex), _pt(ex, -ey)
-    left, right, down = (-1.0, 0.0), (1.0, 0.0), (0.0, -1.0)
-    upper = [
-        ((_pt(z), left, (_pt(z), dp), dp, 0, True, False), "net section at bore B, D side"),
-        ((_pt(-x0 + z), left, (_pt(-x0 + z), dp), dp, 0, False, True), "bar at boss B, D side"),
-        ((_pt(-l4 + x0), left, (_pt(-l4 + x0), dp), dp, 0, False, True), "bar at boss D"),
-        ((_pt(z), right, (_pt(z), corner, e), e, 1, True, False), "net section at bore B, E side"),
-        (
-            (_pt(x0 + z), right, (_pt(x0 + z), corner, e), e, 1, False, False),
-            "bar at boss B, E side",
-        ),
-        ((_pt(ex - h), right, (_pt(ex - h), corner, e), e, 1, False, False), "bar at the corner"),
-        ((_pt(ex, -h + z), down, (_pt(ex, -h + z), e), e, 1, False, False), "bar below the corner"),
-        ((_pt(ex, x0 - ey), down, (_pt(ex, x0 - ey), e), e, 1, False, False), "bar at boss E"),
-    ]
-    return {
-        "lower_arm": _bar(l1, sec, True),
-        "crank": _bar(l2, sec, True),
-        "coupler": _bar(l3, sec, False),
-        "upper_arm": _cuts([r for r, _ in upper], [label for _, label in upper]),
-    }
 
 
 #: Spine length (m) of each link, over which its mass is spread.

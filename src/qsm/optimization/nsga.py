@@ -19,16 +19,8 @@ from pymoo.indicators.hv import HV
 from pymoo.optimize import minimize
 
 from qsm.mechanisms.scale import FitSettings
-from qsm.optimization.problems import (
-    G12,
-    G13,
-    G14,
-    LOOP_ALLOWANCE,
-    ExtraConstraints,
-    LabelStats,
-    PaperProblem,
-    RatiosProblem,
-)
+from qsm.optimization.constraint_set import G12, G13, G14, LOOP_ALLOWANCE, ExtraConstraints
+from qsm.optimization.problems import LabelStats, PaperProblem, RatiosProblem
 from qsm.optimization.ranking import OBJECTIVE_SETS, PREDICTION_COLUMNS, Objective
 from qsm.physics.kinematics import RATIO_NAMES
 from qsm.surrogate.model import INPUTS, Surrogate

@@ -42,166 +42,18 @@ surrogate.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
 from pymoo.core.problem import Problem
 
-from qsm.embodiment.drive_checks import DriveCheck, same_loads, violation_of
-from qsm.embodiment.link_checks import StrengthCheck
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings, fit_rows
-from qsm.optimization.constraints import containment_margin_m, printability_violation_mm
-from qsm.physics.cad import CadSettings
-from qsm.physics.duty import DutySettings
+from qsm.optimization.constraint_set import PAPER_CONSTRAINTS, ExtraConstraints
 from qsm.physics.kinematics import design_from_ratios
 from qsm.surrogate.model import Surrogate
-
-PAPER_CONSTRAINTS: tuple[str, ...] = (
-    "g1_eta_positive",
-    "g2_tau1_positive",
-    "g3_tau2_positive",
-    "g4_crank_rocker",
-    "g5_eta_low",
-    "g6_eta_high",
-    "g7_tau1_low",
-    "g8_tau1_high",
-    "g9_tau2_low",
-    "g10_tau2_high",
-)
-G11 = "g11_task_contained"
-G12 = "g12_printable"
-G13 = "g13_links_hold"
-#: The optimisation's g13 and g14 sample each duty segment this many times fewer (the peaks of a
-#: smooth minimum-jerk move change little), and keep :data:`LOOP_ALLOWANCE` in hand for it: on
-#: 600 designs of the default dataset the full duty's strength utilisation was at most 1.4 % above
-#: the coarse duty's (99th percentile 0.4 %) and the drive violation at most 0.0012 above, so no
-#: design that held on the coarse duty with the allowance failed on the full one. Verification
-#: uses the full duty.
-LOOP_SAMPLES_DIVISOR = 4
-LOOP_ALLOWANCE = 0.02
-G14 = "g14_drives_exist"
-
-
-def loop_duty(settings: DutySettings) -> DutySettings:
-    """The coarser duty of the optimisation's g13 and g14: each segment sampled
-    :data:`LOOP_SAMPLES_DIVISOR` times fewer, the holding poses all kept."""
-    fewer = max(2, settings.samples_per_segment // LOOP_SAMPLES_DIVISOR)
-    return replace(settings, samples_per_segment=fewer)
-
-
-@dataclass(frozen=True)
-class ExtraConstraints:
-    """g11, g12, g13 and g14: which are on and what they need.
-
-    ``containment`` (g11, paper formulation only): the task disk of ``fit`` grown by
-    ``tolerance_m`` (m) lies in the workspace, a Euclidean clearance of ``tolerance_m`` (the
-    ratios formulation holds the task by its scale, fitted to the same grown disk);
-    ``printable`` (g12) for the link section ``cad`` and the printer
-    ``volume_mm`` (W, L, H in mm); ``strength`` (g13, every formulation, when given): every link
-    holds its loads over the duty (:class:`qsm.embodiment.link_checks.StrengthCheck`);
-    ``drives`` (g14, every formulation, when given): each motor has a drive in the catalogue
-    that meets its duty (:class:`qsm.embodiment.drive_checks.DriveCheck`); ``drive_mass`` (when
-    given): the drive check whose selection gives the drive-mass objective (kept when g14 is
-    dropped).
-    """
-
-    containment: bool
-    printable: bool
-    fit: FitSettings
-    cad: CadSettings
-    volume_mm: tuple[float, float, float]
-    tolerance_m: float = 0.001
-    strength: StrengthCheck | None = None
-    drives: DriveCheck | None = None
-    drive_mass: DriveCheck | None = None
-
-    def names(self, formulation: str) -> tuple[str, ...]:
-        """Constraint columns of ``formulation`` in order: g1..g10, then g11, g12, g13, g14 if
-        on."""
-        extra = (G11,) if self.containment and formulation == "paper" else ()
-        extra += (G12,) if self.printable else ()
-        extra += (G13,) if self.strength is not None else ()
-        return PAPER_CONSTRAINTS + extra + ((G14,) if self.drives is not None else ())
-
-    def label(self, formulation: str) -> str:
-        """Human-readable constraint set, e.g. 'g1..g10 (the paper's) + g12 printable'."""
-        names = self.names(formulation)
-        text = "g1..g10 (the paper's)"
-        spare = f"{1e3 * self.tolerance_m:g} mm to spare"
-        if G11 in names:
-            text += f" + g11 task contained ({spare})"
-        elif formulation == "ratios":
-            text += f" + task contained by the scale ({spare})"
-        if G12 in names:
-            volume = " x ".join(f"{v:g}" for v in self.volume_mm)
-            text += f" + g12 printable on {volume} mm"
-        if G13 in names:
-            text += " + g13 links hold their loads"
-        if G14 in names:
-            text += " + g14 each motor has a drive"
-        return text
-
-    def columns(
-        self, formulation: str, design: NDArray[np.float64], g: NDArray[np.float64] | None = None
-    ) -> list[NDArray]:
-        """The g11 / g12 / g13 / g14 columns (``G <= 0``) for scaled designs (N, 6) (see
-        :meth:`evaluate`)."""
-        return self.evaluate(formulation, design, g)[0]
-
-    def evaluate(
-        self, formulation: str, design: NDArray[np.float64], g: NDArray[np.float64] | None = None
-    ) -> tuple[list[NDArray], NDArray | None]:
-        """:meth:`columns` and the drive-mass objective (N,) in kg (None without
-        ``drive_mass``), from one drive selection. g13, g14 and the drive mass are evaluated
-        only for the designs that meet every cheaper constraint (``g``, the g1..g10 columns
-        (N, 10) when given, and g11, g12); the others are infeasible already: they read 0 in
-        g13 and g14 (not evaluated), so their constraint violation ranks them by the cheaper
-        constraints alone, and the drive-mass penalty of a design without drives."""
-        cols = []
-        if self.containment and formulation == "paper":
-            disk = self.fit.disk
-            grown = disk.radius + self.fit.safety_margin + self.tolerance_m
-            margin = containment_margin_m(
-                design, self.fit.op, type(disk)(disk.centre, grown), self.fit.resolution.n_delta
-            )
-            cols.append(-margin)
-        if self.printable:
-            cols.append(printability_violation_mm(design, self.cad, self.volume_mm))
-        if self.strength is None and (self.drives or self.drive_mass) is None:
-            return cols, None
-        cheap = [np.asarray(c).reshape(len(design), -1) for c in ([] if g is None else [g])]
-        cheap += [np.asarray(c).reshape(len(design), -1) for c in cols]
-        todo = np.all(np.column_stack(cheap) <= 0, axis=1) if cheap else np.ones(len(design), bool)
-        expensive, mass = self._expensive(design[todo])
-        for col in expensive:
-            full = np.zeros(len(design))
-            full[todo] = col
-            cols.append(full)
-        if mass is None:
-            return cols, None
-        every = np.full(len(design), self.drive_mass.penalty_kg)
-        every[todo] = mass
-        return cols, every
-
-    def _expensive(self, design: NDArray[np.float64]) -> tuple[list[NDArray], NDArray | None]:
-        """The g13 / g14 columns of scaled designs (N, 6), with :data:`LOOP_ALLOWANCE`, and
-        their drive-mass objective (None without ``drive_mass``)."""
-        cols = []
-        torques = None
-        if self.strength is not None:
-            g13, *torques = self.strength.violation_and_torques(design, LOOP_ALLOWANCE)
-            cols.append(g13)
-        check = self.drives or self.drive_mass
-        if check is None:
-            return cols, None
-        shared = torques is not None and same_loads(self.strength, check)
-        table = check.evaluate(design, tuple(torques) if shared else None)
-        if self.drives is not None:
-            cols.append(violation_of(table) + LOOP_ALLOWANCE)
-        return cols, None if self.drive_mass is None else self.drive_mass.mass_objective(table)
 
 
 @dataclass(frozen=True)

@@ -13,13 +13,9 @@ from numpy.typing import ArrayLike
 
 from qsm.embodiment.bearings import BearingTable
 from qsm.embodiment.bom import bill_of_materials, write_bom
-from qsm.embodiment.parts import (
-    LinkPart,
-    PartSettings,
-    hole_polygon,
-    link_parts,
-    part_mass_properties,
-)
+from qsm.embodiment.part_mass import part_mass_properties
+from qsm.embodiment.part_outlines import hole_polygon
+from qsm.embodiment.parts import LinkPart, PartSettings, link_parts
 from qsm.physics.cad import MassProperties
 
 

@@ -27,8 +27,9 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.embodiment.beam import Cuts, Section, link_cuts
 from qsm.embodiment.loads import GRAVITY, Inertials, joint_loads, link_motion
-from qsm.embodiment.strength import Cuts, Section, cut_forces, link_cuts, section_stress
+from qsm.embodiment.strength import cut_forces, section_stress
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, link_outlines, mass_properties
 from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.dynamics import loop_state

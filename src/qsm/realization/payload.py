@@ -14,7 +14,7 @@ properties) is simulated forward:
 * drives: each motor is the drive chosen for it (:mod:`qsm.embodiment.drive_checks`); the
   model and the plant carry its reflected inertia as joint armature on theta1 / theta2, and the
   torque it can give at the joint is its torque-speed envelope on the output side
-  (:class:`qsm.embodiment.drives.selection.OutputEnvelope`: gear efficiency eta both ways,
+  (:class:`qsm.embodiment.drives.envelope.OutputEnvelope`: gear efficiency eta both ways,
   eta N T_m driving and N T_m / eta back-driven, the gearbox's intermittent torque), evaluated
   at the plant's joint speed at every step. The gear losses act through that envelope: the
   controller asks for a joint torque and the motor supplies joint torque / (eta N) when driving.
@@ -44,7 +44,7 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.drives.selection import OutputEnvelope
+from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
 from qsm.physics.duty import minimum_jerk
 from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, inverse_dynamics, loop_state

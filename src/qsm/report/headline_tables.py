@@ -1,0 +1,72 @@
+"""The rows of the tables in ``results/summary.md`` (markdown): link strength (MPa), the drives
+(N m, rad/s, W, kg) and the topology-optimised links (kg, MPa), from the run's JSON reports.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+
+def _factor(x: float | None) -> str:
+    return "inf" if x is None else f"{x:.2f}"
+
+
+def _strength_rows(strength: Mapping[str, Any]) -> list[str]:
+    return [
+        f"| {link} | {r['stress_peak_MPa']:.1f} | {r['allowable_MPa']:.1f} "
+        f"| {r['safety_factor']:.2f} | {_factor(r['buckling_factor'])} "
+        f"| {'yes' if r['holds'] else 'NO'} |"
+        for link, r in strength["links"].items()
+    ]
+
+
+def _drive_rows(drives: Mapping[str, Any]) -> list[str]:
+    rows = []
+    for key, m in drives.get("motors", {}).items():
+        d = m.get("drive") or m["best_drive"]
+        r = m["required"]
+        margins = ", ".join(
+            f"{k.replace('_', ' ')} {100 * v:.0f} %" for k, v in m["margins"].items()
+        )
+        rows.append(
+            f"| {key.removeprefix('motor')} ({m['drives']}) | {d['motor']} + {d['gearbox']}"
+            f"{'' if m['has_drive'] else ' (NONE meets the duty: nearest)'} | {d['ratio']:.4g} "
+            f"| {d['mass_kg']:.2f} | {r['peak_torque_Nm']:.1f} | {r['rms_torque_Nm']:.1f} "
+            f"| {r['peak_speed_rad_s']:.2f} | {r['peak_power_W']:.0f} | {margins} |"
+        )
+    return rows
+
+
+def _drive_failures(drives: Mapping[str, Any]) -> list[str]:
+    lines = []
+    for key, m in drives.get("motors", {}).items():
+        if m["has_drive"]:
+            continue
+        s = m["strongest_drive"]
+        fails = ", ".join(
+            f"{k.replace('_', ' ')} by {100 * v:.0f} %" for k, v in m["failing"].items()
+        )
+        lines.append(
+            f"- motor {key.removeprefix('motor')} ({m['drives']}): no drive of the catalogue meets "
+            f"its duty; the nearest exceeds its {fails}. The strongest drive, {s['motor']} + "
+            f"{s['gearbox']} ({s['ratio']:.4g}:1), offers {s['peak_torque_Nm']:.0f} N m peak, "
+            f"{s['cont_torque_Nm']:.0f} N m continuous and {s['top_speed_rad_s']:.2f} rad/s at "
+            "the joint."
+        )
+    return lines
+
+
+def _topology_rows(topology: Mapping[str, Any]) -> list[str]:
+    rows = []
+    for link, r in topology["links"].items():
+        part = (
+            "solid (no lighter plate held)"
+            if r["kept_solid"]
+            else (f"optimised, {100 * r['attempts'][-1]['volume_fraction']:.0f} % material kept")
+        )
+        rows.append(
+            f"| {link} | {r['mass_before_kg']:.3f} -> {r['mass_after_kg']:.3f} "
+            f"| {r['max_von_mises_after_MPa']:.1f} | {r['allowable_stress_MPa']:.1f} | {part} |"
+        )
+    return rows
