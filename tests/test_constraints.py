@@ -213,10 +213,10 @@ def test_g11_holds_exactly_when_the_euclidean_clearance_reaches_the_tolerance():
 
 def test_g13_g14_evaluated_only_where_the_cheaper_constraints_hold():
     """g13 / g14 of the designs that meet g1..g12 equal the checks' own values (with the loop's
-    allowance); the others read 0 (not evaluated), and never reach the checks."""
+    allowance); the others read NOT_EVALUATED, and never reach the checks."""
     from qsm.embodiment.drive_checks import DriveCheck
     from qsm.embodiment.link_checks import StrengthCheck
-    from qsm.optimization.constraint_set import LOOP_ALLOWANCE
+    from qsm.optimization.constraint_set import LOOP_ALLOWANCE, NOT_EVALUATED
     from qsm.physics.duty import DutySettings, duty_cycle
 
     duty = duty_cycle(DutySettings(samples_per_segment=6))
@@ -229,7 +229,7 @@ def test_g13_g14_evaluated_only_where_the_cheaper_constraints_hold():
     g12, g13, g14 = extra.columns("paper", designs, g)
     todo = (g <= 0).all(1) & (g12 <= 0)
     assert 0 < todo.sum() < len(designs)
-    assert np.all(g13[~todo] == 0) and np.all(g14[~todo] == 0)
+    assert np.all(g13[~todo] == NOT_EVALUATED) and np.all(g14[~todo] == NOT_EVALUATED)
     # the links' utilisation with the allowance, the bearings' without (from the full table)
     table = strength.evaluate(designs[todo])
     allow = strength.allowable_stress_pa / 1e6

@@ -73,3 +73,22 @@ def test_ratios_problem_uses_the_exact_scale_and_eta(model):
     design, _, feasible = problem.designs(ratios)
     assert design[0, 0] == pytest.approx(exact["scale_m"]) and feasible.tolist() == [True, False]
     assert out["G"][1, 3] == 1.0  # the crossed design is infeasible
+
+
+def test_the_least_violation_of_g13_counts_only_designs_where_it_was_evaluated():
+    """g13 / g14 read 0 where the cheaper constraints fail (not evaluated there); their least
+    violation is over the designs that met the others, so a task nothing holds drops g13."""
+    from qsm.optimization.nsga import InfeasibleProblem
+
+    names = ("g1", "g12", "g13", "g14")
+    violation = np.array(
+        [
+            [0.5, 0.0, 0.0, 0.0],  # fails g1: g13 and g14 not evaluated
+            [0.0, 0.0, 0.3, 0.0],  # meets g1 and g12, too weak
+            [0.0, 0.0, 0.7, 0.1],
+        ]
+    )
+    least = InfeasibleProblem(violation).least(names, ("g13", "g14"))
+    assert least == {"g1": 0.0, "g12": 0.0, "g13": 0.3, "g14": 0.0}
+    none_held = InfeasibleProblem(violation[:1]).least(names, ("g13", "g14"))
+    assert none_held == {"g1": 0.5, "g12": 0.0, "g13": 0.0, "g14": 0.0}

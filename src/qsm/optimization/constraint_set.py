@@ -11,11 +11,15 @@ import numpy as np
 from numpy.typing import NDArray
 
 from qsm.embodiment.drive_checks import DriveCheck, same_loads, violation_of
-from qsm.embodiment.link_checks import StrengthCheck
+from qsm.embodiment.link_checks import UNDEFINED_VIOLATION, StrengthCheck
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimization.constraints import containment_margin_m, printability_violation_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.duty import DutySettings
+
+#: g13 and g14 of a candidate that fails a cheaper constraint (not evaluated there): the
+#: violation of a design whose check is undefined.
+NOT_EVALUATED = UNDEFINED_VIOLATION
 
 PAPER_CONSTRAINTS: tuple[str, ...] = (
     "g1_eta_positive",
@@ -115,9 +119,10 @@ class ExtraConstraints:
         """:meth:`columns` and the drive-mass objective (N,) in kg (None without
         ``drive_mass``), from one drive selection. g13, g14 and the drive mass are evaluated
         only for the designs that meet every cheaper constraint (``g``, the g1..g10 columns
-        (N, 10) when given, and g11, g12); the others are infeasible already: they read 0 in
-        g13 and g14 (not evaluated), so their constraint violation ranks them by the cheaper
-        constraints alone, and the drive-mass penalty of a design without drives."""
+        (N, 10) when given, and g11, g12); the others are infeasible already: they read
+        :data:`NOT_EVALUATED` in g13 and g14, so that failing a cheaper constraint never ranks
+        above meeting them all, and among themselves their cheaper violations rank them; their
+        drive mass is the penalty of a design without drives."""
         cols = []
         if self.containment and formulation == "paper":
             disk = self.fit.disk
@@ -135,7 +140,7 @@ class ExtraConstraints:
         todo = np.all(np.column_stack(cheap) <= 0, axis=1) if cheap else np.ones(len(design), bool)
         expensive, mass = self._expensive(design[todo])
         for col in expensive:
-            full = np.zeros(len(design))
+            full = np.full(len(design), NOT_EVALUATED)
             full[todo] = col
             cols.append(full)
         if mass is None:

@@ -30,7 +30,8 @@ form:
 
 g13, g14 and the drive mass are the costly ones (the closed-chain loads of every duty sample):
 they are evaluated only for the candidates that meet every other constraint (about half of a
-default run's), and the rest, infeasible already, read 0 in g13 and g14.
+default run's), and the rest, infeasible already, read a large violation there
+(:data:`qsm.optimization.constraint_set.NOT_EVALUATED`).
 
 With these switches off the paper formulation is the paper's g1..g10 exactly.
 
