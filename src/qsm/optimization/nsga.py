@@ -244,8 +244,8 @@ def optimize(
             else:
                 dropped.append(
                     "g13 dropped: no design whose links hold their loads (least strength "
-                    f"utilisation in the last generation "
-                    f"{(1 + least[G13]) / (1 + LOOP_ALLOWANCE):.2f})"
+                    f"utilisation in the last generation {1 + least[G13]:.2f}, the links' with "
+                    f"the loop's {100 * LOOP_ALLOWANCE:g} % allowance)"
                 )
                 extra = replace(extra, strength=None)
             problem = make(extra)
