@@ -54,6 +54,11 @@ TASKS: dict[str, tuple[str, list[list[float]], float]] = {
         [[-0.55, -0.30], [-0.45, -0.42]],
         8.0,
     ),
+    "right_side": (
+        "the default cell mirrored to x > 0 (designed as the mirror image)",
+        [[0.53, 0.17], [0.70, 0.02], [0.60, 0.02], [0.70, 0.12], [0.60, 0.12]],
+        5.0,
+    ),
     "single_point": ("one point", [[-0.6, 0.1]], 5.0),
     "impossible": (
         "a circle round the base, which nothing can hold",
