@@ -238,7 +238,8 @@ def optimize(
             elif unmet[0] == G14:
                 dropped.append(
                     "g14 dropped: no design has a drive for each motor in the catalogue (least "
-                    f"violation in the last generation {least[G14]:.3g})"
+                    "drive utilisation in the last generation "
+                    f"{1 + least[G14] - LOOP_ALLOWANCE:.2f}, on the loop's coarser duty)"
                 )
                 extra = replace(extra, drives=None)
             else:
