@@ -139,10 +139,13 @@ def select_drives(
     finite = np.isfinite(tau).all(axis=1) & np.isfinite(omega).all(axis=1)
     if acc is not None:
         finite &= np.isfinite(acc).all(axis=1)
-    u = np.full((n_d, n_c, len(CHECKS)), np.inf)
-    u[finite] = utilisation(
-        arr, tau[finite], omega[finite], w[finite], None if acc is None else acc[finite]
-    )
+    if finite.all():
+        u = utilisation(arr, tau, omega, w, acc)
+    else:
+        u = np.full((n_d, n_c, len(CHECKS)), np.inf)
+        u[finite] = utilisation(
+            arr, tau[finite], omega[finite], w[finite], None if acc is None else acc[finite]
+        )
     v = u.max(axis=2) - 1
     rows = np.arange(n_d)
     best = v.argmin(axis=1)
