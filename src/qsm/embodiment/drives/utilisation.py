@@ -222,28 +222,25 @@ def _moving(
     env = np.empty((n_d, n_c))
     table = {i: np.empty(n_d) for i in pull}
     step = max(1, _BLOCK // max(1, n_c * m))
-    sig, sq, back = (
-        np.empty((step, n_j, m)),
-        np.empty((step, n_j, m)),
-        np.empty((step, n_j, m), bool),
-    )
+    sig, sq, driving = (np.empty((step, n_j, m)) for _ in range(3))
     e = np.empty((step, n_c, m))
     eta, n_ratio = arr.efficiency, arr.ratio
-    for start in range(0, n_d, step):
+    for start in range(0, n_d, step):  # no masked copies: branches on the sign are slow
         b = slice(start, min(n_d, start + step))
         k = b.stop - b.start
-        s, q, bk, ee = sig[:k], sq[:k], back[:k], e[:k]
+        s, q, dr, ee = sig[:k], sq[:k], driving[:k], e[:k]
         np.add(ts[b, None, :], js, out=s)
         s.max(axis=2, initial=0.0, out=hi[b])
         s.min(axis=2, initial=0.0, out=lo[b])
-        np.less(s, 0.0, out=bk)
-        np.add(s, spk, out=ee)
-        np.copyto(ee, 0.0, where=bk)
-        ee.max(axis=2, initial=0.0, out=env[b])
         np.multiply(s, s, out=q)
         np.matmul(q, w_all, out=s_all[b])
-        np.copyto(q, 0.0, where=bk)
+        np.maximum(s, 0.0, out=q)
+        np.multiply(q, q, out=q)
         np.matmul(q, w_drv, out=s_drv[b])
+        np.greater_equal(s, 0.0, out=dr)  # 1.0 on driving samples, else 0.0
+        np.add(s, spk, out=ee)
+        np.multiply(ee, dr, out=ee)
+        ee.max(axis=2, initial=0.0, out=env[b])
         for i, p in pull.items():
             x = s[:, i if n_j > 1 else 0]
             tau_m = np.where(x >= 0, x / eta[i], -x * eta[i]) / n_ratio[i]
