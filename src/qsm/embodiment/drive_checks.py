@@ -21,6 +21,7 @@ drive-mass objective.
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from functools import cached_property
 from typing import Any
 
 import numpy as np
@@ -29,7 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.drives.catalogue import Catalogue, default_catalogue_folder, read_catalogue
 from qsm.embodiment.drives.selection import Selection, select_drives
-from qsm.embodiment.drives.utilisation import CHECKS
+from qsm.embodiment.drives.utilisation import CHECKS, DriveArrays
 from qsm.embodiment.link_checks import StrengthCheck
 from qsm.embodiment.loads import Inertials, joint_loads
 from qsm.embodiment.sizing import SizedSections
@@ -79,6 +80,23 @@ class DriveCheck:
         )
         return tau, good
 
+    @cached_property
+    def arrays(self) -> DriveArrays:
+        """The catalogue's per-drive values, read once."""
+        return DriveArrays.of(self.catalogue)
+
+    @cached_property
+    def _columns(self) -> dict[str, NDArray]:
+        """The catalogue's drive columns of :data:`DRIVE_COLUMNS` (C,), read once."""
+        d = self.catalogue.drives
+        return {
+            "motor": d["motor"].to_numpy(object),
+            "gearbox": d["gearbox"].to_numpy(object),
+            "ratio": self.arrays.ratio,
+            "mass_kg": self.arrays.mass,
+            "reflected_inertia_kgm2": self.arrays.reflected_inertia,
+        }
+
     def select(self, tau: ArrayLike) -> list[Selection]:
         """One :class:`Selection` per motor for motor torques (D, N, 2) N m over the duty."""
         tau = np.asarray(tau, dtype=float)
@@ -96,6 +114,7 @@ class DriveCheck:
                     du.weight_s,
                     self.rule,
                     accel if self.reflected_inertia else None,
+                    self.arrays,
                 )
             )
         return out
@@ -105,7 +124,6 @@ class DriveCheck:
     ) -> dict[str, NDArray]:
         tau, good = self.torques(d) if torques is None else (torques[0].copy(), torques[1])
         tau[~good] = np.nan  # no drive, infinite violation
-        drives = self.catalogue.drives
         out: dict[str, NDArray] = {}
         for j, sel in zip(MOTORS, self.select(tau), strict=True):
             b = sel.best
@@ -113,11 +131,8 @@ class DriveCheck:
             out[f"drive{j}_rms_torque_Nm"] = sel.rms_torque
             out[f"drive{j}_peak_speed_rad_s"] = sel.peak_speed
             out[f"drive{j}_peak_power_W"] = sel.peak_power
-            out[f"drive{j}_motor"] = drives["motor"].to_numpy(object)[b]
-            out[f"drive{j}_gearbox"] = drives["gearbox"].to_numpy(object)[b]
-            out[f"drive{j}_ratio"] = drives["ratio"].to_numpy(float)[b]
-            out[f"drive{j}_mass_kg"] = drives["mass"].to_numpy(float)[b]
-            out[f"drive{j}_reflected_inertia_kgm2"] = drives["reflected_inertia"].to_numpy(float)[b]
+            for key, values in self._columns.items():
+                out[f"drive{j}_{key}"] = values[b]
             for k, check in enumerate(CHECKS):
                 out[f"drive{j}_margin_{check}"] = 1.0 - sel.utilisation[:, k]
             out[f"drive{j}_violation"] = sel.violation
@@ -168,7 +183,7 @@ class DriveCheck:
     def penalty_kg(self) -> float:
         """The drive-mass objective (kg) of a design without drives, less its g14 violation:
         twice the catalogue's heaviest drive."""
-        return 2.0 * float(np.nanmax(self.catalogue.drives["mass"].to_numpy(float)))
+        return 2.0 * float(np.nanmax(self.arrays.mass))
 
     def mass_objective(self, table: pd.DataFrame) -> NDArray[np.float64]:
         """The drive-mass objective (kg) of designs from their :meth:`evaluate` table: the mass of

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from qsm.embodiment.drives.catalogue import Catalogue
-from qsm.embodiment.drives.utilisation import _CHUNK, CHECKS, DriveArrays, _duty, utilisation
+from qsm.embodiment.drives.utilisation import CHECKS, DriveArrays, _duty, utilisation
 
 RULES = {"lightest": "mass", "smallest_inertia": "reflected_inertia"}
 
@@ -81,10 +81,17 @@ class Selection:
         }
 
 
-def offer(cat: Catalogue) -> list[dict]:
+def offer(cat: Catalogue | DriveArrays) -> list[dict]:
     """What each drive offers at the output: peak torque at standstill (N m), continuous torque
     (N m) and top speed (rad/s), in the driving direction."""
-    arr = DriveArrays.of(cat)
+    return [
+        {"peak_torque_Nm": float(p), "cont_torque_Nm": float(c), "top_speed_rad_s": float(s)}
+        for p, c, s in zip(*_offer(cat), strict=True)
+    ]
+
+
+def _offer(cat: Catalogue | DriveArrays) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    arr = cat if isinstance(cat, DriveArrays) else DriveArrays.of(cat)
     with np.errstate(invalid="ignore"):
         motor_peak = np.fmin(arr.stall_torque, arr.int_torque)
         peak = np.fmin(motor_peak * arr.ratio * arr.efficiency, arr.gear_int_torque)
@@ -93,10 +100,7 @@ def offer(cat: Catalogue) -> list[dict]:
     for i, (sp, tq) in arr.tables.items():
         peak[i] = min(tq[0] * arr.ratio[i] * arr.efficiency[i], arr.gear_int_torque[i])
         top[i] = sp[-1] / arr.ratio[i]
-    return [
-        {"peak_torque_Nm": float(p), "cont_torque_Nm": float(c), "top_speed_rad_s": float(s)}
-        for p, c, s in zip(peak, cont, top, strict=True)
-    ]
+    return peak, cont, top
 
 
 def select_drives(
@@ -106,6 +110,7 @@ def select_drives(
     weights: np.ndarray,
     rule: str = "lightest",
     accel: np.ndarray | None = None,
+    arrays: DriveArrays | None = None,
 ) -> Selection:
     """Choose, for each duty, the drive that meets every sample and is first by ``rule``.
 
@@ -117,49 +122,40 @@ def select_drives(
     ``accel`` (rad/s^2, the joint's acceleration, shaped as tau), when given, checks each drive c
     against its own output torque ``tau + J_c accel``, J_c its reflected inertia (the torque of
     the joint with that drive's rotor, MuJoCo's joint armature): exact, with no iteration between
-    the choice and the torques. The required torques, speed and power are then those of ``best``.
+    the choice and the torques; a drive of unknown J_c is never met. The required torques, speed
+    and power are then those of ``best``. ``arrays``: ``DriveArrays.of(cat)`` when at hand.
     """
     if rule not in RULES:
         raise ValueError(f"unknown drive rule {rule!r}; expected one of {sorted(RULES)}")
-    arr = DriveArrays.of(cat)
+    arr = DriveArrays.of(cat) if arrays is None else arrays
     tau, omega, w = _duty(tau, omega, weights)
-    acc = (
-        None
-        if accel is None
-        else np.broadcast_to(np.atleast_2d(np.asarray(accel, float)), tau.shape)
-    )
-    inertia = cat.drives["reflected_inertia"].to_numpy(float)
-    keys = [cat.drives[RULES[rule]].to_numpy(float)]
-    keys.append(cat.drives[next(v for v in RULES.values() if v != RULES[rule])].to_numpy(float))
-    order = np.lexsort([np.nan_to_num(k, nan=np.inf) for k in reversed(keys)])
+    acc = None if accel is None else np.broadcast_to(np.asarray(accel, float), tau.shape)
+    keys = {"mass": arr.mass, "reflected_inertia": arr.reflected_inertia}
+    first = keys.pop(RULES[rule])
+    order = np.lexsort([np.nan_to_num(k, nan=np.inf) for k in (*keys.values(), first)])
     rank = np.empty(order.size, int)
     rank[order] = np.arange(order.size)
     n_d, n_c = tau.shape[0], arr.ratio.size
-    choice, best = np.full(n_d, -1), np.zeros(n_d, int)
-    violation, util = np.full(n_d, np.inf), np.full((n_d, len(CHECKS)), np.inf)
     finite = np.isfinite(tau).all(axis=1) & np.isfinite(omega).all(axis=1)
     if acc is not None:
         finite &= np.isfinite(acc).all(axis=1)
-    step = max(1, _CHUNK // max(1, n_c * tau.shape[1]))
-    for lo in range(0, n_d, step):
-        d = np.arange(lo, min(n_d, lo + step))
-        d = d[finite[d]]
-        if d.size == 0:
-            continue
-        if acc is None:
-            u = utilisation(arr, tau[d], omega[d], w[d])
-        else:
-            u = _utilisation_with_inertia(arr, inertia, tau[d], acc[d], omega[d], w[d])
-        v = u.max(axis=2) - 1
-        best[d] = v.argmin(axis=1)
-        violation[d] = v[np.arange(d.size), best[d]]
-        ranked = np.where(v <= 0, rank, n_c).argmin(axis=1)
-        ok = v[np.arange(d.size), ranked] <= 0
-        choice[d[ok]] = ranked[ok]
-        best[d[ok]] = ranked[ok]
-        util[d] = u[np.arange(d.size), best[d]]
+    if finite.all():
+        u = utilisation(arr, tau, omega, w, acc)
+    else:
+        u = np.full((n_d, n_c, len(CHECKS)), np.inf)
+        u[finite] = utilisation(
+            arr, tau[finite], omega[finite], w[finite], None if acc is None else acc[finite]
+        )
+    v = u.max(axis=2) - 1
+    rows = np.arange(n_d)
+    best = v.argmin(axis=1)
+    violation = v[rows, best]
+    ranked = np.where(v <= 0, rank, n_c).argmin(axis=1)
+    ok = v[rows, ranked] <= 0
+    choice = np.where(ok, ranked, -1)
+    best = np.where(ok, ranked, best)
     if acc is not None:
-        tau = tau + np.nan_to_num(inertia[best])[:, None] * acc
+        tau = tau + np.nan_to_num(arr.reflected_inertia[best])[:, None] * acc
     a = np.abs(tau)
     wn = w / w.sum(axis=1, keepdims=True)
     return Selection(
@@ -168,55 +164,10 @@ def select_drives(
         choice=choice,
         best=best,
         violation=violation,
-        utilisation=util,
+        utilisation=u[rows, best],
         peak_torque=a.max(axis=1),
         rms_torque=np.sqrt((wn * tau**2).sum(axis=1)),
         peak_speed=np.abs(omega).max(axis=1),
         peak_power=np.abs(tau * omega).max(axis=1),
-        strongest=int(np.nanargmax([o["peak_torque_Nm"] for o in offer(cat)])),
+        strongest=int(np.nanargmax(_offer(arr)[0])),
     )
-
-
-def _utilisation_with_inertia(
-    arr: DriveArrays,
-    inertia: np.ndarray,
-    tau: np.ndarray,
-    accel: np.ndarray,
-    omega: np.ndarray,
-    w: np.ndarray,
-) -> np.ndarray:
-    """:func:`utilisation` (D, C, checks) with drive c loaded by ``tau + inertia[c] accel``;
-    drives of equal reflected inertia are checked together; an unknown (nan) inertia is never
-    met.
-
-    Screening, exact for the choice and for g14: on the samples without acceleration the torque
-    does not depend on the drive, so their peak checks bound each drive's utilisation from below
-    at the cost of one small :func:`utilisation` call. A drive whose bound exceeds 1 cannot meet
-    the duty; it is evaluated (its entries are inf until then) only for the duties that no
-    unscreened drive meets, where g14 needs the least violation over the whole catalogue.
-    """
-    n_d, n_c = tau.shape[0], inertia.size
-    out = np.full((n_d, n_c, len(CHECKS)), np.inf)
-    known = np.isfinite(inertia)
-    still = np.all(accel == 0, axis=0)
-    if still.any():
-        u0 = utilisation(arr, tau[:, still], omega[:, still], np.ones(int(still.sum())))
-        candidate = u0[..., [0, 3]].max(axis=-1) <= 1  # (D, C)
-    else:
-        candidate = np.ones((n_d, n_c), bool)
-    done = np.zeros((n_d, n_c), bool)
-    values, group = np.unique(inertia[known], return_inverse=True)
-    groups = [np.flatnonzero(known)[group == k] for k in range(values.size)]
-
-    def run(rows_of: np.ndarray) -> None:
-        for j, idx in zip(values, groups, strict=True):
-            rows = np.flatnonzero(rows_of[:, idx].any(axis=1) & ~done[:, idx].all(axis=1))
-            if rows.size:
-                u = utilisation(arr.take(idx), tau[rows] + j * accel[rows], omega[rows], w[rows])
-                out[np.ix_(rows, idx)] = u
-                done[np.ix_(rows, idx)] = True
-
-    run(candidate)
-    met = (out.max(axis=2) <= 1).any(axis=1)
-    run(np.broadcast_to(~met[:, None], (n_d, n_c)))
-    return out

@@ -22,6 +22,18 @@ motor_peak = max over samples of max(u, tau_m / max_int_torque); motor_rms = rms
 max_int_speed, rms(w_m) / max_cont_speed); gear_peak = max |tau| / max_int_torque of the
 gearbox; gear_rms = rms(tau) / max_cont_torque of the gearbox. A value a check needs that the
 catalogue lacks (nan) makes the utilisation infinite.
+
+How: each drive c is checked against its own output torque x = tau + J_c accel (J_c its reflected
+inertia; 0 without ``accel``). With s = sign(omega), sigma = s x is >= 0 exactly on driving
+samples, so per design and drive one pass over the samples gives the largest driving |x|
+(max sigma), the largest back-driven |x| (-min sigma), the driving envelope and the driving and
+total mean squares; every check follows from these. Samples at standstill without acceleration
+(x = tau, driving, for every drive) reduce to one peak and one mean square per design. A
+standstill sample with acceleration (driving whatever its sign) enters twice, with s = +1 and -1:
+the copy with sigma >= 0 adds its driving square, the s = +1 copy alone its total square, and the
+other copy, back-driven at standstill, gives eta |x| where the driving one gives |x| / eta, so it
+changes no maximum as long as eta <= 1 (which the catalogue enforces). A DC motor needs a finite,
+positive stall torque and no-load speed, else its envelope is infinite.
 """
 
 from __future__ import annotations
@@ -33,12 +45,13 @@ import numpy as np
 from qsm.embodiment.drives.catalogue import Catalogue
 
 CHECKS = ("motor_peak", "motor_rms", "motor_speed", "gear_peak", "gear_rms")
-_CHUNK = 2_000_000  # elements of a (designs, drives, samples) block held at once
+_BLOCK = 1 << 17  # elements of a (designs, drives, samples) block held at once
 
 
 @dataclass(frozen=True)
 class DriveArrays:
-    """Per-drive limits (C,) in SI units, motor side unless named gear_."""
+    """Per-drive values (C,) in SI units, motor side unless named gear_; ``mass`` (kg) and
+    ``reflected_inertia`` (kg m^2 at the output) are the catalogue's drive columns."""
 
     ratio: np.ndarray
     efficiency: np.ndarray
@@ -50,6 +63,8 @@ class DriveArrays:
     cont_speed: np.ndarray  # rad/s
     gear_int_torque: np.ndarray  # N m at the output
     gear_cont_torque: np.ndarray  # N m at the output
+    mass: np.ndarray  # kg
+    reflected_inertia: np.ndarray  # kg m^2
     tables: dict[int, tuple[np.ndarray, np.ndarray]]  # drive index -> (speed, torque)
 
     @classmethod
@@ -68,8 +83,8 @@ class DriveArrays:
         with np.errstate(divide="ignore", invalid="ignore"):
             stall = col(m, "k_t") * col(m, "V") / col(m, "R")
         return cls(
-            ratio=cat.drives["ratio"].to_numpy(dtype=float),
-            efficiency=cat.drives["efficiency"].to_numpy(dtype=float),
+            ratio=col(cat.drives, "ratio"),
+            efficiency=col(cat.drives, "efficiency"),
             stall_torque=stall,
             no_load_speed=col(m, "omega_nl"),
             int_torque=col(m, "max_int_torque"),
@@ -78,11 +93,13 @@ class DriveArrays:
             cont_speed=col(m, "max_cont_speed"),
             gear_int_torque=col(g, "max_int_torque"),
             gear_cont_torque=col(g, "max_cont_torque"),
+            mass=col(cat.drives, "mass"),
+            reflected_inertia=col(cat.drives, "reflected_inertia"),
             tables=tables,
         )
 
     def take(self, idx: np.ndarray) -> DriveArrays:
-        """The limits of drives ``idx`` (indices into the catalogue's drives), in that order."""
+        """The values of drives ``idx`` (indices into the catalogue's drives), in that order."""
         idx = np.asarray(idx, dtype=int)
         where = {int(i): k for k, i in enumerate(idx)}
         fields = {
@@ -93,40 +110,29 @@ class DriveArrays:
 
 
 def utilisation(
-    cat: Catalogue | DriveArrays, tau: np.ndarray, omega: np.ndarray, weights: np.ndarray
+    cat: Catalogue | DriveArrays,
+    tau: np.ndarray,
+    omega: np.ndarray,
+    weights: np.ndarray,
+    accel: np.ndarray | None = None,
 ) -> np.ndarray:
     """Utilisation (D, C, len(CHECKS)) of every drive for duties (D, N) (or (N,): D = 1).
 
-    tau in N m, omega in rad/s at the joint, weights in s (positive sum per design).
+    tau in N m, omega in rad/s at the joint, weights in s (positive sum per design). ``accel``
+    (rad/s^2, shaped as tau), when given, loads drive c with tau + J_c accel, J_c its reflected
+    inertia; a drive of unknown (non-finite) J_c then gets infinite utilisations.
     """
     arr = cat if isinstance(cat, DriveArrays) else DriveArrays.of(cat)
     tau, omega, w = _duty(tau, omega, weights)
-    n_ratio, eta = arr.ratio, arr.efficiency
-    a = np.abs(tau)
-    speed = np.abs(omega)
-    driving = tau * omega >= 0
-    ad, ab = np.where(driving, a, 0.0), np.where(driving, 0.0, a)
-    wn = w / w.sum(axis=1, keepdims=True)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        motor_max = np.maximum(ad.max(axis=1)[:, None] / eta, ab.max(axis=1)[:, None] * eta) / (
-            n_ratio
-        )
-        ms = (wn * ad**2).sum(axis=1)[:, None] / eta**2 + (wn * ab**2).sum(axis=1)[:, None] * eta**2
-        motor_rms = np.sqrt(ms) / n_ratio
-        u = np.stack(
-            [
-                np.maximum(_envelope_peak(arr, ad, ab, speed, driving), motor_max / arr.int_torque),
-                motor_rms / arr.cont_torque,
-                np.maximum(
-                    speed.max(axis=1)[:, None] * n_ratio / arr.int_speed,
-                    np.sqrt((wn * speed**2).sum(axis=1))[:, None] * n_ratio / arr.cont_speed,
-                ),
-                a.max(axis=1)[:, None] / arr.gear_int_torque,
-                np.sqrt((wn * a**2).sum(axis=1))[:, None] / arr.gear_cont_torque,
-            ],
-            axis=-1,
-        )
-    return np.where(np.isnan(u), np.inf, u)
+    acc = None if accel is None else np.broadcast_to(np.asarray(accel, float), tau.shape)
+    out = np.empty((tau.shape[0], arr.ratio.size, len(CHECKS)))
+    if tau.shape[0] == 0:
+        return out
+    rows = [x for x in (omega, w, acc) if x is not None]
+    one = all((x == x[:1]).all() for x in rows)  # one duty for all designs
+    for g in [slice(None)] if one else [slice(d, d + 1) for d in range(tau.shape[0])]:
+        out[g] = _one_duty(arr, tau[g], omega[g][0], w[g][0], None if acc is None else acc[g][0])
+    return out
 
 
 def _duty(tau, omega, weights) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -139,24 +145,104 @@ def _duty(tau, omega, weights) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     return tau, omega, w
 
 
-def _envelope_peak(arr: DriveArrays, ad, ab, speed, driving) -> np.ndarray:
-    """max over samples of the torque-speed envelope utilisation u, (D, C), in drive chunks.
+def _one_duty(
+    arr: DriveArrays, tau: np.ndarray, omega: np.ndarray, w: np.ndarray, acc: np.ndarray | None
+) -> np.ndarray:
+    """:func:`utilisation` (D, C, checks) of torques tau (D, N) on one duty: omega, w and acc
+    (N,) shared by the designs (see the module's "How")."""
+    n_ratio, eta = arr.ratio, arr.efficiency
+    wn = w / w.sum()
+    inertia = np.zeros(1) if acc is None else arr.reflected_inertia
+    unknown = ~np.isfinite(inertia) if acc is not None else np.zeros(n_ratio.size, bool)
+    acc = np.zeros_like(omega) if acc is None else acc
+    rest = (omega == 0) & (acc == 0)
+    move = np.flatnonzero(~rest)
+    turn = np.flatnonzero(~rest & (omega == 0))
+    cols = np.concatenate([move, turn])
+    sign = np.concatenate([np.where(omega[move] < 0, -1.0, 1.0), -np.ones(turn.size)])
+    w_all = np.concatenate([wn[move], np.zeros(turn.size)])
+    speed = np.abs(omega[cols])
+    js = inertia[:, None] * (acc[cols] * sign) + 0.0  # (C or 1, M), no -0.0
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        # the DC envelope of a driving sample is c0 (sigma + slope speed), of a back-driven c1 |x|
+        c0 = 1 / (eta * n_ratio * arr.stall_torque)
+        c1 = eta / (n_ratio * arr.stall_torque)
+        slope = n_ratio / arr.no_load_speed / c0
+        dc = np.isfinite(c1) & np.isfinite(slope) & (c0 > 0)
+        slope = np.where(dc, slope, 0.0)
+        a0 = np.abs(tau[:, rest])
+        peak0, ms0 = a0.max(axis=1, initial=0.0)[:, None], ((a0 * a0) @ wn[rest])[:, None]
+        pull = {i: np.interp(speed * n_ratio[i], *t) for i, t in arr.tables.items()}
+        hi, lo, env, s_all, s_drv, table = _moving(
+            arr, tau[:, cols] * sign, js, slope[:, None] * speed, w_all, wn[cols], pull
+        )
+        drv_peak = np.maximum(hi, peak0)
+        ms_drv = s_drv + ms0
+        ms_back = np.maximum(s_all + ms0 - ms_drv, 0.0)
+        env = np.maximum(c0 * np.maximum(env, drv_peak), lo * c1)
+        env[:, ~dc] = np.inf
+        for i, (sp, tq) in arr.tables.items():
+            tau_m = peak0[:, 0] / eta[i] / n_ratio[i]
+            env[:, i] = np.maximum(table[i], np.where(tau_m > 0, tau_m / np.interp(0, sp, tq), 0))
+        motor_speed = np.maximum(
+            speed.max(initial=0.0) * n_ratio / arr.int_speed,
+            np.sqrt(wn @ omega**2) * n_ratio / arr.cont_speed,
+        )
+        u = np.stack(
+            [
+                np.maximum(env, np.maximum(drv_peak / eta, lo * eta) / n_ratio / arr.int_torque),
+                np.sqrt(ms_drv / eta**2 + ms_back * eta**2) / n_ratio / arr.cont_torque,
+                np.broadcast_to(motor_speed, env.shape),
+                np.maximum(drv_peak, lo) / arr.gear_int_torque,
+                np.broadcast_to(np.sqrt(s_all + ms0) / arr.gear_cont_torque, env.shape),
+            ],
+            axis=-1,
+        )
+    u[:, unknown] = np.inf
+    return np.where(np.isnan(u), np.inf, u)
 
-    For a DC motor u is linear in (|tau| driving, |tau| back-driven, |omega| driving), so one
-    matrix product gives every drive at once.
-    """
-    n_d, n_s = ad.shape
-    n_c = arr.ratio.size
-    ratio, eta, stall = arr.ratio, arr.efficiency, arr.stall_torque
-    coef = np.stack([1 / (eta * ratio * stall), eta / (ratio * stall), ratio / arr.no_load_speed])
-    x = np.stack([ad, ab, np.where(driving, speed, 0.0)], axis=-1)
-    out = np.empty((n_d, n_c))
-    step = max(1, _CHUNK // max(1, n_d * n_s))
-    for lo in range(0, n_c, step):
-        c = slice(lo, min(n_c, lo + step))
-        out[:, c] = (x @ coef[:, c]).max(axis=1)
-    for i, (sp, tq) in arr.tables.items():
-        tau_m = (ad / eta[i] + ab * eta[i]) / ratio[i]
-        pull_out = np.interp(speed * ratio[i], sp, tq)  # the last torque beyond the table
-        out[:, i] = np.where(tau_m > 0, tau_m / pull_out, 0.0).max(axis=1)
-    return out
+
+def _moving(
+    arr: DriveArrays,
+    ts: np.ndarray,
+    js: np.ndarray,
+    spk: np.ndarray,
+    w_all: np.ndarray,
+    w_drv: np.ndarray,
+    pull: dict[int, np.ndarray],
+) -> tuple[np.ndarray, ...]:
+    """Over the moving samples, sigma = ts (D, M) + js (J, M) with J = C drives or 1: per design
+    and J, the largest driving |x| (hi), back-driven |x| (lo) and the driving and total mean
+    squares; per design and drive, the largest sigma + spk (C, M) over driving samples (env); per
+    table drive i (pull-out torques ``pull[i]`` (M,)), its envelope utilisation (D,). Designs in
+    blocks, into buffers reused."""
+    n_d, m = ts.shape
+    n_j, n_c = js.shape[0], spk.shape[0]
+    hi, lo, s_all, s_drv = (np.empty((n_d, n_j)) for _ in range(4))
+    env = np.empty((n_d, n_c))
+    table = {i: np.empty(n_d) for i in pull}
+    step = max(1, _BLOCK // max(1, n_c * m))
+    sig, sq, driving = (np.empty((step, n_j, m)) for _ in range(3))
+    e = np.empty((step, n_c, m))
+    eta, n_ratio = arr.efficiency, arr.ratio
+    for start in range(0, n_d, step):  # no masked copies: branches on the sign are slow
+        b = slice(start, min(n_d, start + step))
+        k = b.stop - b.start
+        s, q, dr, ee = sig[:k], sq[:k], driving[:k], e[:k]
+        np.add(ts[b, None, :], js, out=s)
+        s.max(axis=2, initial=0.0, out=hi[b])
+        s.min(axis=2, initial=0.0, out=lo[b])
+        np.multiply(s, s, out=q)
+        np.matmul(q, w_all, out=s_all[b])
+        np.maximum(s, 0.0, out=q)
+        np.multiply(q, q, out=q)
+        np.matmul(q, w_drv, out=s_drv[b])
+        np.greater_equal(s, 0.0, out=dr)  # 1.0 on driving samples, else 0.0
+        np.add(s, spk, out=ee)
+        np.multiply(ee, dr, out=ee)
+        ee.max(axis=2, initial=0.0, out=env[b])
+        for i, p in pull.items():
+            x = s[:, i if n_j > 1 else 0]
+            tau_m = np.where(x >= 0, x / eta[i], -x * eta[i]) / n_ratio[i]
+            table[i][b] = np.where(tau_m > 0, tau_m / p, 0.0).max(axis=1, initial=0.0)
+    return hi, -lo, env, s_all, s_drv, table
