@@ -7,6 +7,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 import shapely
+import trimesh
 
 from qsm.app.export_printing import link_printability
 from qsm.embodiment import bearings, bom, part_mass, parts, printing
@@ -127,3 +128,30 @@ def test_the_exports_printability_is_each_links_own() -> None:
     # the upper arm (R 27.5): 220 + 27.5 + 600 + 27.5 by 27.5 + 200 + 27.5; the coupler 32 thick
     assert sized["needed_volume_mm"] == pytest.approx([875.0, 255.0, 32.0])
     assert sized["print_excess_mm"] == pytest.approx(875.0 - 600.0)
+
+
+def test_a_sized_export_builds_each_link_at_its_checked_section(tmp_path) -> None:
+    """``qsm export`` under ``cad.section: sized``: each STL as thick as its link's checked
+    section, the box in ``design.json`` too, and the MJCF's link masses those of the solid links
+    at these sections."""
+    import mujoco
+
+    from qsm.app.export import export_design
+    from qsm.config import load_config
+    from qsm.physics.cad import mass_properties
+
+    config = load_config()
+    config["cad"]["section"] = "sized"
+    design = np.array([0.3987, 0.0825, 0.4323, 0.1373, 0.3928, 0.1178])
+    record = export_design(design, config, tmp_path)
+    links = record["strength"]["links"]
+    scale = [links[k]["width_mm"] / 40.0 for k in LINK_NAMES]
+    assert not np.allclose(scale, 1.0)
+    for name in LINK_NAMES:
+        t = links[name]["thickness_mm"]
+        assert trimesh.load(tmp_path / "stl" / f"{name}.stl").extents[2] == pytest.approx(t)
+        assert record["printability"]["links"][name]["box_mm"][2] == pytest.approx(t)
+    model = mujoco.MjModel.from_xml_path(str(tmp_path / "model.xml"))
+    masses = mass_properties(design, CadSettings(), scale)
+    for name in ("crank", "coupler", "lower_arm"):  # the upper arm carries the payload
+        assert model.body(name).mass[0] == pytest.approx(masses[name].mass_kg, rel=1e-5)
