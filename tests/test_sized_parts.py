@@ -155,3 +155,26 @@ def test_a_sized_export_builds_each_link_at_its_checked_section(tmp_path) -> Non
     masses = mass_properties(design, CadSettings(), scale)
     for name in ("crank", "coupler", "lower_arm"):  # the upper arm carries the payload
         assert model.body(name).mass[0] == pytest.approx(masses[name].mass_kg, rel=1e-5)
+
+
+def test_a_printed_part_too_large_for_the_printer_is_not_ready() -> None:
+    """``printable`` is decided on the configured section; a part drawn larger (sized) that
+    does not fit is named once, with its box."""
+    from qsm.report.headline import build_verdict
+
+    links = {key: {"holds": True} for key in LINK_NAMES}
+    strength = {"links": links, "bearings": {}, "holds_loads": True}
+    printer = {key: {"box_mm": [20.0, 50.0, 300.0], "fits": True} for key in LINK_NAMES}
+    printer["coupler"] = {"box_mm": [32.0, 80.0, 630.0], "fits": False}
+    topology = {"links": {}, "parts": {"printer": printer}}
+    ok = {"links": {}, "parts": {"printer": {"coupler": {"box_mm": [1, 2, 3], "fits": True}}}}
+    assert build_verdict({"printable": True, "strength": strength}, ok, {"passed": True})[0]
+    ready, problems = build_verdict(
+        {"printable": True, "strength": strength}, topology, {"passed": True}
+    )
+    assert not ready
+    assert problems == ["the printed coupler (32.0 x 80.0 x 630.0 mm) does not fit the printer"]
+    _, problems = build_verdict(
+        {"printable": False, "strength": strength}, topology, {"passed": True}
+    )
+    assert len(problems) == 1 and problems[0].startswith("not printable")

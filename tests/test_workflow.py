@@ -373,6 +373,7 @@ def test_sized_sections_are_drawn_and_built_as_checked(run, tmp_path):
         and strength["holds_loads"]
         and selected["drives"]["has_drives"]
         and all(link["carries_loads"] for link in topo["links"].values())
+        and all(part["fits"] for part in topo["parts"]["printer"].values())
         and payload["passed"]
     )
     summary_md = (work / "results/summary.md").read_text()

@@ -61,12 +61,6 @@ with logged(snakemake.log[0]) as log:
         json.dump(torques, fh, indent=2)
     with open(out.table, "w") as fh:
         fh.write(torques_markdown(torques))
-    summary = {name: link.summary() for name, link in result.links.items()}
-    record = {"carries_loads": result.carries_loads, "links": summary, "parts": written}
-    with open(out.topology, "w") as fh:
-        json.dump(record, fh, indent=2)
-    with open(out.links, "w") as fh:
-        json.dump(props_to_json(props), fh, indent=2)
     before, after = part_meshes(solid), part_meshes(parts)
     after.update(
         {name: extrude(parts[name].polygon, parts[name].section.thickness_m) for name in held}
@@ -79,6 +73,16 @@ with logged(snakemake.log[0]) as log:
     }
     with open(out.stl_check, "w") as fh:
         json.dump(checks, fh, indent=2)
+    written["printer"] = {  # the parts to print against the printer, as drawn
+        name: {"box_mm": c["box_mm"], "fits": c["fits_build_volume"]}
+        for name, c in checks["after"].items()
+    }
+    summary = {name: link.summary() for name, link in result.links.items()}
+    record = {"carries_loads": result.carries_loads, "links": summary, "parts": written}
+    with open(out.topology, "w") as fh:
+        json.dump(record, fh, indent=2)
+    with open(out.links, "w") as fh:
+        json.dump(props_to_json(props), fh, indent=2)
     plot_links(result, out.figure)
     for name, s in summary.items():
         log.info(

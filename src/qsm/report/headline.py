@@ -36,7 +36,8 @@ def build_verdict(
     """Whether the realised design is ready to build, and each reason it is not (with the
     run's numbers): not printable, a solid link, a joint bearing or a printed plate that does not
     hold its loads, a part drawn at another section (width x thickness) than the one its
-    strength was checked with, a motor without a drive, a failed payload test."""
+    strength was checked with, a printed part (as drawn) too large for the printer, a motor
+    without a drive, a failed payload test."""
     problems = []
     if not selected["printable"]:
         problems.append("not printable on the configured printer (see the verdict below)")
@@ -68,6 +69,13 @@ def build_verdict(
                 f"{checked[0]:.1f} x {checked[1]:.1f} mm, but its part, drawing and BOM are "
                 f"drawn at {built[0]:.1f} x {built[1]:.1f} mm"
             )
+    if selected["printable"]:  # checked on the configured section: the parts as drawn too
+        for link, r in topology.get("parts", {}).get("printer", {}).items():
+            if not r["fits"]:
+                problems.append(
+                    f"the printed {link.replace('_', ' ')} "
+                    f"({' x '.join(f'{v:.1f}' for v in r['box_mm'])} mm) does not fit the printer"
+                )
     for link, r in topology["links"].items():
         if not r["carries_loads"]:
             problems.append(
