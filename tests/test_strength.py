@@ -300,19 +300,28 @@ def test_a_joint_without_a_bearing_is_not_ready_to_build():
 
 
 def test_parts_drawn_at_another_section_than_the_checked_one_are_not_ready():
-    """With sized sections the checks use each link's own section; parts drawn at the configured
-    section are not the ones checked, so the design is not ready to build (and is when they
-    match)."""
+    """Each link's part must be drawn at the section (width x thickness) its strength was checked
+    with, link by link (sized sections differ per link): ready when every link matches, not ready
+    with both numbers when one does not."""
     from qsm.report.headline import build_verdict
 
-    def selected(width_mm: float) -> dict:
-        link = {"holds": True, "width_mm": 40.0, "thickness_mm": 20.0}
-        links = dict.fromkeys(LINK_NAMES, link) | {"coupler": {**link, "width_mm": width_mm}}
-        strength = {"links": links, "bearings": {}, "holds_loads": True}
-        return {"printable": True, "strength": strength}
+    checked = {
+        "lower_arm": [40.0, 20.0],
+        "crank": [30.0, 15.0],
+        "coupler": [52.0, 26.0],
+        "upper_arm": [44.0, 22.0],
+    }
+    links = {k: {"holds": True, "width_mm": w, "thickness_mm": t} for k, (w, t) in checked.items()}
+    selected = {
+        "printable": True,
+        "strength": {"links": links, "bearings": {}, "holds_loads": True},
+    }
 
-    topology = {"links": {}, "parts": {"section_mm": [40.0, 20.0]}}
-    assert build_verdict(selected(40.0), topology, {"passed": True}) == (True, [])
-    ready, problems = build_verdict(selected(52.0), topology, {"passed": True})
+    def topology(coupler: list[float]) -> dict:
+        return {"links": {}, "parts": {"section_mm": {**checked, "coupler": coupler}}}
+
+    assert build_verdict(selected, topology([52.0, 26.0]), {"passed": True}) == (True, [])
+    ready, problems = build_verdict(selected, topology([40.0, 20.0]), {"passed": True})
     assert not ready and len(problems) == 1
-    assert "coupler" in problems[0] and "52.0 x 20.0 mm" in problems[0]
+    assert "coupler" in problems[0]
+    assert "52.0 x 26.0 mm" in problems[0] and "40.0 x 20.0 mm" in problems[0]

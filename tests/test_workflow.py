@@ -333,6 +333,55 @@ def test_the_design_to_build(run):
         ), link
 
 
+def test_sized_sections_are_drawn_and_built_as_checked(run, tmp_path):
+    """``cad.section: sized``, Stage 6 again on the run's fronts: every link's STLs (the plate's
+    thickness, the bar's width across its middle), drawing, BOM (thickness, mass of the solid
+    parts) and ``topology.json`` carry the section its strength was checked with; at least one
+    link is sized away from the configured 40 x 20 mm, and the verdict is ready exactly when
+    every check holds."""
+    work = copy_run(run, tmp_path / "sized")
+    sized = tmp_path / "sized.yaml"
+    sized.write_text("cad: {section: sized}")
+    configs = (str(sized),)
+    snakemake(work, "--forcerun", "select_design", "--rerun-triggers", "mtime", configs=configs)
+    real = work / "results/realization"
+    selected = json.loads((real / "selected.json").read_text())
+    strength = selected["strength"]
+    assert strength["section"] == "sized"
+    checked = {k: (r["width_mm"], r["thickness_mm"]) for k, r in strength["links"].items()}
+    assert any(not np.allclose(c, (40.0, 20.0), atol=0.5) for c in checked.values()), checked
+    topo = json.loads((real / "topology.json").read_text())
+    bom = pd.read_csv(real / "bom.csv").set_index("item")
+    svg = (real / "drawing.svg").read_text()
+    l1, l2, l3, l4 = (1e3 * v for v in selected["design_m"][:4])
+    middle = {"lower_arm": l1 / 2, "crank": l2 / 2, "coupler": l3 / 2, "upper_arm": -l4 / 2}
+    for name, (w, t) in checked.items():
+        assert topo["parts"]["section_mm"][name] == pytest.approx([w, t], rel=1e-9), name
+        assert f"{name}: section width {w:.1f} x thickness {t:.1f} mm" in svg
+        assert bom.loc[name, "bbox_z_mm"] == pytest.approx(round(t, 1)), name
+        for stage in ("before", "after"):
+            mesh = trimesh.load(real / f"stl/{stage}/{name}.stl")
+            assert mesh.extents[2] == pytest.approx(t, rel=1e-6), (stage, name)
+        solid = trimesh.load(real / f"stl/before/{name}.stl")
+        cut = solid.section(plane_origin=[middle[name], 0.0, 0.0], plane_normal=[1.0, 0.0, 0.0])
+        assert np.ptp(cut.vertices[:, 1]) == pytest.approx(w, rel=1e-6), name
+        if not bom.loc[name, "topology_optimised"]:  # the solid part: ABS-M30, its own volume
+            assert bom.loc[name, "mass_kg"] == pytest.approx(1040.0 * solid.volume * 1e-9, rel=1e-5)
+    payload = json.loads((real / "payload_test.json").read_text())
+    ready = (
+        selected["printable"]
+        and strength["holds_loads"]
+        and selected["drives"]["has_drives"]
+        and all(link["carries_loads"] for link in topo["links"].values())
+        and all(part["fits"] for part in topo["parts"]["printer"].values())
+        and payload["passed"]
+    )
+    summary_md = (work / "results/summary.md").read_text()
+    assert "was checked with the section" not in summary_md
+    assert "sized by strength" in summary_md
+    assert summary_md.split("\n\n")[1].startswith("**Ready to build" if ready else "**NOT READY")
+
+
 def test_payload_test_fails_below_the_required_torque(run, tmp_path):
     work = copy_run(run, tmp_path / "weak")
     low = tmp_path / "low.yaml"

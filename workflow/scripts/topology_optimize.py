@@ -2,6 +2,7 @@
 bill of materials), torques again."""
 
 import json
+from dataclasses import replace
 
 import numpy as np
 
@@ -9,7 +10,7 @@ from qsm import settings
 from qsm.embodiment.parts import link_parts, part_meshes
 from qsm.physics.duty import duty_cycle
 from qsm.realization.assembly import bearing_rows, final_parts, write_parts
-from qsm.realization.export import export_stls, props_to_json, torques_markdown
+from qsm.realization.export import export_stls, props_to_json, section_scale, torques_markdown
 from qsm.realization.geometry import extrude
 from qsm.realization.topology import optimise_links
 from qsm.realization.topology_figure import plot_links
@@ -26,8 +27,9 @@ with logged(snakemake.log[0]) as log:
     cad = settings.cad(p.cad, p.material)
     duty = duty_cycle(settings.duty(p.duty, p.operating_range))
     topo = settings.topology(p.topology, p.material, p.strength)
-    result = optimise_links(design, cad, p.payload_kg, duty, topo)
-    part_settings = settings.parts(p.cad, p.material, p.strength)
+    scale = section_scale(selected["strength"], cad)  # each link's checked section
+    result = optimise_links(design, cad, p.payload_kg, duty, topo, scale=scale)
+    part_settings = replace(settings.parts(p.cad, p.material, p.strength), scale=scale)
     names = {j: b["designation"] for j, b in selected["strength"]["bearings"].items()}
     rows = bearing_rows(names, part_settings.table)
     solid = link_parts(design, rows, part_settings)
@@ -46,24 +48,23 @@ with logged(snakemake.log[0]) as log:
         out.bom_csv.rsplit("/", 1)[0],
         selected.get("drives"),
     )
-    svg, png = draw_links(design, solid, f"{out.bom_csv.rsplit('/', 1)[0]}/drawing", cad)
+    svg, png = draw_links(design, solid, f"{out.bom_csv.rsplit('/', 1)[0]}/drawing")
     written["drawing"] = {"svg": str(svg), "png": str(png)}
-    written["section_mm"] = [1e3 * cad.width_m, 1e3 * cad.thickness_m]  # the parts' section
+    written["section_mm"] = {  # each part's section as drawn and built
+        name: [1e3 * link.section.width_m, 1e3 * link.section.thickness_m]
+        for name, link in parts.items()
+    }
     props = written.pop("masses")
     written["masses_kg"] = {name: m.mass_kg for name, m in props.items()}
-    torques = torques_before_after(design, cad, p.payload_kg, duty, props)
+    torques = torques_before_after(design, cad, p.payload_kg, duty, props, scale)
     with open(out.torques, "w") as fh:
         json.dump(torques, fh, indent=2)
     with open(out.table, "w") as fh:
         fh.write(torques_markdown(torques))
-    summary = {name: link.summary() for name, link in result.links.items()}
-    record = {"carries_loads": result.carries_loads, "links": summary, "parts": written}
-    with open(out.topology, "w") as fh:
-        json.dump(record, fh, indent=2)
-    with open(out.links, "w") as fh:
-        json.dump(props_to_json(props), fh, indent=2)
-    before, after = part_meshes(solid, cad), part_meshes(parts, cad)
-    after.update({name: extrude(parts[name].polygon, cad.thickness_m) for name in held})
+    before, after = part_meshes(solid), part_meshes(parts)
+    after.update(
+        {name: extrude(parts[name].polygon, parts[name].section.thickness_m) for name in held}
+    )
     volume = tuple(p.build_volume_mm)
     stl_dir = out.stl_before[0].rsplit("/", 2)[0]
     checks = {
@@ -72,6 +73,16 @@ with logged(snakemake.log[0]) as log:
     }
     with open(out.stl_check, "w") as fh:
         json.dump(checks, fh, indent=2)
+    written["printer"] = {  # the parts to print against the printer, as drawn
+        name: {"box_mm": c["box_mm"], "fits": c["fits_build_volume"]}
+        for name, c in checks["after"].items()
+    }
+    summary = {name: link.summary() for name, link in result.links.items()}
+    record = {"carries_loads": result.carries_loads, "links": summary, "parts": written}
+    with open(out.topology, "w") as fh:
+        json.dump(record, fh, indent=2)
+    with open(out.links, "w") as fh:
+        json.dump(props_to_json(props), fh, indent=2)
     plot_links(result, out.figure)
     for name, s in summary.items():
         log.info(

@@ -26,6 +26,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Mapping, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -34,6 +35,7 @@ from numpy.typing import ArrayLike
 
 from qsm import settings
 from qsm.app.evaluate import checked_lengths
+from qsm.app.export_printing import link_printability
 from qsm.app.export_readme import describe_source, export_readme, fmt
 from qsm.app.locate import (
     TRUE_KEYS,
@@ -45,11 +47,9 @@ from qsm.app.locate import (
 )
 from qsm.config import load_config, validate_config
 from qsm.embodiment.parts import link_parts, part_meshes
-from qsm.embodiment.printing import fits_build_volume, needed_volume_mm
 from qsm.embodiment.verdict import strength_record
-from qsm.optimization.constraints import printability_violation_mm
 from qsm.optimization.verify import verify_design
-from qsm.physics.cad import CadError, link_outlines
+from qsm.physics.cad import CadError, link_outlines, mass_properties
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES, as_design
@@ -85,27 +85,32 @@ def export_design(
         config["workspace"],
         config["filters"],
     )
-    try:
-        link_outlines(d, cad)
-    except CadError as exc:
-        raise ValueError(f"config 'cad': the link section does not fit this design: {exc}") from exc
     duty_settings = settings.duty(config["dynamics"]["duty"], config["operating_range"])
     duty = duty_cycle(duty_settings)
-    verified = verify_design(d, fit, duty, cad, payload)
-    performance = {k: verified[k] for k in TRUE_KEYS}
-    task = task_record(config["task"]["points"])
-    xml = mjcf_xml(d, cad, payload, home_pose(d, fit.op), mirrored=bool(task["mirrored"]))
-    (folder / "model.xml").write_text(xml)
     check = settings.strength_check(
         config["cad"], config["material"], config["strength"], payload, duty_settings
     )
+    sized = check.section_scales(d)
+    scale = None if sized is None else tuple(float(f) for f in sized.scale[0])
+    try:
+        link_outlines(d, cad, scale)
+    except CadError as exc:
+        raise ValueError(f"config 'cad': the link section does not fit this design: {exc}") from exc
+    verified = verify_design(d, fit, duty, cad, payload, None if scale is None else np.array(scale))
+    performance = {k: verified[k] for k in TRUE_KEYS}
+    task = task_record(config["task"]["points"])
+    props = mass_properties(d, cad, scale)  # the solid links of each link's section
+    xml = mjcf_xml(d, cad, payload, home_pose(d, fit.op), bool(task["mirrored"]), props)
+    (folder / "model.xml").write_text(xml)
     strength = strength_record(d, check)
     part_settings = settings.parts(config["cad"], config["material"], config["strength"])
+    part_settings = replace(part_settings, scale=scale)
     names = {j: b["designation"] for j, b in strength["bearings"].items()}
     parts = link_parts(d, bearing_rows(names, part_settings.table), part_settings)
-    stl = export_stls(part_meshes(parts, cad), folder / "stl", volume)
-    draw_links(d, parts, folder / "drawing", cad)
-    fits = fits_build_volume(d, cad, volume)
+    stl = export_stls(part_meshes(parts), folder / "stl", volume)
+    draw_links(d, parts, folder / "drawing")
+    boxes = link_printability(d, cad, scale, volume)
+    fits = boxes["links"]
     links = {
         name: {
             "file": f"stl/{name}.stl",
@@ -119,8 +124,8 @@ def export_design(
     printability: dict[str, Any] = {
         "printable": printable,
         "build_volume_mm": list(volume),
-        "print_excess_mm": float(printability_violation_mm(d[None], cad, volume)[0]),
-        "needed_volume_mm": needed_volume_mm(d[None], None, cad)[0].tolist(),
+        "print_excess_mm": boxes["print_excess_mm"],
+        "needed_volume_mm": boxes["needed_volume_mm"],
         "links": links,
     }
     if not printable:
@@ -133,7 +138,7 @@ def export_design(
         config["material"],
         payload,
         settings.duty(config["dynamics"]["duty"], op),
-    ).report(d)
+    ).report(d, None if sized is None else sized.scale)
     effort = test["torque_limits_Nm"] or _drive_efforts(drives, config)
     urdf = urdf_xml(
         d,
@@ -142,6 +147,7 @@ def export_design(
         motor_range_deg=(op["theta1_deg"], (op["theta2_min_deg"], op["theta1_deg"][1])),
         effort_Nm=effort,
         velocity_rad_s=math.radians(config["dynamics"]["duty"]["peak_speed_deg_s"]),
+        props=props,
     )
     (folder / "model.urdf").write_text(urdf)
     record: dict[str, Any] = {
@@ -184,7 +190,7 @@ def export_design(
         f"{'links hold their loads' if strength['holds_loads'] else 'NOT STRONG ENOUGH'}"
         + ("; designed MIRRORED (x -> -x)" if task["mirrored"] else "")
     )
-    design_sheet(d, config, links, title, folder / "design.png")
+    design_sheet(d, config, links, title, folder / "design.png", scale)
     (folder / "design.json").write_text(json.dumps(record, indent=2) + "\n")
     (folder / "README.md").write_text(export_readme(record, title))
     return record

@@ -3,8 +3,10 @@
 One row per item kind and place (:data:`BOM_COLUMNS`). The motors and gearboxes rows are always
 there (both motors sit at the base joint A: motor 1 turns theta1 and the lower arm, motor 2 turns
 theta2 and the crank) and stay empty until a drive is chosen (pass ``drives``). Pins are steel
-dowels of the bearing's bore through both plates of the joint (length 2 x thickness); at A the
-motor shafts take the place of pins, and each shaft runs in its own bearing in the base (2 at A).
+dowels of the bearing's bore through both plates of the joint (length: the sum of the two links'
+thicknesses); at A the motor shafts take the place of pins, and each shaft runs in its own bearing
+in the base (2 at A). Each printed part's thickness is its own section's
+(:attr:`qsm.embodiment.parts.LinkPart.section`).
 """
 
 from __future__ import annotations
@@ -18,7 +20,7 @@ import pandas as pd
 
 from qsm.embodiment.bearings import JOINTS, BearingTable, load_catalogue
 from qsm.embodiment.parts import LinkPart
-from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties
+from qsm.physics.cad import MassProperties
 from qsm.physics.kinematics import LINK_NAMES
 
 BOM_COLUMNS: tuple[str, ...] = (
@@ -56,7 +58,6 @@ def bill_of_materials(
     masses: Mapping[str, MassProperties],
     bearing_index: Sequence[int],
     table: BearingTable | None = None,
-    cad: CadSettings = DEFAULT_CAD,
     material: str = "ABS-M30",
     topology_optimised: Mapping[str, bool] | None = None,
     drives: Mapping[str, Mapping[str, Any]] | None = None,
@@ -88,7 +89,7 @@ def bill_of_materials(
                 "mass_kg": float(masses[name].mass_kg),
                 "bbox_x_mm": round(1e3 * (x1 - x0), 1),
                 "bbox_y_mm": round(1e3 * (y1 - y0), 1),
-                "bbox_z_mm": round(1e3 * cad.thickness_m, 1),
+                "bbox_z_mm": round(1e3 * parts[name].section.thickness_m, 1),
                 "topology_optimised": bool(topo.get(name, False)),
                 "notes": f"bores: {bores}",
             }
@@ -127,7 +128,11 @@ def bill_of_materials(
         )
         if joint != "A":
             d_mm = 1e3 * b["d_m"]
-            length = 2e3 * cad.thickness_m
+            length = 1e3 * sum(
+                p.section.thickness_m
+                for p in parts.values()
+                if any(b.joint == joint for b in p.bores)
+            )
             rows.append(
                 {
                     "item": f"pin {joint}",

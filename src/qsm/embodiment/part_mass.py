@@ -12,13 +12,7 @@ import shapely
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.parts import LinkPart, PartSettings, link_parts
-from qsm.physics.cad import (
-    DEFAULT_CAD,
-    CadError,
-    CadSettings,
-    MassProperties,
-    prism_properties,
-)
+from qsm.physics.cad import CadError, MassProperties, prism_properties
 
 
 def _moments(ring: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -65,13 +59,13 @@ def polygon_with_holes_mass_properties(
     return prism_properties(area, (cx, cy), second, thickness_m, density_kg_m3)
 
 
-def part_mass_properties(
-    parts: Mapping[str, LinkPart], cad: CadSettings = DEFAULT_CAD
-) -> dict[str, MassProperties]:
-    """Mass properties (link frames, SI) of bored parts: a drop-in for
+def part_mass_properties(parts: Mapping[str, LinkPart]) -> dict[str, MassProperties]:
+    """Mass properties (link frames, SI) of bored parts, each of its own section: a drop-in for
     :func:`qsm.physics.cad.mass_properties`."""
     return {
-        name: polygon_with_holes_mass_properties(p.polygon, cad.thickness_m, cad.density_kg_m3)
+        name: polygon_with_holes_mass_properties(
+            p.polygon, p.section.thickness_m, p.section.density_kg_m3
+        )
         for name, p in parts.items()
     }
 
@@ -82,4 +76,4 @@ def bored_mass_properties(
     settings: PartSettings = PartSettings(),  # noqa: B008
 ) -> dict[str, MassProperties]:
     """:func:`qsm.physics.cad.mass_properties` of the bored links of one design."""
-    return part_mass_properties(link_parts(design, bearing_index, settings), settings.cad)
+    return part_mass_properties(link_parts(design, bearing_index, settings))

@@ -1,7 +1,9 @@
 """Link parts you can assemble: the outlines of :mod:`qsm.physics.cad`, a through bore per joint.
 
-The link frames, bar width, plate thickness and material are those of :mod:`qsm.physics.cad`; what
-changes is that every joint has a **bore** and a **boss sized for it**:
+The link frames, bar width, plate thickness and material are those of :mod:`qsm.physics.cad`, each
+link with its own section (:attr:`PartSettings.scale`: the configured section, or the one sized
+by strength, :mod:`qsm.embodiment.sizing`); what changes is that every joint has a **bore** and a
+**boss sized for it**:
 
 ========== ======= ================ ====================================================
 link       joint   bore             what goes in it
@@ -23,8 +25,9 @@ upper_arm  E       tool hole        a clearance hole for the tool mount (``tool_
 
 d and D are the bore and outer diameter of the joint's bearing
 (:mod:`qsm.embodiment.bearings`), so each joint has one bearing and one pin (at A: the two motor
-shafts, each with its support bearing). Both links at a joint get the same boss radius,
-``max(cad.boss_radius_m, D / 2 + boss_wall_m)`` (at E: ``tool_hole_m / 2 + boss_wall_m``).
+shafts, each with its support bearing). A link's boss at a joint has the radius
+``max(R, D / 2 + boss_wall_m)`` (at E: ``tool_hole_m / 2 + boss_wall_m``), R the boss radius of
+the link's section: with one section for all links, both links at a joint get the same boss.
 
 Bores are regular polygons of ``cad.segments_per_circle`` sides that *circumscribe* the nominal
 circle (flats at the nominal radius), so a bearing or pin of the nominal diameter fits the STL; the
@@ -37,7 +40,7 @@ area moments of the outline (the polygon formulas of
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 
 import numpy as np
@@ -53,11 +56,7 @@ from qsm.embodiment.bearings import (
     load_catalogue,
 )
 from qsm.embodiment.part_outlines import bar_outline, hole_polygon, upper_arm_outline
-from qsm.physics.cad import (
-    DEFAULT_CAD,
-    CadError,
-    CadSettings,
-)
+from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, link_settings
 from qsm.physics.kinematics import LINK_NAMES, as_design
 
 #: Default tool-mount hole at E (m): ISO 273 medium-series clearance hole for an M8 screw.
@@ -81,19 +80,34 @@ class PartSettings:
     cad: the section and material (:class:`qsm.physics.cad.CadSettings`); boss_wall_m: printed
     wall around a bearing seat or the tool hole (m, default 4 mm); tool_hole_m: diameter of the
     tool-mount hole at E (m, default 9 mm; 0 for none); catalogue: bearing table (default
-    :func:`qsm.embodiment.bearings.load_catalogue`).
+    :func:`qsm.embodiment.bearings.load_catalogue`); scale: each link's section as ``cad``'s
+    scaled by this factor (:data:`qsm.physics.kinematics.LINK_NAMES` order; the sized sections
+    of :mod:`qsm.embodiment.sizing`), None: ``cad`` for every link.
     """
 
     cad: CadSettings = field(default_factory=CadSettings)
     boss_wall_m: float = DEFAULT_BOSS_WALL_M
     tool_hole_m: float = DEFAULT_TOOL_HOLE_M
     catalogue: BearingTable | None = None
+    scale: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         if not self.boss_wall_m > 0:
             raise ValueError("boss_wall_m must be positive")
         if not self.tool_hole_m >= 0:
             raise ValueError("tool_hole_m must be >= 0")
+        if self.scale is not None:
+            if len(self.scale) != len(LINK_NAMES) or not all(f > 0 for f in self.scale):
+                raise ValueError(f"scale needs one positive factor per link {LINK_NAMES}")
+            object.__setattr__(self, "scale", tuple(float(f) for f in self.scale))
+
+    def sections(self) -> dict[str, CadSettings]:
+        """Each link's section (:func:`qsm.physics.cad.link_settings`)."""
+        return link_settings(self.cad, self.scale)
+
+    def of_link(self, name: str) -> PartSettings:
+        """These settings with the section of link ``name`` for every link."""
+        return replace(self, cad=self.sections()[name], scale=None)
 
     @property
     def table(self) -> BearingTable:
@@ -136,11 +150,13 @@ class Bore:
 
 @dataclass(frozen=True)
 class LinkPart:
-    """A bored link: its name, outline with holes (shapely, link frame, m) and its bores."""
+    """A bored link: its name, outline with holes (shapely, link frame, m), its bores and its
+    ``section`` (width, thickness, boss radius and material of this link)."""
 
     name: str
     polygon: shapely.Polygon
     bores: tuple[Bore, ...]
+    section: CadSettings
 
     @property
     def holes(self) -> int:
@@ -153,7 +169,8 @@ def joint_radii(
 ) -> NDArray[np.float64]:
     """Boss radii (..., 5) in m at A, B, C, D (from the bearings ``bearing_index`` (..., 4),
     catalogue rows as :attr:`qsm.embodiment.bearings.BearingChoice.index`) and at E (the tool
-    hole's). Vectorised over designs."""
+    hole's), with the boss radius of ``settings.cad`` (a link's own: :meth:`PartSettings.of_link`).
+    Vectorised over designs."""
     i = np.asarray(bearing_index, dtype=np.intp)
     if i.shape[-1] != len(JOINTS):
         raise ValueError(f"one bearing per joint {JOINTS}, got shape {i.shape}")
@@ -168,16 +185,16 @@ def joint_radii(
 def link_bores(
     design: ArrayLike, bearing_index: Sequence[int], settings: PartSettings = PartSettings()
 ) -> dict[str, tuple[Bore, ...]]:
-    """The bores of every link (link frames, m) for one design and its bearings at A, B, C, D."""
+    """The bores of every link (link frames, m) for one design and its bearings at A, B, C, D;
+    each boss radius from the link's own section (:meth:`PartSettings.of_link`)."""
     l1, l2, l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
     table = settings.table
     idx = np.asarray(bearing_index, dtype=np.intp)
-    radii = joint_radii(idx, settings)
     fallback = int(np.argmax(table.D_m))
     by_joint = {}
     for k, joint in enumerate(JOINTS):
         row = int(idx[k]) if idx[k] >= 0 else fallback
-        by_joint[joint] = (table.d_m[row], table.D_m[row], str(table.designation[row]), radii[k])
+        by_joint[joint] = (table.d_m[row], table.D_m[row], str(table.designation[row]))
     centres = {
         "lower_arm": {"A": (0.0, 0.0), "B": (l1, 0.0)},
         "crank": {"A": (0.0, 0.0), "C": (l2, 0.0)},
@@ -186,16 +203,18 @@ def link_bores(
     }
     out: dict[str, tuple[Bore, ...]] = {}
     for link, specs in LINK_BORES.items():
+        radii = dict(zip((*JOINTS, "E"), joint_radii(idx, settings.of_link(link)), strict=True))
         bores = []
         for joint, kind in specs:
             if joint == "E":
                 bores.append(
-                    Bore(joint, kind, centres[link][joint], settings.tool_hole_m, radii[4], "")
+                    Bore(joint, kind, centres[link][joint], settings.tool_hole_m, radii["E"], "")
                 )
                 continue
-            d, big_d, name, r = by_joint[joint]
+            d, big_d, name = by_joint[joint]
             dia = big_d if kind == "seat" else d
-            bores.append(Bore(joint, kind, centres[link][joint], float(dia), float(r), name))
+            r = float(radii[joint])
+            bores.append(Bore(joint, kind, centres[link][joint], float(dia), r, name))
         out[link] = tuple(bores)
     return out
 
@@ -204,23 +223,27 @@ def link_parts(
     design: ArrayLike, bearing_index: Sequence[int], settings: PartSettings = PartSettings()
 ) -> dict[str, LinkPart]:
     """The four bored links of one design (link frames, m), keyed by
-    :data:`qsm.physics.cad.LINK_NAMES`.
+    :data:`qsm.physics.cad.LINK_NAMES`, each with its own section
+    (:meth:`PartSettings.sections`).
 
     Raises :class:`qsm.physics.cad.CadError` when the bosses do not fit the design (see
     :func:`boss_fit_violation_m` for the continuous measure).
     """
     l1, l2, l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
-    cad = settings.cad
-    r_a, r_b, r_c, r_d, r_e = joint_radii(bearing_index, settings)
-    outlines = {
-        "lower_arm": bar_outline(l1, r_a, r_b, cad),
-        "crank": bar_outline(l2, r_a, r_c, cad),
-        "coupler": bar_outline(l3, r_c, r_d, cad),
-        "upper_arm": upper_arm_outline(l4, ee_x, ee_y, r_d, r_b, r_e, cad),
-    }
     bores = link_bores(design, bearing_index, settings)
+    r = {name: {b.joint: b.boss_radius_m for b in bores[name]} for name in LINK_NAMES}
+    s = settings.sections()
+    outlines = {
+        "lower_arm": bar_outline(l1, *(r["lower_arm"][j] for j in "AB"), s["lower_arm"]),
+        "crank": bar_outline(l2, *(r["crank"][j] for j in "AC"), s["crank"]),
+        "coupler": bar_outline(l3, *(r["coupler"][j] for j in "CD"), s["coupler"]),
+        "upper_arm": upper_arm_outline(
+            l4, ee_x, ee_y, *(r["upper_arm"][j] for j in "DBE"), s["upper_arm"]
+        ),
+    }
     parts = {}
     for name in LINK_NAMES:
+        cad = s[name]
         holes = [
             hole_polygon(b.centre_m, b.diameter_m, cad.segments_per_circle)
             for b in bores[name]
@@ -229,31 +252,27 @@ def link_parts(
         poly = shapely.Polygon(outlines[name], holes)
         if not poly.is_valid:
             raise CadError(f"{name}: the bores do not fit inside the outline")
-        parts[name] = LinkPart(name, poly, bores[name])
+        parts[name] = LinkPart(name, poly, bores[name], cad)
     return parts
 
 
-def part_meshes(
-    parts: Mapping[str, LinkPart], cad: CadSettings = DEFAULT_CAD
-) -> dict[str, trimesh.Trimesh]:
-    """Watertight extrusions (link frames, m, z in +-thickness / 2) of the bored parts; the genus
-    of each (``(2 - euler_number) / 2``) is its number of holes."""
+def part_meshes(parts: Mapping[str, LinkPart]) -> dict[str, trimesh.Trimesh]:
+    """Watertight extrusions (link frames, m, z in +-thickness / 2, each part's own thickness)
+    of the bored parts; the genus of each (``(2 - euler_number) / 2``) is its number of holes."""
     return {
         name: trimesh.creation.extrude_polygon(
-            p.polygon, cad.thickness_m, mid_plane=True, engine="earcut"
+            p.polygon, p.section.thickness_m, mid_plane=True, engine="earcut"
         )
         for name, p in parts.items()
     }
 
 
-def export_parts_stl(
-    parts: Mapping[str, LinkPart], directory: str | Path, cad: CadSettings = DEFAULT_CAD
-) -> list[Path]:
+def export_parts_stl(parts: Mapping[str, LinkPart], directory: str | Path) -> list[Path]:
     """Write ``<link>.stl`` (binary, millimetres, link frame) per bored part; returns the paths."""
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
     paths = []
-    for name, mesh in part_meshes(parts, cad).items():
+    for name, mesh in part_meshes(parts).items():
         path = out / f"{name}.stl"
         mesh.copy().apply_scale(1000.0).export(path)
         paths.append(path)

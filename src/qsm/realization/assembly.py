@@ -37,8 +37,8 @@ def final_parts(
     """The bored links of ``design``; a link in ``optimised`` takes that printed plate (link
     frame, m) with the same bores cut through it."""
     parts = link_parts(design, bearing_index, settings)
-    seg = settings.cad.segments_per_circle
     for name, plate in optimised.items():
+        seg = parts[name].section.segments_per_circle
         holes = shapely.union_all(
             [
                 shapely.Polygon(hole_polygon(b.centre_m, b.diameter_m, seg))
@@ -49,7 +49,7 @@ def final_parts(
         polygon = shapely.make_valid(plate.difference(holes))
         if not isinstance(polygon, shapely.Polygon):
             polygon = max(getattr(polygon, "geoms", [polygon]), key=lambda g: g.area)
-        parts[name] = LinkPart(name, polygon, parts[name].bores)
+        parts[name] = LinkPart(name, polygon, parts[name].bores, parts[name].section)
     return parts
 
 
@@ -86,13 +86,12 @@ def write_parts(
     report when given) into ``directory``; return its paths, the parts' hole counts and mass
     properties."""
     out = Path(directory)
-    masses: dict[str, MassProperties] = part_mass_properties(parts, settings.cad)
+    masses: dict[str, MassProperties] = part_mass_properties(parts)
     bom = bill_of_materials(
         parts,
         masses,
         bearing_index,
         settings.table,
-        settings.cad,
         material,
         optimised,
         drive_rows(drives or {}),

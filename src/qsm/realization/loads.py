@@ -10,7 +10,13 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.cad import CadSettings, MassProperties, link_outlines, mass_properties
+from qsm.physics.cad import (
+    CadSettings,
+    MassProperties,
+    link_outlines,
+    link_settings,
+    mass_properties,
+)
 from qsm.physics.duty import Duty
 from qsm.physics.dynamics import inverse_dynamics, loop_state
 from qsm.physics.kinematics import as_design, perp
@@ -109,15 +115,18 @@ def link_problem(
     link: str,
     cases: list[LinkLoads],
     settings: TopologySettings = DEFAULT_TOPOLOGY,
+    scale: ArrayLike | None = None,
 ) -> tuple[FeProblem, shapely.Polygon]:
-    """FE problem of ``link`` ('lower_arm' or 'upper_arm') and its CAD outline polygon."""
-    outline = shapely.Polygon(link_outlines(design, cad)[link])
+    """FE problem of ``link`` ('lower_arm' or 'upper_arm') and its CAD outline polygon, the link
+    of ``cad``'s section scaled by its entry of ``scale`` (4,) (None: ``cad``'s)."""
+    sec = link_settings(cad, scale)[link]
+    outline = shapely.Polygon(link_outlines(design, cad, scale)[link])
     pts = joint_points(design)[link]
     lo, hi = np.asarray(outline.bounds[:2]), np.asarray(outline.bounds[2:])
     grid = grid_for_box(lo, hi, settings.cell_size_m)
     centres = grid.cell_centres()
     inside = shapely.contains_xy(outline, centres[..., 0], centres[..., 1])
-    r = cad.boss_radius_m
+    r = sec.boss_radius_m
     solid = np.zeros_like(inside)
     for p in pts.values():
         solid |= np.linalg.norm(centres - p, axis=-1) <= r
@@ -131,7 +140,7 @@ def link_problem(
         [nodal_forces(grid, [(pts[j], f) for j, f in c.forces.items()], r) for c in cases]
     )
     forces[fixed] = 0.0
-    return FeProblem(grid, fixed, forces, design_cells, solid, cad.thickness_m), outline
+    return FeProblem(grid, fixed, forces, design_cells, solid, sec.thickness_m), outline
 
 
 # ----------------------------------------------------------------------------- driver

@@ -4,7 +4,8 @@ Finite elements, filtering and sensitivities come from pyMOTO (``pymoto.VoxelDom
 ``DensityFilter``, ``AssembleStiffness``, ``LinSolve``, ``Stress``); this module only sets up the
 domains and loads, runs the optimality-criteria (OC) update and turns the result into solids.
 
-Problem per link (plane stress, plate thickness = the CAD thickness, ABS-M30):
+Problem per link (plane stress, plate thickness = the link's CAD thickness, ABS-M30; each link
+of its own section when sized, ``scale``):
 
 * design domain: a regular grid of square cells (``cell_size_m``) over the link's bounding box in
   its link frame (:mod:`qsm.physics.cad`); cells whose centre lies outside the CAD outline are void
@@ -52,7 +53,7 @@ import shapely
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.cad import CadSettings, MassProperties, mass_properties
+from qsm.physics.cad import CadSettings, MassProperties, link_settings, mass_properties
 from qsm.physics.duty import Duty
 from qsm.physics.kinematics import as_design
 from qsm.realization.fe import (
@@ -196,19 +197,23 @@ def optimise_links(
     duty: Duty,
     settings: TopologySettings = DEFAULT_TOPOLOGY,
     links: tuple[str, ...] = OPTIMISED_LINKS,
+    scale: ArrayLike | None = None,
 ) -> TopologyResult:
     """Topology-optimise ``links`` of ``design`` (6 lengths, m) for the peak loads over ``duty``
-    with ``payload_kg`` at E; returns the density fields, printed meshes, masses, compliances
+    with ``payload_kg`` at E, each link of ``cad``'s section scaled by its entry of ``scale``
+    (4,) (None: ``cad``'s); returns the density fields, printed meshes, masses, compliances
     before (full solid CAD plate) and after (printed plate), the stress check, and ``props``:
     the mass properties of all four links with the optimised ones replaced."""
     d = as_design(design)
-    before = mass_properties(d, cad)
+    before = mass_properties(d, cad, scale)
     loads = peak_loads(d, cad, payload_kg, duty, before)
+    sections = link_settings(cad, scale)
     results: dict[str, LinkResult] = {}
     props = dict(before)
     for link in links:
         start = time.perf_counter()
-        problem, outline = link_problem(d, cad, link, loads[link], settings)
+        sec = sections[link]
+        problem, outline = link_problem(d, cad, link, loads[link], settings, scale)
         full = (problem.design | problem.solid).astype(float)
         fe_before = analyse(problem, full, settings)
         joints = list(joint_points(d)[link].values())
@@ -221,9 +226,9 @@ def optimise_links(
                 opt.density,
                 outline,
                 joints,
-                cad.boss_radius_m,
+                sec.boss_radius_m,
                 settings.threshold,
-                cad.segments_per_circle,
+                sec.segments_per_circle,
             )
             # the printed plate, rasterised by cell fill, stiffness proportional to the fill
             fe_after = analyse(problem, cell_fill(problem.grid, geom), settings, penal=1.0)
@@ -231,13 +236,13 @@ def optimise_links(
                 {"volume_fraction": fraction, "max_von_mises_MPa": fe_after.max_von_mises_pa / 1e6}
             )
             if fe_after.max_von_mises_pa <= settings.allowable_stress_pa:
-                mesh = extrude(geom, cad.thickness_m)
-                after_props = mesh_mass_properties(mesh, cad.density_kg_m3)
+                mesh = extrude(geom, sec.thickness_m)
+                after_props = mesh_mass_properties(mesh, sec.density_kg_m3)
                 kept_solid = False
                 break
             if fraction + VOLUME_STEP > MAX_VOLUME_FRACTION + 1e-9:
                 geom, threshold, fe_after = outline, 1.0, fe_before
-                mesh = extrude(outline, cad.thickness_m)
+                mesh = extrude(outline, sec.thickness_m)
                 after_props, kept_solid = before[link], True
                 break
             fraction = round(fraction + VOLUME_STEP, 10)

@@ -25,9 +25,11 @@ def design_sheet(
     boxes: Mapping[str, Mapping[str, Any]],
     title: str,
     path: str | Path,
+    scale: ArrayLike | None = None,
 ) -> Path:
-    """PNG: the design with workspace, task disk and points, and its link outlines with their
-    boxes (mm) against the printer."""
+    """PNG: the design with workspace, task disk and points, and its link outlines (each of the
+    configured section scaled by its entry of ``scale`` (4,), None: the configured section) with
+    their boxes (mm) against the printer."""
     d = as_design(design)
     op = settings.operating_range(config["operating_range"])
     points = np.asarray(design_points(config["task"]["points"]))
@@ -36,7 +38,8 @@ def design_sheet(
     ax.plot(points[:, 0], points[:, 1], "x", color="tab:red", ms=6, mew=1.5)
     y = 0.0
     volume = " x ".join(f"{v:g}" for v in config["printing"]["build_volume_mm"])
-    for name, outline in link_outlines(d, settings.cad(config["cad"], config["material"])).items():
+    cad = settings.cad(config["cad"], config["material"])
+    for name, outline in link_outlines(d, cad, scale).items():
         xy = outline * 1e3
         y -= xy[:, 1].max()
         ax_links.fill(xy[:, 0], xy[:, 1] + y, color="0.75", ec="k", lw=0.8)

@@ -2,8 +2,8 @@
 
 One view per link in its link frame (millimetres): the outline with its bores, the hole centres
 with their coordinates, the distances between hole centres (l1, l2, l3; on the upper arm l4, EE_x
-and EE_y), the overall length, each bore's diameter and kind, and the section (bar width,
-plate thickness). Texts stay text in the SVG (``svg.fonttype = none``), so the numbers can be
+and EE_y), the overall length, each bore's diameter and kind, and the link's own section (bar
+width, plate thickness). Texts stay text in the SVG (``svg.fonttype = none``), so the numbers can be
 searched and checked.
 """
 
@@ -19,7 +19,6 @@ from matplotlib.path import Path as MplPath
 from numpy.typing import ArrayLike
 
 from qsm.embodiment.parts import LinkPart
-from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.kinematics import LINK_NAMES, as_design
 
 KIND_LABEL = {"seat": "bearing seat", "pin": "pin", "shaft": "motor shaft", "tool": "tool mount"}
@@ -87,7 +86,6 @@ def draw_links(
     design: ArrayLike,
     parts: Mapping[str, LinkPart],
     path_stem: str | Path,
-    cad: CadSettings = DEFAULT_CAD,
     title: str = "",
 ) -> tuple[Path, Path]:
     """Draw every link with its dimensions; write ``<path_stem>.svg`` and ``<path_stem>.png``.
@@ -144,7 +142,8 @@ def draw_links(
                     arrowprops={"arrowstyle": "-", "lw": 0.4, "color": "0.3"},
                 )
             ax.set_title(
-                f"{name}: section width {mm(cad.width_m)} x thickness {mm(cad.thickness_m)} mm",
+                f"{name}: section width {mm(part.section.width_m)} x thickness "
+                f"{mm(part.section.thickness_m)} mm",
                 fontsize=9,
                 loc="left",
             )

@@ -35,7 +35,9 @@ def build_verdict(
 ) -> tuple[bool, list[str]]:
     """Whether the realised design is ready to build, and each reason it is not (with the
     run's numbers): not printable, a solid link, a joint bearing or a printed plate that does not
-    hold its loads, a motor without a drive, a failed payload test."""
+    hold its loads, a part drawn at another section (width x thickness) than the one its
+    strength was checked with, a printed part (as drawn) too large for the printer, a motor
+    without a drive, a failed payload test."""
     problems = []
     if not selected["printable"]:
         problems.append("not printable on the configured printer (see the verdict below)")
@@ -58,16 +60,22 @@ def build_verdict(
         problems.append(
             f"the strength check fails (utilisation {strength['utilisation']:.2f}, at most 1)"
         )
-    drawn = topology.get("parts", {}).get("section_mm")
+    drawn = topology.get("parts", {}).get("section_mm", {})
     for link, r in strength["links"].items():
-        checked = [r.get("width_mm"), r.get("thickness_mm")]
-        if drawn and None not in checked and not np.allclose(checked, drawn, rtol=1e-6):
+        checked, built = [r.get("width_mm"), r.get("thickness_mm")], drawn.get(link)
+        if built and None not in checked and not np.allclose(checked, built, rtol=1e-6):
             problems.append(
-                f"the {link.replace('_', ' ')} was checked with its sized section "
-                f"{checked[0]:.1f} x {checked[1]:.1f} mm, but the parts, drawing and BOM are "
-                f"drawn at the configured {drawn[0]:.1f} x {drawn[1]:.1f} mm (sized parts are "
-                "not drawn yet: set cad.width_m and cad.thickness_m to the sized section)"
+                f"the {link.replace('_', ' ')} was checked with the section "
+                f"{checked[0]:.1f} x {checked[1]:.1f} mm, but its part, drawing and BOM are "
+                f"drawn at {built[0]:.1f} x {built[1]:.1f} mm"
             )
+    if selected["printable"]:  # checked on the configured section: the parts as drawn too
+        for link, r in topology.get("parts", {}).get("printer", {}).items():
+            if not r["fits"]:
+                problems.append(
+                    f"the printed {link.replace('_', ' ')} "
+                    f"({' x '.join(f'{v:.1f}' for v in r['box_mm'])} mm) does not fit the printer"
+                )
     for link, r in topology["links"].items():
         if not r["carries_loads"]:
             problems.append(
@@ -99,6 +107,8 @@ def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom
     )
     parts = topology["parts"]
     masses = ", ".join(f"{k} {v:.3f}" for k, v in parts["masses_kg"].items())
+    sections = ", ".join(f"{k} {w:.1f} x {t:.1f}" for k, (w, t) in parts["section_mm"].items())
+    how = "sized by strength" if selected["strength"].get("section") == "sized" else "configured"
     bearings = "; ".join(
         f"{j} {b['designation'] or 'NONE FITS'} ({b['peak_force_N']:.0f} N peak at theta "
         f"{b['at_theta_deg'][0]:.0f} / {b['at_theta_deg'][1]:.0f} deg"
@@ -111,6 +121,7 @@ def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom
         f"- lengths (mm): {lengths}.",
         f"- the task disk keeps {1e3 * selected['clearance_m']:.2f} mm from the edge of the "
         "workspace (Euclidean clearance).",
+        f"- link sections (width x thickness, mm; {how}): {sections}.",
         f"- printed link masses (kg, bored): {masses}.",
         f"- bearings: {bearings}.",
         f"- through holes per link: {holes}.",
