@@ -127,14 +127,11 @@ def _point(mo: LinkMotion, px: NDArray, py: NDArray | None, link: int, acc: bool
     """:class:`_Point` of the link-frame point (px, py) (..., 1; py None: 0) of link ``link``."""
     c, s = mo.cos[..., link], mo.sin[..., link]
     rx, ry = (c * px, s * px) if py is None else (c * px - s * py, s * px + c * py)
-    at_a = link < 2  # the frame sits at A, at rest
     o = mo.origin[..., link, :]
-    x, y = (rx, ry) if at_a else (o[..., 0] + rx, o[..., 1] + ry)
+    x, y = o[..., 0] + rx, o[..., 1] + ry
     if not acc:
         return _Point(x, y, None, None)
     w2, a = mo.omega[..., link] ** 2, mo.alpha[..., link]
-    if at_a:
-        return _Point(x, y, a * -ry - w2 * rx, a * rx - w2 * ry)
     oa = mo.origin_acc[..., link, :]
     return _Point(x, y, oa[..., 0] + a * -ry - w2 * rx, oa[..., 1] + a * rx - w2 * ry)
 

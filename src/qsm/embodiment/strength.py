@@ -145,13 +145,9 @@ def _link_sample(loads: JointLoads, motion: LinkMotion, link: str) -> NDArray[np
             np.multiply(c, fy, out=out[..., 2 * j + 1, :]), s * fx, out=out[..., 2 * j + 1, :]
         )
     j = 2 * n_loads
-    if k < 2:  # the frame sits at A, at rest: g - a_0 = g
-        np.multiply(s, GRAVITY[1], out=out[..., j, :])
-        np.multiply(c, GRAVITY[1], out=out[..., j + 1, :])
-    else:
-        gx, gy = 0.0 - motion.origin_acc[..., k, 0], GRAVITY[1] - motion.origin_acc[..., k, 1]
-        np.add(np.multiply(c, gx, out=out[..., j, :]), s * gy, out=out[..., j, :])
-        np.subtract(np.multiply(c, gy, out=out[..., j + 1, :]), s * gx, out=out[..., j + 1, :])
+    gx, gy = 0.0 - motion.origin_acc[..., k, 0], GRAVITY[1] - motion.origin_acc[..., k, 1]
+    np.add(np.multiply(c, gx, out=out[..., j, :]), s * gy, out=out[..., j, :])
+    np.subtract(np.multiply(c, gy, out=out[..., j + 1, :]), s * gx, out=out[..., j + 1, :])
     out[..., j + 2, :] = motion.alpha[..., k]
     np.square(motion.omega[..., k], out=out[..., j + 3, :])
     return out
