@@ -70,13 +70,8 @@ _SPINE = {
     "coupler": lambda d: d[..., 2],
     "upper_arm": lambda d: d[..., 3] + d[..., 4] + d[..., 5],
 }
-#: Length (m) of the column of each link's buckling check.
-_COLUMN = {
-    "lower_arm": lambda d: d[..., 0],
-    "crank": lambda d: d[..., 1],
-    "coupler": lambda d: d[..., 2],
-    "upper_arm": lambda d: d[..., 3],
-}
+#: Length (m) of the column of each link's buckling check: l1, l2, l3, and l4 (the D-B leg).
+_COLUMN = {k: (lambda d, i=i: d[..., i]) for i, k in enumerate(LINK_NAMES)}
 _SIMPSON = np.array([1.0, 4.0, 1.0]) / 6
 
 
@@ -138,18 +133,15 @@ def _link_sample(loads: JointLoads, motion: LinkMotion, link: str) -> NDArray[np
     n_loads = len(LOADS[link])
     out = np.empty((*c.shape[:-1], 2 * n_loads + 4, c.shape[-1]))
     forces = loads._asdict()
-    for j, (name, _) in enumerate(LOADS[link]):
-        fx, fy = forces[name][..., 0], forces[name][..., 1]
-        np.add(np.multiply(c, fx, out=out[..., 2 * j, :]), s * fy, out=out[..., 2 * j, :])
-        np.subtract(
-            np.multiply(c, fy, out=out[..., 2 * j + 1, :]), s * fx, out=out[..., 2 * j + 1, :]
-        )
-    j = 2 * n_loads
-    gx, gy = 0.0 - motion.origin_acc[..., k, 0], GRAVITY[1] - motion.origin_acc[..., k, 1]
-    np.add(np.multiply(c, gx, out=out[..., j, :]), s * gy, out=out[..., j, :])
-    np.subtract(np.multiply(c, gy, out=out[..., j + 1, :]), s * gx, out=out[..., j + 1, :])
-    out[..., j + 2, :] = motion.alpha[..., k]
-    np.square(motion.omega[..., k], out=out[..., j + 3, :])
+    g_rel = (0.0 - motion.origin_acc[..., k, 0], GRAVITY[1] - motion.origin_acc[..., k, 1])
+    vectors = [(forces[n][..., 0], forces[n][..., 1]) for n, _ in LOADS[link]] + [g_rel]
+    for j, (x, y) in enumerate(vectors):  # rotated into the link frame
+        np.multiply(c, x, out=out[..., 2 * j, :])
+        out[..., 2 * j, :] += s * y
+        np.multiply(c, y, out=out[..., 2 * j + 1, :])
+        out[..., 2 * j + 1, :] -= s * x
+    out[..., -2, :] = motion.alpha[..., k]
+    np.square(motion.omega[..., k], out=out[..., -1, :])
     return out
 
 
@@ -228,12 +220,9 @@ class LinkLoads(NamedTuple):
 def peak_forces(loads: JointLoads) -> dict[str, NDArray[np.float64]]:
     """Peak magnitude (N) over the duty samples of each joint force of ``loads`` with a bore,
     (...) each, keyed as :class:`qsm.embodiment.loads.JointLoads`."""
-    forces = loads._asdict()
-    out = {}
-    for name in {n for bores in BORES.values() for _, n in bores}:
-        x, y = forces[name][..., 0], forces[name][..., 1]
-        out[name] = np.sqrt((x * x + y * y).max(axis=-1))
-    return out
+    f = loads._asdict()
+    names = {n for bores in BORES.values() for _, n in bores}
+    return {n: np.sqrt((f[n][..., 0] ** 2 + f[n][..., 1] ** 2).max(axis=-1)) for n in names}
 
 
 def link_loads(

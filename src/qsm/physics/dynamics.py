@@ -93,12 +93,7 @@ def components_first(*lead: int, last: tuple[int, ...]) -> NDArray[np.float64]:
     return np.moveaxis(np.empty((*last, *lead)), tuple(range(k)), tuple(range(-k, 0)))
 
 
-def _loop_state(
-    d: NDArray[np.float64],
-    th: NDArray[np.float64],
-    dth: NDArray[np.float64],
-    ddth: NDArray[np.float64],
-) -> LoopState:
+def _loop_state(d: NDArray, th: NDArray, dth: NDArray, ddth: NDArray) -> LoopState:
     """:func:`loop_state` of designs ``d`` (..., 6) at motor states (..., N, 2), each plane
     vector by its components."""
     l1, l2, l3, l4 = (d[..., i, None] for i in range(4))
@@ -127,19 +122,14 @@ def _loop_state(
     phi_dd, psi_dd = solve(c_ddx - b_ddx - pd2 * ux - sd2 * vx, c_ddy - b_ddy - pd2 * uy - sd2 * vy)
     lead = phi.shape
     q, qd, qdd = (components_first(*lead, last=(4,)) for _ in range(3))
-    for out, x1, y, x2, z in (
-        (q, t1, phi, t2, psi),
-        (qd, w1, phi_d, w2, psi_d),
-        (qdd, a1, phi_dd, a2, psi_dd),
-    ):
-        out[..., 0], out[..., 2] = x1, x2
-        np.subtract(y, x1, out=out[..., 1])
-        np.subtract(z, x2, out=out[..., 3])
+    states = ((t1, phi, t2, psi), (w1, phi_d, w2, psi_d), (a1, phi_dd, a2, psi_dd))
+    for o, (x, y, z, w) in zip((q, qd, qdd), states, strict=True):
+        o[..., 0], o[..., 2] = x, z
+        np.subtract(y, x, out=o[..., 1])
+        np.subtract(w, z, out=o[..., 3])
     G = components_first(*lead, last=(4, 2))  # dq_i/dtheta
     G[..., 0, :], G[..., 2, :] = (1.0, 0.0), (0.0, 1.0)
-    np.subtract(phi_1, 1.0, out=G[..., 1, 0])
-    G[..., 1, 1], G[..., 3, 0] = phi_2, psi_1
-    np.subtract(psi_2, 1.0, out=G[..., 3, 1])
+    G[..., 1, 0], G[..., 1, 1], G[..., 3, 0], G[..., 3, 1] = phi_1 - 1.0, phi_2, psi_1, psi_2 - 1.0
     u, v = components_first(*lead, last=(2,)), components_first(*lead, last=(2,))
     u[..., 0], u[..., 1], v[..., 0], v[..., 1] = ux, uy, vx, vy
     return LoopState(q, qd, qdd, G, u, v, np.abs(ux * vy - uy * vx), np.broadcast_to(closes, lead))
