@@ -63,15 +63,10 @@ BORES: dict[str, tuple[tuple[str, str], ...]] = {
 }
 
 
-#: Spine length (m) of each link, over which its mass is spread.
-_SPINE = {
-    "lower_arm": lambda d: d[..., 0],
-    "crank": lambda d: d[..., 1],
-    "coupler": lambda d: d[..., 2],
-    "upper_arm": lambda d: d[..., 3] + d[..., 4] + d[..., 5],
-}
 #: Length (m) of the column of each link's buckling check: l1, l2, l3, and l4 (the D-B leg).
 _COLUMN = {k: (lambda d, i=i: d[..., i]) for i, k in enumerate(LINK_NAMES)}
+#: Spine length (m) of each link, over which its mass is spread.
+_SPINE = {**_COLUMN, "upper_arm": lambda d: d[..., 3] + d[..., 4] + d[..., 5]}
 _SIMPSON = np.array([1.0, 4.0, 1.0]) / 6
 
 
@@ -182,7 +177,11 @@ def section_stress(
     bored = d_b > 0
     area = np.where(bored, t * (2 * r - d_b), w * t)
     modulus = np.where(bored, t * ((2 * r) ** 3 - d_b**3) / (12 * r), t * w**2 / 6)
-    return np.abs(axial_N) / area + np.abs(moment_Nm) / modulus
+    shape = np.broadcast_shapes(np.shape(axial_N), np.shape(moment_Nm), area.shape)
+    stress, bending = (np.abs(np.broadcast_to(x, shape)) for x in (axial_N, moment_Nm))
+    stress /= area  # in place: the cuts' layout stays (cut_forces: contiguous over the samples)
+    stress += np.divide(bending, modulus, out=bending)
+    return stress
 
 
 def cut_stresses(
