@@ -115,10 +115,27 @@ def _bar(length: NDArray[np.float64], sec: Section, bore_at_start: bool) -> Cuts
     return _cuts(rows, labels)
 
 
-def link_cuts(design: ArrayLike, sec: Section) -> dict[str, Cuts]:
-    """The cuts of each link of ``design`` (..., 6) m (see :mod:`qsm.embodiment.strength`)."""
+def link_cuts(
+    design: ArrayLike, sec: Section, links: tuple[str, ...] = tuple(LOADS)
+) -> dict[str, Cuts]:
+    """The cuts of each of ``links`` (all by default) of ``design`` (..., 6) m (see
+    :mod:`qsm.embodiment.strength`)."""
     d = as_design(design)
     l1, l2, l3, l4, ex, ey = (d[..., i] for i in range(6))
+    out = {}
+    for link in links:
+        if link == "upper_arm":
+            out[link] = _upper_arm(l4, ex, ey, sec)
+        else:
+            length = {"lower_arm": l1, "crank": l2, "coupler": l3}[link]
+            out[link] = _bar(length, sec, link != "coupler")
+    return out
+
+
+def _upper_arm(
+    l4: NDArray[np.float64], ex: NDArray[np.float64], ey: NDArray[np.float64], sec: Section
+) -> Cuts:
+    """Cuts of the upper arm: D - B towards D, B - corner - E towards E."""
     x0, h, z = sec.overlap_m, sec.width_m / 2, 0 * l4
     dp, corner, e = _pt(-l4), _pt(ex), _pt(ex, -ey)
     left, right, down = (-1.0, 0.0), (1.0, 0.0), (0.0, -1.0)
@@ -135,9 +152,4 @@ def link_cuts(design: ArrayLike, sec: Section) -> dict[str, Cuts]:
         ((_pt(ex, -h + z), down, (_pt(ex, -h + z), e), e, 1, False, False), "bar below the corner"),
         ((_pt(ex, x0 - ey), down, (_pt(ex, x0 - ey), e), e, 1, False, False), "bar at boss E"),
     ]
-    return {
-        "lower_arm": _bar(l1, sec, True),
-        "crank": _bar(l2, sec, True),
-        "coupler": _bar(l3, sec, False),
-        "upper_arm": _cuts([r for r, _ in upper], [label for _, label in upper]),
-    }
+    return _cuts([r for r, _ in upper], [label for _, label in upper])

@@ -220,9 +220,11 @@ class StrengthCheck:
         out["weakest_check"] = np.take_along_axis(checks, weakest[:, None], -1)[:, 0]
         theta = np.degrees(self.duty.theta)
         for suffix, name in JOINT_COLUMNS.items():
-            magnitude = np.nan_to_num(np.hypot(*np.moveaxis(forces[name], -1, 0)), nan=-1.0)
-            k = magnitude.argmax(-1)
-            out[f"joint_force_peak_{suffix}_N"] = magnitude.max(-1)
+            x, y = forces[name][..., 0], forces[name][..., 1]
+            square = np.nan_to_num(x * x + y * y, nan=-1.0)  # the magnitude's order, cheaply
+            k = square.argmax(-1)
+            peak = np.take_along_axis(square, k[:, None], -1)[:, 0]
+            out[f"joint_force_peak_{suffix}_N"] = np.where(peak < 0, -1.0, np.sqrt(np.abs(peak)))
             out[f"joint_force_peak_{suffix}_theta1_deg"] = theta[k, 0]
             out[f"joint_force_peak_{suffix}_theta2_deg"] = theta[k, 1]
         for col in out.values():

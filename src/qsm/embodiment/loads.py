@@ -23,8 +23,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.physics.cad import MassProperties
-from qsm.physics.dynamics import LoopState
-from qsm.physics.kinematics import LINK_NAMES, as_design, cross, perp
+from qsm.physics.dynamics import LoopState, components_first
+from qsm.physics.kinematics import LINK_NAMES, as_design
 from qsm.physics.mjcf import GRAVITY_M_S2
 
 GRAVITY = np.array([0.0, -GRAVITY_M_S2])
@@ -67,21 +67,6 @@ class LinkMotion(NamedTuple):
         c, s = self.cos[..., link], self.sin[..., link]
         return np.stack([c * vec[..., 0] + s * vec[..., 1], c * vec[..., 1] - s * vec[..., 0]], -1)
 
-    def accel(self, point: NDArray[np.float64], link: int) -> NDArray[np.float64]:
-        """World acceleration (..., N, 2) of the link-frame point (..., 2) of link ``link``."""
-        c, s = self.cos[..., link], self.sin[..., link]
-        p = np.asarray(point)[..., None, :]
-        r = np.stack([c * p[..., 0] - s * p[..., 1], s * p[..., 0] + c * p[..., 1]], -1)
-        w, a = self.omega[..., link, None], self.alpha[..., link, None]
-        return self.origin_acc[..., link, :] + a * perp(r) - w**2 * r
-
-    def world(self, point: NDArray[np.float64], link: int) -> NDArray[np.float64]:
-        """World position (..., N, 2) of the link-frame point (..., 2) of link ``link``."""
-        c, s = self.cos[..., link], self.sin[..., link]
-        p = np.asarray(point)[..., None, :]
-        r = np.stack([c * p[..., 0] - s * p[..., 1], s * p[..., 0] + c * p[..., 1]], -1)
-        return self.origin[..., link, :] + r
-
 
 class JointLoads(NamedTuple):
     """World-frame joint forces (..., N, 2) in N at the duty samples (see the module docstring)
@@ -96,28 +81,59 @@ class JointLoads(NamedTuple):
     tau: NDArray[np.float64]
 
 
-def _dir(angle: NDArray[np.float64]) -> NDArray[np.float64]:
-    return np.stack([np.cos(angle), np.sin(angle)], axis=-1)
-
-
 def link_motion(designs: ArrayLike, state: LoopState) -> LinkMotion:
     """Link-frame motion of ``designs`` (..., 6) m from their loop state (..., N)."""
     d = as_design(designs)
-    l1, l2 = d[..., 0, None, None], d[..., 1, None, None]
+    l1, l2 = d[..., 0, None], d[..., 1, None]
     q, qd, qdd = state.q, state.qd, state.qdd
-    angle = np.stack([q[..., 0], q[..., 2], q[..., 2] + q[..., 3], q[..., 0] + q[..., 1]], -1)
-    omega = np.stack([qd[..., 0], qd[..., 2], qd[..., 2] + qd[..., 3], qd[..., 0] + qd[..., 1]], -1)
-    alpha = np.stack(
-        [qdd[..., 0], qdd[..., 2], qdd[..., 2] + qdd[..., 3], qdd[..., 0] + qdd[..., 1]], -1
-    )
-    e1, e2 = _dir(q[..., 0]), _dir(q[..., 2])
-    b_pos, c_pos = l1 * e1, l2 * e2
-    b_acc = l1 * (qdd[..., 0, None] * perp(e1) - qd[..., 0, None] ** 2 * e1)
-    c_acc = l2 * (qdd[..., 2, None] * perp(e2) - qd[..., 2, None] ** 2 * e2)
-    zero = np.zeros_like(b_pos)
-    origin = np.stack([zero, zero, c_pos, b_pos], axis=-2)
-    origin_acc = np.stack([zero, zero, c_acc, b_acc], axis=-2)
-    return LinkMotion(np.cos(angle), np.sin(angle), omega, alpha, origin, origin_acc)
+    lead = q.shape[:-1]
+    cos, sin, omega, alpha = (components_first(*lead, last=(4,)) for _ in range(4))
+    for x, out in ((qd, omega), (qdd, alpha)):
+        out[..., 0], out[..., 1] = x[..., 0], x[..., 2]
+        np.add(x[..., 2], x[..., 3], out=out[..., 2])
+        np.add(x[..., 0], x[..., 1], out=out[..., 3])
+    # the motor angles (often the duty's, shared by all designs: then computed once); the
+    # coupler's and the upper arm's angles are the loop's psi and phi
+    for k, joint in enumerate((0, 2)):
+        angle = q[..., joint].reshape(-1, q.shape[-2])
+        if (angle == angle[:1]).all():
+            angle = angle[0]
+        cos[..., k], sin[..., k] = np.cos(angle), np.sin(angle)
+    cos[..., 2], sin[..., 2] = state.coupler_dir[..., 0], state.coupler_dir[..., 1]
+    cos[..., 3], sin[..., 3] = state.rocker_dir[..., 0], state.rocker_dir[..., 1]
+    origin, origin_acc = components_first(*lead, last=(4, 2)), components_first(*lead, last=(4, 2))
+    origin[..., :2, :], origin_acc[..., :2, :] = 0.0, 0.0
+    # B and C: the far ends of the lower arm and the crank, the upper arm's and coupler's origins
+    for link, slot, length in ((0, 3, l1), (1, 2, l2)):
+        c, s, a = cos[..., link], sin[..., link], alpha[..., link]
+        w2 = omega[..., link] ** 2
+        origin[..., slot, 0], origin[..., slot, 1] = length * c, length * s
+        origin_acc[..., slot, 0] = length * (a * -s - w2 * c)
+        origin_acc[..., slot, 1] = length * (a * c - w2 * s)
+    return LinkMotion(cos, sin, omega, alpha, origin, origin_acc)
+
+
+class _Point(NamedTuple):
+    """World position (x, y) and acceleration (ax, ay; None when not asked for) of a link-frame
+    point, each (..., N)."""
+
+    x: NDArray[np.float64]
+    y: NDArray[np.float64]
+    ax: NDArray[np.float64] | None
+    ay: NDArray[np.float64] | None
+
+
+def _point(mo: LinkMotion, px: NDArray, py: NDArray | None, link: int, acc: bool = True) -> _Point:
+    """:class:`_Point` of the link-frame point (px, py) (..., 1; py None: 0) of link ``link``."""
+    c, s = mo.cos[..., link], mo.sin[..., link]
+    rx, ry = (c * px, s * px) if py is None else (c * px - s * py, s * px + c * py)
+    o = mo.origin[..., link, :]
+    x, y = o[..., 0] + rx, o[..., 1] + ry
+    if not acc:
+        return _Point(x, y, None, None)
+    w2, a = mo.omega[..., link] ** 2, mo.alpha[..., link]
+    oa = mo.origin_acc[..., link, :]
+    return _Point(x, y, oa[..., 0] + a * -ry - w2 * rx, oa[..., 1] + a * rx - w2 * ry)
 
 
 def joint_loads(
@@ -131,45 +147,48 @@ def joint_loads(
     axes as the designs) and ``payload_kg`` at E, over the loop-consistent ``state``."""
     d = as_design(designs)
     mo = link_motion(d, state) if motion is None else motion
-    m = inertials.mass_kg[..., None, :]  # (..., 1, 4)
-    izz = inertials.izz_kg_m2[..., None, :]
+    g = GRAVITY[1]
+
+    def resultant(k: int, o: tuple[NDArray, NDArray] | None) -> tuple[NDArray, ...]:
+        """m (a_c - g) and I alpha + (c - o) x m (a_c - g) of link k (what its joints must
+        supply), o = (x, y) (None: A, the origin)."""
+        com = inertials.com_m[..., k, None, :]
+        p = _point(mo, com[..., 0], com[..., 1], k)
+        m = inertials.mass_kg[..., k, None]
+        fx, fy = m * p.ax, m * (p.ay - g)
+        rx, ry = (p.x, p.y) if o is None else (p.x - o[0], p.y - o[1])
+        return fx, fy, inertials.izz_kg_m2[..., k, None] * mo.alpha[..., k] + (rx * fy - ry * fx)
+
     lower, crank, coupler, upper = range(4)
-
-    def com(k: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        """World position and acceleration of link k's centre of mass."""
-        return mo.world(inertials.com_m[..., k, :], k), mo.accel(inertials.com_m[..., k, :], k)
-
-    def resultant(k: int, about: NDArray[np.float64]) -> tuple[NDArray, NDArray]:
-        """m (a_c - g) and I alpha + (c - about) x m (a_c - g) of link k (what its joints must
-        supply)."""
-        pos, acc = com(k)
-        f = m[..., k, None] * (acc - GRAVITY)
-        return f, izz[..., k] * mo.alpha[..., k] + cross(pos - about, f)
-
-    zero = np.zeros(2)
-    a_pos = np.broadcast_to(zero, mo.origin[..., 0, :].shape)
-    b_pos, c_pos = mo.origin[..., upper, :], mo.origin[..., coupler, :]
-    ee = np.stack([d[..., 4], -d[..., 5]], axis=-1)
-    e_pos = mo.world(ee, upper)
-    d_pos = mo.world(np.stack([-d[..., 3], np.zeros_like(d[..., 3])], -1), upper)
-    f_e = payload_kg * (GRAVITY - mo.accel(ee, upper))  # payload on the upper arm at E
-    f_cp, m_cp = resultant(coupler, c_pos)
-    f_u, m_u = resultant(upper, b_pos)
+    bx, by = mo.origin[..., upper, 0], mo.origin[..., upper, 1]
+    cx, cy = mo.origin[..., coupler, 0], mo.origin[..., coupler, 1]
+    e = _point(mo, d[..., 4, None], -d[..., 5, None], upper)
+    dp = _point(mo, -d[..., 3, None], None, upper, acc=False)
+    # the results, a_lower ... tau, each component one contiguous block
+    out = np.empty((len(JointLoads._fields), 2, *bx.shape))
+    a_l, a_k, f_b, f_c, f_d, f_e, tau = out
+    fex = np.multiply(payload_kg, 0.0 - e.ax, out=f_e[0])  # payload on the upper arm at E
+    fey = np.multiply(payload_kg, g - e.ay, out=f_e[1])
+    fcpx, fcpy, m_cp = resultant(coupler, (cx, cy))
+    fux, fuy, m_u = resultant(upper, (bx, by))
     # (D - C) x d = m_cp;  (D - B) x d = (E - B) x f_e - m_u
-    r1, r2 = d_pos - c_pos, d_pos - b_pos
-    rhs2 = cross(e_pos - b_pos, f_e) - m_u
-    det = cross(r1, r2)
+    r1x, r1y, r2x, r2y = dp.x - cx, dp.y - cy, dp.x - bx, dp.y - by
+    rhs2 = ((e.x - bx) * fey - (e.y - by) * fex) - m_u
+    det = r1x * r2y - r1y * r2x
     with np.errstate(invalid="ignore", divide="ignore"):
-        fd = (
-            np.stack(
-                [(m_cp * r2[..., 0] - rhs2 * r1[..., 0]), (m_cp * r2[..., 1] - rhs2 * r1[..., 1])],
-                -1,
-            )
-            / det[..., None]
-        )
-    fc = f_cp - fd
-    fb = f_u + fd - f_e
-    f_l, m_l = resultant(lower, a_pos)
-    f_k, m_k = resultant(crank, a_pos)
-    tau = np.stack([m_l + cross(b_pos, fb), m_k + cross(c_pos, fc)], axis=-1)
-    return JointLoads(f_l + fb, f_k + fc, fb, fc, fd, f_e, tau)
+        fdx = np.divide(m_cp * r2x - rhs2 * r1x, det, out=f_d[0])
+        fdy = np.divide(m_cp * r2y - rhs2 * r1y, det, out=f_d[1])
+    fcx, fcy = np.subtract(fcpx, fdx, out=f_c[0]), np.subtract(fcpy, fdy, out=f_c[1])
+    fbx, fby = np.subtract(fux + fdx, fex, out=f_b[0]), np.subtract(fuy + fdy, fey, out=f_b[1])
+    flx, fly, m_l = resultant(lower, None)
+    fkx, fky, m_k = resultant(crank, None)
+    for dst, x, y in (
+        (a_l[0], flx, fbx),
+        (a_l[1], fly, fby),
+        (a_k[0], fkx, fcx),
+        (a_k[1], fky, fcy),
+    ):
+        np.add(x, y, out=dst)
+    np.add(m_l, bx * fby - by * fbx, out=tau[0])
+    np.add(m_k, cx * fcy - cy * fcx, out=tau[1])
+    return JointLoads(*(np.moveaxis(v, 0, -1) for v in out))

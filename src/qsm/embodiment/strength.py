@@ -44,7 +44,7 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.embodiment.beam import LOADS, Cuts, Section, link_cuts
 from qsm.embodiment.loads import GRAVITY, Inertials, JointLoads, LinkMotion
 from qsm.embodiment.material import Material, StrengthSettings
-from qsm.physics.kinematics import as_design, cross
+from qsm.physics.kinematics import LINK_NAMES, as_design, cross
 
 #: Euler effective-length factor (K) of every member checked for buckling: pinned-pinned.
 BUCKLING_K = 1.0
@@ -63,20 +63,10 @@ BORES: dict[str, tuple[tuple[str, str], ...]] = {
 }
 
 
+#: Length (m) of the column of each link's buckling check: l1, l2, l3, and l4 (the D-B leg).
+_COLUMN = {k: (lambda d, i=i: d[..., i]) for i, k in enumerate(LINK_NAMES)}
 #: Spine length (m) of each link, over which its mass is spread.
-_SPINE = {
-    "lower_arm": lambda d: d[..., 0],
-    "crank": lambda d: d[..., 1],
-    "coupler": lambda d: d[..., 2],
-    "upper_arm": lambda d: d[..., 3] + d[..., 4] + d[..., 5],
-}
-#: Length (m) of the column of each link's buckling check.
-_COLUMN = {
-    "lower_arm": lambda d: d[..., 0],
-    "crank": lambda d: d[..., 1],
-    "coupler": lambda d: d[..., 2],
-    "upper_arm": lambda d: d[..., 3],
-}
+_SPINE = {**_COLUMN, "upper_arm": lambda d: d[..., 3] + d[..., 4] + d[..., 5]}
 _SIMPSON = np.array([1.0, 4.0, 1.0]) / 6
 
 
@@ -129,6 +119,27 @@ class LinkStrength(NamedTuple):
     labels: tuple[str, ...]
 
 
+def _link_sample(loads: JointLoads, motion: LinkMotion, link: str) -> NDArray[np.float64]:
+    """The link-frame sample vectors of :func:`cut_coefficients` of ``link`` over the duty
+    samples, (..., 2 n_loads + 4, N) with one contiguous row per entry, but for the signs of
+    the joint loads (:data:`LOADS`; the caller applies them to the coefficients)."""
+    k = LINK_NAMES.index(link)
+    c, s = motion.cos[..., k], motion.sin[..., k]
+    n_loads = len(LOADS[link])
+    out = np.empty((*c.shape[:-1], 2 * n_loads + 4, c.shape[-1]))
+    forces = loads._asdict()
+    g_rel = (0.0 - motion.origin_acc[..., k, 0], GRAVITY[1] - motion.origin_acc[..., k, 1])
+    vectors = [(forces[n][..., 0], forces[n][..., 1]) for n, _ in LOADS[link]] + [g_rel]
+    for j, (x, y) in enumerate(vectors):  # rotated into the link frame
+        np.multiply(c, x, out=out[..., 2 * j, :])
+        out[..., 2 * j, :] += s * y
+        np.multiply(c, y, out=out[..., 2 * j + 1, :])
+        out[..., 2 * j + 1, :] -= s * x
+    out[..., -2, :] = motion.alpha[..., k]
+    np.square(motion.omega[..., k], out=out[..., -1, :])
+    return out
+
+
 def cut_forces(
     design: ArrayLike,
     sec: Section,
@@ -140,28 +151,19 @@ def cut_forces(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Axial force N (tension > 0, N) and in-plane moment M (N m) at every cut of ``link``, each
     (..., N, C) over the duty samples of ``loads`` and ``motion`` (..., N): its own cuts of
-    :func:`link_cuts`, or ``cuts`` (for example extra cuts along a bar)."""
+    :func:`link_cuts`, or ``cuts`` (for example extra cuts along a bar). Each cut's values over
+    the samples are contiguous in memory (the arrays are views with the last two axes swapped)."""
     d = as_design(design)
-    k = list(LOADS).index(link)
-    cuts = link_cuts(d, sec)[link] if cuts is None else cuts
+    k = LINK_NAMES.index(link)
+    cuts = link_cuts(d, sec, (link,))[link] if cuts is None else cuts
     mu = inertials.mass_kg[..., k] / _SPINE[link](d)
     cn, cm = cut_coefficients(cuts, len(LOADS[link]), mu)
-    g_rel = (
-        np.broadcast_to(GRAVITY, motion.origin_acc[..., k, :].shape) - motion.origin_acc[..., k, :]
-    )
-    forces = loads._asdict()
-    sample = np.concatenate(
-        [
-            *(sign * motion.rotate_to_link(forces[n], k) for n, sign in LOADS[link]),
-            motion.rotate_to_link(g_rel, k),
-            motion.alpha[..., k, None],
-            motion.omega[..., k, None] ** 2,
-        ],
-        axis=-1,
-    )  # (..., N, 2 n_loads + 4)
-    both = sample @ np.swapaxes(np.concatenate([cn, cm], axis=-2), -1, -2)  # (..., N, 2C)
+    coef = np.concatenate([cn, cm], axis=-2)
+    for j, (_, sign) in enumerate(LOADS[link]):
+        coef[..., 2 * j : 2 * j + 2] *= sign
+    both = coef @ _link_sample(loads, motion, link)  # (..., 2C, N)
     n_cuts = len(cuts.labels)
-    return both[..., :n_cuts], both[..., n_cuts:]
+    return np.swapaxes(both[..., :n_cuts, :], -1, -2), np.swapaxes(both[..., n_cuts:, :], -1, -2)
 
 
 def section_stress(
@@ -175,7 +177,11 @@ def section_stress(
     bored = d_b > 0
     area = np.where(bored, t * (2 * r - d_b), w * t)
     modulus = np.where(bored, t * ((2 * r) ** 3 - d_b**3) / (12 * r), t * w**2 / 6)
-    return np.abs(axial_N) / area + np.abs(moment_Nm) / modulus
+    shape = np.broadcast_shapes(np.shape(axial_N), np.shape(moment_Nm), area.shape)
+    stress, bending = (np.abs(np.broadcast_to(x, shape)) for x in (axial_N, moment_Nm))
+    stress /= area  # in place: the cuts' layout stays (cut_forces: contiguous over the samples)
+    stress += np.divide(bending, modulus, out=bending)
+    return stress
 
 
 def cut_stresses(
@@ -210,6 +216,14 @@ class LinkLoads(NamedTuple):
     labels: tuple[str, ...]
 
 
+def peak_forces(loads: JointLoads) -> dict[str, NDArray[np.float64]]:
+    """Peak magnitude (N) over the duty samples of each joint force of ``loads`` with a bore,
+    (...) each, keyed as :class:`qsm.embodiment.loads.JointLoads`."""
+    f = loads._asdict()
+    names = {n for bores in BORES.values() for _, n in bores}
+    return {n: np.sqrt((f[n][..., 0] ** 2 + f[n][..., 1] ** 2).max(axis=-1)) for n in names}
+
+
 def link_loads(
     design: ArrayLike,
     sec: Section,
@@ -218,22 +232,25 @@ def link_loads(
     motion: LinkMotion,
     bores_m: ArrayLike,
     link: str,
+    cuts: Cuts | None = None,
+    peaks: Mapping[str, NDArray[np.float64]] | None = None,
 ) -> LinkLoads:
     """The loads of ``link`` of ``design`` (..., 6) m at the cuts of section ``sec`` over the
-    duty samples of ``loads`` and ``motion`` (..., N), bores of ``bores_m`` (..., 4) m at A-D."""
+    duty samples of ``loads`` and ``motion`` (..., N), bores of ``bores_m`` (..., 4) m at A-D;
+    ``cuts``: the link's cuts (:func:`link_cuts`) and ``peaks``: :func:`peak_forces` of
+    ``loads``, when computed already."""
     d = as_design(design)
     bores = np.broadcast_to(np.asarray(bores_m, dtype=float), (*d.shape[:-1], len(JOINTS)))
-    cuts = link_cuts(d, sec)[link]
+    cuts = link_cuts(d, sec, (link,))[link] if cuts is None else cuts
     axial, moment = cut_forces(d, sec, inertials, loads, motion, link, cuts)
-    column = np.flatnonzero(cuts.column)
-    compression = -axial[..., column].min(axis=(-2, -1))
+    compression = -axial.min(axis=-2)[..., cuts.column].min(axis=-1)
     joint = JOINTS.index(NET_SECTION_JOINT.get(link, "A"))  # the coupler has no net section
-    forces = loads._asdict()
+    peaks = peak_forces(loads) if peaks is None else peaks
     return LinkLoads(
         axial,
         moment,
         np.where(cuts.bore, bores[..., joint, None], 0.0)[..., None, :],
-        np.stack([np.linalg.norm(forces[n], axis=-1).max(axis=-1) for _, n in BORES[link]], -1),
+        np.stack([peaks[n] for _, n in BORES[link]], -1),
         np.stack([bores[..., JOINTS.index(j)] for j, _ in BORES[link]], -1),
         np.maximum(compression, 0.0),
         _COLUMN[link](d) * BUCKLING_K,
@@ -270,9 +287,12 @@ def link_strength(
     of ``loads`` and ``motion`` (..., N), with bores of diameter ``bores_m`` (..., 4) m at the
     joints A-D (each smaller than the boss); ``sec`` is every link's section or one per link
     (keyed by link name)."""
+    shared = link_cuts(design, sec) if isinstance(sec, Section) else None
+    peaks = peak_forces(loads)
     out = {}
     for link in LOADS:
         s = sec if isinstance(sec, Section) else sec[link]
-        forces = link_loads(design, s, inertials, loads, motion, bores_m, link)
+        cuts = link_cuts(design, s, (link,))[link] if shared is None else shared[link]
+        forces = link_loads(design, s, inertials, loads, motion, bores_m, link, cuts, peaks)
         out[link] = link_peaks(forces, s, material, strength)
     return out

@@ -27,7 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
 from qsm.physics.duty import Duty
-from qsm.physics.kinematics import as_design, cross, perp, pose
+from qsm.physics.kinematics import as_design, cross, perp, relative_arm_angle
 from qsm.physics.mjcf import JOINT_NAMES, body_inertials
 from qsm.physics.tiled import tree_forces
 
@@ -80,58 +80,59 @@ def loop_state(
     d = as_design(design)
     th, dth, ddth = (np.atleast_2d(np.asarray(a, dtype=float)) for a in (theta, dtheta, ddtheta))
     if d.ndim > 1:  # a batch of designs (P, 6): states (N, 2) shared or (P, N, 2) per design
-        lead = d.shape[:-1]
-        th, dth, ddth = (np.broadcast_to(a, (*lead, *a.shape[-2:])) for a in (th, dth, ddth))
+        # shared states keep a length-1 design axis: what depends on them alone is computed once
+        th, dth, ddth = (a.reshape((1,) * (d.ndim + 1 - a.ndim) + a.shape) for a in (th, dth, ddth))
     with np.errstate(invalid="ignore", divide="ignore"):
         return _loop_state(d, th, dth, ddth)
 
 
-def _loop_state(
-    d: NDArray[np.float64],
-    th: NDArray[np.float64],
-    dth: NDArray[np.float64],
-    ddth: NDArray[np.float64],
-) -> LoopState:
-    """:func:`loop_state` of designs ``d`` (..., 6) at motor states (..., N, 2)."""
+def components_first(*lead: int, last: tuple[int, ...]) -> NDArray[np.float64]:
+    """An empty array of shape (*lead, *last) stored with the ``last`` axes first, so that each
+    of their entries (a joint's angle, a vector's x) is one contiguous block."""
+    k = len(last)
+    return np.moveaxis(np.empty((*last, *lead)), tuple(range(k)), tuple(range(-k, 0)))
+
+
+def _loop_state(d: NDArray, th: NDArray, dth: NDArray, ddth: NDArray) -> LoopState:
+    """:func:`loop_state` of designs ``d`` (..., 6) at motor states (..., N, 2), each plane
+    vector by its components."""
     l1, l2, l3, l4 = (d[..., i, None] for i in range(4))
-    p = pose(d, th[..., 0], th[..., 1])
-    psi = np.arctan2(p.D[..., 1] - p.C[..., 1], p.D[..., 0] - p.C[..., 0])
-    u = np.stack([np.cos(p.phi), np.sin(p.phi)], axis=-1)
-    v = np.stack([np.cos(psi), np.sin(psi)], axis=-1)
-    e1 = np.stack([np.cos(th[..., 0]), np.sin(th[..., 0])], axis=-1)
-    e2 = np.stack([np.cos(th[..., 1]), np.sin(th[..., 1])], axis=-1)
+    t1, t2 = th[..., 0], th[..., 1]
+    # the pose (qsm.physics.kinematics.pose): B = l1 e1, C = l2 e2, D = B - l4 u
+    rel, closes = relative_arm_angle(np.stack([l2 / l1, l3 / l1, l4 / l1], axis=-1), t1 - t2)
+    phi = t1 + rel
+    e1x, e1y, e2x, e2y = np.cos(t1), np.sin(t1), np.cos(t2), np.sin(t2)
+    ux, uy = np.cos(phi), np.sin(phi)
+    psi = np.arctan2((l1 * e1y - l4 * uy) - l2 * e2y, (l1 * e1x - l4 * ux) - l2 * e2x)
+    vx, vy = np.cos(psi), np.sin(psi)
     # M [phi_dot, psi_dot] = C_dot - B_dot with columns a = -l4 perp(u), b = -l3 perp(v)
-    a, b = -l4[..., None] * perp(u), -l3[..., None] * perp(v)
-    det = cross(a, b)
+    ax, ay, bx, by = -l4 * -uy, -l4 * ux, -l3 * -vy, -l3 * vx
+    det = ax * by - ay * bx
 
-    def solve(rhs: NDArray[np.float64]) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-        return cross(rhs, b) / det, cross(a, rhs) / det
+    def solve(rx: NDArray, ry: NDArray) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        return (rx * by - ry * bx) / det, (ax * ry - ay * rx) / det
 
-    phi_1, psi_1 = solve(-l1[..., None] * perp(e1))  # d/dtheta1
-    phi_2, psi_2 = solve(l2[..., None] * perp(e2))  # d/dtheta2
-    phi_d = phi_1 * dth[..., 0] + phi_2 * dth[..., 1]
-    psi_d = psi_1 * dth[..., 0] + psi_2 * dth[..., 1]
-    b_dd = l1[..., None] * (ddth[..., :1] * perp(e1) - dth[..., :1] ** 2 * e1)
-    c_dd = l2[..., None] * (ddth[..., 1:] * perp(e2) - dth[..., 1:] ** 2 * e2)
-    phi_dd, psi_dd = solve(
-        c_dd
-        - b_dd
-        - l4[..., None] * phi_d[..., None] ** 2 * u
-        - l3[..., None] * psi_d[..., None] ** 2 * v
-    )
-
-    def joints(
-        t1: NDArray[np.float64], phi: NDArray[np.float64], t2: NDArray[np.float64], psi_: Any
-    ) -> NDArray[np.float64]:
-        return np.stack([t1, phi - t1, t2, psi_ - t2], axis=-1)
-
-    q = joints(th[..., 0], p.phi, th[..., 1], psi)
-    qd = joints(dth[..., 0], phi_d, dth[..., 1], psi_d)
-    qdd = joints(ddth[..., 0], phi_dd, ddth[..., 1], psi_dd)
-    one, zero = np.ones_like(phi_1), np.zeros_like(phi_1)
-    rows = ((one, zero), (phi_1 - 1.0, phi_2), (zero, one), (psi_1, psi_2 - 1.0))  # dq_i/dtheta
-    G = np.stack([np.stack(r, axis=-1) for r in rows], axis=-2)
-    return LoopState(q, qd, qdd, G, u, v, np.abs(cross(u, v)), p.closes)
+    phi_1, psi_1 = solve(-l1 * -e1y, -l1 * e1x)  # d/dtheta1
+    phi_2, psi_2 = solve(l2 * -e2y, l2 * e2x)  # d/dtheta2
+    w1, w2, a1, a2 = dth[..., 0], dth[..., 1], ddth[..., 0], ddth[..., 1]
+    phi_d, psi_d = phi_1 * w1 + phi_2 * w2, psi_1 * w1 + psi_2 * w2
+    b_ddx, b_ddy = l1 * (a1 * -e1y - w1**2 * e1x), l1 * (a1 * e1x - w1**2 * e1y)
+    c_ddx, c_ddy = l2 * (a2 * -e2y - w2**2 * e2x), l2 * (a2 * e2x - w2**2 * e2y)
+    pd2, sd2 = l4 * phi_d**2, l3 * psi_d**2
+    phi_dd, psi_dd = solve(c_ddx - b_ddx - pd2 * ux - sd2 * vx, c_ddy - b_ddy - pd2 * uy - sd2 * vy)
+    lead = phi.shape
+    q, qd, qdd = (components_first(*lead, last=(4,)) for _ in range(3))
+    states = ((t1, phi, t2, psi), (w1, phi_d, w2, psi_d), (a1, phi_dd, a2, psi_dd))
+    for o, (x, y, z, w) in zip((q, qd, qdd), states, strict=True):
+        o[..., 0], o[..., 2] = x, z
+        np.subtract(y, x, out=o[..., 1])
+        np.subtract(w, z, out=o[..., 3])
+    G = components_first(*lead, last=(4, 2))  # dq_i/dtheta
+    G[..., 0, :], G[..., 2, :] = (1.0, 0.0), (0.0, 1.0)
+    G[..., 1, 0], G[..., 1, 1], G[..., 3, 0], G[..., 3, 1] = phi_1 - 1.0, phi_2, psi_1, psi_2 - 1.0
+    u, v = components_first(*lead, last=(2,)), components_first(*lead, last=(2,))
+    u[..., 0], u[..., 1], v[..., 0], v[..., 1] = ux, uy, vx, vy
+    return LoopState(q, qd, qdd, G, u, v, np.abs(ux * vy - uy * vx), np.broadcast_to(closes, lead))
 
 
 class InverseResult(NamedTuple):
