@@ -238,7 +238,11 @@ def run_task(
         if out.returncode != 0:
             text = out.stdout + out.stderr
             error = next(
-                (line.strip() for line in text.splitlines() if "task.points" in line),
+                (
+                    line.strip()
+                    for line in text.splitlines()
+                    if "task.points" in line and "warning" not in line
+                ),
                 text.strip().splitlines()[-1] if text.strip() else "failed",
             )
             return {"task": name, "error": error, "wall_s": wall}
