@@ -9,13 +9,16 @@ and d'Alembert inertia.
   has solid bosses), the peak over the link's bar cuts.
 * FE: the solid CAD plate of :func:`qsm.realization.loads.link_problem` (clamped over the whole
   boss of A, for the lower arm, or B, for the upper arm; joint forces spread over the nodes of the
-  other bosses), with the body force of every cell added at its nodes; von Mises stress per cell.
-  The peak is taken over the cells outside every boss (centre farther than the boss radius from
-  every joint): inside, the clamp and the spread point loads make stresses that are not real.
+  other bosses), each cell's stiffness and body force in proportion to its area inside the
+  outline; von Mises stress per cell. The peak is taken over the whole cells outside every boss
+  (centre farther than the boss radius from every joint): inside, the clamp and the spread point
+  loads make stresses that are not real, and a cut cell's strain overstates the stress.
 
 Besides the peaks, both are compared on cross-sections clear of the bosses (the largest von Mises
 stress of the cells of one cell column across the bar against the beam stress at that column's
-centre). docs/strength.md gives the method and the measured agreement.
+centre) and at the upper arm's filleted inside corner (against the beam's corner cuts, the
+calibration of ``strength.corner_stress_concentration``). docs/strength.md gives the method and
+the measured agreement.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.beam import Cuts, Section, link_cuts
+from qsm.embodiment.beam import Section, link_cuts
 from qsm.embodiment.loads import GRAVITY, Inertials, joint_loads, link_motion
 from qsm.embodiment.strength import cut_forces, section_stress
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, link_outlines, mass_properties
@@ -43,29 +46,18 @@ from qsm.realization.fe import (
     clamped_dofs,
     nodal_forces,
 )
+from qsm.realization.fe_sections import (
+    SectionResult,
+    bar_sections,
+    inside_corner,
+    section_cuts,
+    snap,
+)
 from qsm.realization.geometry import cell_fill
 from qsm.realization.loads import LinkLoads, joint_points
 
 #: Links with a finite-element problem (:data:`qsm.realization.loads.OPTIMISED_LINKS`).
 FE_LINKS = ("lower_arm", "upper_arm")
-
-
-class Section2D(NamedTuple):
-    """A cross-section of a bar: label, link-frame point (m) on the spine, unit tangent into the
-    piece beyond the cut (towards the loaded end)."""
-
-    label: str
-    at: tuple[float, float]
-    tangent: tuple[float, float]
-
-
-class SectionResult(NamedTuple):
-    """Beam stress and the largest FE von Mises stress of the cells across one section (Pa)."""
-
-    label: str
-    at: tuple[float, float]
-    beam_pa: float
-    fe_pa: float
 
 
 class LinkComparison(NamedTuple):
@@ -86,73 +78,6 @@ class LinkComparison(NamedTuple):
     def ratio(self) -> float:
         """FE peak over beam peak (below 1: the beam model is conservative)."""
         return self.fe_pa / self.beam_pa
-
-
-def _sections(
-    design: NDArray[np.float64], link: str, sec: Section, h: float, fillet: float
-) -> list[Section2D]:
-    """Sections clear of the bosses (the first cell column whose cells all lie outside the boss,
-    with a cell of margin), at mid-span of the lower arm, half a width before and below the
-    upper arm's corner E' (its legs' edges meet at x = E_x - w/2, y = -w/2) and where its corner
-    fillet of radius ``fillet`` (m) meets the legs; ``h`` the cell size."""
-    l1, _, _, l4, ex, ey = (float(v) for v in design)
-    clear = float(np.hypot(sec.boss_radius_m + h, sec.width_m / 2))  # every cell outside
-    half = sec.width_m / 2
-    if link == "lower_arm":
-        return [
-            Section2D("bar clear of boss A", (clear, 0.0), (1.0, 0.0)),
-            Section2D("bar at mid-span", (l1 / 2, 0.0), (1.0, 0.0)),
-            Section2D("bar clear of boss B", (l1 - clear, 0.0), (1.0, 0.0)),
-        ]
-    return [
-        Section2D("leg B-D clear of boss B", (-clear, 0.0), (-1.0, 0.0)),
-        Section2D("leg B-D clear of boss D", (-l4 + clear, 0.0), (-1.0, 0.0)),
-        Section2D("leg B-E' clear of boss B", (clear, 0.0), (1.0, 0.0)),
-        Section2D("leg B-E' before the corner", (ex - 2 * half, 0.0), (1.0, 0.0)),
-        Section2D("leg E'-E below the corner", (ex, -2 * half), (0.0, -1.0)),
-        Section2D("leg B-E' at the fillet", (ex - half - fillet, 0.0), (1.0, 0.0)),
-        Section2D("leg E'-E at the fillet", (ex, -half - fillet), (0.0, -1.0)),
-        Section2D("leg E'-E clear of boss E", (ex, -ey + clear), (0.0, -1.0)),
-    ]
-
-
-def _snap(grid_origin: float, h: float, x: float) -> float:
-    """The cell-centre coordinate nearest ``x``."""
-    return grid_origin + (np.round((x - grid_origin) / h - 0.5) + 0.5) * h
-
-
-def _custom_cuts(design: NDArray[np.float64], link: str, sections: list[Section2D]) -> Cuts:
-    """Cuts of :mod:`qsm.embodiment.strength` at ``sections`` (bar stress, no bore)."""
-    l1, _, _, l4, ex, ey = (float(v) for v in design)
-    at, tangent, piece, load, slot = [], [], [], [], []
-    for s in sections:
-        p = np.array(s.at)
-        if link == "lower_arm":
-            end = np.array([l1, 0.0])
-            pts, ld, k = [p, end, end], end, 0
-        elif s.tangent[0] < 0:  # towards D
-            end = np.array([-l4, 0.0])
-            pts, ld, k = [p, end, end], end, 0
-        else:  # towards E, round the corner E' when on the horizontal leg
-            corner, end = np.array([ex, 0.0]), np.array([ex, -ey])
-            pts = [p, corner, end] if s.tangent[0] > 0 else [p, end, end]
-            ld, k = end, 1
-        at.append(p)
-        tangent.append(s.tangent)
-        piece.append(np.stack(pts))
-        load.append(ld)
-        slot.append(k)
-    n = len(sections)
-    return Cuts(
-        np.stack(at),
-        np.array(tangent, dtype=float),
-        np.stack(piece),
-        np.stack(load),
-        np.array(slot),
-        np.zeros(n, dtype=bool),
-        np.zeros(n, dtype=bool),
-        tuple(s.label for s in sections),
-    )
 
 
 def aligned_problem(
@@ -264,15 +189,15 @@ def compare_design(
             # sections: snap to the cell-centre line, beam there, FE across the bar
             results = []
             snapped = []
-            for s in _sections(d, link, sec, g.h, cad.corner_fillet_m):
+            for s in bar_sections(d, link, sec, g.h, cad.corner_fillet_m):
                 x, y = s.at
                 if s.tangent[1] == 0:
-                    x = float(_snap(g.origin[0], g.h, x))
+                    x = float(snap(g.origin[0], g.h, x))
                 else:
-                    y = float(_snap(g.origin[1], g.h, y))
+                    y = float(snap(g.origin[1], g.h, y))
                 snapped.append(s._replace(at=(x, y)))
             ax_s, mo_s = cut_forces(
-                d, sec, inertials, loads, motion, link, _custom_cuts(d, link, snapped)
+                d, sec, inertials, loads, motion, link, section_cuts(d, link, snapped)
             )
             beam_s = section_stress(ax_s, mo_s, sec)[j]
             for s, b in zip(snapped, beam_s, strict=True):
@@ -282,7 +207,7 @@ def compare_design(
                 cells = on_line & across & filled
                 results.append(SectionResult(s.label, s.at, float(b), float(vm[cells].max())))
             if link == "upper_arm":
-                results.append(_inside_corner(d, cad, c, vm_far, beam[j], bar_labels))
+                results.append(inside_corner(d, cad, c, vm_far, beam[j], bar_labels))
             out.append(
                 LinkComparison(
                     link,
@@ -296,27 +221,3 @@ def compare_design(
                 )
             )
     return out
-
-
-def _inside_corner(
-    design: NDArray[np.float64],
-    cad: CadSettings,
-    centres: NDArray[np.float64],
-    vm: NDArray[np.float64],
-    beam: NDArray[np.float64],
-    labels: list[str],
-) -> SectionResult:
-    """The upper arm's inside corner E': the largest FE von Mises stress ``vm`` (Pa) of the
-    cells (centres ``centres`` (ny, nx, 2) m) within r_f + w/2 of the fillet's centre (the sharp
-    corner when r_f = 0) and at most a cell before its quadrant (the cells touching a sharp
-    corner), against the larger beam stress ``beam`` of the cuts "bar at the corner" and "bar
-    below the corner" (those the corner factor multiplies); at the fillet's centre."""
-    h, rf = cad.width_m / 2, cad.corner_fillet_m
-    at = np.array([float(design[4]) - h - rf, -h - rf])
-    r = centres - at
-    cell = float(centres[0, 1, 0] - centres[0, 0, 0])
-    near = (r >= -cell).all(-1) & (np.hypot(r[..., 0], r[..., 1]) <= rf + h)
-    cut = max(beam[labels.index(k)] for k in ("bar at the corner", "bar below the corner"))
-    return SectionResult(
-        "inside corner E'", (float(at[0]), float(at[1])), float(cut), float(vm[near].max())
-    )
