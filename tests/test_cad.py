@@ -92,3 +92,56 @@ def test_section_that_does_not_fit_raises_cad_error() -> None:
         cad.mass_properties([0.1, 0.02, 0.1, 0.04, 0.12, 0.05])
     with pytest.raises(ValueError, match="boss_radius_m"):
         cad.CadSettings(width_m=0.05, boss_radius_m=0.02)
+
+
+def test_corner_fillet_adds_the_hand_computed_spandrel() -> None:
+    """The fillet fills the square r_f x r_f at the inside corner less a quarter disc: area
+    (1 - pi/4) r_f^2, centroid 2 r_f / (3 (4 - pi)) from the disc centre along each axis."""
+    fine = cad.CadSettings(segments_per_circle=8192)
+    sharp = cad.CadSettings(segments_per_circle=8192, corner_fillet_ratio=0.0)
+    rf = 0.25 * fine.width_m
+    sigma = fine.density_kg_m3 * fine.thickness_m
+    a = cad.mass_properties(DESIGN, fine)["upper_arm"]
+    b = cad.mass_properties(DESIGN, sharp)["upper_arm"]
+    added = sigma * (1 - math.pi / 4) * rf**2
+    assert a.mass_kg - b.mass_kg == pytest.approx(added, rel=1e-6)
+    h, ee_x = fine.width_m / 2, DESIGN[4]
+    centre = np.array([ee_x - h - rf, -h - rf])
+    spandrel = centre + 2 * rf / (3 * (4 - math.pi))
+    first = a.mass_kg * a.com_m[:2] - b.mass_kg * b.com_m[:2]
+    np.testing.assert_allclose(first, added * spandrel, rtol=1e-6)
+
+
+def test_corner_fillet_is_tangent_to_both_legs_and_needs_room() -> None:
+    s = cad.CadSettings()
+    h, rf = s.width_m / 2, s.corner_fillet_m
+    arc = cad.inside_corner(0.6, s)
+    np.testing.assert_allclose(arc[0], [0.6 - h - rf, -h], atol=1e-15)  # on the B-E' edge
+    np.testing.assert_allclose(arc[-1], [0.6 - h, -h - rf], atol=1e-15)  # on the E'-E edge
+    np.testing.assert_allclose(np.hypot(*(arc - (0.6 - h - rf, -h - rf)).T), rf, rtol=1e-12)
+    np.testing.assert_array_equal(
+        cad.inside_corner(0.6, cad.CadSettings(corner_fillet_ratio=0)), [[0.6 - h, -h]]
+    )
+    # legs just long enough without the fillet are too short with it
+    short = [0.5, 0.15, 0.55, 0.22, 0.6, s.boss_overlap_m + h + rf / 2]
+    cad.mass_properties(short, cad.CadSettings(corner_fillet_ratio=0))
+    with pytest.raises(cad.CadError, match="fillet"):
+        cad.mass_properties(short, s)
+
+
+@pytest.mark.parametrize("ratio", [0.0, 0.25, 0.5])
+def test_batch_mass_properties_equal_the_outline_ones_with_any_fillet(ratio) -> None:
+    """The closed form of qsm.physics.batch_mass against the polygon moments of the outlines,
+    sharp and filleted corners, scaled sections."""
+    from qsm.physics.batch_mass import batch_mass_properties
+
+    s = cad.CadSettings(corner_fillet_ratio=ratio)
+    designs = np.array([DESIGN, [0.35, 0.1, 0.38, 0.14, 0.42, 0.2]])
+    scale = np.array([[1.0, 0.8, 1.2, 1.3], [0.9, 1.0, 1.1, 0.7]])
+    mass, com, izz = batch_mass_properties(designs, s, scale)
+    for k, design in enumerate(designs):
+        props = cad.mass_properties(design, s, scale[k])
+        for j, link in enumerate(kinematics.LINK_NAMES):
+            assert mass[k, j] == pytest.approx(props[link].mass_kg, rel=1e-12)
+            np.testing.assert_allclose(com[k, j], props[link].com_m[:2], atol=1e-14)
+            assert izz[k, j] == pytest.approx(props[link].inertia_kg_m2[2, 2], rel=1e-12)

@@ -77,6 +77,7 @@ def cad(section: Section, material_section: Section) -> CadSettings:
         boss_radius_m=section["boss_radius_m"],
         density_kg_m3=material_section["density_kg_m3"],
         segments_per_circle=section["segments_per_circle"],
+        corner_fillet_ratio=section["corner_fillet_ratio"],
     )
 
 

@@ -47,6 +47,10 @@ class StrengthSettings:
     lug_stress_concentration: peak over nominal net-section stress of a pin-loaded bore, default
         3.0 (Peterson's Stress Concentration Factors, pin-loaded lugs: about 2.5-3 for close-fitting
         pins at bore / boss diameter 0.3-0.5; the upper end, as printed bores fit loosely).
+    corner_stress_concentration: peak over beam stress at the upper arm's inside corner (its
+        "bar at the corner" and "bar below the corner" cuts) with the CAD fillet of
+        ``cad.corner_fillet_ratio`` 0.25; default 3.0, from plane-stress FE of the filleted
+        plates (docs/strength.md).
     bearing_safety_factor: static safety factor s0 = C0 / P0 of the joint bearings, default 2
         (SKF's guideline for quiet running; :mod:`qsm.embodiment.bearings`).
     boss_wall_m: printed wall between a bearing seat and the boss's edge, default 4 mm.
@@ -57,13 +61,20 @@ class StrengthSettings:
     safety_factor: float = 2.0
     buckling_safety_factor: float = 3.0
     lug_stress_concentration: float = 3.0
+    corner_stress_concentration: float = 3.0
     bearing_safety_factor: float = 2.0
     boss_wall_m: float = 0.004
     pin_yield_strength_pa: float = 235e6
 
     def __post_init__(self) -> None:
-        if min(self.safety_factor, self.buckling_safety_factor, self.lug_stress_concentration) < 1:
-            raise ValueError("safety factors and the stress concentration must be at least 1")
+        factors = (
+            self.safety_factor,
+            self.buckling_safety_factor,
+            self.lug_stress_concentration,
+            self.corner_stress_concentration,
+        )
+        if min(factors) < 1:
+            raise ValueError("safety factors and the stress concentrations must be at least 1")
         if not (self.bearing_safety_factor > 0 and self.boss_wall_m > 0):
             raise ValueError("bearing_safety_factor and boss_wall_m must be positive")
 

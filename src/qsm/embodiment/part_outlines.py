@@ -10,10 +10,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from qsm.physics.cad import (
-    CadError,
-    CadSettings,
-)
+from qsm.physics.cad import CadError, CadSettings, inside_corner
 
 
 def _arc(cx: float, cy: float, r: float, a0: float, a1: float, seg: int) -> NDArray[np.float64]:
@@ -53,16 +50,16 @@ def bar_outline(length: float, r0: float, r1: float, cad: CadSettings) -> NDArra
 def upper_arm_outline(
     l4: float, ee_x: float, ee_y: float, r_d: float, r_b: float, r_e: float, cad: CadSettings
 ) -> NDArray[np.float64]:
-    """CCW outline of the L-shaped upper arm (qsm.physics.cad's) with its own boss radius at D, B
-    and E (m)."""
+    """CCW outline of the L-shaped upper arm (qsm.physics.cad's, its inside corner filleted) with
+    its own boss radius at D, B and E (m)."""
     h, seg, pi = cad.width_m / 2, cad.segments_per_circle, math.pi
     if not (r_d > h and r_b > h and r_e > h):
         raise CadError("boss radii must exceed half the bar width")
     bd, bb, be = (math.asin(h / r) for r in (r_d, r_b, r_e))
     if not (
         l4 > _overlap(r_d, h) + _overlap(r_b, h)
-        and ee_x - h > _overlap(r_b, h)
-        and ee_y - h > _overlap(r_e, h)
+        and ee_x - h - cad.corner_fillet_m > _overlap(r_b, h)
+        and ee_y - h - cad.corner_fillet_m > _overlap(r_e, h)
     ):
         raise CadError(
             f"upper arm (l4={l4:.4g}, ee_x={ee_x:.4g}, ee_y={ee_y:.4g} m) is too small for bosses "
@@ -72,7 +69,7 @@ def upper_arm_outline(
         [
             _arc(-l4, 0.0, r_d, bd, 2 * pi - bd, seg),
             _arc(0.0, 0.0, r_b, pi + bb, 2 * pi - bb, seg),
-            [[ee_x - h, -h]],
+            inside_corner(ee_x, cad),
             _arc(ee_x, -ee_y, r_e, pi / 2 + be, 5 * pi / 2 - be, seg),
             [[ee_x + h, h]],
             _arc(0.0, 0.0, r_b, bb, pi - bb, seg),

@@ -103,10 +103,10 @@ class SizedSections(NamedTuple):
 def fit_limit(designs: NDArray[np.float64], cad: CadSettings) -> NDArray[np.float64]:
     """Largest scale factor (..., 4) of ``cad``'s section each link of ``designs`` (..., 6) m
     takes (exclusive): bars longer than their two boss overlaps, the upper arm's legs longer
-    than a boss overlap plus half a width (:func:`qsm.physics.cad.link_outlines`)."""
-    x0, h = cad.boss_overlap_m, cad.width_m / 2
+    than :attr:`qsm.physics.cad.CadSettings.leg_min_m` (:func:`qsm.physics.cad.link_outlines`)."""
+    x0 = cad.boss_overlap_m
     l1, l2, l3, l4, ex, ey = np.moveaxis(designs, -1, 0)
-    upper = np.minimum(l4 / (2 * x0), np.minimum(ex, ey) / (x0 + h))
+    upper = np.minimum(l4 / (2 * x0), np.minimum(ex, ey) / cad.leg_min_m)
     return np.stack([l1 / (2 * x0), l2 / (2 * x0), l3 / (2 * x0), upper], -1)
 
 

@@ -13,7 +13,8 @@ crank, away from C for the coupler, towards D or E for the upper arm) gives the 
 the in-plane bending moment M (the distributed load's moment by Simpson's rule, exact for its
 linear variation). Checks:
 
-* bar, at the boss edges and mid-span: ``|N| / (w t) + 6 |M| / (t w^2)``;
+* bar, at the boss edges and mid-span: ``|N| / (w t) + 6 |M| / (t w^2)``; at the upper arm's
+  filleted inside corner E' (:data:`CORNER_CUTS`) times ``corner_stress_concentration``;
 * net section through a bore where a moment passes (A of the lower arm and crank, B of the upper
   arm): ``|N| / (t (2R - d_b)) + |M| R / I_net`` with ``I_net = t ((2R)^3 - d_b^3) / 12``;
 * pin-loaded lug at every bore: ``K_t |F| / (t (2R - d_b))`` (F the joint force, K_t
@@ -258,6 +259,16 @@ def link_loads(
     )
 
 
+#: The upper arm's cuts at its inside corner, whose stress ``corner_stress_concentration`` scales.
+CORNER_CUTS = ("bar at the corner", "bar below the corner")
+
+
+def corner_factor(labels: tuple[str, ...], strength: StrengthSettings) -> NDArray[np.float64]:
+    """Factor on the stress of each cut ``labels``: the corner's stress concentration at
+    :data:`CORNER_CUTS`, 1 elsewhere."""
+    return np.where(np.isin(labels, CORNER_CUTS), strength.corner_stress_concentration, 1.0)
+
+
 def link_peaks(
     link: LinkLoads, sec: Section, material: Material, strength: StrengthSettings
 ) -> LinkStrength:
@@ -267,6 +278,7 @@ def link_peaks(
     if not (link.bore_m < 2 * r).all():
         raise ValueError("every bore must be smaller than the boss diameter")
     stress = section_stress(link.axial_N, link.moment_Nm, sec.trailing(2), link.cut_bore_m)
+    stress = stress * corner_factor(link.labels[: stress.shape[-1]], strength)
     lug = strength.lug_stress_concentration / (t * (2 * r - link.bore_m)) * link.bore_force_N
     checks = np.concatenate([stress.max(axis=-2), lug], axis=-1)
     euler = math.pi**2 * material.youngs_modulus_pa * sec.weak_inertia_m4 / link.column_m**2

@@ -147,8 +147,8 @@ def printability_violation_mm(
     """
     d = np.atleast_2d(as_design(designs))
     excess = box_excess_mm(d, cad, volume_mm)
-    x0, h = cad.boss_overlap_m, cad.width_m / 2
-    short = np.column_stack(
-        [2 * x0 - d[:, :4].min(axis=1), x0 + h - d[:, 4], x0 + h - d[:, 5]]
-    ).max(axis=1)
+    x0, leg = cad.boss_overlap_m, cad.leg_min_m
+    short = np.column_stack([2 * x0 - d[:, :4].min(axis=1), leg - d[:, 4], leg - d[:, 5]]).max(
+        axis=1
+    )
     return np.maximum(excess, short * 1e3)

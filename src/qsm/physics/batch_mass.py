@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.cad import DEFAULT_CAD, CadSettings, _arc
+from qsm.physics.cad import DEFAULT_CAD, CadSettings, _arc, inside_corner
 from qsm.physics.kinematics import as_design
 
 
@@ -39,7 +39,7 @@ def _outline_terms(s: CadSettings) -> dict[str, list[tuple[NDArray[np.float64], 
     upper = [
         (_arc(0.0, 0.0, r, beta, 2 * pi - beta, seg), at({3: -1.0})),
         (_arc(0.0, 0.0, r, pi + beta, 2 * pi - beta, seg), at()),
-        (np.array([[-h, -h]]), at({4: 1.0})),
+        (inside_corner(0.0, s), at({4: 1.0})),
         (_arc(0.0, 0.0, r, pi / 2 + beta, 5 * pi / 2 - beta, seg), at({4: 1.0}, {5: -1.0})),
         (np.array([[h, h]]), at({4: 1.0})),
         (_arc(0.0, 0.0, r, beta, pi - beta, seg), at()),

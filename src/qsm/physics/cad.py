@@ -17,7 +17,10 @@ Link frames (also the MuJoCo body frames of :mod:`qsm.physics.mjcf`), x-y is the
 * ``coupler``:   origin at C, +x towards D, length l3;
 * ``upper_arm``: origin at the pivot B, +x along the EE_x axis dir(phi); it holds the rocker point
   D = (-l4, 0), the corner E' = (EE_x, 0) and the end effector E = (EE_x, -EE_y): an L-shaped bell
-  crank made of the bar D-E' (through B) and the bar E'-E, with bosses at D, B and E.
+  crank made of the bar D-E' (through B) and the bar E'-E, with bosses at D, B and E. Its inside
+  corner (EE_x - w/2, -w/2) is rounded by a fillet of radius ``corner_fillet_ratio * width_m``
+  (tangent to both legs' edges; it adds ``(1 - pi/4) r_f^2`` of area), which bounds the stress
+  concentration there (docs/strength.md).
 
 The paper gives no cross-sections (its parts were drawn in Rhino and printed in ABS-M30); the
 defaults below are a plausible printed section for 0.3-1 m links.
@@ -53,6 +56,8 @@ class CadSettings:
     density_kg_m3: material density, default 1040 kg/m^3 (ABS-M30).
     segments_per_circle: polygon segments of a full boss circle, default 64 (area error 0.16 %
         of the boss discs; the mesh and the mass properties use the same polygon).
+    corner_fillet_ratio: radius of the upper arm's inside-corner fillet over width_m, default
+        0.25 (10 mm); 0 leaves the corner sharp.
     """
 
     width_m: float = 0.040
@@ -60,6 +65,7 @@ class CadSettings:
     boss_radius_m: float = 0.025
     density_kg_m3: float = ABS_M30_DENSITY_KG_M3
     segments_per_circle: int = 64
+    corner_fillet_ratio: float = 0.25
 
     def __post_init__(self) -> None:
         if not (self.width_m > 0 and self.thickness_m > 0 and self.density_kg_m3 > 0):
@@ -68,12 +74,25 @@ class CadSettings:
             raise ValueError("boss_radius_m must exceed width_m / 2")
         if self.segments_per_circle < 8:
             raise ValueError("segments_per_circle must be at least 8")
+        if not self.corner_fillet_ratio >= 0:
+            raise ValueError("corner_fillet_ratio must be at least 0")
 
     @property
     def boss_overlap_m(self) -> float:
         """Distance (m) from a boss centre to where the bar's edges meet the boss circle: a bar
-        needs more than twice this length, the upper arm's legs more than this + width / 2."""
+        needs more than twice this length."""
         return math.sqrt(self.boss_radius_m**2 - (self.width_m / 2) ** 2)
+
+    @property
+    def corner_fillet_m(self) -> float:
+        """Radius (m) of the fillet in the upper arm's inside corner."""
+        return self.corner_fillet_ratio * self.width_m
+
+    @property
+    def leg_min_m(self) -> float:
+        """Length (m) the upper arm's legs EE_x and EE_y must exceed: a boss overlap, half a
+        width and the corner fillet."""
+        return self.boss_overlap_m + self.width_m / 2 + self.corner_fillet_m
 
     def scaled(self, factor: float) -> CadSettings:
         """This section with width, thickness and boss radius multiplied by ``factor`` (> 0)."""
@@ -130,22 +149,34 @@ def _bar_outline(length: float, s: CadSettings) -> NDArray[np.float64]:
     )
 
 
+def inside_corner(ee_x: float, s: CadSettings) -> NDArray[np.float64]:
+    """Points (k, 2) of the upper arm's inside corner on its CCW outline, from the B-E' leg's
+    lower edge to the E'-E leg's inner edge: the fillet arc of radius ``s.corner_fillet_m`` about
+    (ee_x - w/2 - r_f, -w/2 - r_f), or the sharp corner (ee_x - w/2, -w/2) when it is 0."""
+    h, rf = s.width_m / 2, s.corner_fillet_m
+    if rf == 0:
+        return np.array([[ee_x - h, -h]])
+    return _arc(ee_x - h - rf, -h - rf, rf, 0.0, math.pi / 2, s.segments_per_circle)[::-1]
+
+
 def _upper_arm_outline(l4: float, ee_x: float, ee_y: float, s: CadSettings) -> NDArray[np.float64]:
-    """CCW outline of the L-shaped upper arm: bar D-E' along x, bar E'-E along -y, 3 bosses."""
+    """CCW outline of the L-shaped upper arm: bar D-E' along x, bar E'-E along -y, 3 bosses,
+    the inside corner filleted."""
     r, h, seg = s.boss_radius_m, s.width_m / 2, s.segments_per_circle
     beta = math.asin(h / r)
     x0 = s.boss_overlap_m
-    if not (l4 > 2 * x0 and ee_x > x0 + h and ee_y > x0 + h):
+    if not (l4 > 2 * x0 and ee_x > s.leg_min_m and ee_y > s.leg_min_m):
         raise CadError(
             f"upper arm (l4={l4:.4g}, ee_x={ee_x:.4g}, ee_y={ee_y:.4g} m) is too small for bosses "
-            f"of radius {r} m on bars of width {s.width_m} m"
+            f"of radius {r} m on bars of width {s.width_m} m with a corner fillet of "
+            f"{s.corner_fillet_m:.4g} m"
         )
     pi = math.pi
     return np.concatenate(
         [
             _arc(-l4, 0.0, r, beta, 2 * pi - beta, seg),  # boss D, ends at bottom edge
             _arc(0.0, 0.0, r, pi + beta, 2 * pi - beta, seg),  # boss B, lower half
-            [[ee_x - h, -h]],  # inner corner
+            inside_corner(ee_x, s),
             _arc(ee_x, -ee_y, r, pi / 2 + beta, 5 * pi / 2 - beta, seg),  # boss E
             [[ee_x + h, h]],  # outer corner
             _arc(0.0, 0.0, r, beta, pi - beta, seg),  # boss B, upper half

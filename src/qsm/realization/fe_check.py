@@ -9,13 +9,16 @@ and d'Alembert inertia.
   has solid bosses), the peak over the link's bar cuts.
 * FE: the solid CAD plate of :func:`qsm.realization.loads.link_problem` (clamped over the whole
   boss of A, for the lower arm, or B, for the upper arm; joint forces spread over the nodes of the
-  other bosses), with the body force of every cell added at its nodes; von Mises stress per cell.
-  The peak is taken over the cells outside every boss (centre farther than the boss radius from
-  every joint): inside, the clamp and the spread point loads make stresses that are not real.
+  other bosses), each cell's stiffness and body force in proportion to its area inside the
+  outline; von Mises stress per cell. The peak is taken over the whole cells outside every boss
+  (centre farther than the boss radius from every joint): inside, the clamp and the spread point
+  loads make stresses that are not real, and a cut cell's strain overstates the stress.
 
 Besides the peaks, both are compared on cross-sections clear of the bosses (the largest von Mises
 stress of the cells of one cell column across the bar against the beam stress at that column's
-centre). docs/strength.md gives the method and the measured agreement.
+centre) and at the upper arm's filleted inside corner (against the beam's corner cuts, the
+calibration of ``strength.corner_stress_concentration``). docs/strength.md gives the method and
+the measured agreement.
 """
 
 from __future__ import annotations
@@ -27,7 +30,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.beam import Cuts, Section, link_cuts
+from qsm.embodiment.beam import Section, link_cuts
 from qsm.embodiment.loads import GRAVITY, Inertials, joint_loads, link_motion
 from qsm.embodiment.strength import cut_forces, section_stress
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, link_outlines, mass_properties
@@ -43,28 +46,18 @@ from qsm.realization.fe import (
     clamped_dofs,
     nodal_forces,
 )
+from qsm.realization.fe_sections import (
+    SectionResult,
+    bar_sections,
+    inside_corner,
+    section_cuts,
+    snap,
+)
+from qsm.realization.geometry import cell_fill
 from qsm.realization.loads import LinkLoads, joint_points
 
 #: Links with a finite-element problem (:data:`qsm.realization.loads.OPTIMISED_LINKS`).
 FE_LINKS = ("lower_arm", "upper_arm")
-
-
-class Section2D(NamedTuple):
-    """A cross-section of a bar: label, link-frame point (m) on the spine, unit tangent into the
-    piece beyond the cut (towards the loaded end)."""
-
-    label: str
-    at: tuple[float, float]
-    tangent: tuple[float, float]
-
-
-class SectionResult(NamedTuple):
-    """Beam stress and the largest FE von Mises stress of the cells across one section (Pa)."""
-
-    label: str
-    at: tuple[float, float]
-    beam_pa: float
-    fe_pa: float
 
 
 class LinkComparison(NamedTuple):
@@ -85,68 +78,6 @@ class LinkComparison(NamedTuple):
     def ratio(self) -> float:
         """FE peak over beam peak (below 1: the beam model is conservative)."""
         return self.fe_pa / self.beam_pa
-
-
-def _sections(design: NDArray[np.float64], link: str, sec: Section, h: float) -> list[Section2D]:
-    """Sections clear of the bosses (the first cell column whose cells all lie outside the boss,
-    with a cell of margin), at mid-span of the lower arm and half a width before and below the
-    upper arm's corner E' (its legs' edges meet at x = E_x - w/2, y = -w/2); ``h`` the cell size."""
-    l1, _, _, l4, ex, ey = (float(v) for v in design)
-    clear = float(np.hypot(sec.boss_radius_m + h, sec.width_m / 2))  # every cell outside
-    half = sec.width_m / 2
-    if link == "lower_arm":
-        return [
-            Section2D("bar clear of boss A", (clear, 0.0), (1.0, 0.0)),
-            Section2D("bar at mid-span", (l1 / 2, 0.0), (1.0, 0.0)),
-            Section2D("bar clear of boss B", (l1 - clear, 0.0), (1.0, 0.0)),
-        ]
-    return [
-        Section2D("leg B-D clear of boss B", (-clear, 0.0), (-1.0, 0.0)),
-        Section2D("leg B-D clear of boss D", (-l4 + clear, 0.0), (-1.0, 0.0)),
-        Section2D("leg B-E' clear of boss B", (clear, 0.0), (1.0, 0.0)),
-        Section2D("leg B-E' before the corner", (ex - 2 * half, 0.0), (1.0, 0.0)),
-        Section2D("leg E'-E below the corner", (ex, -2 * half), (0.0, -1.0)),
-        Section2D("leg E'-E clear of boss E", (ex, -ey + clear), (0.0, -1.0)),
-    ]
-
-
-def _snap(grid_origin: float, h: float, x: float) -> float:
-    """The cell-centre coordinate nearest ``x``."""
-    return grid_origin + (np.round((x - grid_origin) / h - 0.5) + 0.5) * h
-
-
-def _custom_cuts(design: NDArray[np.float64], link: str, sections: list[Section2D]) -> Cuts:
-    """Cuts of :mod:`qsm.embodiment.strength` at ``sections`` (bar stress, no bore)."""
-    l1, _, _, l4, ex, ey = (float(v) for v in design)
-    at, tangent, piece, load, slot = [], [], [], [], []
-    for s in sections:
-        p = np.array(s.at)
-        if link == "lower_arm":
-            end = np.array([l1, 0.0])
-            pts, ld, k = [p, end, end], end, 0
-        elif s.tangent[0] < 0:  # towards D
-            end = np.array([-l4, 0.0])
-            pts, ld, k = [p, end, end], end, 0
-        else:  # towards E, round the corner E' when on the horizontal leg
-            corner, end = np.array([ex, 0.0]), np.array([ex, -ey])
-            pts = [p, corner, end] if s.tangent[0] > 0 else [p, end, end]
-            ld, k = end, 1
-        at.append(p)
-        tangent.append(s.tangent)
-        piece.append(np.stack(pts))
-        load.append(ld)
-        slot.append(k)
-    n = len(sections)
-    return Cuts(
-        np.stack(at),
-        np.array(tangent, dtype=float),
-        np.stack(piece),
-        np.stack(load),
-        np.array(slot),
-        np.zeros(n, dtype=bool),
-        np.zeros(n, dtype=bool),
-        tuple(s.label for s in sections),
-    )
 
 
 def aligned_problem(
@@ -189,9 +120,11 @@ def compare_design(
     duty: Duty | None = None,
     cell_size_m: float = 0.004,
     settings: TopologySettings = DEFAULT_TOPOLOGY,
+    links: tuple[str, ...] = FE_LINKS,
 ) -> list[LinkComparison]:
-    """Beam against FE for the lower and upper arm of ``design`` (6,) m at the duty samples of
-    peak |tau1| and |tau2| (see the module docstring); FE cells of side ``cell_size_m``."""
+    """Beam against FE for ``links`` (of the lower and upper arm) of ``design`` (6,) m at the
+    duty samples of peak |tau1| and |tau2| (see the module docstring); FE cells of side
+    ``cell_size_m``."""
     d = as_design(design)
     duty = duty_cycle() if duty is None else duty
     props = mass_properties(d, cad)
@@ -207,8 +140,9 @@ def compare_design(
         "peak_tau1": int(np.nanargmax(np.abs(loads.tau[:, 0]))),
         "peak_tau2": int(np.nanargmax(np.abs(loads.tau[:, 1]))),
     }
+    outlines = link_outlines(d, cad)
     out = []
-    for link in FE_LINKS:
+    for link in links:
         k = LINK_NAMES.index(link)
         cuts = link_cuts(d, sec)[link]
         bar = np.array([label.startswith("bar") for label in cuts.labels])
@@ -229,11 +163,14 @@ def compare_design(
             problem = aligned_problem(d, cad, link, LinkLoads(case, clamp, forces), cell_size_m)
             g = problem.grid
             filled = problem.design | problem.solid
-            # body force of every filled cell, a quarter at each of its nodes
+            # each cell's stiffness and mass in proportion to its area inside the outline (the
+            # fillet's arc is not a staircase); the bosses solid
+            fill = np.where(problem.solid, 1.0, cell_fill(g, shapely.Polygon(outlines[link])))
+            # body force of every cell, a quarter at each of its nodes
             c = g.cell_centres()
             g_rel = motion.rotate_to_link(GRAVITY - motion.origin_acc[:, k], k)[j]
             acc = g_rel - motion.alpha[j, k] * perp(c) + motion.omega[j, k] ** 2 * c
-            cell_f = cad.density_kg_m3 * cad.thickness_m * g.h**2 * acc * filled[..., None]
+            cell_f = cad.density_kg_m3 * cad.thickness_m * g.h**2 * acc * fill[..., None]
             nodal = np.zeros((g.ny + 1, g.nx + 1, 2))
             for dj in (0, 1):
                 for di in (0, 1):
@@ -241,8 +178,10 @@ def compare_design(
             f = problem.forces[:, 0] + nodal.reshape(-1)
             f[problem.fixed] = 0.0
             problem = dataclasses.replace(problem, forces=f[:, None])
-            vm = analyse(problem, filled.astype(float), fe_settings, penal=1.0).von_mises_pa
-            far = filled.copy()
+            vm = analyse(problem, fill, fe_settings, penal=1.0).von_mises_pa
+            # whole cells only: the strain of a cut cell is that of a softer cell, and a stress
+            # from it overstates the material's (up to 40 % on the fillet's arc)
+            far = fill > 1 - 1e-9
             for p in pts.values():
                 far &= np.linalg.norm(c - p, axis=-1) > cad.boss_radius_m
             vm_far = np.where(far, vm, 0.0)
@@ -250,15 +189,15 @@ def compare_design(
             # sections: snap to the cell-centre line, beam there, FE across the bar
             results = []
             snapped = []
-            for s in _sections(d, link, sec, g.h):
+            for s in bar_sections(d, link, sec, g.h, cad.corner_fillet_m):
                 x, y = s.at
                 if s.tangent[1] == 0:
-                    x = float(_snap(g.origin[0], g.h, x))
+                    x = float(snap(g.origin[0], g.h, x))
                 else:
-                    y = float(_snap(g.origin[1], g.h, y))
+                    y = float(snap(g.origin[1], g.h, y))
                 snapped.append(s._replace(at=(x, y)))
             ax_s, mo_s = cut_forces(
-                d, sec, inertials, loads, motion, link, _custom_cuts(d, link, snapped)
+                d, sec, inertials, loads, motion, link, section_cuts(d, link, snapped)
             )
             beam_s = section_stress(ax_s, mo_s, sec)[j]
             for s, b in zip(snapped, beam_s, strict=True):
@@ -268,18 +207,7 @@ def compare_design(
                 cells = on_line & across & filled
                 results.append(SectionResult(s.label, s.at, float(b), float(vm[cells].max())))
             if link == "upper_arm":
-                # the re-entrant corner: the cells touching it against the beam's corner cut
-                corner = np.array([d[4] - sec.width_m / 2, -sec.width_m / 2])
-                near = (np.abs(c - corner) < g.h).all(-1) & filled
-                at_corner = beam[j, bar_labels.index("bar at the corner")]
-                results.append(
-                    SectionResult(
-                        "inside corner E'",
-                        (float(corner[0]), float(corner[1])),
-                        float(at_corner),
-                        float(vm[near].max()),
-                    )
-                )
+                results.append(inside_corner(d, cad, c, vm_far, beam[j], bar_labels))
             out.append(
                 LinkComparison(
                     link,
