@@ -100,7 +100,7 @@ def test_analytic_mass_properties_match_trimesh() -> None:
     built = parts.link_parts(DESIGN, idx)
     analytic = part_mass.part_mass_properties(built)
     for name, mesh in parts.part_meshes(built).items():
-        mesh.density = cad.ABS_M30_DENSITY_KG_M3
+        mesh.density = cad.DEFAULT_CAD.density_kg_m3
         a = analytic[name]
         assert mesh.mass == pytest.approx(a.mass_kg, rel=1e-9), name
         np.testing.assert_allclose(mesh.center_mass, a.com_m, atol=1e-9)

@@ -1,6 +1,7 @@
-"""The settings dataclasses' defaults agree with the config schema, the defaults a run uses.
+"""The settings dataclasses' defaults are the config schema's, the defaults a run uses.
 
-Notebook calls take the dataclass defaults, the workflow the schema's: a test keeps them one.
+Notebook calls take the dataclass defaults (read from the schema by :mod:`qsm.defaults`), the
+workflow the validated config's: each field must read its own key.
 """
 
 import dataclasses
@@ -71,3 +72,12 @@ def test_the_settings_layer_gives_the_default_dataclasses_on_the_default_config(
     assert fit.resolution == Resolution() and fit.op == settings.operating_range(
         c["operating_range"]
     )
+
+
+def test_a_default_names_a_key_the_schema_lacks():
+    from qsm.defaults import default
+
+    assert default("cad.width_m") == CONFIG["cad"]["width_m"]
+    assert default("operating_range.theta1_deg") == tuple(CONFIG["operating_range"]["theta1_deg"])
+    with pytest.raises(KeyError, match=r"'cad\.no_such_key'"):
+        default("cad.no_such_key")

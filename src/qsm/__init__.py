@@ -21,6 +21,7 @@ __version__ = "0.1.0"
 #: The packages and top-level modules of ``qsm`` by layer, lowest first: a layer imports only
 #: from the layers before it (tests/test_layers.py holds the code to this).
 LAYERS: tuple[tuple[str, ...], ...] = (
+    ("defaults",),  # every setting's default, from the config schema
     ("physics",),  # kinematics, workspace, solids, MuJoCo dynamics, clearance
     ("mechanisms", "surrogate"),  # Stage 1 designs and the dataset's columns; the MLP
     ("embodiment",),  # loads, strength, bearings, drives, parts, printability

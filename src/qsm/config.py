@@ -7,8 +7,6 @@ import hashlib
 import json
 import math
 from collections.abc import Iterator, Mapping, Sequence
-from functools import cache
-from importlib import resources
 from pathlib import Path
 from typing import Any
 
@@ -17,15 +15,7 @@ import yaml
 
 from qsm.config_checks import check_config
 from qsm.config_errors import ConfigError
-
-SCHEMA_FILE = "config.schema.yaml"
-
-
-@cache
-def schema() -> dict[str, Any]:
-    """The configuration schema shipped with the package."""
-    text = resources.files("qsm").joinpath("schemas").joinpath(SCHEMA_FILE).read_text()
-    return yaml.safe_load(text)
+from qsm.defaults import schema
 
 
 def _with_defaults(cls: type) -> type:

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from qsm.physics.cad import ABS_M30_DENSITY_KG_M3
+from qsm.defaults import default
 
 
 @dataclass(frozen=True)
@@ -24,11 +24,11 @@ class Material:
     yield_strength_pa: strength the safety factors refer to, default 31e6.
     """
 
-    name: str = "ABS-M30"
-    density_kg_m3: float = ABS_M30_DENSITY_KG_M3
-    youngs_modulus_pa: float = 2.2e9
-    poisson_ratio: float = 0.35
-    yield_strength_pa: float = 31e6
+    name: str = default("material.name")
+    density_kg_m3: float = default("material.density_kg_m3")
+    youngs_modulus_pa: float = default("material.youngs_modulus_pa")
+    poisson_ratio: float = default("material.poisson_ratio")
+    yield_strength_pa: float = default("material.yield_strength_pa")
 
     def __post_init__(self) -> None:
         if min(self.density_kg_m3, self.youngs_modulus_pa, self.yield_strength_pa) <= 0:
@@ -58,13 +58,13 @@ class StrengthSettings:
         235 MPa (S235, EN 10025-2); sizes the bores with the bearing safety factor.
     """
 
-    safety_factor: float = 2.0
-    buckling_safety_factor: float = 3.0
-    lug_stress_concentration: float = 3.0
-    corner_stress_concentration: float = 3.0
-    bearing_safety_factor: float = 2.0
-    boss_wall_m: float = 0.004
-    pin_yield_strength_pa: float = 235e6
+    safety_factor: float = default("strength.safety_factor")
+    buckling_safety_factor: float = default("strength.buckling_safety_factor")
+    lug_stress_concentration: float = default("strength.lug_stress_concentration")
+    corner_stress_concentration: float = default("strength.corner_stress_concentration")
+    bearing_safety_factor: float = default("strength.bearing_safety_factor")
+    boss_wall_m: float = default("strength.boss_wall_m")
+    pin_yield_strength_pa: float = default("strength.pin_yield_strength_pa")
 
     def __post_init__(self) -> None:
         factors = (

@@ -28,11 +28,12 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.defaults import default
 from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, link_outlines
 from qsm.physics.kinematics import DESIGN_COLUMNS, as_design
 
 #: The paper's printer, W x L x H (mm).
-BUILD_VOLUME_MM: tuple[float, float, float] = (600.0, 350.0, 350.0)
+BUILD_VOLUME_MM: tuple[float, float, float] = tuple(map(float, default("printing.build_volume_mm")))
 
 
 def link_boxes_mm(

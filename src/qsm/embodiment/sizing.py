@@ -36,6 +36,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
+from qsm.defaults import default
 from qsm.embodiment.beam import Section
 from qsm.embodiment.bearings import BearingChoice, BearingTable, min_shaft_diameter_m
 from qsm.embodiment.bearings import select_bearings as _select
@@ -61,10 +62,10 @@ class SizingSettings:
     utilisation ``target`` a link is sized to (the optimisation's g13 sizes to less, to keep
     its allowance for the coarser duty)."""
 
-    width_m: tuple[float, float] = (0.02, 0.08)
-    thickness_m: tuple[float, float] = (0.01, 0.04)
-    max_iterations: int = 10
-    tolerance: float = 0.005
+    width_m: tuple[float, float] = default("cad.sized.width_m")
+    thickness_m: tuple[float, float] = default("cad.sized.thickness_m")
+    max_iterations: int = default("cad.sized.max_iterations")
+    tolerance: float = default("cad.sized.tolerance")
     target: float = TARGET
 
     def __post_init__(self) -> None:

@@ -37,9 +37,8 @@ import shapely
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.defaults import default
 from qsm.physics.kinematics import LINK_NAMES, as_design
-
-ABS_M30_DENSITY_KG_M3 = 1040.0
 
 
 class CadError(ValueError):
@@ -60,12 +59,12 @@ class CadSettings:
         0.25 (10 mm); 0 leaves the corner sharp.
     """
 
-    width_m: float = 0.040
-    thickness_m: float = 0.020
-    boss_radius_m: float = 0.025
-    density_kg_m3: float = ABS_M30_DENSITY_KG_M3
-    segments_per_circle: int = 64
-    corner_fillet_ratio: float = 0.25
+    width_m: float = default("cad.width_m")
+    thickness_m: float = default("cad.thickness_m")
+    boss_radius_m: float = default("cad.boss_radius_m")
+    density_kg_m3: float = default("material.density_kg_m3")
+    segments_per_circle: int = default("cad.segments_per_circle")
+    corner_fillet_ratio: float = default("cad.corner_fillet_ratio")
 
     def __post_init__(self) -> None:
         if not (self.width_m > 0 and self.thickness_m > 0 and self.density_kg_m3 > 0):

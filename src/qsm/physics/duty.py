@@ -25,6 +25,8 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.defaults import default
+
 # peak speed of a unit minimum-jerk move of unit duration
 MIN_JERK_PEAK_SPEED = 1.875
 
@@ -41,14 +43,14 @@ class DutySettings:
     static_theta1_count, static_theta2_count: static holding grid size, default 8 x 8.
     """
 
-    theta1_min_deg: float = 45.0
-    theta1_max_deg: float = 180.0
-    theta2_min_deg: float = -37.5
-    raster_lines: int = 7
-    samples_per_segment: int = 24
-    peak_speed_deg_s: float = 45.0
-    static_theta1_count: int = 8
-    static_theta2_count: int = 8
+    theta1_min_deg: float = default("operating_range.theta1_deg")[0]
+    theta1_max_deg: float = default("operating_range.theta1_deg")[1]
+    theta2_min_deg: float = default("operating_range.theta2_min_deg")
+    raster_lines: int = default("dynamics.duty.raster_lines")
+    samples_per_segment: int = default("dynamics.duty.samples_per_segment")
+    peak_speed_deg_s: float = default("dynamics.duty.peak_speed_deg_s")
+    static_theta1_count: int = default("dynamics.duty.static_theta1_count")
+    static_theta2_count: int = default("dynamics.duty.static_theta2_count")
 
     def __post_init__(self) -> None:
         if not self.theta2_min_deg < self.theta1_min_deg < self.theta1_max_deg:

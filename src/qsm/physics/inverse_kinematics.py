@@ -23,10 +23,12 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.defaults import default
 from qsm.physics.kinematics import as_design, pose
 
-THETA1_RANGE_DEG = (45.0, 180.0)
-THETA2_MIN_DEG = -37.5
+#: The motor ranges (deg) of the config's default ``operating_range`` (the paper's).
+THETA1_RANGE_DEG: tuple[float, float] = default("operating_range.theta1_deg")
+THETA2_MIN_DEG: float = default("operating_range.theta2_min_deg")
 _TOL_M = 1e-9  # relative to l1 for the branch check
 _TOL_RAD = 1e-9
 

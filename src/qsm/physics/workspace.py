@@ -22,6 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.defaults import default
 from qsm.physics.kinematics import relative_arm_angle
 
 TWO_PI = 2.0 * np.pi
@@ -54,8 +55,8 @@ class OperatingRange:
 class Resolution:
     """Discretisation of the slicing: ``delta`` samples and circles (levels)."""
 
-    n_delta: int = 721
-    n_levels: int = 600
+    n_delta: int = default("workspace.n_delta")
+    n_levels: int = default("workspace.n_levels")
 
 
 @dataclass(frozen=True)

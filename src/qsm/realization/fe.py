@@ -10,7 +10,7 @@ import scipy.sparse as sps
 from numpy.typing import ArrayLike, NDArray
 from scipy.sparse.linalg import splu
 
-from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH
+from qsm.defaults import default
 from qsm.realization.pymoto_quiet import pym
 
 
@@ -30,19 +30,19 @@ class TopologySettings:
     threshold: density above which a cell is solid in the printed part, default 0.5.
     """
 
-    volume_fraction: float = 0.6
-    cell_size_m: float = 0.004
-    max_iterations: int = 80
-    change_tol: float = 0.01
-    penal: float = 3.0
-    filter_radius_cells: float = 1.5
-    move: float = 0.2
+    volume_fraction: float = default("topology.volume_fraction")
+    cell_size_m: float = default("topology.cell_size_m")
+    max_iterations: int = default("topology.max_iterations")
+    change_tol: float = default("topology.change_tol")
+    penal: float = default("topology.penal")
+    filter_radius_cells: float = default("topology.filter_radius_cells")
+    move: float = default("topology.move")
     min_density: float = 1e-9
-    youngs_modulus_pa: float = DEFAULT_MATERIAL.youngs_modulus_pa
-    poisson_ratio: float = DEFAULT_MATERIAL.poisson_ratio
-    yield_strength_pa: float = DEFAULT_MATERIAL.yield_strength_pa
-    safety_factor: float = DEFAULT_STRENGTH.safety_factor
-    threshold: float = 0.5
+    youngs_modulus_pa: float = default("material.youngs_modulus_pa")
+    poisson_ratio: float = default("material.poisson_ratio")
+    yield_strength_pa: float = default("material.yield_strength_pa")
+    safety_factor: float = default("strength.safety_factor")
+    threshold: float = default("topology.threshold")
 
     def __post_init__(self) -> None:
         if not 0.0 < self.volume_fraction <= 1.0:

@@ -44,11 +44,12 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.defaults import default
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
 from qsm.physics.duty import minimum_jerk
 from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, inverse_dynamics, loop_state
-from qsm.physics.inverse_kinematics import THETA1_RANGE_DEG, THETA2_MIN_DEG, joint_path
+from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import as_design, pose
 from qsm.physics.mjcf import model_spec
 from qsm.physics.task_points import visited_points
@@ -74,17 +75,17 @@ class PayloadSettings:
     theta1_range_deg, theta2_min_deg: operating range for the IK, default (45, 180), -37.5.
     """
 
-    payload_kg: float = 5.0
-    torque_limits_Nm: tuple[float, float] | None = None
-    segment_duration_s: float = 1.5
-    dwell_s: float = 0.5
-    return_to_start: bool = True
-    kp_Nm_rad: tuple[float, float] = (2000.0, 1000.0)
-    kd_Nms_rad: tuple[float, float] = (60.0, 30.0)
-    tracking_tolerance_deg: float = 0.5
-    plant_mass_error: float = 0.15
-    theta1_range_deg: tuple[float, float] = THETA1_RANGE_DEG
-    theta2_min_deg: float = THETA2_MIN_DEG
+    payload_kg: float = default("task.payload_kg")
+    torque_limits_Nm: tuple[float, float] | None = default("payload_test.torque_limits_Nm")
+    segment_duration_s: float = default("payload_test.segment_duration_s")
+    dwell_s: float = default("payload_test.dwell_s")
+    return_to_start: bool = default("payload_test.return_to_start")
+    kp_Nm_rad: tuple[float, float] = default("payload_test.kp_Nm_rad")
+    kd_Nms_rad: tuple[float, float] = default("payload_test.kd_Nms_rad")
+    tracking_tolerance_deg: float = default("payload_test.tracking_tolerance_deg")
+    plant_mass_error: float = default("payload_test.plant_mass_error")
+    theta1_range_deg: tuple[float, float] = default("operating_range.theta1_deg")
+    theta2_min_deg: float = default("operating_range.theta2_min_deg")
 
     def __post_init__(self) -> None:
         if self.segment_duration_s <= 0 or self.dwell_s < 0:

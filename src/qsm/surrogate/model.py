@@ -20,6 +20,7 @@ from sklearn.metrics import mean_squared_error, r2_score
 from sklearn.model_selection import train_test_split
 from sklearn.neural_network import MLPRegressor
 
+from qsm.defaults import default
 from qsm.physics.kinematics import DESIGN_COLUMNS
 
 INPUTS: tuple[str, ...] = DESIGN_COLUMNS
@@ -33,17 +34,17 @@ OUTPUT_TRANSFORMS: tuple[str, ...] = ("none", "log")
 class SurrogateSettings:
     """Network and training settings (config section ``surrogate``)."""
 
-    hidden_layers: tuple[int, ...] = (100,)
-    learning_rate: float = 1e-3
-    max_epochs: int = 50_000
-    tol: float = 1e-6
-    n_iter_no_change: int = 50
-    early_stopping: bool = False
-    alpha: float = 1e-4
-    batch_size: int = 200
-    output_transform: str = "none"
-    test_fraction: float = 0.2
-    seed: int = 0
+    hidden_layers: tuple[int, ...] = default("surrogate.hidden_layers")
+    learning_rate: float = default("surrogate.learning_rate")
+    max_epochs: int = default("surrogate.max_epochs")
+    tol: float = default("surrogate.tol")
+    n_iter_no_change: int = default("surrogate.n_iter_no_change")
+    early_stopping: bool = default("surrogate.early_stopping")
+    alpha: float = default("surrogate.alpha")
+    batch_size: int = default("surrogate.batch_size")
+    output_transform: str = default("surrogate.output_transform")
+    test_fraction: float = default("surrogate.test_fraction")
+    seed: int = default("surrogate.seed")
 
     def __post_init__(self) -> None:
         if self.output_transform not in OUTPUT_TRANSFORMS:
