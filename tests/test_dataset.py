@@ -20,7 +20,7 @@ from qsm.mechanisms.dataset import (
 )
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.duty import duty_cycle
-from qsm.physics.dynamics import RESULT_KEYS, joint_torques, loop_state
+from qsm.physics.dynamics import joint_torques, loop_state
 from qsm.physics.kinematics import DESIGN_NAMES, pose
 
 
@@ -32,10 +32,6 @@ def mechanisms(ids):
 
 def shard(ids, status="ok"):
     return pd.DataFrame({"mechanism_id": ids, "tau1_Nm": 1.0, "tau2_Nm": 2.0, "status": status})
-
-
-def test_the_dataset_documents_every_dynamics_result():
-    assert list(DYNAMICS_COLUMNS) == list(RESULT_KEYS)
 
 
 def test_gather_keeps_the_mechanism_order_and_every_status():

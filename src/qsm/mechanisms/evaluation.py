@@ -16,8 +16,9 @@ from numpy.typing import ArrayLike
 
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.duty import Duty, duty_cycle
-from qsm.physics.dynamics import RESULT_KEYS, evaluate_mechanism
+from qsm.physics.dynamics import evaluate_mechanism
 from qsm.physics.kinematics import DESIGN_COLUMNS
+from qsm.physics.results import DYNAMICS_COLUMNS
 
 log = logging.getLogger(__name__)
 
@@ -34,7 +35,7 @@ def evaluate_table(
     l1_m ... ee_y_m, m), with each row's section scales (rows, 4) when ``scales`` is given.
 
     Returns one row per input row, in the same order and with the same index, holding
-    ``mechanism_id`` (when ``df`` has it) and the :data:`qsm.physics.dynamics.RESULT_KEYS`
+    ``mechanism_id`` (when ``df`` has it) and the :data:`qsm.physics.results.DYNAMICS_COLUMNS`
     columns. ``duty`` defaults to :func:`qsm.physics.duty.duty_cycle` with default settings.
     Progress is logged every ``log_every`` rows.
     """
@@ -48,7 +49,7 @@ def evaluate_table(
         if i % log_every == 0 or i == len(designs):
             elapsed = time.perf_counter() - start
             log.info("dynamics: %d/%d mechanisms, %.1f mechanisms/s", i, len(designs), i / elapsed)
-    out = pd.DataFrame(rows, index=df.index, columns=list(RESULT_KEYS))
+    out = pd.DataFrame(rows, index=df.index, columns=list(DYNAMICS_COLUMNS))
     if "mechanism_id" in df.columns:
         out.insert(0, "mechanism_id", df["mechanism_id"].to_numpy())
     return out

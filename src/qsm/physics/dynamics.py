@@ -29,28 +29,11 @@ from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, mass_properties
 from qsm.physics.duty import Duty
 from qsm.physics.kinematics import as_design, cross, perp, relative_arm_angle
 from qsm.physics.mjcf import JOINT_NAMES, body_inertials
+from qsm.physics.results import DYNAMICS_COLUMNS
 from qsm.physics.tiled import tree_forces
 
 # |sin| of the transmission angle at D below which a mechanism is reported as singular
 MIN_SIN_TRANSMISSION = 1e-3
-RESULT_KEYS: tuple[str, ...] = (
-    "tau1_Nm",
-    "tau2_Nm",
-    "theta1_at_tau1_peak_deg",
-    "theta2_at_tau1_peak_deg",
-    "theta1_at_tau2_peak_deg",
-    "theta2_at_tau2_peak_deg",
-    "tau1_rms_Nm",
-    "tau2_rms_Nm",
-    "coupler_force_peak_N",
-    "transmission_angle_min_deg",
-    "mass_lower_arm_kg",
-    "mass_crank_kg",
-    "mass_coupler_kg",
-    "mass_upper_arm_kg",
-    "status",
-    "status_reason",
-)
 
 
 class LoopState(NamedTuple):
@@ -225,7 +208,7 @@ def joint_torques(
 
 def _failure(status: str, reason: str, masses: dict[str, float]) -> dict[str, Any]:
     """The result of a design whose dynamics failed: NaN but its masses, and why."""
-    out: dict[str, Any] = dict.fromkeys(RESULT_KEYS, np.nan)
+    out: dict[str, Any] = dict.fromkeys(DYNAMICS_COLUMNS, np.nan)
     out.update(masses, status=status, status_reason=reason)
     return out
 
@@ -240,8 +223,9 @@ def evaluate_mechanism(
     """Peak and RMS motor torques of one design (6 lengths, m) over ``duty``, each link of the
     section ``settings`` scaled by its entry of ``scale`` (4,) (None: ``settings`` for all).
 
-    Returns a dict with the keys :data:`RESULT_KEYS`: peak |tau| (N m) of each motor and the motor
-    angles (deg) where it occurs, time-weighted RMS torques over the moving part of the duty,
+    Returns a dict with the keys of :data:`qsm.physics.results.DYNAMICS_COLUMNS`: peak |tau|
+    (N m) of each motor and the motor angles (deg) where it occurs, time-weighted RMS torques
+    over the moving part of the duty,
     peak coupler (D bearing) force (N), smallest transmission angle at D (deg, folded into
     [0, 90]), link masses (kg, without the payload), and ``status``: 'ok', 'cad_invalid' (the
     section does not fit), 'loop_open' (the loop does not close at some duty pose), 'singular'
