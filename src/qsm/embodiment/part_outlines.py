@@ -10,14 +10,7 @@ from collections.abc import Sequence
 import numpy as np
 from numpy.typing import NDArray
 
-from qsm.physics.cad import CadError, CadSettings, inside_corner
-
-
-def _arc(cx: float, cy: float, r: float, a0: float, a1: float, seg: int) -> NDArray[np.float64]:
-    """Points on a CCW arc from a0 to a1 > a0 (rad), both ends included (as qsm.physics.cad)."""
-    n = max(2, math.ceil((a1 - a0) / (2 * math.pi) * seg) + 1)
-    a = np.linspace(a0, a1, n)
-    return np.column_stack([cx + r * np.cos(a), cy + r * np.sin(a)])
+from qsm.physics.cad import CadError, CadSettings, arc, inside_corner
 
 
 def _overlap(r: float, h: float) -> float:
@@ -41,8 +34,8 @@ def bar_outline(length: float, r0: float, r1: float, cad: CadSettings) -> NDArra
     b0, b1 = math.asin(h / r0), math.asin(h / r1)
     return np.concatenate(
         [
-            _arc(0.0, 0.0, r0, b0, 2 * math.pi - b0, seg),
-            _arc(length, 0.0, r1, b1 - math.pi, math.pi - b1, seg),
+            arc(0.0, 0.0, r0, b0, 2 * math.pi - b0, seg),
+            arc(length, 0.0, r1, b1 - math.pi, math.pi - b1, seg),
         ]
     )
 
@@ -67,12 +60,12 @@ def upper_arm_outline(
         )
     return np.concatenate(
         [
-            _arc(-l4, 0.0, r_d, bd, 2 * pi - bd, seg),
-            _arc(0.0, 0.0, r_b, pi + bb, 2 * pi - bb, seg),
+            arc(-l4, 0.0, r_d, bd, 2 * pi - bd, seg),
+            arc(0.0, 0.0, r_b, pi + bb, 2 * pi - bb, seg),
             inside_corner(ee_x, cad),
-            _arc(ee_x, -ee_y, r_e, pi / 2 + be, 5 * pi / 2 - be, seg),
+            arc(ee_x, -ee_y, r_e, pi / 2 + be, 5 * pi / 2 - be, seg),
             [[ee_x + h, h]],
-            _arc(0.0, 0.0, r_b, bb, pi - bb, seg),
+            arc(0.0, 0.0, r_b, bb, pi - bb, seg),
         ]
     )
 

@@ -12,7 +12,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.cad import DEFAULT_CAD, CadSettings, _arc, inside_corner
+from qsm.physics.cad import DEFAULT_CAD, CadSettings, arc, inside_corner
 from qsm.physics.kinematics import as_design
 
 
@@ -32,17 +32,17 @@ def _outline_terms(s: CadSettings) -> dict[str, list[tuple[NDArray[np.float64], 
 
     def bar(k: int) -> list[tuple[NDArray[np.float64], NDArray]]:
         return [
-            (_arc(0.0, 0.0, r, beta, 2 * pi - beta, seg), at()),
-            (_arc(0.0, 0.0, r, beta - pi, pi - beta, seg), at({k: 1.0})),
+            (arc(0.0, 0.0, r, beta, 2 * pi - beta, seg), at()),
+            (arc(0.0, 0.0, r, beta - pi, pi - beta, seg), at({k: 1.0})),
         ]
 
     upper = [
-        (_arc(0.0, 0.0, r, beta, 2 * pi - beta, seg), at({3: -1.0})),
-        (_arc(0.0, 0.0, r, pi + beta, 2 * pi - beta, seg), at()),
+        (arc(0.0, 0.0, r, beta, 2 * pi - beta, seg), at({3: -1.0})),
+        (arc(0.0, 0.0, r, pi + beta, 2 * pi - beta, seg), at()),
         (inside_corner(0.0, s), at({4: 1.0})),
-        (_arc(0.0, 0.0, r, pi / 2 + beta, 5 * pi / 2 - beta, seg), at({4: 1.0}, {5: -1.0})),
+        (arc(0.0, 0.0, r, pi / 2 + beta, 5 * pi / 2 - beta, seg), at({4: 1.0}, {5: -1.0})),
         (np.array([[h, h]]), at({4: 1.0})),
-        (_arc(0.0, 0.0, r, beta, pi - beta, seg), at()),
+        (arc(0.0, 0.0, r, beta, pi - beta, seg), at()),
     ]
     return {"lower_arm": bar(0), "crank": bar(1), "coupler": bar(2), "upper_arm": upper}
 

@@ -127,7 +127,7 @@ class MassProperties(NamedTuple):
     inertia_kg_m2: NDArray[np.float64]
 
 
-def _arc(cx: float, cy: float, r: float, a0: float, a1: float, seg: int) -> NDArray[np.float64]:
+def arc(cx: float, cy: float, r: float, a0: float, a1: float, seg: int) -> NDArray[np.float64]:
     """Points on a CCW arc from angle a0 to a1 > a0 (rad), both ends included."""
     n = max(2, math.ceil((a1 - a0) / (2 * math.pi) * seg) + 1)
     a = np.linspace(a0, a1, n)
@@ -142,8 +142,8 @@ def _bar_outline(length: float, s: CadSettings) -> NDArray[np.float64]:
         raise CadError(f"bar of length {length:.4g} m is too short for bosses of radius {r} m")
     return np.concatenate(
         [
-            _arc(0.0, 0.0, r, beta, 2 * math.pi - beta, s.segments_per_circle),
-            _arc(length, 0.0, r, beta - math.pi, math.pi - beta, s.segments_per_circle),
+            arc(0.0, 0.0, r, beta, 2 * math.pi - beta, s.segments_per_circle),
+            arc(length, 0.0, r, beta - math.pi, math.pi - beta, s.segments_per_circle),
         ]
     )
 
@@ -155,7 +155,7 @@ def inside_corner(ee_x: float, s: CadSettings) -> NDArray[np.float64]:
     h, rf = s.width_m / 2, s.corner_fillet_m
     if rf == 0:
         return np.array([[ee_x - h, -h]])
-    return _arc(ee_x - h - rf, -h - rf, rf, 0.0, math.pi / 2, s.segments_per_circle)[::-1]
+    return arc(ee_x - h - rf, -h - rf, rf, 0.0, math.pi / 2, s.segments_per_circle)[::-1]
 
 
 def _upper_arm_outline(l4: float, ee_x: float, ee_y: float, s: CadSettings) -> NDArray[np.float64]:
@@ -173,12 +173,12 @@ def _upper_arm_outline(l4: float, ee_x: float, ee_y: float, s: CadSettings) -> N
     pi = math.pi
     return np.concatenate(
         [
-            _arc(-l4, 0.0, r, beta, 2 * pi - beta, seg),  # boss D, ends at bottom edge
-            _arc(0.0, 0.0, r, pi + beta, 2 * pi - beta, seg),  # boss B, lower half
+            arc(-l4, 0.0, r, beta, 2 * pi - beta, seg),  # boss D, ends at bottom edge
+            arc(0.0, 0.0, r, pi + beta, 2 * pi - beta, seg),  # boss B, lower half
             inside_corner(ee_x, s),
-            _arc(ee_x, -ee_y, r, pi / 2 + beta, 5 * pi / 2 - beta, seg),  # boss E
+            arc(ee_x, -ee_y, r, pi / 2 + beta, 5 * pi / 2 - beta, seg),  # boss E
             [[ee_x + h, h]],  # outer corner
-            _arc(0.0, 0.0, r, beta, pi - beta, seg),  # boss B, upper half
+            arc(0.0, 0.0, r, beta, pi - beta, seg),  # boss B, upper half
         ]
     )
 

@@ -10,11 +10,11 @@ import numpy as np
 import pandas as pd
 
 from qsm.report.headline_tables import (
-    _drive_failures,
-    _drive_rows,
-    _factor,
-    _strength_rows,
-    _topology_rows,
+    drive_failures,
+    drive_rows,
+    factor_text,
+    strength_rows,
+    topology_rows,
 )
 
 
@@ -47,7 +47,7 @@ def build_verdict(
             problems.append(
                 f"the {link.replace('_', ' ')} does not hold its loads "
                 f"({r['stress_peak_MPa']:.1f} MPa, {r['allowable_MPa']:.1f} MPa allowed; "
-                f"buckling factor {_factor(r['buckling_factor'])}, "
+                f"buckling factor {factor_text(r['buckling_factor'])}, "
                 f"{r['required_buckling_factor']:g} required)"
             )
     for joint, b in strength.get("bearings", {}).items():
@@ -244,7 +244,7 @@ def headline_markdown(
         "",
         "| link | peak stress (MPa) | allowable (MPa) | safety factor | buckling factor | holds |",
         "| --- | --- | --- | --- | --- | --- |",
-        *_strength_rows(selected["strength"]),
+        *strength_rows(selected["strength"]),
         "",
         f"Drives ({selected.get('drives', {}).get('rule', '')} of the catalogue that meet each "
         "motor's duty, reflected inertia included; margins 1 - utilisation):",
@@ -252,14 +252,14 @@ def headline_markdown(
         "| motor | drive | ratio | mass (kg) | peak torque (N m) | RMS torque (N m) "
         "| peak speed (rad/s) | peak power (W) | margins |",
         "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
-        *_drive_rows(selected.get("drives", {})),
-        *_drive_failures(selected.get("drives", {})),
+        *drive_rows(selected.get("drives", {})),
+        *drive_failures(selected.get("drives", {})),
         "",
         "Topology-optimised plates (plane-stress FE of the printed plate):",
         "",
         "| link | mass (kg) | peak von Mises (MPa) | allowable (MPa) | printed part |",
         "| --- | --- | --- | --- | --- |",
-        *_topology_rows(topology),
+        *topology_rows(topology),
         "",
     ]
     for key in ("tau1_Nm", "tau2_Nm"):

@@ -8,20 +8,23 @@ from collections.abc import Mapping
 from typing import Any
 
 
-def _factor(x: float | None) -> str:
+def factor_text(x: float | None) -> str:
+    """A factor with two decimals, "inf" for None (never loaded)."""
     return "inf" if x is None else f"{x:.2f}"
 
 
-def _strength_rows(strength: Mapping[str, Any]) -> list[str]:
+def strength_rows(strength: Mapping[str, Any]) -> list[str]:
+    """One row per link of ``selected.json``'s ``strength``: stress, allowable (MPa), factors."""
     return [
         f"| {link} | {r['stress_peak_MPa']:.1f} | {r['allowable_MPa']:.1f} "
-        f"| {r['safety_factor']:.2f} | {_factor(r['buckling_factor'])} "
+        f"| {r['safety_factor']:.2f} | {factor_text(r['buckling_factor'])} "
         f"| {'yes' if r['holds'] else 'NO'} |"
         for link, r in strength["links"].items()
     ]
 
 
-def _drive_rows(drives: Mapping[str, Any]) -> list[str]:
+def drive_rows(drives: Mapping[str, Any]) -> list[str]:
+    """One row per motor of ``selected.json``'s ``drives``: the drive and what it must do."""
     rows = []
     for key, m in drives.get("motors", {}).items():
         d = m.get("drive") or m["best_drive"]
@@ -38,7 +41,8 @@ def _drive_rows(drives: Mapping[str, Any]) -> list[str]:
     return rows
 
 
-def _drive_failures(drives: Mapping[str, Any]) -> list[str]:
+def drive_failures(drives: Mapping[str, Any]) -> list[str]:
+    """A line per motor without a drive: which limits fail and by how much."""
     lines = []
     for key, m in drives.get("motors", {}).items():
         if m["has_drive"]:
@@ -57,7 +61,8 @@ def _drive_failures(drives: Mapping[str, Any]) -> list[str]:
     return lines
 
 
-def _topology_rows(topology: Mapping[str, Any]) -> list[str]:
+def topology_rows(topology: Mapping[str, Any]) -> list[str]:
+    """One row per optimised link of ``topology.json``: mass (kg), peak and allowed stress."""
     rows = []
     for link, r in topology["links"].items():
         part = (

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from qsm.embodiment.drives.catalogue import Catalogue
-from qsm.embodiment.drives.utilisation import CHECKS, DriveArrays, _duty, utilisation
+from qsm.embodiment.drives.utilisation import CHECKS, DriveArrays, duty_arrays, utilisation
 
 RULES = {"lightest": "mass", "smallest_inertia": "reflected_inertia"}
 
@@ -128,7 +128,7 @@ def select_drives(
     if rule not in RULES:
         raise ValueError(f"unknown drive rule {rule!r}; expected one of {sorted(RULES)}")
     arr = DriveArrays.of(cat) if arrays is None else arrays
-    tau, omega, w = _duty(tau, omega, weights)
+    tau, omega, w = duty_arrays(tau, omega, weights)
     acc = None if accel is None else np.broadcast_to(np.asarray(accel, float), tau.shape)
     keys = {"mass": arr.mass, "reflected_inertia": arr.reflected_inertia}
     first = keys.pop(RULES[rule])

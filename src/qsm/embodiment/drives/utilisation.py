@@ -123,7 +123,7 @@ def utilisation(
     inertia; a drive of unknown (non-finite) J_c then gets infinite utilisations.
     """
     arr = cat if isinstance(cat, DriveArrays) else DriveArrays.of(cat)
-    tau, omega, w = _duty(tau, omega, weights)
+    tau, omega, w = duty_arrays(tau, omega, weights)
     acc = None if accel is None else np.broadcast_to(np.asarray(accel, float), tau.shape)
     out = np.empty((tau.shape[0], arr.ratio.size, len(CHECKS)))
     if tau.shape[0] == 0:
@@ -135,7 +135,9 @@ def utilisation(
     return out
 
 
-def _duty(tau, omega, weights) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+def duty_arrays(tau, omega, weights) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """``tau`` (N m), ``omega`` (rad/s) and ``weights`` (s) as (D, N) arrays of one shape;
+    raises ``ValueError`` when they differ."""
     tau, omega = np.atleast_2d(np.asarray(tau, float)), np.atleast_2d(np.asarray(omega, float))
     w = np.broadcast_to(np.atleast_2d(np.asarray(weights, float)), tau.shape)
     if tau.shape != omega.shape:
