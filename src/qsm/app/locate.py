@@ -98,7 +98,7 @@ def check_run_config(dataset_path: str | Path, config: Mapping[str, Any]) -> Non
         current: Any = config
         for part in SETTING_PATHS.get(key, (key,)):
             current = current.get(part) if isinstance(current, Mapping) else None
-        if key == "task_points" and current is not None:  # the run stores the designed points
+        if key == "task_points" and current is not None:  # the run stores the designed task
             current = design_task(current)[1]
         if not _same(value, current):
             differ.append(key)
