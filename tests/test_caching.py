@@ -71,7 +71,8 @@ def test_the_default_task_from_a_points_file_reruns_nothing(run, tmp_path):
     configs = override(tmp_path, f"task: {{points_file: '{points}'}}")
     out = snakemake(run, "--dry-run", check=False, configs=configs)
     assert out.returncode != 0
-    assert f"config key 'task.points_file': file '{points}' cannot be read" in out.stderr
+    message = f"config key 'task.points_file': file '{points}' cannot be read"
+    assert message in out.stdout + out.stderr
 
 
 def test_forcerun_until_reruns_one_rule_alone(run):
