@@ -61,6 +61,20 @@ def test_printer_reruns_the_optimisation_when_g12_is_on(run, tmp_path):
     assert not (STAGE1 | STAGE2 | STAGE3) & set(jobs)
 
 
+def test_the_default_task_from_a_points_file_reruns_nothing(run, tmp_path):
+    """task.points_file is read into task.points: the same points plan no job; a file that
+    cannot be read stops the run before any job, naming the key and the file."""
+    points = tmp_path / "points.csv"
+    points.write_text("x_m,y_m\n-0.53,0.17\n-0.70,0.02\n-0.60,0.02\n-0.70,0.12\n-0.60,0.12\n")
+    assert planned_jobs(run, configs=override(tmp_path, f"task: {{points_file: '{points}'}}")) == {}
+    points.unlink()
+    configs = override(tmp_path, f"task: {{points_file: '{points}'}}")
+    out = snakemake(run, "--dry-run", check=False, configs=configs)
+    assert out.returncode != 0
+    message = f"config key 'task.points_file': file '{points}' cannot be read"
+    assert message in out.stdout + out.stderr
+
+
 def test_forcerun_until_reruns_one_rule_alone(run):
     assert planned_jobs(run, "--forcerun", "train_surrogate", "--until", "train_surrogate") == {
         "train_surrogate": 1

@@ -15,6 +15,7 @@ import yaml
 
 from qsm.config_checks import check_config
 from qsm.config_errors import ConfigError
+from qsm.config_points import check_finite_points, plain_points, resolve_points_file
 from qsm.defaults import schema
 
 
@@ -43,8 +44,20 @@ def validate_config(config: dict[str, Any]) -> dict[str, Any]:
     """Validate ``config`` in place, fill in defaults and return it.
 
     Raises ``ConfigError`` naming the offending key (dotted path) for the first problem found.
+    ``task.points_file`` is read into ``task.points`` (:mod:`qsm.config_points`).
     """
-    errors = sorted(_Validator(schema()).iter_errors(config), key=lambda e: list(e.absolute_path))
+    task = config.get("task")
+    points = task.get("points") if isinstance(task, dict) else None
+    plain = plain_points(points)
+    if plain:  # checked already: the schema sees one pair, not thousands
+        task["points"] = points[:1]
+    try:
+        errors = sorted(
+            _Validator(schema()).iter_errors(config), key=lambda e: list(e.absolute_path)
+        )
+    finally:
+        if plain:
+            task["points"] = points
     if errors:
         err = errors[0]
         if err.validator == "additionalProperties":
@@ -55,7 +68,9 @@ def validate_config(config: dict[str, Any]) -> dict[str, Any]:
                 f"config key '{_key(path)}' is unknown; known keys here: {', '.join(sorted(known))}"
             )
         raise ConfigError(f"config key '{_key(err.absolute_path)}': {err.message}")
+    resolve_points_file(config, schema()["properties"]["task"]["properties"]["points"]["default"])
     _coerce_whole_numbers(config, schema())
+    check_finite_points(config["task"]["points"])
     _check_finite(config)
     check_config(config)
     return config
@@ -76,16 +91,16 @@ def _coerce_whole_numbers(value: Any, sub_schema: dict[str, Any]) -> Any:
 
 
 def _check_finite(value: Any, path: tuple[str, ...] = ()) -> None:
-    """Every number in the config is finite (JSON schema bounds let NaN through)."""
+    """Every number in the config is finite (JSON schema bounds let NaN through); not
+    ``task.points`` (:func:`qsm.config_points.check_finite_points`)."""
     if isinstance(value, dict):
         for key, item in value.items():
-            _check_finite(item, (*path, str(key)))
+            if (*path, key) != ("task", "points"):
+                _check_finite(item, (*path, str(key)))
     elif isinstance(value, list):
         for k, item in enumerate(value):
             _check_finite(item, (*path, str(k)))
     elif isinstance(value, float) and not math.isfinite(value):
-        if path[:2] == ("task", "points"):
-            raise ConfigError("config key 'task.points': every coordinate must be a finite number")
         raise ConfigError(f"config key '{_key(path)}': {value} is not a finite number")
 
 

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 
 from qsm.config_errors import ConfigError
-from qsm.config_payload import _check_drives, _check_payload
+from qsm.config_payload import check_drives, check_payload
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.task_points import MAX_VISITED_POINTS
 
@@ -43,8 +43,8 @@ def check_config(config: dict[str, Any]) -> None:
     _check_task(config)
     _check_cad(config)
     _check_materials(config)
-    _check_drives(config)
-    _check_payload(config)
+    check_drives(config)
+    check_payload(config)
     _check_printer(config)
     _check_sized(config)
     _check_optimization(config)

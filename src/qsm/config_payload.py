@@ -24,7 +24,7 @@ def catalogue_folder(config: dict[str, Any]) -> str:
     return str(default_catalogue_folder() if folder is None else folder)
 
 
-def _check_drives(config: dict[str, Any]) -> None:
+def check_drives(config: dict[str, Any]) -> None:
     """The drive catalogue reads: every file, row and column valid (the error names them)."""
     from qsm.embodiment.drives.catalogue import read_catalogue
 
@@ -48,7 +48,7 @@ def motor_limits_Nm(config: dict[str, Any]) -> tuple[list[float], str]:
     return [peak, peak], "the strongest drive of drives.catalogue, for each motor"
 
 
-def _check_payload(config: dict[str, Any]) -> None:
+def check_payload(config: dict[str, Any]) -> None:
     """A payload the link section and the motors can hold at every task point (payload alone)."""
     mass = config["task"]["payload_kg"]
     cad = config["cad"]

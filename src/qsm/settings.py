@@ -3,8 +3,8 @@
 One function per section; scripts, the command line and ``qsm.app.evaluate`` build their settings
 here and nowhere else. Each function takes the section(s) as validated by :mod:`qsm.config`
 (every default filled from the schema) and passes every field on, so the schema's defaults are
-the ones a run uses (a test keeps the dataclasses' own defaults, for direct notebook calls, equal
-to them).
+the ones a run uses; the dataclasses' own defaults, for direct notebook calls, are read from the
+same schema (:mod:`qsm.defaults`).
 
 The heavier dataclasses are imported inside their functions: a workflow script's rerun hash
 (:mod:`qsm.workflow.provenance`) follows module-level imports, so importing this module does not

@@ -1,5 +1,5 @@
 # Shared definitions: the conda environment, code provenance and the settings rules depend on.
-from qsm.physics.mirror import design_points, is_mirrored
+from qsm.physics.task_points import design_task
 from qsm.workflow.provenance import source_hash
 
 ENV = "../envs/qsm.yaml"
@@ -9,9 +9,10 @@ OPT = f"{RESULTS}/optimization"
 REAL = f"{RESULTS}/realization"
 FORMULATIONS = config["optimization"]["formulations"]
 # The task every stage designs for: the user's points, or their mirror image through x = 0 when
-# the task lies at x > 0 (qsm.physics.mirror); the outputs say so and keep the user's points.
-MIRRORED = is_mirrored(config["task"]["points"])
-TASK_POINTS = design_points(config["task"]["points"])
+# the task lies at x > 0 (qsm.physics.mirror); of a task of more than 8 points only the 8 the
+# payload test visits, whose enclosing disk is the task's, so that rule parameters stay short
+# (qsm.physics.task_points.design_task). The outputs say so and keep the user's points.
+MIRRORED, TASK_POINTS = design_task(config["task"]["points"])
 # The rule scripts, found from this file (workflow/rules) whether the workflow runs from the
 # checkout or as a module of another workflow.
 SCRIPTS = Path(str(workflow.current_basedir)).parent / "scripts"

@@ -16,7 +16,7 @@ from qsm.app.evaluate import checked_ratios, evaluate_ratios
 from qsm.mechanisms.dataset import DATASET_COLUMNS
 from qsm.optimization.ranking import front_ranks
 from qsm.physics.kinematics import DESIGN_COLUMNS, RATIO_NAMES
-from qsm.physics.mirror import design_points
+from qsm.physics.task_points import design_task
 from qsm.workflow.tables import read_meta, read_table
 
 #: Values of a front's row the JSON carries beside the fresh evaluation.
@@ -98,8 +98,8 @@ def check_run_config(dataset_path: str | Path, config: Mapping[str, Any]) -> Non
         current: Any = config
         for part in SETTING_PATHS.get(key, (key,)):
             current = current.get(part) if isinstance(current, Mapping) else None
-        if key == "task_points" and current is not None:  # the run stores the designed points
-            current = design_points(current)
+        if key == "task_points" and current is not None:  # the run stores the designed task
+            current = design_task(current)[1]
         if not _same(value, current):
             differ.append(key)
     if differ:

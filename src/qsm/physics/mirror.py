@@ -48,7 +48,7 @@ def design_points(points: ArrayLike) -> list[list[float]]:
     """The task points every stage designs for: ``points`` (n, 2) m as given, or mirrored when
     :func:`is_mirrored`. Idempotent: designed points are never mirrored again."""
     p = mirror_points(points) if is_mirrored(points) else np.asarray(points, dtype=float)
-    return [[float(x), float(y)] for x, y in p.reshape(-1, 2)]
+    return p.reshape(-1, 2).tolist()
 
 
 def task_record(points: ArrayLike) -> dict[str, object]:
@@ -56,9 +56,7 @@ def task_record(points: ArrayLike) -> dict[str, object]:
     ``designed_points_m`` every stage used and, when mirrored, the ``note`` for the builder."""
     mirrored = is_mirrored(points)
     record: dict[str, object] = {
-        "points_m": [
-            [float(x), float(y)] for x, y in np.asarray(points, dtype=float).reshape(-1, 2)
-        ],
+        "points_m": np.asarray(points, dtype=float).reshape(-1, 2).tolist(),
         "mirrored": mirrored,
         "designed_points_m": design_points(points),
     }

@@ -6,6 +6,11 @@ points on the boundary of the task disk (the minimum enclosing circle, which is 
 then any other points, each group taken in farthest-point order (every next point the one
 farthest from those already chosen), so the subset spans the region; the subset is then visited
 as a nearest-neighbour tour from the first point.
+
+The workflow's stages get the task through :func:`design_task`: its points as designed, and for a
+task of more points only the subset the payload test visits, whose enclosing disk is the task's
+(it holds the points on the disk's edge, or, when more than the subset's size lie on it, points
+spread around it), so the rules' parameters stay a few pairs long.
 """
 
 from __future__ import annotations
@@ -13,6 +18,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.physics.mirror import mirror_points
 from qsm.physics.task import min_enclosing_circle
 
 #: Most task points the payload test visits (the five-point default task visits all five).
@@ -57,3 +63,17 @@ def visited_points(points: ArrayLike, cap: int = MAX_VISITED_POINTS) -> NDArray[
         k = int(np.argmin([np.hypot(*(pts[i] - here)) for i in chosen]))
         order.append(chosen.pop(k))
     return np.asarray(order, dtype=np.intp)
+
+
+def design_task(points: ArrayLike, cap: int = MAX_VISITED_POINTS) -> tuple[bool, list[list[float]]]:
+    """Whether the task of ``points`` (n, 2) m is designed mirrored (its disk's centre at x > 0,
+    :mod:`qsm.physics.mirror`), and the points every stage designs for: all of them as designed
+    when ``n <= cap`` (:func:`qsm.physics.mirror.design_points`), else the :func:`visited_points`
+    of them as designed, in visiting order."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    mirrored = min_enclosing_circle(pts).centre[0] > 0.0
+    if mirrored:
+        pts = mirror_points(pts)
+    if len(pts) > cap:
+        pts = pts[visited_points(pts, cap)]
+    return mirrored, pts.tolist()
