@@ -31,6 +31,7 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("design_rules",),  # Stage 5 and the study
     ("workflow",),  # tables, logs, shards, provenance: plumbing for the rules
     ("config_errors",),
+    ("config_points",),  # the task points: a points file, long lists checked with numpy
     ("config_payload",),  # the drive catalogue and the payload the arm can hold
     ("config_checks",),
     ("config",),
