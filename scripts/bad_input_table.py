@@ -62,6 +62,21 @@ CASES: tuple[tuple[str, str], ...] = (
     ("task at x > 0 (designed mirrored)", "task: {points: [[0.53, 0.17], [0.70, 0.02]]}"),
     ("task on both sides of the base", "task: {points: [[-0.1, 0.3], [0.5, 0.3]]}"),
 )
+#: (kind of bad points file, its CSV text or None for a missing file, the YAML naming it).
+POINTS_FILES: tuple[tuple[str, str | None, str], ...] = (
+    ("points file missing", None, "task: {points_file: points.csv}"),
+    ("points file without its header", "-0.6,0.1\n-0.5,0.1\n", "task: {points_file: points.csv}"),
+    (
+        "points file: a cell not a number",
+        "x_m,y_m\n-0.6,0.1\n-0.5,0.1m\n",
+        "task: {points_file: points.csv}",
+    ),
+    (
+        "points file and points both given",
+        "x_m,y_m\n-0.6,0.1\n-0.5,0.1\n",
+        "task: {points_file: points.csv, points: [[-0.4, 0.1], [-0.3, 0.1]]}",
+    ),
+)
 
 
 def _row(kind: str, example: str, outcome: str, message: str, seconds: float) -> str:
@@ -95,6 +110,21 @@ def main() -> None:
             message = " / ".join(warnings)
         seconds = time.perf_counter() - start
         print(_row(kind, shown, outcome, message.replace(str(folder) + "/", ""), seconds))
+    for kind, csv, text in POINTS_FILES:
+        points = folder / "points.csv"
+        points.unlink(missing_ok=True)
+        if csv is not None:
+            points.write_text(csv)
+        path.write_text(text.replace("points.csv", str(points)))
+        start = time.perf_counter()
+        try:
+            load_config("config/config.yaml", path)
+        except ConfigError as exc:
+            outcome, message = "error", str(exc)
+        else:
+            outcome, message = "accepted", ""
+        seconds = time.perf_counter() - start
+        print(_row(kind, text, outcome, message.replace(str(folder) + "/", ""), seconds))
     table = folder / "dataset.parquet"
     pq.write_table(pa.table({"x": [1.0, 2.0]}), table)
     table.write_bytes(table.read_bytes()[:200])

@@ -6,7 +6,6 @@ from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
-from scipy.spatial import ConvexHull, QhullError
 
 #: Above this many points the enclosing circle is sought among the convex hull's vertices only
 #: (the same circle, far faster for thousands of points; smaller tasks keep their exact path).
@@ -70,6 +69,9 @@ def min_enclosing_circle(points: ArrayLike, seed: int = 0) -> Disk:
     if p.ndim != 2 or p.shape[1] != 2 or len(p) == 0:
         raise ValueError(f"task points must be a non-empty list of [x, y], got shape {p.shape}")
     if len(p) > HULL_ABOVE:
+        # imported here: scipy.spatial costs 0.5 s, and every Snakemake start checks the task
+        from scipy.spatial import ConvexHull, QhullError
+
         try:
             p = p[ConvexHull(p).vertices]
         except QhullError:  # collinear or repeated points: no 2-D hull, search them all
