@@ -107,3 +107,15 @@ def test_selection_equals_the_reference_choice(catalogue, rule):
         assert sel.best[d] == best
         np.testing.assert_allclose(sel.utilisation[d], u[d, best], 1e-12)
     assert 0 < (sel.choice >= 0).mean() < 1
+
+
+def test_each_designs_numbers_do_not_depend_on_the_designs_beside_it():
+    """Determinism whatever the shard count: a design's utilisations are the same to the bit
+    alone, in a small batch or in a large one (blocks of several sizes)."""
+    cat = read_catalogue(default_catalogue_folder())
+    rng = np.random.default_rng(7)
+    tau, omega, w, accel = random_duty(rng, 377, 300, 60.0)
+    whole = utilisation(cat, tau, omega, w, accel)
+    for rows in (slice(0, 1), slice(5, 8), slice(17, 150)):
+        part = utilisation(cat, tau[rows], omega[rows], w, accel[rows])
+        np.testing.assert_array_equal(part, whole[rows])

@@ -173,7 +173,7 @@ def _one_duty(
         dc = np.isfinite(c1) & np.isfinite(slope) & (c0 > 0)
         slope = np.where(dc, slope, 0.0)
         a0 = np.abs(tau[:, rest])
-        peak0, ms0 = a0.max(axis=1, initial=0.0)[:, None], ((a0 * a0) @ wn[rest])[:, None]
+        peak0, ms0 = a0.max(axis=1, initial=0.0)[:, None], _row_sums(a0 * a0 * wn[rest])[:, None]
         pull = {i: np.interp(speed * n_ratio[i], *t) for i, t in arr.tables.items()}
         hi, lo, env, s_all, s_drv, table = _moving(
             arr, tau[:, cols] * sign, js, slope[:, None] * speed, w_all, wn[cols], pull
@@ -202,6 +202,16 @@ def _one_duty(
         )
     u[:, unknown] = np.inf
     return np.where(np.isnan(u), np.inf, u)
+
+
+def _row_sums(x: np.ndarray) -> np.ndarray:
+    """Sums over the last axis of ``x`` (D, ...), design by design: numpy's order of summation
+    depends on the array's shape, so one call per design keeps each design's sums the same to
+    the bit whatever designs share its block or shard (the determinism of the dataset)."""
+    out = np.empty(x.shape[:-1])
+    for d in range(x.shape[0]):
+        out[d] = x[d].sum(axis=-1)
+    return out
 
 
 def _moving(
@@ -235,10 +245,12 @@ def _moving(
         s.max(axis=2, initial=0.0, out=hi[b])
         s.min(axis=2, initial=0.0, out=lo[b])
         np.multiply(s, s, out=q)
-        np.matmul(q, w_all, out=s_all[b])
+        np.multiply(q, w_all, out=q)
+        s_all[b] = _row_sums(q)
         np.maximum(s, 0.0, out=q)
         np.multiply(q, q, out=q)
-        np.matmul(q, w_drv, out=s_drv[b])
+        np.multiply(q, w_drv, out=q)
+        s_drv[b] = _row_sums(q)
         np.greater_equal(s, 0.0, out=dr)  # 1.0 on driving samples, else 0.0
         np.add(s, spk, out=ee)
         np.multiply(ee, dr, out=ee)
