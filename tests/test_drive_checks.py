@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from test_drives import write_catalogue
 
-from qsm.embodiment.drive_checks import DriveCheck, drive_sentences
+from qsm.embodiment.drive_checks import DriveCheck
 from qsm.embodiment.drives.catalogue import read_catalogue
 from qsm.embodiment.drives.selection import select_drives
 from qsm.embodiment.loads import Inertials, joint_loads
@@ -16,6 +16,7 @@ from qsm.physics.cad import mass_properties
 from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.dynamics import inverse_dynamics, loop_state, tree_inverse_dynamics
 from qsm.physics.mjcf import body_inertials, model_spec
+from qsm.report.drive_text import drive_sentences
 
 DESIGN = np.array([0.5, 0.15, 0.5, 0.22, 0.6, 0.2])
 

@@ -8,7 +8,6 @@ import numpy as np
 from qsm import settings
 from qsm.embodiment.advice import advice_sentences as strength_sentences
 from qsm.embodiment.advice import strength_advice
-from qsm.embodiment.drive_checks import drive_sentences
 from qsm.embodiment.printing import advice_sentence, smallest_build_volume
 from qsm.embodiment.verdict import strength_record, strength_verdict
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
@@ -22,6 +21,7 @@ from qsm.realization.selection import (
     choose_design,
     printing_advice,
 )
+from qsm.report.drive_text import drive_sentences
 from qsm.report.figures import draw_design
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table

@@ -256,48 +256,6 @@ def with_embodiment(
     return append_columns(out, ok, motors, "has_drives")
 
 
-def _drive_name(d: dict[str, Any]) -> str:
-    return f"{d['motor']} + {d['gearbox']} ({d['ratio']:.4g}:1, {d['mass_kg']:.2f} kg)"
-
-
-def _required(m: dict[str, Any]) -> str:
-    r = m["required"]
-    return (
-        f"{r['peak_torque_Nm']:.1f} N m peak, {r['rms_torque_Nm']:.1f} N m RMS, "
-        f"{r['peak_speed_rad_s']:.2f} rad/s, {r['peak_power_W']:.0f} W"
-    )
-
-
-def drive_sentences(report: dict[str, Any]) -> list[str]:
-    """One plain sentence per motor of a :meth:`DriveCheck.report`: its drive with the smallest
-    margin and what it must give, or, without a drive, by how much the nearest drive fails and
-    what the strongest drive of the catalogue offers. Every number from ``report``."""
-    if not report.get("defined", True):
-        return ["no drives: the loop does not close (or is singular) over the duty"]
-    out = []
-    for key, m in report["motors"].items():
-        head = f"motor {key.removeprefix('motor')} ({m['drives']})"
-        if m["has_drive"]:
-            check, margin = min(m["margins"].items(), key=lambda kv: kv[1])
-            out.append(
-                f"{head}: {_drive_name(m['drive'])}, smallest margin {100 * margin:.0f} % "
-                f"({check.replace('_', ' ')}); it must give {_required(m)}"
-            )
-            continue
-        fails = ", ".join(
-            f"{k.replace('_', ' ')} by {100 * v:.0f} %"
-            for k, v in sorted(m["failing"].items(), key=lambda kv: -kv[1])
-        )
-        s = m["strongest_drive"]
-        out.append(
-            f"{head}: NO DRIVE in the catalogue meets its duty ({_required(m)}); the nearest, "
-            f"{_drive_name(m['best_drive'])}, exceeds its {fails}; the strongest drive, "
-            f"{_drive_name(s)}, offers {s['peak_torque_Nm']:.0f} N m peak, "
-            f"{s['cont_torque_Nm']:.0f} N m continuous and {s['top_speed_rad_s']:.2f} rad/s"
-        )
-    return out
-
-
 def append_columns(
     table: pd.DataFrame, ok: NDArray[np.bool_], values: pd.DataFrame, flag: str
 ) -> pd.DataFrame:

@@ -41,6 +41,7 @@ from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field, replace
+from functools import cache
 from pathlib import Path
 
 import numpy as np
@@ -114,13 +115,9 @@ class PartSettings:
         return self.catalogue if self.catalogue is not None else _catalogue()
 
 
-_CATALOGUE: list[BearingTable] = []
-
-
+@cache
 def _catalogue() -> BearingTable:
-    if not _CATALOGUE:
-        _CATALOGUE.append(load_catalogue())
-    return _CATALOGUE[0]
+    return load_catalogue()
 
 
 @dataclass(frozen=True)
@@ -271,11 +268,9 @@ def export_parts_stl(parts: Mapping[str, LinkPart], directory: str | Path) -> li
     """Write ``<link>.stl`` (binary, millimetres, link frame) per bored part; returns the paths."""
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
-    paths = []
-    for name, mesh in part_meshes(parts).items():
-        path = out / f"{name}.stl"
+    paths = [out / f"{name}.stl" for name in parts]
+    for path, mesh in zip(paths, part_meshes(parts).values(), strict=True):
         mesh.copy().apply_scale(1000.0).export(path)
-        paths.append(path)
     return paths
 
 

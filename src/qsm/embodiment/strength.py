@@ -185,22 +185,6 @@ def section_stress(
     return stress
 
 
-def cut_stresses(
-    design: ArrayLike,
-    sec: Section,
-    inertials: Inertials,
-    loads: JointLoads,
-    motion: LinkMotion,
-    link: str,
-) -> tuple[NDArray[np.float64], tuple[str, ...]]:
-    """Beam stress (Pa) at every cut of ``link`` (:func:`link_cuts`) and every duty sample,
-    (..., N, C), and the cuts' labels, for a solid plate (no bores: the net-section cuts take the
-    full bar section)."""
-    cuts = link_cuts(as_design(design), sec)[link]
-    axial, moment = cut_forces(design, sec, inertials, loads, motion, link, cuts)
-    return section_stress(axial, moment, sec), cuts.labels
-
-
 class LinkLoads(NamedTuple):
     """What one link's checks need besides its section (leading axes of the designs): axial
     force and moment (..., N, C) at its cuts, the bore diameter (..., 1, C) where a cut passes

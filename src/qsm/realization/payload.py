@@ -18,8 +18,7 @@ properties) is simulated forward:
   eta N T_m driving and N T_m / eta back-driven, the gearbox's intermittent torque), evaluated
   at the plant's joint speed at every step. The gear losses act through that envelope: the
   controller asks for a joint torque and the motor supplies joint torque / (eta N) when driving.
-  ``torque_limits_Nm`` (an explicit override) replaces the envelopes by fixed limits, the
-  paper's 150 / 100 N m for example;
+  ``torque_limits_Nm`` (an override) sets fixed limits instead, e.g. the paper's 150 / 100 N m;
 * control: feed-forward torques from the closed-chain inverse dynamics
   (:func:`qsm.physics.dynamics.inverse_dynamics`, same model and properties) plus joint PD feedback
   ``kp (theta_ref - theta) + kd (dtheta_ref - dtheta)``; the *requested* torque is clamped to the
