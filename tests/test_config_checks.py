@@ -275,6 +275,7 @@ def test_check_config_command(tmp_path, capsys):
     assert "looks like grams" in capsys.readouterr().err
 
 
+@pytest.mark.workflow  # starts Snakemake
 @pytest.mark.parametrize(
     ("text", "where"),
     [
