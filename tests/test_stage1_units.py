@@ -1,14 +1,16 @@
 """Sampling, filters, sharding, tables and the command line of Stage 1."""
 
+import contextlib
+import io
 import json
 import subprocess
-import sys
 
 import numpy as np
 import pandas as pd
 import pytest
 
 from qsm import settings
+from qsm.app.cli import main
 from qsm.config import load_config
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube
@@ -128,9 +130,15 @@ def test_tables_keep_metadata_and_name_bad_files(tmp_path):
 
 
 def run_cli(*args):
-    return subprocess.run(
-        [sys.executable, "-m", "qsm", *args], capture_output=True, text=True, check=False
-    )
+    """``qsm ARGS`` in this process, with its exit code and output (``python -m qsm`` itself
+    runs as a process in test_dataset.py)."""
+    out, err = io.StringIO(), io.StringIO()
+    with contextlib.redirect_stdout(out), contextlib.redirect_stderr(err):
+        try:
+            code = main(list(args))
+        except SystemExit as exc:  # argparse's usage errors
+            code = exc.code if isinstance(exc.code, int) else 1
+    return subprocess.CompletedProcess(args, code, out.getvalue(), err.getvalue())
 
 
 def test_cli_evaluate_agrees_with_the_library():
