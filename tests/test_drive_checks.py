@@ -17,6 +17,7 @@ from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.dynamics import inverse_dynamics, loop_state, tree_inverse_dynamics
 from qsm.physics.mjcf import body_inertials, model_spec
 from qsm.report.drive_text import drive_sentences
+from qsm.report.headline_tables import drive_failures
 
 DESIGN = np.array([0.5, 0.15, 0.5, 0.22, 0.6, 0.2])
 
@@ -112,8 +113,19 @@ def test_g14_and_the_dataset_columns_on_a_real_design(three):
     torque = tau[0, :, 0] + j1 * check.duty.ddtheta[:, 0]
     assert row["drive1_peak_torque_Nm"] == pytest.approx(np.abs(torque).max())
     assert no_j["drive1_peak_torque_Nm"] == pytest.approx(np.abs(tau[0, :, 0]).max())
-    text = " ".join(drive_sentences(check.report(DESIGN)))
+    report = check.report(DESIGN)
+    text = " ".join(drive_sentences(report))
     assert "NO DRIVE" in text and "the strongest drive" in text
+    # summary.md's bullets: one per motor without a drive, with what the strongest offers
+    bullets = drive_failures(report)
+    failing = [m for m in report["motors"].values() if not m["has_drive"]]
+    assert len(bullets) == len(failing) > 0
+    for line, m in zip(bullets, failing, strict=True):
+        assert (
+            line.startswith("- motor ")
+            and f"{m['strongest_drive']['peak_torque_Nm']:.0f} N m" in line
+        )
+    assert drive_failures({}) == []
     # an undefined design (the loop does not close): NaN columns and the fixed g14
     bad = np.array([[0.5, 0.45, 0.2, 0.1, 0.6, 0.2]])
     assert check.violation(bad)[0] == pytest.approx(10.0)

@@ -7,6 +7,8 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from qsm.report.drive_text import drive_sentences
+
 
 def factor_text(x: float | None) -> str:
     """A factor with two decimals, "inf" for None (never loaded)."""
@@ -42,23 +44,15 @@ def drive_rows(drives: Mapping[str, Any]) -> list[str]:
 
 
 def drive_failures(drives: Mapping[str, Any]) -> list[str]:
-    """A line per motor without a drive: which limits fail and by how much."""
-    lines = []
-    for key, m in drives.get("motors", {}).items():
-        if m["has_drive"]:
-            continue
-        s = m["strongest_drive"]
-        fails = ", ".join(
-            f"{k.replace('_', ' ')} by {100 * v:.0f} %" for k, v in m["failing"].items()
-        )
-        lines.append(
-            f"- motor {key.removeprefix('motor')} ({m['drives']}): no drive of the catalogue meets "
-            f"its duty; the nearest exceeds its {fails}. The strongest drive, {s['motor']} + "
-            f"{s['gearbox']} ({s['ratio']:.4g}:1), offers {s['peak_torque_Nm']:.0f} N m peak, "
-            f"{s['cont_torque_Nm']:.0f} N m continuous and {s['top_speed_rad_s']:.2f} rad/s at "
-            "the joint."
-        )
-    return lines
+    """A bullet per motor without a drive: by how much the nearest drive fails and what the
+    strongest drive offers (:func:`qsm.report.drive_text.drive_sentences`)."""
+    motors = drives.get("motors", {})
+    if not motors:
+        return []
+    lines = drive_sentences(dict(drives))
+    return [
+        f"- {line}" for m, line in zip(motors.values(), lines, strict=True) if not m["has_drive"]
+    ]
 
 
 def topology_rows(topology: Mapping[str, Any]) -> list[str]:
