@@ -257,13 +257,7 @@ def test_export_round_trip_of_a_pareto_design(run, tmp_path):
     record = json.loads((out / "design.json").read_text())
     design = np.array(list(record["design"]["lengths_m"].values()))
     # the JSON holds a fresh evaluation of the design under the run's config
-    fit = settings.fit(
-        config["operating_range"],
-        config["task"]["points"],
-        config["scale"],
-        config["workspace"],
-        config["filters"],
-    )
+    fit = settings.fit_of(config)
     duty = duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"]))
     cad = settings.cad(config["cad"], config["material"])
     fresh = verify_design(design, fit, duty, cad, config["task"]["payload_kg"])

@@ -67,6 +67,18 @@ def fit(
     )
 
 
+def fit_of(config: Section) -> FitSettings:
+    """:func:`fit` of a whole validated config, its filters included (the checks of one design
+    outside the stages: ``qsm evaluate``, ``qsm export``)."""
+    return fit(
+        config["operating_range"],
+        config["task"]["points"],
+        config["scale"],
+        config["workspace"],
+        config["filters"],
+    )
+
+
 def cad(section: Section, material_section: Section) -> CadSettings:
     """``cad`` with ``material``'s density: the link solids."""
     from qsm.physics.cad import CadSettings

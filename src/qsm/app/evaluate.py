@@ -102,13 +102,7 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     from qsm.optimization.verify import verify_design
 
     d = checked_lengths(lengths)
-    fit_settings = settings.fit(
-        config["operating_range"],
-        config["task"]["points"],
-        config["scale"],
-        config["workspace"],
-        config["filters"],
-    )
+    fit_settings = settings.fit_of(config)
     duty = settings.duty(config["dynamics"]["duty"], config["operating_range"])
     cad, payload = settings.cad(config["cad"], config["material"]), config["task"]["payload_kg"]
     out: dict[str, Any] = {

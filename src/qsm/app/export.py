@@ -78,13 +78,7 @@ def export_design(
     cad = settings.cad(config["cad"], config["material"])
     payload = float(config["task"]["payload_kg"])
     volume = tuple(float(v) for v in config["printing"]["build_volume_mm"])
-    fit = settings.fit(
-        config["operating_range"],
-        config["task"]["points"],
-        config["scale"],
-        config["workspace"],
-        config["filters"],
-    )
+    fit = settings.fit_of(config)
     duty_settings = settings.duty(config["dynamics"]["duty"], config["operating_range"])
     duty = duty_cycle(duty_settings)
     check = settings.strength_check(
