@@ -124,7 +124,7 @@ def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom
         f"- link sections (width x thickness, mm; {how}): {sections}.",
         f"- printed link masses (kg, bored): {masses}.",
         f"- bearings: {bearings}.",
-        f"- through holes per printed link (its joint bores, and the openings the topology "
+        "- through holes per printed link (its joint bores, and the openings the topology "
         f"optimisation left in an optimised plate): {holes}.",
         f"- drawing: {parts['drawing']['svg']} ({parts['drawing']['png']}); parts to print: "
         "realization/stl/after/*.stl; bill of materials: " + parts["bom"]["csv"] + ".",
