@@ -16,7 +16,7 @@ from qsm.physics.task import Disk
 from qsm.physics.workspace import (
     OperatingRange,
     Resolution,
-    _union_length,
+    SliceStack,
     slice_workspace,
     union_and_margin,
     unit_areas,
@@ -128,7 +128,7 @@ def test_interp_rows_is_np_interp_bit_for_bit():
 def test_batched_scale_search_matches_one_design_at_a_time():
     designs = feasible_ratios(23, 6)
     slices = [slice_workspace(r, OP, DISK.angle) for r in designs]
-    together = minimal_scales(slices, DISK.distance, DISK.radius, 2.0)
+    together = minimal_scales(SliceStack.of(slices), DISK.distance, DISK.radius, 2.0)
     for sl, fit in zip(slices, together, strict=True):
         assert fit == minimal_scale(sl, DISK.distance, DISK.radius, 2.0)
         if fit.feasible:  # the smallest scale that holds the disk, to the bisection's tolerance
@@ -164,7 +164,7 @@ def test_union_and_margin_of_hand_made_arcs():
     # per level (column): intervals (rows) [start, end]
     starts = np.array([[-0.3, -0.3, 0.2, -1.0], [0.05, 0.5, 0.3, -0.5], [0.35, 0.6, 0.4, 0.9]])
     ends = np.array([[0.1, 0.1, 0.25, -0.6], [0.4, 0.7, 0.5, 0.7], [0.9, 0.8, 0.45, 1.2]])
-    np.testing.assert_allclose(_union_length(starts, ends), [1.2, 0.7, 0.25, 1.9])
+    np.testing.assert_allclose(union_and_margin(starts, ends)[0], [1.2, 0.7, 0.25, 1.9])
     # level 0: [-0.3, 0.1] + [0.05, 0.4] + [0.35, 0.9] chain to [-0.3, 0.9] -> margin 0.3
     # level 1: [-0.3, 0.1] then a gap -> margin 0.1; level 2: 0 not covered -> -1
     # level 3: [-0.5, 0.7] holds 0 -> margin 0.5
@@ -197,7 +197,6 @@ def test_union_and_margin_match_a_merge_loop():
         covered, margin = union_and_margin(a, b)
         ref_covered, ref_margin = _chained_union_and_margin(a, b)
         np.testing.assert_allclose(covered, ref_covered, rtol=0, atol=1e-12)
-        np.testing.assert_allclose(_union_length(a, b), ref_covered, rtol=0, atol=1e-12)
         np.testing.assert_array_equal(margin, ref_margin)
         assert (margin == -1.0).any() and (margin > 0.0).any()
 

@@ -15,12 +15,9 @@ from numpy.typing import NDArray
 from qsm.physics.containment import minimal_scales, radial_misfit
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
 from qsm.physics.task import Disk
-from qsm.physics.workspace import OperatingRange, Resolution, Slices, arcs, slices_of_arcs
+from qsm.physics.workspace import ARCS_CHUNK, OperatingRange, Resolution, arcs, slice_stack
 
 log = logging.getLogger(__name__)
-
-#: Designs whose workspace arcs are computed in one vectorised call.
-ARCS_CHUNK = 256
 
 #: Columns of results/mechanisms/mechanisms.parquet and their units.
 MECHANISM_COLUMNS: dict[str, str] = {
@@ -65,36 +62,33 @@ def _fit_arcs(
     settings: FitSettings,
 ) -> list[dict[str, Any]]:
     """:func:`fit_design` of designs from their :func:`qsm.physics.workspace.arcs` (M, n_delta):
-    the slicing one design at a time, the scale searches of all at once."""
+    the slicing and the scale searches of all at once."""
     disk = settings.disk
     radius = disk.radius + settings.safety_margin
-    fits: list[dict[str, Any]] = []
-    sliced: dict[int, Slices] = {}
-    for k in range(len(rho)):
-        if not np.all(np.isfinite(rho[k])):
-            fits.append(_infeasible("loop does not close", np.nan))
-            continue
+    fits = [_infeasible("loop does not close", np.nan) for _ in range(len(rho))]
+    sliced = []
+    for k in np.flatnonzero(np.isfinite(rho).all(axis=1)):
         radial = radial_misfit(
             rho[k].min(), rho[k].max(), disk.distance, radius, settings.scale_max
         )
         if radial:
-            fits.append(_infeasible(radial, np.nan))
-            continue
-        fits.append({})
-        sliced[k] = slices_of_arcs(rho[k], lo[k], hi[k], disk.angle, settings.resolution.n_levels)
-    found = minimal_scales(
-        list(sliced.values()), disk.distance, radius, settings.scale_max, settings.n_scan
+            fits[k] = _infeasible(radial, np.nan)
+        else:
+            sliced.append(k)
+    stack = slice_stack(
+        rho[sliced], lo[sliced], hi[sliced], disk.angle, settings.resolution.n_levels
     )
-    for (k, slices), fit in zip(sliced.items(), found, strict=True):
+    found = minimal_scales(stack, disk.distance, radius, settings.scale_max, settings.n_scan)
+    for k, unit_area, fit in zip(sliced, stack.area.tolist(), found, strict=True):
         if not fit.feasible:
-            fits[k] = _infeasible(fit.reason, slices.area)
+            fits[k] = _infeasible(fit.reason, unit_area)
             continue
-        area = slices.area * fit.scale**2
+        area = unit_area * fit.scale**2
         fits[k] = {
             "feasible": True,
             "reason": "",
             "scale_m": fit.scale,
-            "workspace_area_unit": slices.area,
+            "workspace_area_unit": unit_area,
             "workspace_area_m2": area,
             "eta": disk.area / area,
         }

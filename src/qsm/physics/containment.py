@@ -10,13 +10,12 @@ disk can leave through the inner edge of a crescent), so the scale search scans 
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.workspace import Slices
+from qsm.physics.workspace import Slices, SliceStack
 
 
 def disk_arc_half_width(
@@ -39,7 +38,9 @@ def containment_margin(
     The disk (centre at ``centre_distance`` from the base along the reference angle of ``slices``,
     radius ``disk_radius``, metres) is contained iff the result is >= 0. Vectorised over ``scale``.
     """
-    return _DiskCheck(slices, centre_distance, disk_radius, n_radii).margin(scale)
+    s = np.atleast_1d(np.asarray(scale, dtype=float))
+    circles = _disk_circles(centre_distance, disk_radius, n_radii)
+    return _slack(slices.margin_rho[None], slices.margin[None], *circles, s[None])[0]
 
 
 def _disk_circles(
@@ -52,27 +53,20 @@ def _disk_circles(
     return radii, disk_arc_half_width(radii, centre_distance, disk_radius)
 
 
-class _DiskCheck:
-    """:func:`containment_margin` for one design and disk, at any scale: the disk's circles and
-    arc widths are computed once."""
-
-    def __init__(
-        self, slices: Slices, centre_distance: float, disk_radius: float, n_radii: int = 64
-    ) -> None:
-        self.slices = slices
-        self.radii, need = _disk_circles(centre_distance, disk_radius, n_radii)
-        self.need = need[None, :]
-
-    def margin(self, scale: ArrayLike) -> NDArray[np.float64]:
-        """:func:`containment_margin` at each of ``scale`` (m)."""
-        s = np.atleast_1d(np.asarray(scale, dtype=float))[:, None]
-        return np.min(self._have(self.radii[None, :] / s) - self.need, axis=1)
-
-    def _have(self, unit: NDArray[np.float64]) -> NDArray[np.float64]:
-        """Half-width of the workspace arc centred on the task angle at radii ``unit`` (l1);
-        -1 off the workspace (its ``margin_rho`` run from ``rho_min`` to ``rho_max``)."""
-        sl = self.slices
-        return np.interp(unit, sl.margin_rho, sl.margin, left=-1.0, right=-1.0)
+def _slack(
+    margin_rho: NDArray[np.float64],
+    margin: NDArray[np.float64],
+    radii: NDArray[np.float64],
+    need: NDArray[np.float64],
+    scale: NDArray[np.float64],
+) -> NDArray[np.float64]:
+    """:func:`containment_margin` of designs (rows of their :class:`Slices`' ``margin_rho`` and
+    ``margin``) at scales (G, k): the half-width of the workspace arc centred on the task angle
+    at the unit radii ``radii / scale`` (-1 off the workspace) less the disk's ``need``."""
+    have = _interp_rows(
+        (radii / scale[..., None]).reshape(len(scale), -1), margin_rho, margin, -1.0
+    )
+    return np.min(have.reshape(*scale.shape, -1) - need, axis=-1)
 
 
 @dataclass(frozen=True)
@@ -113,75 +107,80 @@ def minimal_scale(
     crescent), so the admissible range implied by the radii is scanned at ``n_scan`` scales for the
     first one that contains the disk, then the boundary is bisected to ``rel_tol``.
     """
-    return minimal_scales([slices], centre_distance, disk_radius, scale_max, n_scan, rel_tol)[0]
+    stack = SliceStack.of([slices])
+    return minimal_scales(stack, centre_distance, disk_radius, scale_max, n_scan, rel_tol)[0]
 
 
 def minimal_scales(
-    slices: Sequence[Slices],
+    stack: SliceStack,
     centre_distance: float,
     disk_radius: float,
     scale_max: float,
     n_scan: int = 128,
     rel_tol: float = 1e-9,
 ) -> list[Fit]:
-    """:func:`minimal_scale` of each of ``slices`` for one disk: the scans one design at a time,
-    the bisections of all designs at once (the same steps, so the same scales)."""
-    fits: list[Fit] = []
-    pending: list[int] = []
-    brackets: list[tuple[float, float]] = []
-    for k, sl in enumerate(slices):
-        fit = _scan(sl, centre_distance, disk_radius, scale_max, n_scan)
-        if isinstance(fit, Fit):
-            fits.append(fit)
-        else:
-            fits.append(Fit(np.nan, False, "bisection pending"))
-            pending.append(k)
-            brackets.append(fit)
-    if pending:
-        a, b = np.array(brackets).T
-        rows = [slices[k] for k in pending]
-        xp = np.stack([sl.margin_rho for sl in rows])
-        fp = np.stack([sl.margin for sl in rows])
-        radii, need = _disk_circles(centre_distance, disk_radius)
-        active = b - a > rel_tol * b
-        while active.any():
-            i = np.flatnonzero(active)
-            mid = 0.5 * (a[i] + b[i])
-            have = _interp_rows(radii[None, :] / mid[:, None], xp[i], fp[i], -1.0)
-            holds = np.min(have - need, axis=1) >= 0.0
-            b[i] = np.where(holds, mid, b[i])
-            a[i] = np.where(holds, a[i], mid)
-            active[i] = b[i] - a[i] > rel_tol * b[i]
-        for k, scale in zip(pending, b, strict=True):
-            fits[k] = Fit(float(scale), True, "")
+    """:func:`minimal_scale` of each design of ``stack`` for one disk, all at once (the same
+    steps as one at a time, so the same scales)."""
+    fits = [
+        Fit(np.nan, False, radial_misfit(a, b, centre_distance, disk_radius, scale_max))
+        for a, b in zip(stack.rho_min, stack.rho_max, strict=True)
+    ]
+    rows = np.array([k for k, fit in enumerate(fits) if not fit.reason], dtype=np.intp)
+    if not rows.size:
+        return fits
+    xp, fp = stack.margin_rho[rows], stack.margin[rows]
+    lo = (centre_distance + disk_radius) / stack.rho_max[rows]  # disk must reach no further out
+    hi_geometry = (centre_distance - disk_radius) / stack.rho_min[rows]  # nor further in
+    hi = np.minimum(scale_max, hi_geometry)
+    # np.linspace(lo, hi, n_scan) of each row, with its arithmetic
+    scan = np.arange(n_scan) * ((hi - lo) / max(n_scan - 1, 1))[:, None] + lo[:, None]
+    if n_scan > 1:
+        scan[:, -1] = hi
+    circles = _disk_circles(centre_distance, disk_radius)
+    first = _first_contained(xp, fp, circles, scan)
+    where = np.where(hi_geometry > scale_max, "up to scale.max_m ", "")
+    for j, k in enumerate(rows):
+        if first[j] < 0:
+            fits[k] = Fit(np.nan, False, f"no scale {where[j]}holds the task")
+        elif first[j] == 0:
+            fits[k] = Fit(float(lo[j]), True, "")
+    bisect = np.flatnonzero(first > 0)
+    a, b = scan[bisect, first[bisect] - 1], scan[bisect, first[bisect]]
+    xp, fp = xp[bisect], fp[bisect]
+    active = b - a > rel_tol * b
+    while active.any():
+        i = np.flatnonzero(active)
+        mid = 0.5 * (a[i] + b[i])
+        holds = _slack(xp[i], fp[i], *circles, mid[:, None])[:, 0] >= 0.0
+        b[i] = np.where(holds, mid, b[i])
+        a[i] = np.where(holds, a[i], mid)
+        active[i] = b[i] - a[i] > rel_tol * b[i]
+    for k, scale in zip(rows[bisect], b, strict=True):
+        fits[k] = Fit(float(scale), True, "")
     return fits
 
 
-def _scan(
-    slices: Slices, centre_distance: float, disk_radius: float, scale_max: float, n_scan: int
-) -> Fit | tuple[float, float]:
-    """The fit of :func:`minimal_scale` where no bisection is needed, else the bracket of scales
-    (m) that it bisects: the last scanned scale without and the first with the disk inside."""
-    radial = radial_misfit(slices.rho_min, slices.rho_max, centre_distance, disk_radius, scale_max)
-    if radial:
-        return Fit(np.nan, False, radial)
-    lo = (centre_distance + disk_radius) / slices.rho_max  # disk must reach no further out
-    hi_geometry = (centre_distance - disk_radius) / slices.rho_min  # nor further in
-    hi = min(scale_max, hi_geometry)
-    scan = np.linspace(lo, hi, n_scan)
-    check = _DiskCheck(slices, centre_distance, disk_radius)
-    # blocks of 8, 16, 32, ... scales from the smallest: the first admissible one is mostly early
+def _first_contained(
+    margin_rho: NDArray[np.float64],
+    margin: NDArray[np.float64],
+    circles: tuple[NDArray[np.float64], NDArray[np.float64]],
+    scan: NDArray[np.float64],
+    max_points: int = 4096,
+) -> NDArray[np.intp]:
+    """Index of the first of each row's scanned scales ``scan`` (G, n_scan) that holds the disk
+    (-1 if none), checked in blocks of 8, 16, 32, ... scales from the smallest (the first
+    admissible one is mostly early), ``max_points`` scales at a time."""
+    first = np.full(len(scan), -1, dtype=np.intp)
+    pending = np.arange(len(scan))
     start, size = 0, 8
-    while start < n_scan:
-        ok = check.margin(scan[start : start + size]) >= 0.0
-        if ok.any():
-            first = start + int(np.argmax(ok))
-            if first == 0:
-                return Fit(float(lo), True, "")
-            return float(scan[first - 1]), float(scan[first])
+    while start < scan.shape[1] and pending.size:
+        for rows in np.array_split(pending, -(-pending.size * size // max_points)):
+            ok = _slack(margin_rho[rows], margin[rows], *circles, scan[rows, start : start + size])
+            hit = (ok >= 0.0).any(axis=1)
+            first[rows[hit]] = start + np.argmax(ok[hit] >= 0.0, axis=1)
+        pending = pending[first[pending] < 0]
         start, size = start + size, 2 * size
-    where = "up to scale.max_m " if hi_geometry > scale_max else ""
-    return Fit(np.nan, False, f"no scale {where}holds the task")
+    return first
 
 
 def _interp_rows(

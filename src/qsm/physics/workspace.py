@@ -16,7 +16,7 @@ circles; both converge quadratically (tests compare with an independent point-me
 
 from __future__ import annotations
 
-import itertools
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -24,8 +24,16 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.defaults import default
 from qsm.physics.kinematics import relative_arm_angle
+from qsm.physics.slicing import (
+    intervals_on_levels,
+    levels_between,
+    union_and_margin,
+    wrap_about,
+)
+from qsm.physics.slicing import margin_about_zero as margin_about_zero
 
-TWO_PI = 2.0 * np.pi
+#: Designs sliced in one vectorised call (a few MB of arrays per design).
+ARCS_CHUNK = 256
 
 
 @dataclass(frozen=True)
@@ -81,9 +89,52 @@ class Slices:
     @property
     def area(self) -> float:
         """Workspace area in units of l1^2."""
-        return float(
-            np.sum(self.rho * self.covered) * (self.rho_max - self.rho_min) / self.rho.size
+        return float(_area(self.rho, self.covered, self.rho_min, self.rho_max))
+
+
+@dataclass(frozen=True)
+class SliceStack:
+    """The :class:`Slices` of designs along a leading axis: ``rho_min``, ``rho_max`` (G,) and the
+    arrays (G, ...)."""
+
+    rho_min: NDArray[np.float64]
+    rho_max: NDArray[np.float64]
+    rho: NDArray[np.float64]
+    covered: NDArray[np.float64]
+    margin_rho: NDArray[np.float64]
+    margin: NDArray[np.float64]
+
+    @classmethod
+    def of(cls, slices: Sequence[Slices]) -> SliceStack:
+        """The designs ``slices`` (of one ``n_levels``) stacked."""
+        return cls(
+            *(np.array([getattr(sl, name) for sl in slices]) for name in cls.__dataclass_fields__)
         )
+
+    def __len__(self) -> int:
+        return len(self.rho_min)
+
+    def row(self, k: int) -> Slices:
+        """The ``k``-th design's :class:`Slices`."""
+        return Slices(
+            float(self.rho_min[k]),
+            float(self.rho_max[k]),
+            self.rho[k],
+            self.covered[k],
+            self.margin_rho[k],
+            self.margin[k],
+        )
+
+    @property
+    def area(self) -> NDArray[np.float64]:
+        """Workspace areas (G,) in units of l1^2."""
+        return _area(self.rho, self.covered, self.rho_min, self.rho_max)
+
+
+def _area(rho: NDArray, covered: NDArray, rho_min: ArrayLike, rho_max: ArrayLike) -> NDArray:
+    """Midpoint rule of ``integral rho |U(rho)| d rho`` over the last axis (l1^2)."""
+    width = np.asarray(rho_max) - rho_min
+    return np.sum(rho * covered, axis=-1) * width / rho.shape[-1]
 
 
 def arcs(
@@ -128,138 +179,42 @@ def slices_of_arcs(
     n_levels: int,
 ) -> Slices:
     """:class:`Slices` of one design's closed :func:`arcs` on ``n_levels`` circles."""
-    rho_min, rho_max = float(rho.min()), float(rho.max())
-    levels = _levels(rho_min, rho_max, n_levels)
-    margin_rho = np.concatenate([[rho_min], levels, [rho_max]])
-    starts, ends = _interval_per_level(rho, lo, hi, margin_rho)
-    starts, ends = wrap_about(starts, ends, reference_angle)
-    covered, margin = union_and_margin(starts, ends)
-    return Slices(
-        rho_min=rho_min,
-        rho_max=rho_max,
-        rho=levels,
-        covered=covered[1:-1],
-        margin_rho=margin_rho,
-        margin=margin,
-    )
+    return slice_stack(rho[None], lo[None], hi[None], reference_angle, n_levels).row(0)
+
+
+def slice_stack(
+    rho: NDArray[np.float64],
+    lo: NDArray[np.float64],
+    hi: NDArray[np.float64],
+    reference_angle: float,
+    n_levels: int,
+) -> SliceStack:
+    """:class:`Slices` of designs' closed :func:`arcs` (G, n_delta) on ``n_levels`` circles each,
+    all at once; every design's numbers are those it has sliced alone."""
+    rho_min, rho_max = rho.min(axis=1), rho.max(axis=1)
+    levels = levels_between(rho_min, rho_max, n_levels)
+    margin_rho = np.column_stack([rho_min, levels, rho_max])
+    starts, ends, n_pieces = intervals_on_levels(rho, lo, hi, margin_rho)
+    covered = np.empty_like(margin_rho)
+    margin = np.empty_like(margin_rho)
+    for p in np.unique(n_pieces):  # the same intervals as alone: no padding pieces
+        rows = np.flatnonzero(n_pieces == p)
+        wrapped = wrap_about(starts[:p, rows], ends[:p, rows], reference_angle)
+        covered[rows], margin[rows] = union_and_margin(*wrapped)
+    return SliceStack(rho_min, rho_max, levels, covered[:, 1:-1], margin_rho, margin)
 
 
 def unit_areas(
     ratios: ArrayLike, op: OperatingRange, resolution: Resolution = Resolution()
 ) -> NDArray[np.float64]:
     """Workspace areas (units of l1^2) of the unit designs ``ratios`` (M, 5): the
-    ``slice_workspace(...).area`` of each, without the margins; NaN where the loop does not close
-    everywhere in ``op``."""
-    rho, lo, hi = arcs(np.atleast_2d(ratios), op, resolution.n_delta)
-    out = np.full(len(rho), np.nan)
-    for i in np.flatnonzero(np.isfinite(rho).all(axis=1)):
-        rho_min, rho_max = float(rho[i].min()), float(rho[i].max())
-        levels = _levels(rho_min, rho_max, resolution.n_levels)
-        starts, ends = wrap_about(*_interval_per_level(rho[i], lo[i], hi[i], levels), 0.0)
-        covered = _union_length(starts, ends)
-        out[i] = np.sum(levels * covered) * (rho_max - rho_min) / levels.size
+    ``slice_workspace(...).area`` of each; NaN where the loop does not close everywhere in
+    ``op``."""
+    ratios = np.atleast_2d(ratios)
+    out = np.full(len(ratios), np.nan)
+    for start in range(0, len(ratios), ARCS_CHUNK):
+        rho, lo, hi = arcs(ratios[start : start + ARCS_CHUNK], op, resolution.n_delta)
+        closed = np.flatnonzero(np.isfinite(rho).all(axis=1))
+        stack = slice_stack(rho[closed], lo[closed], hi[closed], 0.0, resolution.n_levels)
+        out[start + closed] = stack.area
     return out
-
-
-def _levels(rho_min: float, rho_max: float, n_levels: int) -> NDArray[np.float64]:
-    """Midpoints of ``n_levels`` equal bins from ``rho_min`` to ``rho_max``."""
-    return rho_min + (np.arange(n_levels) + 0.5) * (rho_max - rho_min) / n_levels
-
-
-def _monotone_pieces(rho: NDArray[np.float64]) -> list[slice]:
-    """Index ranges (sharing their end points) on which ``rho`` is monotone."""
-    step = np.sign(np.diff(rho))
-    turns = np.flatnonzero(step[1:] * step[:-1] < 0) + 1
-    bounds = np.concatenate([[0], turns, [rho.size - 1]])
-    return [slice(a, b + 1) for a, b in itertools.pairwise(bounds)]
-
-
-def _interval_per_level(
-    rho: NDArray[np.float64],
-    lo: NDArray[np.float64],
-    hi: NDArray[np.float64],
-    levels: NDArray[np.float64],
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Arc of every monotone piece of ``rho(delta)`` on every level: (pieces, levels) arrays.
-
-    Levels a piece does not reach get an empty interval (NaN).
-    """
-    pieces = _monotone_pieces(rho)
-    starts = np.full((len(pieces), levels.size), np.nan)
-    ends = np.full_like(starts, np.nan)
-    for i, sl in enumerate(pieces):
-        r, a, b = rho[sl], lo[sl], hi[sl]
-        if r[-1] < r[0]:
-            r, a, b = r[::-1], a[::-1], b[::-1]
-        inside = (levels >= r[0]) & (levels <= r[-1])
-        starts[i, inside] = np.interp(levels[inside], r, a)
-        ends[i, inside] = np.interp(levels[inside], r, b)
-    return starts, ends
-
-
-def wrap_about(
-    starts: NDArray[np.float64], ends: NDArray[np.float64], centre: float
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Express arcs relative to ``centre`` on [-pi, pi], splitting an arc that crosses pi.
-
-    Every arc is shorter than 2 pi (theta1's range), so one split suffices. Empty arcs become
-    zero-length arcs at pi.
-    """
-    s = starts - centre
-    shift = np.floor((s + np.pi) / TWO_PI) * TWO_PI
-    s = s - shift
-    e = ends - centre - shift
-    over = e > np.pi
-    s2 = np.where(over, -np.pi, np.pi)
-    e2 = np.where(over, e - TWO_PI, np.pi)
-    e = np.minimum(e, np.pi)
-    empty = ~np.isfinite(s)
-    s, e = np.where(empty, np.pi, s), np.where(empty, np.pi, e)
-    return np.concatenate([s, s2]), np.concatenate([e, e2])
-
-
-def _union_length(starts: NDArray[np.float64], ends: NDArray[np.float64]) -> NDArray[np.float64]:
-    """Length of the union of intervals; intervals along axis 0, levels along axis 1."""
-    return _sorted_apart(starts, ends)[3]
-
-
-def _sorted_apart(
-    starts: NDArray[np.float64], ends: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], NDArray[np.float64]]:
-    """Starts and ends each sorted along axis 0, whether the union has a gap after the k-th end
-    (axis 0 one shorter), and the union's length.
-
-    There is a gap between the k-th end and the (k+1)-th start exactly when the first lies below
-    the second (the k-th start never exceeds the k-th end), so the union is the hull less those
-    gaps: no sort of the ends by their starts.
-    """
-    s, e = np.sort(starts, axis=0), np.sort(ends, axis=0)
-    gap = s[1:] > e[:-1]
-    return s, e, gap, e[-1] - s[0] - np.where(gap, s[1:] - e[:-1], 0.0).sum(axis=0)
-
-
-def margin_about_zero(
-    starts: NDArray[np.float64], ends: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """Half-width of the largest arc centred on 0 inside the union; -1 where 0 is not covered."""
-    return union_and_margin(starts, ends)[1]
-
-
-def union_and_margin(
-    starts: NDArray[np.float64], ends: NDArray[np.float64]
-) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
-    """Length of the union of closed intervals and the half-width of its largest arc centred on 0
-    (-1 where 0 is not covered); intervals along axis 0, levels along axis 1.
-
-    The union's connected pieces (:func:`_sorted_apart`) start at the first start and after each
-    gap, and end before each gap and at the last end; 0 is covered when the last piece to start
-    at or below 0 is not one that ends below 0.
-    """
-    s, e, gap, covered = _sorted_apart(starts, ends)
-    piece_start = np.concatenate([s[:1], np.where(gap, s[1:], np.inf)])
-    piece_end = np.concatenate([np.where(gap, e[:-1], -np.inf), e[-1:]])
-    left = np.max(np.where(piece_start <= 0.0, piece_start, -np.inf), axis=0)
-    right = np.min(np.where(piece_end >= 0.0, piece_end, np.inf), axis=0)
-    ended = np.max(np.where(piece_end < 0.0, piece_end, -np.inf), axis=0)
-    holds = (left > ended) & np.isfinite(left) & np.isfinite(right)
-    return covered, np.where(holds, np.minimum(right, -left), -1.0)
