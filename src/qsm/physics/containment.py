@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.physics.slicing import count_below
 from qsm.physics.workspace import Slices, SliceStack
 
 
@@ -187,23 +188,16 @@ def _interp_rows(
     x: NDArray[np.float64], xp: NDArray[np.float64], fp: NDArray[np.float64], outside: float
 ) -> NDArray[np.float64]:
     """``np.interp(x[i], xp[i], fp[i], left=outside, right=outside)`` for every row ``i`` at once,
-    with ``np.interp``'s arithmetic; each ``xp[i]`` increasing and about evenly spaced (as
-    :attr:`Slices.margin_rho` is), which makes the first guess of the segment exact or one off."""
+    with ``np.interp``'s arithmetic: the segment ``[xp[j], xp[j + 1])`` that holds ``x``; each
+    ``xp[i]`` increasing (and fastest spaced as :attr:`Slices.margin_rho` is)."""
     n = xp.shape[1]
-    first, last = xp[:, :1], xp[:, -1:]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        guess = np.floor((x - first) / (last - first) * (n - 1))
-    j = np.clip(np.nan_to_num(guess), 0, n - 2).astype(np.intp)
-    row = np.arange(len(xp))[:, None]
-    while True:
-        down = (j > 0) & (xp[row, j] > x)
-        up = (j < n - 2) & (xp[row, j + 1] <= x)
-        if not (down.any() or up.any()):
-            break
-        j = j - down + up
-    x0, x1, y0, y1 = xp[row, j], xp[row, j + 1], fp[row, j], fp[row, j + 1]
+    j = np.clip(count_below(xp, x, inclusive=True) - 1, 0, n - 2)
+    j += (np.arange(len(xp)) * n)[:, None]  # flat index
+    flat_x, flat_f = xp.ravel(), fp.ravel()
+    x0, x1, y0, y1 = flat_x[j], flat_x[j + 1], flat_f[j], flat_f[j + 1]
     with np.errstate(invalid="ignore", divide="ignore"):
         out = (y1 - y0) / (x1 - x0) * (x - x0) + y0
     out = np.where(x == x0, y0, out)
+    first, last = xp[:, :1], xp[:, -1:]
     out = np.where(x == last, fp[:, -1:], out)
     return np.where((x < first) | (x > last), outside, out)

@@ -40,6 +40,7 @@ def intervals_on_levels(
     it (``x1`` included on the piece's top segment), as ``np.interp`` does.
     """
     g, n = rho.shape
+    n_levels = levels.shape[1]
     step = np.sign(np.diff(rho, axis=1))
     turn = np.zeros((g, n), dtype=bool)
     turn[:, 1:-1] = step[:, 1:] * step[:, :-1] < 0
@@ -49,53 +50,68 @@ def intervals_on_levels(
     piece = np.cumsum(turn, axis=1)[:, :-1]  # piece of segment [k, k + 1]
     first = np.maximum.accumulate(np.where(bound, sample, 0), axis=1)[:, :-1]
     last = np.minimum.accumulate(np.where(bound, sample, n - 1)[:, ::-1], axis=1)[:, ::-1][:, 1:]
-    row = np.arange(g)[:, None]
-    falls = rho[row, last] < rho[row, first]
+    # flat indices into the (G, n_delta) arrays: lower sample of each segment, and upper - lower
+    base = (np.arange(g) * n)[:, None]
+    flat = rho.ravel()
+    falls = flat[base + last] < flat[base + first]
     k = sample[:-1]
-    i0, i1 = np.where(falls, k + 1, k), np.where(falls, k, k + 1)  # lower and upper sample
+    lower = base + np.where(falls, k + 1, k)
+    up = np.where(falls, -1, 1)
     top = np.where(falls, k == first, k + 1 == last)
-    x0, x1 = rho[row, i0], rho[row, i1]
-    c0 = _count_below(levels, x0, np.zeros_like(top))
-    count = np.maximum(_count_below(levels, x1, top) - c0, 0)
+    below = count_below(levels, rho, inclusive=False).ravel()
+    at_or_below = count_below(levels, rho, inclusive=True, start=below).ravel()
+    c0 = below[lower]
+    c1 = np.where(top, at_or_below[lower + up], below[lower + up])
+    count = np.maximum(c1 - c0, 0).ravel()
     # one entry per (segment, level it holds)
-    seg = np.repeat(np.arange(count.size), count.ravel())
-    offset = np.cumsum(count.ravel()) - count.ravel()
-    level = c0.ravel()[seg] + np.arange(seg.size) - offset[seg]
+    seg = np.repeat(np.arange(count.size), count)
+    level = c0.ravel()[seg] + np.arange(seg.size) - (np.cumsum(count) - count)[seg]
     design = seg // (n - 1)
-    x = levels[design, level]
-    a, b, on_top = x0.ravel()[seg], x1.ravel()[seg], top.ravel()[seg]
+    x = levels.ravel()[design * n_levels + level]
+    i0 = lower.ravel()[seg]
+    i1 = i0 + up.ravel()[seg]
+    a, b, on_top = flat[i0], flat[i1], top.ravel()[seg]
+    target = (piece.ravel()[seg] * g + design) * n_levels + level
     n_pieces = piece[:, -1] + 1
-    shape = (int(n_pieces.max(initial=0)), g, levels.shape[1])
     out = []
-    for values in (lo, hi):
-        y0, y1 = values[row, i0].ravel()[seg], values[row, i1].ravel()[seg]
+    for values in (lo.ravel(), hi.ravel()):
+        y0, y1 = values[i0], values[i1]
         with np.errstate(invalid="ignore", divide="ignore"):
             y = (y1 - y0) / (b - a) * (x - a) + y0
         y = np.where(x == a, y0, y)
-        arc = np.full(shape, np.nan)
-        arc[piece.ravel()[seg], design, level] = np.where(on_top & (x == b), y1, y)
+        arc = np.full((int(n_pieces.max(initial=0)), g, n_levels), np.nan)
+        arc.reshape(-1)[target] = np.where(on_top & (x == b), y1, y)
         out.append(arc)
     return out[0], out[1], n_pieces
 
 
-def _count_below(
-    xp: NDArray[np.float64], x: NDArray[np.float64], inclusive: NDArray[np.bool_]
+def count_below(
+    xp: NDArray[np.float64],
+    x: NDArray[np.float64],
+    inclusive: bool,
+    start: NDArray[np.intp] | None = None,
 ) -> NDArray[np.intp]:
-    """How many of row ``i``'s ``xp[i]`` (increasing, about evenly spaced) lie below each of
-    ``x[i]`` (or at it, where ``inclusive``): a guess from the spacing, walked to the count."""
+    """How many of row ``i``'s ``xp[i]`` (increasing, evenly spaced but for the first and the last
+    as :attr:`qsm.physics.workspace.Slices.margin_rho` is) lie below each of ``x[i]`` (or at it,
+    if ``inclusive``): from ``start`` or a guess from the spacing, walked to the count."""
     n = xp.shape[1]
-    first, last = xp[:, :1], xp[:, -1:]
-    with np.errstate(invalid="ignore", divide="ignore"):
-        guess = np.ceil((x - first) / (last - first) * (n - 1))
-    c = np.clip(np.nan_to_num(guess), 0, n).astype(np.intp)
-    row = np.arange(len(xp))[:, None]
+    if start is None:
+        second, before_last = xp[:, 1:2], xp[:, -2:-1]
+        with np.errstate(invalid="ignore", divide="ignore"):
+            guess = 1.0 + np.ceil((x - second) / (before_last - second) * (n - 3))
+        c = np.clip(np.nan_to_num(guess), 0, n).astype(np.intp)
+    else:
+        c = start.reshape(x.shape)
+    base = (np.arange(len(xp)) * n)[:, None]
+    flat = xp.ravel()
 
-    def below(v: NDArray[np.float64]) -> NDArray[np.bool_]:
-        return (v < x) | (inclusive & (v == x))
+    def below(j: NDArray[np.intp]) -> NDArray[np.bool_]:
+        v = flat[base + j]
+        return v <= x if inclusive else v < x
 
     while True:
-        back = (c > 0) & ~below(xp[row, np.maximum(c - 1, 0)])
-        ahead = (c < n) & below(xp[row, np.minimum(c, n - 1)])
+        back = (c > 0) & ~below(np.maximum(c - 1, 0))
+        ahead = (c < n) & below(np.minimum(c, n - 1))
         if not (back.any() or ahead.any()):
             return c
         c = c - back + ahead
@@ -106,20 +122,53 @@ def wrap_about(
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Express arcs relative to ``centre`` on [-pi, pi], splitting an arc that crosses pi.
 
-    Every arc is shorter than 2 pi (theta1's range), so one split suffices. Empty arcs become
+    Every arc is shorter than 2 pi (theta1's range), so one split suffices: the first halves come
+    first, then the second halves, (pi, pi) for an arc that does not cross. Empty arcs become
     zero-length arcs at pi.
     """
+    s, e, over, e_over = _wrapped(starts, ends, centre)
+    return (
+        np.concatenate([s, np.where(over, -np.pi, np.pi)]),
+        np.concatenate([e, np.where(over, e_over, np.pi)]),
+    )
+
+
+def wrap_compact(
+    starts: NDArray[np.float64], ends: NDArray[np.float64], centre: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """:func:`wrap_about` with only the second halves of the arcs (rows) that cross pi somewhere,
+    or one row of (pi, pi) if none does: the same :func:`union_and_margin`, number for number.
+
+    The sorted starts and ends of :func:`wrap_about` end in the (pi, pi) intervals dropped here;
+    each contributes a zero gap after the last one's sum, as every level keeps an end at pi (a
+    crossing arc's first half, or a (pi, pi) interval).
+    """
+    s, e, over, e_over = _wrapped(starts, ends, centre)
+    crosses = over.reshape(len(over), -1).any(axis=1)
+    if not crosses.any():
+        tail = np.full((1, *s.shape[1:]), np.pi)
+        return np.concatenate([s, tail]), np.concatenate([e, tail])
+    over = over[crosses]
+    return (
+        np.concatenate([s, np.where(over, -np.pi, np.pi)]),
+        np.concatenate([e, np.where(over, e_over[crosses], np.pi)]),
+    )
+
+
+def _wrapped(
+    starts: NDArray[np.float64], ends: NDArray[np.float64], centre: float
+) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.bool_], NDArray[np.float64]]:
+    """First halves ``[s, e]`` of the arcs relative to ``centre`` (empty ones at pi), whether
+    each crosses pi and the end of its second half, ``[-pi, e_over]``."""
     s = starts - centre
     shift = np.floor((s + np.pi) / TWO_PI) * TWO_PI
     s = s - shift
     e = ends - centre - shift
     over = e > np.pi
-    s2 = np.where(over, -np.pi, np.pi)
-    e2 = np.where(over, e - TWO_PI, np.pi)
+    e_over = e - TWO_PI
     e = np.minimum(e, np.pi)
     empty = ~np.isfinite(s)
-    s, e = np.where(empty, np.pi, s), np.where(empty, np.pi, e)
-    return np.concatenate([s, s2]), np.concatenate([e, e2])
+    return np.where(empty, np.pi, s), np.where(empty, np.pi, e), over, e_over
 
 
 def _sorted_apart(

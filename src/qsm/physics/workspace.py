@@ -28,12 +28,15 @@ from qsm.physics.slicing import (
     intervals_on_levels,
     levels_between,
     union_and_margin,
-    wrap_about,
+    wrap_compact,
 )
 from qsm.physics.slicing import margin_about_zero as margin_about_zero
+from qsm.physics.slicing import wrap_about as wrap_about
 
-#: Designs sliced in one vectorised call (a few MB of arrays per design).
+#: Designs whose arcs are computed and whose scales are searched in one vectorised call.
 ARCS_CHUNK = 256
+#: Designs sliced in one vectorised call: arrays of a few MB, which stay in the cache.
+SLICE_BATCH = 64
 
 
 @dataclass(frozen=True)
@@ -194,13 +197,17 @@ def slice_stack(
     rho_min, rho_max = rho.min(axis=1), rho.max(axis=1)
     levels = levels_between(rho_min, rho_max, n_levels)
     margin_rho = np.column_stack([rho_min, levels, rho_max])
-    starts, ends, n_pieces = intervals_on_levels(rho, lo, hi, margin_rho)
     covered = np.empty_like(margin_rho)
     margin = np.empty_like(margin_rho)
-    for p in np.unique(n_pieces):  # the same intervals as alone: no padding pieces
-        rows = np.flatnonzero(n_pieces == p)
-        wrapped = wrap_about(starts[:p, rows], ends[:p, rows], reference_angle)
-        covered[rows], margin[rows] = union_and_margin(*wrapped)
+    for start in range(0, len(rho), SLICE_BATCH):
+        part = slice(start, start + SLICE_BATCH)
+        starts, ends, n_pieces = intervals_on_levels(
+            rho[part], lo[part], hi[part], margin_rho[part]
+        )
+        for p in np.unique(n_pieces):  # the same intervals as alone: no padding pieces
+            rows = np.flatnonzero(n_pieces == p)
+            wrapped = wrap_compact(starts[:p, rows], ends[:p, rows], reference_angle)
+            covered[start + rows], margin[start + rows] = union_and_margin(*wrapped)
     return SliceStack(rho_min, rho_max, levels, covered[:, 1:-1], margin_rho, margin)
 
 
