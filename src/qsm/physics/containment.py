@@ -189,7 +189,7 @@ def _interp_rows(
 ) -> NDArray[np.float64]:
     """``np.interp(x[i], xp[i], fp[i], left=outside, right=outside)`` for every row ``i`` at once,
     with ``np.interp``'s arithmetic: the segment ``[xp[j], xp[j + 1])`` that holds ``x``; each
-    ``xp[i]`` increasing (and fastest spaced as :attr:`Slices.margin_rho` is)."""
+    ``xp[i]`` increasing (found fastest if spaced as :attr:`Slices.margin_rho` is)."""
     n = xp.shape[1]
     j = np.clip(count_below(xp, x, inclusive=True) - 1, 0, n - 2)
     j += (np.arange(len(xp)) * n)[:, None]  # flat index

@@ -12,6 +12,8 @@ angle (``margin``) is what task containment needs (:mod:`qsm.physics.containment
 
 The only approximations are the ``delta`` sampling (linear between samples) and the number of
 circles; both converge quadratically (tests compare with an independent point-membership count).
+Designs are sliced many at a time (:func:`slice_stack`, array kernels in
+:mod:`qsm.physics.slicing`), each to the same numbers as alone.
 """
 
 from __future__ import annotations
@@ -35,7 +37,7 @@ from qsm.physics.slicing import wrap_about as wrap_about
 
 #: Designs whose arcs are computed and whose scales are searched in one vectorised call.
 ARCS_CHUNK = 256
-#: Designs sliced in one vectorised call: arrays of a few MB, which stay in the cache.
+#: Designs sliced in one vectorised call (its arrays, about 1 MB each, stay in the cache).
 SLICE_BATCH = 64
 
 
@@ -113,9 +115,6 @@ class SliceStack:
         return cls(
             *(np.array([getattr(sl, name) for sl in slices]) for name in cls.__dataclass_fields__)
         )
-
-    def __len__(self) -> int:
-        return len(self.rho_min)
 
     def row(self, k: int) -> Slices:
         """The ``k``-th design's :class:`Slices`."""
