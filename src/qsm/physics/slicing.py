@@ -29,21 +29,19 @@ def intervals_on_levels(
     lo: NDArray[np.float64],
     hi: NDArray[np.float64],
     levels: NDArray[np.float64],
-) -> tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.intp]]:
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Arc ``[start, end]`` (rad) of every monotone piece of ``rho(delta)`` on every level.
 
     ``rho``, ``lo``, ``hi`` are closed :func:`qsm.physics.workspace.arcs` (G, n_delta), ``levels``
     (G, L) increasing along axis 1. Returns starts and ends (P, G, L), P the largest number of
-    pieces, NaN on levels a piece does not reach and on the pieces a design lacks, and the number
-    of pieces of each design (G,). The pieces share their end samples; a piece that falls is read
+    pieces (:func:`piece_counts`), NaN on levels a piece does not reach and on the pieces a design
+    lacks. The pieces share their end samples; a piece that falls is read
     backwards, and the level ``x`` takes the segment ``[x0, x1)`` of the piece's samples that holds
     it (``x1`` included on the piece's top segment), as ``np.interp`` does.
     """
     g, n = rho.shape
     n_levels = levels.shape[1]
-    step = np.sign(np.diff(rho, axis=1))
-    turn = np.zeros((g, n), dtype=bool)
-    turn[:, 1:-1] = step[:, 1:] * step[:, :-1] < 0
+    turn = _turns(rho)
     bound = turn.copy()
     bound[:, [0, -1]] = True
     sample = np.arange(n)
@@ -72,17 +70,29 @@ def intervals_on_levels(
     i1 = i0 + up.ravel()[seg]
     a, b, on_top = flat[i0], flat[i1], top.ravel()[seg]
     target = (piece.ravel()[seg] * g + design) * n_levels + level
-    n_pieces = piece[:, -1] + 1
     out = []
     for values in (lo.ravel(), hi.ravel()):
         y0, y1 = values[i0], values[i1]
         with np.errstate(invalid="ignore", divide="ignore"):
             y = (y1 - y0) / (b - a) * (x - a) + y0
         y = np.where(x == a, y0, y)
-        arc = np.full((int(n_pieces.max(initial=0)), g, n_levels), np.nan)
+        arc = np.full((int(piece[:, -1].max(initial=-1)) + 1, g, n_levels), np.nan)
         arc.reshape(-1)[target] = np.where(on_top & (x == b), y1, y)
         out.append(arc)
-    return out[0], out[1], n_pieces
+    return out[0], out[1]
+
+
+def piece_counts(rho: NDArray[np.float64]) -> NDArray[np.intp]:
+    """Number of monotone pieces of each row of ``rho`` (G, n_delta)."""
+    return _turns(rho).sum(axis=1) + 1
+
+
+def _turns(rho: NDArray[np.float64]) -> NDArray[np.bool_]:
+    """Where ``rho`` (G, n_delta) turns: a sample between a rise and a fall (flat steps aside)."""
+    step = np.sign(np.diff(rho, axis=1))
+    turn = np.zeros(rho.shape, dtype=bool)
+    turn[:, 1:-1] = step[:, 1:] * step[:, :-1] < 0
+    return turn
 
 
 def count_below(

@@ -29,6 +29,7 @@ from qsm.physics.kinematics import relative_arm_angle
 from qsm.physics.slicing import (
     intervals_on_levels,
     levels_between,
+    piece_counts,
     union_and_margin,
     wrap_compact,
 )
@@ -198,15 +199,14 @@ def slice_stack(
     margin_rho = np.column_stack([rho_min, levels, rho_max])
     covered = np.empty_like(margin_rho)
     margin = np.empty_like(margin_rho)
-    for start in range(0, len(rho), SLICE_BATCH):
-        part = slice(start, start + SLICE_BATCH)
-        starts, ends, n_pieces = intervals_on_levels(
-            rho[part], lo[part], hi[part], margin_rho[part]
-        )
-        for p in np.unique(n_pieces):  # the same intervals as alone: no padding pieces
-            rows = np.flatnonzero(n_pieces == p)
-            wrapped = wrap_compact(starts[:p, rows], ends[:p, rows], reference_angle)
-            covered[start + rows], margin[start + rows] = union_and_margin(*wrapped)
+    n_pieces = piece_counts(rho)
+    for p in np.unique(n_pieces):  # the same intervals as alone: no padding pieces
+        same = np.flatnonzero(n_pieces == p)
+        for start in range(0, same.size, SLICE_BATCH):
+            rows = same[start : start + SLICE_BATCH]
+            starts, ends = intervals_on_levels(rho[rows], lo[rows], hi[rows], margin_rho[rows])
+            wrapped = wrap_compact(starts, ends, reference_angle)
+            covered[rows], margin[rows] = union_and_margin(*wrapped)
     return SliceStack(rho_min, rho_max, levels, covered[:, 1:-1], margin_rho, margin)
 
 
