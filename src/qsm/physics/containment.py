@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.slicing import count_below
+from qsm.physics.slicing import count_guess
 from qsm.physics.workspace import Slices, SliceStack
 
 
@@ -191,10 +191,17 @@ def _interp_rows(
     with ``np.interp``'s arithmetic: the segment ``[xp[j], xp[j + 1])`` that holds ``x``; each
     ``xp[i]`` increasing (found fastest if spaced as :attr:`Slices.margin_rho` is)."""
     n = xp.shape[1]
-    j = np.clip(count_below(xp, x, inclusive=True) - 1, 0, n - 2)
-    j += (np.arange(len(xp)) * n)[:, None]  # flat index
+    base = (np.arange(len(xp)) * n)[:, None]
+    j = base + np.clip(count_guess(xp, x) - 1, 0, n - 2)  # flat index of xp[i, j]
     flat_x, flat_f = xp.ravel(), fp.ravel()
-    x0, x1, y0, y1 = flat_x[j], flat_x[j + 1], flat_f[j], flat_f[j + 1]
+    while True:
+        x0, x1 = flat_x[j], flat_x[j + 1]
+        down = (j > base) & (x0 > x)
+        up = (j < base + n - 2) & (x1 <= x)
+        if not (down.any() or up.any()):
+            break
+        j = j - down + up
+    y0, y1 = flat_f[j], flat_f[j + 1]
     with np.errstate(invalid="ignore", divide="ignore"):
         out = (y1 - y0) / (x1 - x0) * (x - x0) + y0
     out = np.where(x == x0, y0, out)

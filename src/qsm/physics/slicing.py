@@ -95,23 +95,27 @@ def _turns(rho: NDArray[np.float64]) -> NDArray[np.bool_]:
     return turn
 
 
+def count_guess(xp: NDArray[np.float64], x: NDArray[np.float64]) -> NDArray[np.intp]:
+    """How many of row ``i``'s ``xp[i]`` lie below each of ``x[i]``, exact or one off if
+    ``xp[i]`` is evenly spaced but for its first and last value (as
+    :attr:`qsm.physics.workspace.Slices.margin_rho` is), a guess else."""
+    n = xp.shape[1]
+    second, before_last = xp[:, 1:2], xp[:, -2:-1]
+    with np.errstate(invalid="ignore", divide="ignore"):
+        guess = 1.0 + np.ceil((x - second) / (before_last - second) * (n - 3))
+    return np.clip(np.nan_to_num(guess), 0, n).astype(np.intp)
+
+
 def count_below(
     xp: NDArray[np.float64],
     x: NDArray[np.float64],
     inclusive: bool,
     start: NDArray[np.intp] | None = None,
 ) -> NDArray[np.intp]:
-    """How many of row ``i``'s ``xp[i]`` (increasing, evenly spaced but for the first and the last
-    as :attr:`qsm.physics.workspace.Slices.margin_rho` is) lie below each of ``x[i]`` (or at it,
-    if ``inclusive``): from ``start`` or a guess from the spacing, walked to the count."""
+    """How many of row ``i``'s ``xp[i]`` (increasing) lie below each of ``x[i]`` (or at it, if
+    ``inclusive``): from ``start`` or :func:`count_guess`, walked to the count."""
     n = xp.shape[1]
-    if start is None:
-        second, before_last = xp[:, 1:2], xp[:, -2:-1]
-        with np.errstate(invalid="ignore", divide="ignore"):
-            guess = 1.0 + np.ceil((x - second) / (before_last - second) * (n - 3))
-        c = np.clip(np.nan_to_num(guess), 0, n).astype(np.intp)
-    else:
-        c = start.reshape(x.shape)
+    c = count_guess(xp, x) if start is None else start.reshape(x.shape)
     base = (np.arange(len(xp)) * n)[:, None]
     flat = xp.ravel()
 
