@@ -4,6 +4,8 @@ compared."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pandas as pd
 import pytest
@@ -172,3 +174,43 @@ def test_a_constant_dataset_column_still_gives_a_hypervolume():
     assert true_hypervolume(table, dataset, OBJECTIVE_SETS["drive_mass"]) == pytest.approx(
         0.6 * 1.1
     )
+
+
+def test_the_front_is_checked_on_the_full_duty(model):
+    """The loop's g13 on a coarser duty lets through designs that the full check fails (here the
+    full check carries 1.5 times the payload, so that some do): the front keeps only the
+    designs that pass the full check, and its constraint label says how many were removed."""
+    surrogate, x, y = model
+    config = load_config("config/config.yaml", "config/test.yaml")
+    fit = settings.fit(
+        config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
+    )
+    full = settings.duty(config["dynamics"]["duty"], config["operating_range"])
+    kg = config["task"]["payload_kg"]
+
+    def check(duty, payload_kg):
+        return settings.strength_check(
+            config["cad"], config["material"], config["strength"], payload_kg, duty
+        )
+
+    extra = ExtraConstraints(
+        containment=True,
+        printable=False,
+        fit=fit,
+        cad=DEFAULT_CAD,
+        volume_mm=(600.0, 350.0, 350.0),
+        strength=check(loop_duty(full), kg),
+        full_strength=check(full, 1.5 * kg),
+    )
+    dataset = pd.DataFrame(x, columns=list(INPUTS))
+    dataset[["eta", "tau1_Nm", "tau2_Nm"]] = y
+    section = {**config["optimization"], "pop_size": 30, "generations": 8}
+    loop_only = optimize(
+        "paper", surrogate, dataset, section, fit, {}, replace(extra, full_strength=None)
+    )
+    fails = extra.full_strength.violation(loop_only.pareto[list(INPUTS)].to_numpy()) > 0
+    assert 0 < fails.sum() < len(fails)  # the case this test is about
+    tables = optimize("paper", surrogate, dataset, section, fit, {}, extra)
+    assert len(tables.pareto) == len(fails) - fails.sum()
+    assert (extra.full_strength.violation(tables.pareto[list(INPUTS)].to_numpy()) <= 0).all()
+    assert f"{fails.sum()} of the front's {len(fails)} designs removed" in tables.constraints

@@ -1,4 +1,6 @@
-"""Execution modes: the generic cluster executor end to end, and resuming after a SIGKILL."""
+"""Execution modes: the generic cluster executor through Stage 4, and resuming after a SIGKILL.
+
+The whole DAG goes through a cluster executor in tests/test_slurm.py (real SLURM, as root)."""
 
 import os
 import signal
@@ -15,12 +17,15 @@ from qsm.workflow.tables import read_table
 pytestmark = pytest.mark.workflow
 
 
-def test_local_cluster_profile_runs_the_whole_dag(run, tmp_path):
+def test_local_cluster_profile_runs_stages_1_to_4_as_a_local_run_does(run, tmp_path):
+    """Every job from the samples to a front, each through the profile's submit script."""
     work = copy_workflow(tmp_path / "cluster")
-    out = snakemake(work, "--profile", "profiles/local-cluster")
+    names = ("dataset.parquet", "optimization/ratios/pareto.parquet")
+    out = snakemake(work, "--profile", "profiles/local-cluster", *(f"results/{n}" for n in names))
     assert "steps (100%) done" in out.stdout + out.stderr
-    assert list((work / ".snakemake/local-cluster").glob("*.exit"))  # jobs went through submit.sh
-    for name in ("dataset.parquet", "optimization/ratios/pareto.parquet"):
+    exits = list((work / ".snakemake/local-cluster").glob("*.exit"))
+    assert len(exits) == 9  # sample, filter, 2 fit and 3 dynamics shards, surrogate, optimize
+    for name in names:
         pd.testing.assert_frame_equal(
             read_table(work / "results" / name), read_table(run / "results" / name)
         )

@@ -115,3 +115,35 @@ def test_scripts_build_settings_only_through_the_settings_layer():
             "duty_settings",
         ):
             assert idiom not in text, f"{script.name} builds settings with {idiom}"
+
+
+def test_the_quick_import_scan_finds_what_parsing_whole_files_finds(tmp_path, monkeypatch):
+    """Files whose qsm imports all start a line have only their import lines parsed: on every
+    module of qsm and every workflow script, a docstring that reads like an import and imports
+    in a module-level block and in a function, the qsm modules found are those of the
+    whole-file parse."""
+    import ast
+
+    from qsm.workflow import provenance
+
+    prose = tmp_path / "prose.py"
+    prose.write_text('"""Notes.\n\nimport time matters here.\n"""\nfrom qsm.physics import cad\n')
+    blocks = tmp_path / "blocks.py"
+    blocks.write_text(
+        "try:\n    from qsm.physics import duty\nexcept ImportError:\n    pass\n\n\n"
+        "def f():\n    from qsm.physics import mjcf\n"
+    )
+    scripts = (ROOT / "workflow" / "scripts").glob("*.py")
+    files = [*PACKAGE_DIR.rglob("*.py"), *scripts, prose, blocks]
+
+    def found() -> dict[Path, frozenset[str]]:
+        provenance._qsm_imports.cache_clear()
+        return {f: provenance._qsm_imports(f, PACKAGE_DIR) for f in files}
+
+    quick = found()
+    whole = provenance._module_level  # the statements of a whole-file parse
+    monkeypatch.setattr(provenance, "_import_statements", lambda p: whole(ast.parse(p.read_text())))
+    assert quick == found()
+    assert quick[prose] == {"qsm", "qsm.physics", "qsm.physics.cad"}
+    assert quick[blocks] == {"qsm", "qsm.physics", "qsm.physics.duty"}
+    provenance._qsm_imports.cache_clear()

@@ -254,31 +254,37 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
     ``build_volume_mm``, for g13 ``strength``, ``payload_kg``, ``duty`` and
     ``operating_range``, and for g14 (``drives``) the ``drives_section`` with ``cad``,
     ``material``, ``payload_kg``, ``duty`` and ``operating_range``. g13 and g14 run on the
-    optimisation's coarser duty (:func:`qsm.optimization.constraint_set.loop_duty`)."""
+    optimisation's coarser duty (:func:`qsm.optimization.constraint_set.loop_duty`), and the
+    front's final check on the full duty."""
     from qsm.optimization.constraint_set import LOOP_ALLOWANCE, ExtraConstraints, loop_duty
     from qsm.physics.cad import DEFAULT_CAD
 
     printable, strong = bool(section["printable"]), bool(section.get("strong", False))
-    drives = check = None
-    if strong or section.get("drives", False):
-        coarse = loop_duty(duty(section["duty"], section["operating_range"]))
-    if section.get("drives", False):
-        drives = drive_check(
-            section["drives_section"],
-            section["cad"],
-            section["material"],
-            section["payload_kg"],
-            coarse,
-        )
-    if strong:
-        check = strength_check(
-            section["cad"], section["material"], section["strength"], section["payload_kg"], coarse
-        )
-        if check.sizing is not None:  # sized within g13's allowance for the coarser duty
-            sizing = dataclasses.replace(
-                check.sizing, target=check.sizing.target / (1 + LOOP_ALLOWANCE)
-            )
-            check = dataclasses.replace(check, sizing=sizing)
+    drives = bool(section.get("drives", False))
+    checks: dict[str, Any] = {}  # g13 and g14 on the loop's duty, and on the full duty
+    if strong or drives:
+        full = duty(section["duty"], section["operating_range"])
+        for name, settings in (("full", full), ("loop", loop_duty(full))):
+            if drives:
+                checks[f"{name}_drives"] = drive_check(
+                    section["drives_section"],
+                    section["cad"],
+                    section["material"],
+                    section["payload_kg"],
+                    settings,
+                )
+            if strong:
+                checks[f"{name}_strength"] = strength_check(
+                    section["cad"],
+                    section["material"],
+                    section["strength"],
+                    section["payload_kg"],
+                    settings,
+                )
+    check = checks.get("loop_strength")
+    if check is not None and check.sizing is not None:  # sized within g13's allowance
+        target = check.sizing.target / (1 + LOOP_ALLOWANCE)
+        check = dataclasses.replace(check, sizing=dataclasses.replace(check.sizing, target=target))
     return ExtraConstraints(
         containment=bool(section["containment"]),
         printable=printable,
@@ -287,5 +293,7 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
         volume_mm=tuple(section.get("build_volume_mm", (600.0, 350.0, 350.0))),
         tolerance_m=float(section.get("tolerance_m", 0.0)),
         strength=check,
-        drives=drives,
+        drives=checks.get("loop_drives"),
+        full_strength=checks.get("full_strength"),
+        full_drives=checks.get("full_drives"),
     )

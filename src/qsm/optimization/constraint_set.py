@@ -67,7 +67,9 @@ class ExtraConstraints:
     ``drives`` (g14, every formulation, when given): each motor has a drive in the catalogue
     that meets its duty (:class:`qsm.embodiment.drive_checks.DriveCheck`); ``drive_mass`` (when
     given): the drive check whose selection gives the drive-mass objective (kept when g14 is
-    dropped).
+    dropped). ``strength`` and ``drives`` run on the loop's coarser duty (:func:`loop_duty`);
+    ``full_strength`` and ``full_drives`` are the same checks on the full duty, which the front
+    must pass at the end (:meth:`full_duty_failures`).
     """
 
     containment: bool
@@ -79,6 +81,8 @@ class ExtraConstraints:
     strength: StrengthCheck | None = None
     drives: DriveCheck | None = None
     drive_mass: DriveCheck | None = None
+    full_strength: StrengthCheck | None = None
+    full_drives: DriveCheck | None = None
 
     def names(self, formulation: str) -> tuple[str, ...]:
         """Constraint columns of ``formulation`` in order: g1..g10, then g11, g12, g13, g14 if
@@ -165,3 +169,17 @@ class ExtraConstraints:
         if self.drives is not None:
             cols.append(violation_of(table) + LOOP_ALLOWANCE)
         return cols, None if self.drive_mass is None else self.drive_mass.mass_objective(table)
+
+    def full_duty_failures(self, design: NDArray[np.float64]) -> NDArray[np.bool_]:
+        """Which scaled designs (N, 6) fail g13 or g14 (those on, with their full-duty checks
+        given) on the full duty, without the loop's allowance: what verification will find."""
+        fails = np.zeros(len(design), dtype=bool)
+        torques = None
+        if self.strength is not None and self.full_strength is not None:
+            g13, *torques = self.full_strength.violation_and_torques(design)
+            fails |= g13 > 0
+        if self.drives is not None and self.full_drives is not None:
+            shared = torques is not None and same_loads(self.full_strength, self.full_drives)
+            table = self.full_drives.evaluate(design, tuple(torques) if shared else None)
+            fails |= violation_of(table) > 0
+        return fails

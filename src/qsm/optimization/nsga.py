@@ -250,13 +250,28 @@ def optimize(
                 )
                 extra = replace(extra, strength=None)
             problem = make(extra)
-    if dropped:
-        label = "; ".join([extra.label(formulation), *dropped])
 
     def lengths(x: NDArray) -> NDArray:
         return problem.designs(x)[0] if isinstance(problem, RatiosProblem) else x
 
-    pareto = _design_table(lengths(result.pareto_x), result.pareto_p, result.pareto_f, objectives)
+    keep = np.ones(len(result.pareto_x), dtype=bool)
+    if extra is not None:  # the loop's g13 and g14 on the coarser duty: the front on the full one
+        fails = extra.full_duty_failures(lengths(result.pareto_x))
+        if fails.all():
+            dropped.append(
+                f"none of the front's {len(fails)} designs meets g13 and g14 on the full duty"
+            )
+        elif fails.any():
+            keep = ~fails
+            dropped.append(
+                f"{int(fails.sum())} of the front's {len(fails)} designs removed: they fail "
+                "g13 or g14 on the full duty"
+            )
+    if dropped:
+        label = "; ".join([extra.label(formulation), *dropped])
+    pareto = _design_table(
+        lengths(result.pareto_x[keep]), result.pareto_p[keep], result.pareto_f[keep], objectives
+    )
     generations = []
     first = section["generations"] - len(result.last_populations) + 1
     for offset, pop in enumerate(result.last_populations):
