@@ -40,9 +40,10 @@ from qsm.physics.kinematics import as_design
 from qsm.physics.task import Disk
 from qsm.physics.workspace import OperatingRange, arcs
 
-#: Default samples of delta for the patches (the slicing's 721 leaves errors of a few micrometres
-#: at l1 = 0.5 m; 2001 leaves well under one).
-DEFAULT_N_DELTA = 2001
+#: Default samples of delta for the patches, the slicing's own: on 40 designs of the default
+#: paper front (l1 about 0.4 m) the clearance differs from that with 2001 samples by at most
+#: 0.5 micrometres, at 0.4 times the time.
+DEFAULT_N_DELTA = 721
 #: Default largest polar step (rad, or units of l1) of the densified boundary.
 DEFAULT_MAX_STEP = 2e-3
 TWO_PI = 2.0 * math.pi
