@@ -200,6 +200,11 @@ def _sorted_apart(
     return s, e, gap, e[-1] - s[0] - np.where(gap, s[1:] - e[:-1], 0.0).sum(axis=0)
 
 
+def union_length(starts: NDArray[np.float64], ends: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Length of the union of closed intervals (axis 0), the first of :func:`union_and_margin`."""
+    return _sorted_apart(starts, ends)[3]
+
+
 def margin_about_zero(
     starts: NDArray[np.float64], ends: NDArray[np.float64]
 ) -> NDArray[np.float64]:

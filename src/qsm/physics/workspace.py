@@ -18,7 +18,7 @@ Designs are sliced many at a time (:func:`slice_stack`, array kernels in
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterator, Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -31,6 +31,7 @@ from qsm.physics.slicing import (
     levels_between,
     piece_counts,
     union_and_margin,
+    union_length,
     wrap_compact,
 )
 from qsm.physics.slicing import margin_about_zero as margin_about_zero
@@ -199,15 +200,21 @@ def slice_stack(
     margin_rho = np.column_stack([rho_min, levels, rho_max])
     covered = np.empty_like(margin_rho)
     margin = np.empty_like(margin_rho)
+    for rows in _batches(rho):
+        starts, ends = intervals_on_levels(rho[rows], lo[rows], hi[rows], margin_rho[rows])
+        wrapped = wrap_compact(starts, ends, reference_angle)
+        covered[rows], margin[rows] = union_and_margin(*wrapped)
+    return SliceStack(rho_min, rho_max, levels, covered[:, 1:-1], margin_rho, margin)
+
+
+def _batches(rho: NDArray[np.float64]) -> Iterator[NDArray[np.intp]]:
+    """Rows of closed arcs (G, n_delta) in batches of :data:`SLICE_BATCH` designs with one number
+    of monotone pieces each (the same intervals as alone: no padding pieces)."""
     n_pieces = piece_counts(rho)
-    for p in np.unique(n_pieces):  # the same intervals as alone: no padding pieces
+    for p in np.unique(n_pieces):
         same = np.flatnonzero(n_pieces == p)
         for start in range(0, same.size, SLICE_BATCH):
-            rows = same[start : start + SLICE_BATCH]
-            starts, ends = intervals_on_levels(rho[rows], lo[rows], hi[rows], margin_rho[rows])
-            wrapped = wrap_compact(starts, ends, reference_angle)
-            covered[rows], margin[rows] = union_and_margin(*wrapped)
-    return SliceStack(rho_min, rho_max, levels, covered[:, 1:-1], margin_rho, margin)
+            yield same[start : start + SLICE_BATCH]
 
 
 def unit_areas(
@@ -221,6 +228,12 @@ def unit_areas(
     for start in range(0, len(ratios), ARCS_CHUNK):
         rho, lo, hi = arcs(ratios[start : start + ARCS_CHUNK], op, resolution.n_delta)
         closed = np.flatnonzero(np.isfinite(rho).all(axis=1))
-        stack = slice_stack(rho[closed], lo[closed], hi[closed], 0.0, resolution.n_levels)
-        out[start + closed] = stack.area
+        rho, lo, hi = rho[closed], lo[closed], hi[closed]
+        rho_min, rho_max = rho.min(axis=1), rho.max(axis=1)
+        levels = levels_between(rho_min, rho_max, resolution.n_levels)
+        covered = np.empty_like(levels)  # the circles' union lengths alone: no margins
+        for rows in _batches(rho):
+            starts, ends = intervals_on_levels(rho[rows], lo[rows], hi[rows], levels[rows])
+            covered[rows] = union_length(*wrap_compact(starts, ends, 0.0))
+        out[start + closed] = _area(levels, covered, rho_min, rho_max)
     return out
