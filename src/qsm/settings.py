@@ -264,14 +264,14 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
     checks: dict[str, Any] = {}  # g13 and g14 on the loop's duty, and on the full duty
     if strong or drives:
         full = duty(section["duty"], section["operating_range"])
-        for name, settings in (("full", full), ("loop", loop_duty(full))):
+        for name, duty_settings in (("full", full), ("loop", loop_duty(full))):
             if drives:
                 checks[f"{name}_drives"] = drive_check(
                     section["drives_section"],
                     section["cad"],
                     section["material"],
                     section["payload_kg"],
-                    settings,
+                    duty_settings,
                 )
             if strong:
                 checks[f"{name}_strength"] = strength_check(
@@ -279,7 +279,7 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
                     section["material"],
                     section["strength"],
                     section["payload_kg"],
-                    settings,
+                    duty_settings,
                 )
     check = checks.get("loop_strength")
     if check is not None and check.sizing is not None:  # sized within g13's allowance

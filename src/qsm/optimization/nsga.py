@@ -259,7 +259,8 @@ def optimize(
         fails = extra.full_duty_failures(lengths(result.pareto_x))
         if fails.all():
             dropped.append(
-                f"none of the front's {len(fails)} designs meets g13 and g14 on the full duty"
+                f"none of the front's {len(fails)} designs passes g13 / g14 on the full duty: "
+                "the front is kept as found"
             )
         elif fails.any():
             keep = ~fails

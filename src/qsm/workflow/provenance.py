@@ -56,7 +56,7 @@ def _module_level(tree: ast.Module) -> list[ast.stmt]:
 def _import_statements(path: Path) -> list[ast.stmt]:
     """The statements of ``path`` that :func:`_module_level` gives, or at least all its imports:
     a file whose every ``qsm`` import starts a line has only those lines parsed (parsing whole
-    files was a quarter of Snakemake's start on this workflow)."""
+    files was a tenth of Snakemake's start on this workflow)."""
     text = path.read_text()
     if not _INDENTED.search(text):
         try:
