@@ -254,9 +254,10 @@ def optimize(
     def lengths(x: NDArray) -> NDArray:
         return problem.designs(x)[0] if isinstance(problem, RatiosProblem) else x
 
-    keep = np.ones(len(result.pareto_x), dtype=bool)
+    front = lengths(result.pareto_x)
+    keep = np.ones(len(front), dtype=bool)
     if extra is not None:  # the loop's g13 and g14 on the coarser duty: the front on the full one
-        fails = extra.full_duty_failures(lengths(result.pareto_x))
+        fails = extra.full_duty_failures(front)
         if fails.all():
             dropped.append(
                 f"none of the front's {len(fails)} designs passes g13 / g14 on the full duty: "
@@ -270,9 +271,7 @@ def optimize(
             )
     if dropped:
         label = "; ".join([extra.label(formulation), *dropped])
-    pareto = _design_table(
-        lengths(result.pareto_x[keep]), result.pareto_p[keep], result.pareto_f[keep], objectives
-    )
+    pareto = _design_table(front[keep], result.pareto_p[keep], result.pareto_f[keep], objectives)
     generations = []
     first = section["generations"] - len(result.last_populations) + 1
     for offset, pop in enumerate(result.last_populations):
