@@ -3,12 +3,15 @@
 import pytest
 from workflow_helpers import copy_workflow, snakemake
 
+from qsm.workflow.logs import MODULES_ENV
+
 
 @pytest.fixture(scope="session")
 def run(tmp_path_factory):
-    """A finished run of the default target; tests read it and must not change it."""
+    """A finished run of the default target; tests read it and must not change it. Each job
+    records the ``qsm`` modules it ran in ``modules/`` (tests/test_provenance.py)."""
     work = copy_workflow(tmp_path_factory.mktemp("wf"))
-    snakemake(work)
+    snakemake(work, env={MODULES_ENV: str(work / "modules")})
     return work
 
 

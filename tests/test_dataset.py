@@ -9,7 +9,6 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm import settings
 from qsm.config import load_config
 from qsm.mechanisms.dataset import (
     DRIVE_COLUMNS,
@@ -22,6 +21,7 @@ from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import joint_torques, loop_state
 from qsm.physics.kinematics import DESIGN_NAMES, pose
+from qsm.settings import physics
 
 
 def mechanisms(ids):
@@ -61,9 +61,9 @@ def test_gather_fails_loudly_unless_every_id_appears_once(parts, message):
 
 def test_settings_come_from_the_config():
     config = load_config()
-    cad = settings.cad(config["cad"], config["material"])
+    cad = physics.cad(config["cad"], config["material"])
     assert cad.density_kg_m3 == 1040.0 and cad.width_m == config["cad"]["width_m"]
-    duty = settings.duty(config["dynamics"]["duty"], config["operating_range"])
+    duty = physics.duty(config["dynamics"]["duty"], config["operating_range"])
     assert (duty.theta1_min_deg, duty.theta1_max_deg, duty.theta2_min_deg) == (45.0, 180.0, -37.5)
 
 
@@ -78,7 +78,7 @@ def test_evaluate_reports_torques_equal_to_the_library():
     assert result["dynamics_status"] == "ok"
     design = [result["design_m"][n] for n in DESIGN_NAMES]
     config = load_config()
-    duty = duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"]))
+    duty = duty_cycle(physics.duty(config["dynamics"]["duty"], config["operating_range"]))
     # every duty sample, through the public API: the peak is the CLI's figure
     tau = joint_torques(design, duty.theta, duty.dtheta, duty.ddtheta, payload_kg=5.0)
     assert result["tau1_Nm"] == pytest.approx(np.abs(tau[:, 0]).max(), rel=1e-12)

@@ -12,7 +12,6 @@ import pytest
 from test_drive_checks import _duty
 from test_drives import write_catalogue
 
-from qsm import settings
 from qsm.config import load_config
 from qsm.embodiment.drive_checks import DriveCheck
 from qsm.embodiment.drives.catalogue import read_catalogue
@@ -28,6 +27,7 @@ from qsm.optimization.ranking import (
     rule_scores,
 )
 from qsm.physics.cad import DEFAULT_CAD
+from qsm.settings import actuation, links, physics
 from qsm.surrogate.model import INPUTS, SurrogateSettings, train
 
 
@@ -67,11 +67,11 @@ def test_nsga_with_drive_mass_on_the_test_config(model):
     column is the drive check's objective of its designs, recomputed."""
     surrogate, x, y = model
     config = load_config("config/config.yaml", "config/test.yaml")
-    fit = settings.fit(
+    fit = physics.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
-    coarse = loop_duty(settings.duty(config["dynamics"]["duty"], config["operating_range"]))
-    drives = settings.drive_check(
+    coarse = loop_duty(physics.duty(config["dynamics"]["duty"], config["operating_range"]))
+    drives = actuation.drive_check(
         config["drives"], config["cad"], config["material"], config["task"]["payload_kg"], coarse
     )
     extra = ExtraConstraints(
@@ -182,14 +182,14 @@ def test_the_front_is_checked_on_the_full_duty(model):
     designs that pass the full check, and its constraint label says how many were removed."""
     surrogate, x, y = model
     config = load_config("config/config.yaml", "config/test.yaml")
-    fit = settings.fit(
+    fit = physics.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
-    full = settings.duty(config["dynamics"]["duty"], config["operating_range"])
+    full = physics.duty(config["dynamics"]["duty"], config["operating_range"])
     kg = config["task"]["payload_kg"]
 
     def check(duty, payload_kg):
-        return settings.strength_check(
+        return links.strength_check(
             config["cad"], config["material"], config["strength"], payload_kg, duty
         )
 

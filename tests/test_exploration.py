@@ -17,7 +17,6 @@ from nbclient import NotebookClient
 from PIL import Image
 from workflow_helpers import ROOT, copy_run, snakemake
 
-from qsm import settings
 from qsm.app.cli import main
 from qsm.app.export import TRUE_KEYS, export
 from qsm.config import load_config
@@ -31,6 +30,7 @@ from qsm.physics.mjcf import add_point_mass
 from qsm.physics.task import min_enclosing_circle
 from qsm.realization.selection import select_design
 from qsm.report.animation import EE_COLOUR, frames_record, write_task_motion
+from qsm.settings import physics
 from qsm.workflow.tables import read_table
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])  # a crank-rocker that closes everywhere
@@ -208,7 +208,7 @@ def test_the_animation_has_one_frame_per_sample_and_draws_the_start_and_end_pose
     ends = series.iloc[[0, -1]][["theta1_deg", "theta2_deg"]].to_numpy(float)
     points = pose(DESIGN, *np.radians(ends).T).E
     gif = tmp_path / "motion.gif"
-    op = settings.operating_range({"theta1_deg": [45.0, 180.0], "theta2_min_deg": -37.5})
+    op = physics.operating_range({"theta1_deg": [45.0, 180.0], "theta2_min_deg": -37.5})
     result = write_task_motion(
         DESIGN, series, points, min_enclosing_circle(points), op, (150.0, 100.0), gif, fps=10
     )
@@ -257,9 +257,9 @@ def test_export_round_trip_of_a_pareto_design(run, tmp_path):
     record = json.loads((out / "design.json").read_text())
     design = np.array(list(record["design"]["lengths_m"].values()))
     # the JSON holds a fresh evaluation of the design under the run's config
-    fit = settings.fit_of(config)
-    duty = duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"]))
-    cad = settings.cad(config["cad"], config["material"])
+    fit = physics.fit_of(config)
+    duty = duty_cycle(physics.duty(config["dynamics"]["duty"], config["operating_range"]))
+    cad = physics.cad(config["cad"], config["material"])
     fresh = verify_design(design, fit, duty, cad, config["task"]["payload_kg"])
     assert record["true_performance"] == {k: fresh[k] for k in TRUE_KEYS}
     # ... which is the run's own verification of that design

@@ -6,7 +6,6 @@ import mujoco
 import numpy as np
 import pytest
 
-from qsm import settings
 from qsm.app.evaluate import evaluate_ratios
 from qsm.config import load_config, validate_config
 from qsm.physics.dynamics import inverse_dynamics, loop_state
@@ -14,6 +13,7 @@ from qsm.physics.inverse_kinematics import joint_angles
 from qsm.physics.mirror import design_points, is_mirrored, mirror_points, mirror_spec, task_record
 from qsm.physics.mjcf import mjcf_xml, model_spec
 from qsm.physics.task import min_enclosing_circle
+from qsm.settings import physics
 
 #: A unit design (l2, l3, l4, ee_x, ee_y) that holds the default task (asserted below).
 RATIOS = (0.4, 1.0, 0.45, 1.2, 0.45)
@@ -69,7 +69,7 @@ def test_the_mirrored_mjcf_visits_the_users_points_with_the_same_torques(configs
     which the mirror keeps."""
     config, mirrored = configs
     design = list(evaluate_ratios(RATIOS, config)["design_m"].values())
-    cad, payload = settings.cad(config["cad"], config["material"]), config["task"]["payload_kg"]
+    cad, payload = physics.cad(config["cad"], config["material"]), config["task"]["payload_kg"]
     user = np.asarray(mirrored["task"]["points"])
     theta = [joint_angles(design, p) for p in mirror_points(user)]
     rates = np.full((len(theta), 2), 0.7)

@@ -10,11 +10,11 @@ import pytest
 from PIL import Image
 from test_exploration import DESIGN, synthetic_series
 
-from qsm import settings
 from qsm.physics.kinematics import pose
 from qsm.physics.task import min_enclosing_circle
 from qsm.report.animation import write_task_motion
 from qsm.report.motion_page import gif_frames, write_viewer_html
+from qsm.settings import physics
 
 LIMITS_NM = (150.0, 100.0)  # far above the synthetic torques (40 and 20 N m at most)
 
@@ -25,7 +25,7 @@ def motion(tmp_path_factory):
     series = synthetic_series(DESIGN)
     ends = series.iloc[[0, -1]][["theta1_deg", "theta2_deg"]].to_numpy(float)
     points = pose(DESIGN, *np.radians(ends).T).E
-    op = settings.operating_range({"theta1_deg": [45.0, 180.0], "theta2_min_deg": -37.5})
+    op = physics.operating_range({"theta1_deg": [45.0, 180.0], "theta2_min_deg": -37.5})
     gif = tmp_path_factory.mktemp("motion") / "motion.gif"
     result = write_task_motion(
         DESIGN, series, points, min_enclosing_circle(points), op, LIMITS_NM, gif, fps=10

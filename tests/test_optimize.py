@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from qsm import settings
 from qsm.config import load_config
 from qsm.mechanisms.scale import fit_design
 from qsm.optimization.nsga import run_nsga2
 from qsm.optimization.problems import LabelStats, PaperProblem, RatiosProblem, paper_constraints
+from qsm.settings import physics
 from qsm.surrogate.model import SurrogateSettings, train
 
 
@@ -61,7 +61,7 @@ def test_same_seed_same_front_and_three_generations_kept(model):
 def test_ratios_problem_uses_the_exact_scale_and_eta(model):
     surrogate, _ = model
     config = load_config()
-    fit = settings.fit(
+    fit = physics.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     problem = RatiosProblem(surrogate, np.zeros(5), np.ones(5), LabelStats.of(surrogate, 1.95), fit)

@@ -1,8 +1,9 @@
 """Rerun tracking: the library sources a script reaches, through every kind of import."""
 
+import json
 from pathlib import Path
 
-from qsm.workflow.provenance import PACKAGE_DIR, module_closure, source_hash
+from qsm.workflow.provenance import PACKAGE_DIR, _module_file, module_closure, source_hash
 
 ROOT = Path(__file__).resolve().parents[1]
 
@@ -79,21 +80,25 @@ def test_the_public_api_is_importable_from_qsm_without_loading_mujoco():
     assert out.stdout.strip() == "9"
 
 
-def test_deferred_and_type_checking_imports_are_not_followed(tmp_path):
-    """qsm.settings builds heavy dataclasses through imports inside its functions: a script that
-    imports it must not depend on every module those functions could load."""
+def test_deferred_imports_are_followed_and_type_checking_ones_are_not(tmp_path):
+    """An import inside a function runs when the function does, so it is part of the hash; one
+    in a ``TYPE_CHECKING`` block never runs."""
     pkg = tmp_path / "qsm"
     pkg.mkdir()
     files = {
         "__init__.py": "",
         "layer.py": (
-            "from typing import TYPE_CHECKING\n"
+            "import typing\nfrom typing import TYPE_CHECKING\n"
             "try:\n    from .light import a\nexcept ImportError:\n    pass\n"
             "if TYPE_CHECKING:\n    from .typed import b\n"
+            "if typing.TYPE_CHECKING:\n    from .typed2 import b2\n"
+            "else:\n    from .other import o\n"
             "def build():\n    from .heavy import c\n    return c\n"
         ),
         "light.py": "a = 1\n",
         "typed.py": "b = 2\n",
+        "typed2.py": "b2 = 2\n",
+        "other.py": "o = 2\n",
         "heavy.py": "c = 3\n",
     }
     for name, text in files.items():
@@ -101,7 +106,25 @@ def test_deferred_and_type_checking_imports_are_not_followed(tmp_path):
     script = tmp_path / "script.py"
     script.write_text("from qsm.layer import build\n")
     found = {p.name for p in module_closure(str(script), pkg)}
-    assert found == {"__init__.py", "layer.py", "light.py"}
+    assert found == {"__init__.py", "layer.py", "light.py", "other.py", "heavy.py"}
+
+
+def test_every_module_a_job_ran_is_in_its_rules_hash(run):
+    """Each job of the test run recorded the qsm modules it had loaded at its end
+    (``QSM_RECORD_MODULES``, :func:`qsm.workflow.logs.record_modules`): every one of them is in
+    the closure that its script's rerun hash covers."""
+    records = sorted((run / "modules").glob("*.json"))
+    scripts = {p.name for p in (ROOT / "workflow" / "scripts").glob("*.py")}
+    seen = set()
+    for path in records:
+        record = json.loads(path.read_text())
+        script = record["script"].split(".", 1)[1]  # Snakemake runs a copy named tmpXXXX.<name>
+        seen.add(script)
+        closure = set(module_closure(str(ROOT / "workflow" / "scripts" / script)))
+        ran = {_module_file(name, PACKAGE_DIR) for name in record["modules"]}
+        missing = sorted(str(p.relative_to(PACKAGE_DIR)) for p in ran - closure if p is not None)
+        assert not missing, f"{script} ran modules outside its rerun hash: {missing}"
+    assert seen == scripts  # every rule script ran and recorded
 
 
 def test_scripts_build_settings_only_through_the_settings_layer():
@@ -141,9 +164,9 @@ def test_the_quick_import_scan_finds_what_parsing_whole_files_finds(tmp_path, mo
         return {f: provenance._qsm_imports(f, PACKAGE_DIR) for f in files}
 
     quick = found()
-    whole = provenance._module_level  # the statements of a whole-file parse
+    whole = provenance._imports  # the statements of a whole-file parse
     monkeypatch.setattr(provenance, "_import_statements", lambda p: whole(ast.parse(p.read_text())))
     assert quick == found()
     assert quick[prose] == {"qsm", "qsm.physics", "qsm.physics.cad"}
-    assert quick[blocks] == {"qsm", "qsm.physics", "qsm.physics.duty"}
+    assert quick[blocks] == {"qsm", "qsm.physics", "qsm.physics.duty", "qsm.physics.mjcf"}
     provenance._qsm_imports.cache_clear()

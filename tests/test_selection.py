@@ -78,6 +78,20 @@ def test_falls_back_to_the_other_front_then_the_dataset():
     assert row["tau1_true_Nm"] == 70.0
 
 
+def test_a_front_without_drives_counts_its_printable_designs_truly():
+    """No design has drives: the fallback line counts the printable ones among those that hold
+    their loads (one of the two fits), not "0 of those printable"."""
+    fronts = {"ratios": front([SMALL, LARGE], True, 5.0, drives=False)}
+    data = strong(dataset([SMALL], 5.0), 0.5, drives=False)
+    row, how = choose_design(fronts, "ratios", data, "knee", CAD, PRINTER)
+    assert how["source"] == "ratios" and how["printable"] and not how["has_drives"]
+    assert list(row[list(DESIGN_COLUMNS)]) == SMALL
+    assert how["fallback"][0] == (
+        "ratios front: 2 designs, 2 truly feasible, 2 of them hold their loads, 0 of those have "
+        "drives (1 of the 2 that hold their loads printable on 600 x 350 x 350 mm)"
+    )
+
+
 def test_nothing_printable_gives_the_best_feasible_design_marked():
     fronts = {"ratios": front([LARGE, LARGE], True, [30.0, 20.0])}
     row, how = choose_design(fronts, "ratios", dataset([LARGE], 1.0), "min_tau1", CAD, PRINTER)

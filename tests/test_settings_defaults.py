@@ -55,21 +55,19 @@ def test_operating_range_defaults_equal_the_schema():
 
 
 def test_the_settings_layer_gives_the_default_dataclasses_on_the_default_config():
-    from qsm import settings
+    from qsm.settings import links, payload, physics, surrogate, topology
 
     c = CONFIG
-    assert settings.cad(c["cad"], c["material"]) == CadSettings()
-    assert settings.material(c["material"]) == Material()
-    assert settings.strength(c["strength"]) == StrengthSettings()
-    assert settings.duty(c["dynamics"]["duty"], c["operating_range"]) == DutySettings()
-    assert settings.topology(c["topology"], c["material"], c["strength"]) == TopologySettings()
-    assert settings.surrogate(c["surrogate"]) == SurrogateSettings()
-    payload = settings.payload_test(
-        c["payload_test"], c["task"]["payload_kg"], c["operating_range"]
-    )
-    assert payload == PayloadSettings()
-    fit = settings.fit(c["operating_range"], c["task"]["points"], c["scale"], c["workspace"])
-    assert fit.resolution == Resolution() and fit.op == settings.operating_range(
+    assert physics.cad(c["cad"], c["material"]) == CadSettings()
+    assert links.material(c["material"]) == Material()
+    assert links.strength(c["strength"]) == StrengthSettings()
+    assert physics.duty(c["dynamics"]["duty"], c["operating_range"]) == DutySettings()
+    assert topology.topology(c["topology"], c["material"], c["strength"]) == TopologySettings()
+    assert surrogate.surrogate(c["surrogate"]) == SurrogateSettings()
+    test = payload.payload_test(c["payload_test"], c["task"]["payload_kg"], c["operating_range"])
+    assert test == PayloadSettings()
+    fit = physics.fit(c["operating_range"], c["task"]["points"], c["scale"], c["workspace"])
+    assert fit.resolution == Resolution() and fit.op == physics.operating_range(
         c["operating_range"]
     )
 

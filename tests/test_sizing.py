@@ -186,8 +186,8 @@ def test_config_checks_the_sizing_bounds():
 def test_the_loop_sizes_within_its_allowance():
     """The optimisation's g13 multiplies the utilisation by 1 + LOOP_ALLOWANCE (coarser duty):
     its sized check sizes the links that much lower, so a sized link passes g13."""
-    from qsm import settings
     from qsm.optimization.constraint_set import LOOP_ALLOWANCE
+    from qsm.settings import optimization, physics
 
     config = load_config()
     config["cad"]["section"] = "sized"
@@ -202,10 +202,10 @@ def test_the_loop_sizes_within_its_allowance():
         drives_section=config["drives"],
         build_volume_mm=config["printing"]["build_volume_mm"],
     )
-    fit = settings.fit(
+    fit = physics.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
-    check = settings.constraints(section, fit).strength
+    check = optimization.constraints(section, fit).strength
     assert check.sizing.target == pytest.approx(TARGET / (1 + LOOP_ALLOWANCE))
     table = check.evaluate(DESIGNS)
     y, sf = check.material.yield_strength_pa, check.strength.safety_factor

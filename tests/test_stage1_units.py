@@ -9,7 +9,6 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm import settings
 from qsm.app.cli import main
 from qsm.config import load_config
 from qsm.mechanisms.filters import kinematic_filters
@@ -17,6 +16,7 @@ from qsm.mechanisms.sampling import latin_hypercube
 from qsm.mechanisms.scale import examined_fits, fit_counts, fit_designs, select_mechanisms
 from qsm.physics.kinematics import RATIO_NAMES, pose
 from qsm.physics.workspace import OperatingRange
+from qsm.settings import physics
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import TableError, read_meta, read_table, write_table
 
@@ -72,7 +72,7 @@ def test_shard_arguments_are_checked():
 
 def test_selection_does_not_depend_on_sharding():
     config = load_config()
-    fit_settings = settings.fit(
+    fit_settings = physics.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     candidates, _ = kinematic_filters(latin_hypercube(600, BOUNDS, seed=9), OP, 0.0)
@@ -147,7 +147,7 @@ def test_cli_evaluate_agrees_with_the_library():
     result = json.loads(out.stdout)
     assert result["feasible"] is True
     config = load_config()
-    fit_settings = settings.fit(
+    fit_settings = physics.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     table = pd.DataFrame([[0, 0.3, 1.0, 0.5, 1.2, 0.4]], columns=["sample_id", *RATIO_NAMES])

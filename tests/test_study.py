@@ -8,7 +8,6 @@ import pytest
 from SALib.test_functions import Ishigami
 from test_design_rules import agreeing_evidence
 
-from qsm import settings
 from qsm.config import load_config
 from qsm.design_rules.claims import Study
 from qsm.design_rules.eta_derivatives import true_etas
@@ -23,6 +22,7 @@ from qsm.physics.duty import duty_cycle
 from qsm.physics.kinematics import DESIGN_NAMES
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import Resolution
+from qsm.settings import physics
 
 CONFIG = load_config()
 
@@ -36,7 +36,7 @@ def test_given_data_sobol_recovers_the_ishigami_indices():
 
 
 def small_dataset(n=40):
-    fit = settings.fit(
+    fit = physics.fit(
         CONFIG["operating_range"], CONFIG["task"]["points"], CONFIG["scale"], CONFIG["workspace"]
     )
     op = fit.op

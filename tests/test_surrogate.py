@@ -5,8 +5,8 @@ import json
 import numpy as np
 import pytest
 
-from qsm import settings
 from qsm.config import load_config
+from qsm.settings import surrogate
 from qsm.surrogate.model import (
     Surrogate,
     SurrogateSettings,
@@ -33,7 +33,7 @@ def fitted():
 
 
 def test_paper_settings_are_the_defaults():
-    s = settings.surrogate(load_config()["surrogate"])
+    s = surrogate.surrogate(load_config()["surrogate"])
     assert s.hidden_layers == (100,) and s.learning_rate == 1e-3 and s.max_epochs == 50_000
 
 

@@ -11,9 +11,8 @@ import trimesh
 import yaml
 from workflow_helpers import copy_run, copy_workflow, planned_jobs, snakemake
 
-from qsm import settings
 from qsm.app.evaluate import evaluate_ratios
-from qsm.config import settings_hash, validate_config
+from qsm.config import validate_config
 from qsm.embodiment.printing import all_links_fit
 from qsm.mechanisms.dataset import DATASET_COLUMNS
 from qsm.mechanisms.filters import kinematic_filters
@@ -24,9 +23,10 @@ from qsm.optimization.verify import verify_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.workspace import OperatingRange
 from qsm.report.headline import headline_markdown
+from qsm.settings import links, physics
 from qsm.surrogate.model import INPUTS
 from qsm.surrogate.model import load as load_surrogate
-from qsm.workflow.tables import read_meta, read_table
+from qsm.workflow.tables import read_meta, read_table, settings_hash
 
 pytestmark = pytest.mark.workflow
 
@@ -161,19 +161,19 @@ def test_verification_matches_a_direct_reevaluation(run, formulation):
     stored = json.loads((folder / "verification.json").read_text())
     assert stored.pop("formulation") == formulation and "g1..g10" in stored.pop("constraints")
     assert json.dumps(stored, sort_keys=True) == json.dumps(summary(table), sort_keys=True)
-    fit = settings.fit(
+    fit = physics.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
-    duty = duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"]))
+    duty = duty_cycle(physics.duty(config["dynamics"]["duty"], config["operating_range"]))
     for _, row in table.head(3).iterrows():
         design = row[list(INPUTS)].to_numpy(float)
         direct = verify_design(
-            design, fit, duty, settings.cad(config["cad"], config["material"]), 5.0
+            design, fit, duty, physics.cad(config["cad"], config["material"]), 5.0
         )
         for key in ("feasible", "eta_true", "tau1_true_Nm", "tau2_true_Nm"):
             assert direct[key] == pytest.approx(row[key], rel=1e-12, nan_ok=True)
     assert stored["holds_task_share"] == table["task_contained"].mean()
-    cad = settings.cad(config["cad"], config["material"])
+    cad = physics.cad(config["cad"], config["material"])
     volume = tuple(config["printing"]["build_volume_mm"])
     printable = [all_links_fit(d, cad, volume) for d in table[list(INPUTS)].to_numpy(float)]
     assert stored["printable_share"] == pytest.approx(np.mean(printable))
@@ -239,7 +239,7 @@ def test_realisation_outputs(run):
     assert selected["printable"] and selected["source"] == config["optimization"]["formulation"]
     assert all_links_fit(
         design,
-        settings.cad(config["cad"], config["material"]),
+        physics.cad(config["cad"], config["material"]),
         tuple(config["printing"]["build_volume_mm"]),
     )
     torques = json.loads((real / "torques.json").read_text())
@@ -432,17 +432,17 @@ def test_a_far_heavy_task_completes_with_the_verdicts(tmp_path):
         in (selected["fallback"])
     )
     effective = effective_config(work)
-    cad = settings.cad(effective["cad"], effective["material"])
+    cad = physics.cad(effective["cad"], effective["material"])
     assert not all_links_fit(np.array(selected["design_m"]), cad, (600, 350, 350))
     smallest = selected["printing_advice"]["smallest_over_designs"]
     assert smallest["needed_volume_mm"] == [math.ceil(v) for v in smallest["exact_volume_mm"]]
     assert all_links_fit(np.array(smallest["design_m"]), cad, tuple(smallest["needed_volume_mm"]))
     # the payload the advice names holds, 5 % more does not (the strength check run again)
     payload = selected["strength_advice"]["payload_kg"]
-    duty = settings.duty(effective["dynamics"]["duty"], effective["operating_range"])
+    duty = physics.duty(effective["dynamics"]["duty"], effective["operating_range"])
 
     def violation(kg):
-        check = settings.strength_check(
+        check = links.strength_check(
             effective["cad"], effective["material"], effective["strength"], kg, duty
         )
         return check.violation(np.array(selected["design_m"]))[0]

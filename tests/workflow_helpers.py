@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import os
 import shutil
 import subprocess
 import sys
@@ -26,14 +27,26 @@ def copy_workflow(dest: Path) -> Path:
 
 
 def snakemake(
-    workdir: Path, *args: str, check: bool = True, configs: tuple[str, ...] = ()
+    workdir: Path,
+    *args: str,
+    check: bool = True,
+    configs: tuple[str, ...] = (),
+    env: dict[str, str] | None = None,
 ) -> subprocess.CompletedProcess:
-    """Run ``snakemake`` in ``workdir`` with the test config (and ``configs`` over it)."""
+    """Run ``snakemake`` in ``workdir`` with the test config (and ``configs`` over it), with
+    ``env`` added to the environment."""
     cmd = [sys.executable, "-m", "snakemake", *args]
     if "--cores" not in args and "--profile" not in args:
         cmd += ["--cores", "2"]
     cmd += ["--configfile", "config/test.yaml", *configs]  # last: it takes several values
-    out = subprocess.run(cmd, cwd=workdir, capture_output=True, text=True, check=False)
+    out = subprocess.run(
+        cmd,
+        cwd=workdir,
+        capture_output=True,
+        text=True,
+        check=False,
+        env={**os.environ, **(env or {})},
+    )
     if check and out.returncode != 0:
         raise AssertionError(f"snakemake {' '.join(args)} failed:\n{out.stdout}\n{out.stderr}")
     return out

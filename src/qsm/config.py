@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import copy
-import hashlib
-import json
 import math
 from collections.abc import Iterator, Mapping, Sequence
 from pathlib import Path
@@ -172,9 +170,3 @@ def load_config(*paths: str | Path | None) -> dict[str, Any]:
         if path is not None:
             merge_config(data, read_config_file(path))
     return validate_config(data)
-
-
-def settings_hash(settings: Mapping[str, Any]) -> str:
-    """Short SHA-256 of the canonical JSON of ``settings`` (what a stage's output depends on)."""
-    text = json.dumps(settings, sort_keys=True, separators=(",", ":"), default=str)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]

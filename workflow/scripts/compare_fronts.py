@@ -1,9 +1,8 @@
 """Rule compare_fronts: the formulations' fronts compared on their true values."""
 
-import json
-
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.optimization.comparison import compare, comparison_markdown
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table
 
@@ -16,8 +15,7 @@ with logged(snakemake.log[0]) as log:
     fronts = {name: read_table(path) for name, path in paths.items()}
     labels = {name: read_meta(path).get("constraints", "") for name, path in paths.items()}
     result = compare(fronts, dataset, p.primary, labels)
-    with open(out.data, "w") as fh:
-        json.dump(result, fh, indent=2)
+    write_json(out.data, result)
     with open(out.summary, "w") as fh:
         fh.write(comparison_markdown(result))
     log.info("comparison: %s", result)

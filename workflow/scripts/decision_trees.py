@@ -1,11 +1,10 @@
 """Rule decision_trees: one regression tree per objective on the paper's 400 designs."""
 
-import json
-
 from qsm.design_rules.correlations import FEATURES_MM, OBJECTIVES
 from qsm.design_rules.plots import trees_figure
 from qsm.design_rules.trees import fit_tree, mining_designs, rule_sentence
 from qsm.optimization.nsga import PREDICTION_COLUMNS
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
@@ -32,9 +31,8 @@ with logged(snakemake.log[0]) as log:
                 "rule": sentence,
             }
             log.info("%s", sentence)
-    with open(out.first_splits, "w") as fh:
-        n_unique = len(designs.drop_duplicates(subset=list(FEATURES_MM)))
-        json.dump(
-            {"n_designs": len(designs), "n_unique": n_unique, "first_splits": splits}, fh, indent=2
-        )
+    n_unique = len(designs.drop_duplicates(subset=list(FEATURES_MM)))
+    write_json(
+        out.first_splits, {"n_designs": len(designs), "n_unique": n_unique, "first_splits": splits}
+    )
     trees_figure(trees, out.figure)

@@ -1,13 +1,13 @@
 """Rule dynamics: closed-chain inverse dynamics, link strength and drives of one shard of the
 mechanisms."""
 
-from qsm import settings
 from qsm.embodiment.drive_checks import with_embodiment
 from qsm.mechanisms.dataset import status_counts
 from qsm.mechanisms.evaluation import evaluate_table
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.duty import duty_cycle
 from qsm.physics.kinematics import DESIGN_COLUMNS
+from qsm.settings import actuation, links, physics
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table
@@ -16,16 +16,16 @@ with logged(snakemake.log[0]) as log:
     p = snakemake.params
     shard = int(snakemake.wildcards.shard)
     mechanisms = read_table(snakemake.input[0], MECHANISM_COLUMNS)
-    duty = settings.duty(p.duty, p.operating_range)
+    duty = physics.duty(p.duty, p.operating_range)
     rows = mechanisms.iloc[shard_slice(len(mechanisms), p.shards, shard)]
     designs = rows[list(DESIGN_COLUMNS)].to_numpy(float)
-    check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
+    check = links.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
     sized = check.section_scales(designs)  # None: the fixed section
-    cad = settings.cad(p.cad, p.material)
+    cad = physics.cad(p.cad, p.material)
     result = evaluate_table(
         rows, duty_cycle(duty), cad, p.payload_kg, scales=None if sized is None else sized.scale
     ).reset_index(drop=True)
-    drives = settings.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
+    drives = actuation.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
     result = with_embodiment(result, designs, check, drives, sized)
     log.info(
         "shard %d of %d: %d mechanisms, status %s, %d hold their loads, %d have drives",

@@ -1,20 +1,18 @@
 """Rule filter_kinematics: crank-rocker, loop closure and transmission-angle filters."""
 
-import json
-
-from qsm import settings
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.physics.kinematics import RATIO_NAMES
+from qsm.settings import physics
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
 with logged(snakemake.log[0]) as log:
     p = snakemake.params
     samples = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])
-    op = settings.operating_range(p.operating_range)
+    op = physics.operating_range(p.operating_range)
     candidates, counts = kinematic_filters(samples, op, p.filters["min_transmission_angle_deg"])
     for step, n in counts.items():
         log.info("%-20s %7d", step, n)
     write_table(candidates, snakemake.output.candidates)
-    with open(snakemake.output.counts, "w") as fh:
-        json.dump(counts, fh, indent=2)
+    write_json(snakemake.output.counts, counts)

@@ -1,8 +1,8 @@
 """Rule fit_task: workspace, minimal scale factor and eta for one shard of the candidates."""
 
-from qsm import settings
 from qsm.mechanisms.scale import fit_designs
 from qsm.physics.kinematics import RATIO_NAMES
+from qsm.settings import physics
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table
@@ -13,6 +13,6 @@ with logged(snakemake.log[0]) as log:
     candidates = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])
     rows = candidates.iloc[shard_slice(len(candidates), p.shards, shard)]
     log.info("shard %d of %d: %d designs", shard, p.shards, len(rows))
-    fit_settings = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace)
+    fit_settings = physics.fit(p.operating_range, p.task_points, p.scale, p.workspace)
     fits = fit_designs(rows, fit_settings, stop_after=p.n_mechanisms)
     write_table(fits, snakemake.output[0])

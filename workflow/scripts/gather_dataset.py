@@ -1,8 +1,5 @@
 """Rule gather_dataset: join the mechanisms with the dynamics of every shard; check coverage."""
 
-import json
-
-from qsm.config import settings_hash
 from qsm.mechanisms.dataset import (
     DATASET_COLUMNS,
     DRIVE_COLUMNS,
@@ -14,8 +11,9 @@ from qsm.mechanisms.dataset import (
     strength_counts,
 )
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
-from qsm.workflow.tables import read_table, write_table
+from qsm.workflow.tables import read_table, settings_hash, write_table
 
 with logged(snakemake.log[0]) as log:
     p = snakemake.params
@@ -54,5 +52,4 @@ with logged(snakemake.log[0]) as log:
     summary["failures"] = {
         str(row.mechanism_id): f"{row.status}: {row.status_reason}" for row in failed.itertuples()
     }
-    with open(snakemake.output.status, "w") as fh:
-        json.dump(summary, fh, indent=2)
+    write_json(snakemake.output.status, summary)

@@ -1,9 +1,9 @@
 """Rule optimize: NSGA-II on the surrogate in one formulation; tables and figures."""
 
-from qsm import settings
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.optimization.nsga import optimize
 from qsm.report.figures import pareto_figures, representatives_figure
+from qsm.settings import optimization, physics
 from qsm.surrogate.model import load
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
@@ -13,14 +13,14 @@ with logged(snakemake.log[0]) as log:
     out = snakemake.output
     model = load(snakemake.input.model)
     dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))
-    fit = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
+    fit = physics.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
     every = max(1, p.optimization["generations"] // 10)
 
     def progress(generation: int, hypervolume: float) -> None:
         if generation % every == 0:
             log.info("generation %d: hypervolume %.4f", generation, hypervolume)
 
-    extra = settings.constraints(p.constraints, fit)
+    extra = optimization.constraints(p.constraints, fit)
     log.info("%s formulation, constraints: %s", p.formulation, extra.label(p.formulation))
     tables = optimize(
         p.formulation, model, dataset, p.optimization, fit, p.ratio_bounds, extra, progress

@@ -4,11 +4,18 @@ import json
 
 import numpy as np
 
-from qsm import settings
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.realization.export import props_from_json
 from qsm.realization.payload import payload_test
-from qsm.report.payload import SERIES_COLUMNS, plot_payload_test, series_table, summary
+from qsm.report.payload import (
+    SERIES_COLUMNS,
+    drive_duty_note,
+    plot_payload_test,
+    series_table,
+    summary,
+)
+from qsm.settings import actuation, payload, physics
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import write_table
 
@@ -21,8 +28,8 @@ with logged(snakemake.log[0]) as log:
     design = np.asarray(selected["design_m"])
     with open(inp.links) as fh:
         props = props_from_json(json.load(fh))
-    test_settings = settings.payload_test(p.payload_test, p.payload_kg, p.operating_range)
-    catalogue = settings.catalogue(p.drives)
+    test_settings = payload.payload_test(p.payload_test, p.payload_kg, p.operating_range)
+    catalogue = actuation.catalogue(p.drives)
     drives = []
     for j, m in selected["drives"]["motors"].items():  # the chosen drive, or the nearest
         d = m.get("drive") or m["best_drive"]
@@ -31,11 +38,11 @@ with logged(snakemake.log[0]) as log:
             "%s: %s%s", j, drives[-1].name, "" if m["has_drive"] else " (NOT meeting its duty)"
         )
     result = payload_test(
-        design, p.task_points, settings.cad(p.cad, p.material), props, test_settings, drives
+        design, p.task_points, physics.cad(p.cad, p.material), props, test_settings, drives
     )
     scalars = summary(result)
-    with open(out.result, "w") as fh:
-        json.dump(scalars, fh, indent=2, default=lambda v: np.asarray(v).tolist())
+    scalars.update(drive_duty_note(selected["drives"]["motors"], drives))
+    write_json(out.result, scalars)
     write_table(series_table(result), out.series, {"columns": SERIES_COLUMNS})
     plot_payload_test(result, out.figure)
     log.info(

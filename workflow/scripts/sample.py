@@ -1,9 +1,8 @@
 """Rule sample: Latin-hypercube samples of the unit-mechanism ratios."""
 
-from qsm.config import settings_hash
 from qsm.mechanisms.sampling import latin_hypercube
 from qsm.workflow.logs import logged
-from qsm.workflow.tables import write_table
+from qsm.workflow.tables import settings_hash, write_table
 
 with logged(snakemake.log[0]) as log:
     sampling = snakemake.params.sampling

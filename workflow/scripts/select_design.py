@@ -1,11 +1,8 @@
 """Rule select_design: the design to realise, printable if any is, truly feasible always."""
 
-import json
-
 import matplotlib.pyplot as plt
 import numpy as np
 
-from qsm import settings
 from qsm.embodiment.advice import advice_sentences as strength_sentences
 from qsm.embodiment.advice import strength_advice
 from qsm.embodiment.printing import advice_sentence, smallest_build_volume
@@ -23,6 +20,8 @@ from qsm.realization.selection import (
 )
 from qsm.report.drive_text import drive_sentences
 from qsm.report.figures import draw_design
+from qsm.settings import actuation, links, physics
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
@@ -33,7 +32,7 @@ with logged(snakemake.log[0]) as log:
     fronts = {name: read_table(path) for name, path in zip(p.formulations, inp.fronts, strict=True)}
     dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
     rule = p.printing["selection_rule"]
-    cad = settings.cad(p.cad, p.material)
+    cad = physics.cad(p.cad, p.material)
     volume = tuple(p.printing["build_volume_mm"])
     disk = min_enclosing_circle(p.task_points)
     row, how = choose_design(fronts, p.primary, dataset, rule, cad, volume)
@@ -45,14 +44,14 @@ with logged(snakemake.log[0]) as log:
         log.info("mirrored: %s", record["task"]["note"])
     for line in how["fallback"]:
         log.warning("skipped: %s", line)
-    op = settings.operating_range(p.operating_range)
+    op = physics.operating_range(p.operating_range)
     record["clearance_m"] = disk_clearance_m(record["design_m"], op, disk)
-    check = settings.strength_check(
-        p.cad, p.material, p.strength, p.payload_kg, settings.duty(p.duty, p.operating_range)
+    check = links.strength_check(
+        p.cad, p.material, p.strength, p.payload_kg, physics.duty(p.duty, p.operating_range)
     )
     record["strength"] = strength_record(record["design_m"], check)
-    drives = settings.drive_check(
-        p.drives, p.cad, p.material, p.payload_kg, settings.duty(p.duty, p.operating_range)
+    drives = actuation.drive_check(
+        p.drives, p.cad, p.material, p.payload_kg, physics.duty(p.duty, p.operating_range)
     )
     sized = check.section_scales(record["design_m"])
     record["drives"] = drives.report(record["design_m"], None if sized is None else sized.scale)
@@ -102,8 +101,7 @@ with logged(snakemake.log[0]) as log:
             f"({'; '.join(drive_sentences(record['drives']))}), chosen from the "
             f"{how['source']} {'designs' if how['source'] == 'dataset' else 'front'}"
         )
-    with open(out.selected, "w") as fh:
-        json.dump(record, fh, indent=2)
+    write_json(out.selected, record)
     fig, ax = plt.subplots(figsize=(6, 6))
     title = (
         f"selected ({rule}, {record['formulation']}"

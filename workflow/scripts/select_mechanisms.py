@@ -4,15 +4,15 @@ import json
 
 import pandas as pd
 
-from qsm.config import settings_hash
 from qsm.mechanisms.scale import (
     MECHANISM_COLUMNS,
     examined_fits,
     fit_counts,
     select_mechanisms,
 )
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
-from qsm.workflow.tables import read_table, write_table
+from qsm.workflow.tables import read_table, settings_hash, write_table
 
 with logged(snakemake.log[0]) as log:
     p = snakemake.params
@@ -56,5 +56,4 @@ with logged(snakemake.log[0]) as log:
         "columns": MECHANISM_COLUMNS,
     }
     write_table(table, snakemake.output.mechanisms, meta)
-    with open(snakemake.output.report, "w") as fh:
-        json.dump(counts, fh, indent=2)
+    write_json(snakemake.output.report, counts)

@@ -1,13 +1,12 @@
 """Rule study_lengths: the dataset's designs with the scale drawn apart from their ratios."""
 
-import json
-
-from qsm import settings
 from qsm.design_rules.experiments import INDEPENDENT_COLUMNS, independent_lengths
 from qsm.design_rules.plots import study_lengths_figure
 from qsm.design_rules.study import lengths_outcome
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.physics.duty import duty_cycle
+from qsm.settings import physics
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
@@ -15,20 +14,19 @@ with logged(snakemake.log[0]) as log:
     p = snakemake.params
     out = snakemake.output
     dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))
-    duty = duty_cycle(settings.duty(p.duty, p.operating_range))
+    duty = duty_cycle(physics.duty(p.duty, p.operating_range))
     sample = independent_lengths(
         dataset,
         p.study["n_designs"],
         p.study["seed"],
         duty,
-        settings.cad(p.cad, p.material),
+        physics.cad(p.cad, p.material),
         p.payload_kg,
     )
     log.info("%d designs re-evaluated at independently drawn scales", len(sample))
     outcome = lengths_outcome(sample, p.study["seed"], p.tree_depth)
     write_table(sample, out.table, {"columns": INDEPENDENT_COLUMNS})
-    with open(out.outcome, "w") as fh:
-        json.dump(outcome, fh, indent=2)
+    write_json(out.outcome, outcome)
     study_lengths_figure(sample, dataset, outcome, out.figure)
     for name, ranking in outcome["ranking"].items():
         log.info("%s: first-order Sobol ranking %s", name, ", ".join(ranking))

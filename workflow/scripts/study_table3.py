@@ -4,12 +4,12 @@ import json
 
 import numpy as np
 
-from qsm import settings
 from qsm.design_rules.experiments import table3_sweep
 from qsm.design_rules.plots import table3_figure
 from qsm.design_rules.study import PAPER_TABLE3_PCT
 from qsm.physics.duty import duty_cycle
 from qsm.realization.export import props_from_json
+from qsm.settings import physics
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import write_table
 
@@ -20,8 +20,8 @@ with logged(snakemake.log[0]) as log:
         design = np.asarray(json.load(fh)["design_m"])
     with open(snakemake.input.links) as fh:
         optimised = props_from_json(json.load(fh))
-    duty = duty_cycle(settings.duty(p.duty, p.operating_range))
-    sweep = table3_sweep(design, settings.cad(p.cad, p.material), duty, optimised, p.payloads_kg)
+    duty = duty_cycle(physics.duty(p.duty, p.operating_range))
+    sweep = table3_sweep(design, physics.cad(p.cad, p.material), duty, optimised, p.payloads_kg)
     write_table(sweep, out.table)
     run_ratio = p.payload_kg / sweep["link_mass_kg"].iloc[0]
     table3_figure(sweep, PAPER_TABLE3_PCT, run_ratio, out.figure)

@@ -3,10 +3,11 @@ that plays it with play/pause and a slider."""
 
 import json
 
-from qsm import settings
 from qsm.physics.task import min_enclosing_circle
 from qsm.report.animation import frames_record, write_task_motion
 from qsm.report.motion_page import write_viewer_html
+from qsm.settings import physics
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
@@ -31,15 +32,14 @@ with logged(snakemake.log[0]) as log:
         series,
         p.task_points,
         min_enclosing_circle(p.task_points),
-        settings.operating_range(p.operating_range),
+        physics.operating_range(p.operating_range),
         payload["limit_Nm"],
         out.gif,
         title=title,
         mirrored=p.mirrored,
     )
     record = frames_record(result, design)
-    with open(out.frames, "w") as fh:
-        json.dump(record, fh)
+    write_json(out.frames, record)
     peak = payload["peak_torque_Nm"]
     lines = [
         f"{record['n_frames']} frames at {record['fps']:g} frames/s: the payload test's "

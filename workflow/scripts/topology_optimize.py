@@ -6,7 +6,6 @@ from dataclasses import replace
 
 import numpy as np
 
-from qsm import settings
 from qsm.embodiment.parts import link_parts, part_meshes
 from qsm.physics.duty import duty_cycle
 from qsm.realization.assembly import bearing_rows, final_parts, write_parts
@@ -16,6 +15,8 @@ from qsm.realization.topology import optimise_links
 from qsm.realization.topology_figure import plot_links
 from qsm.realization.torques import torques_before_after
 from qsm.report.drawing import draw_links
+from qsm.settings import links, physics, topology
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 
 with logged(snakemake.log[0]) as log:
@@ -24,12 +25,12 @@ with logged(snakemake.log[0]) as log:
     with open(snakemake.input.selected) as fh:
         selected = json.load(fh)
     design = np.asarray(selected["design_m"])
-    cad = settings.cad(p.cad, p.material)
-    duty = duty_cycle(settings.duty(p.duty, p.operating_range))
-    topo = settings.topology(p.topology, p.material, p.strength)
+    cad = physics.cad(p.cad, p.material)
+    duty = duty_cycle(physics.duty(p.duty, p.operating_range))
+    topo = topology.topology(p.topology, p.material, p.strength)
     scale = section_scale(selected["strength"], cad)  # each link's checked section
     result = optimise_links(design, cad, p.payload_kg, duty, topo, scale=scale)
-    part_settings = replace(settings.parts(p.cad, p.material, p.strength), scale=scale)
+    part_settings = replace(links.parts(p.cad, p.material, p.strength), scale=scale)
     names = {j: b["designation"] for j, b in selected["strength"]["bearings"].items()}
     rows = bearing_rows(names, part_settings.table)
     solid = link_parts(design, rows, part_settings)
@@ -57,8 +58,7 @@ with logged(snakemake.log[0]) as log:
     props = written.pop("masses")
     written["masses_kg"] = {name: m.mass_kg for name, m in props.items()}
     torques = torques_before_after(design, cad, p.payload_kg, duty, props, scale)
-    with open(out.torques, "w") as fh:
-        json.dump(torques, fh, indent=2)
+    write_json(out.torques, torques)
     with open(out.table, "w") as fh:
         fh.write(torques_markdown(torques))
     before, after = part_meshes(solid), part_meshes(parts)
@@ -71,18 +71,15 @@ with logged(snakemake.log[0]) as log:
         "before": export_stls(before, f"{stl_dir}/before", volume),
         "after": export_stls(after, f"{stl_dir}/after", volume),
     }
-    with open(out.stl_check, "w") as fh:
-        json.dump(checks, fh, indent=2)
+    write_json(out.stl_check, checks)
     written["printer"] = {  # the parts to print against the printer, as drawn
         name: {"box_mm": c["box_mm"], "fits": c["fits_build_volume"]}
         for name, c in checks["after"].items()
     }
     summary = {name: link.summary() for name, link in result.links.items()}
     record = {"carries_loads": result.carries_loads, "links": summary, "parts": written}
-    with open(out.topology, "w") as fh:
-        json.dump(record, fh, indent=2)
-    with open(out.links, "w") as fh:
-        json.dump(props_to_json(props), fh, indent=2)
+    write_json(out.topology, record)
+    write_json(out.links, props_to_json(props))
     plot_links(result, out.figure)
     for name, s in summary.items():
         log.info(

@@ -1,25 +1,23 @@
 """Rule train_surrogate: fit the MLP, write the model (JSON), metrics and parity plots."""
 
-import json
-
-from qsm import settings
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.report.figures import parity_figure
+from qsm.settings import surrogate
 from qsm.surrogate.model import INPUTS, OUTPUTS, metrics_markdown, train
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
 with logged(snakemake.log[0]) as log:
     out = snakemake.output
-    surrogate_settings = settings.surrogate(snakemake.params.surrogate)
+    surrogate_settings = surrogate.surrogate(snakemake.params.surrogate)
     dataset = ok_rows(read_table(snakemake.input[0], DATASET_COLUMNS))
     x = dataset[list(INPUTS)].to_numpy()
     y = dataset[list(OUTPUTS)].to_numpy()
     log.info("training on %d designs (status ok) with %s", len(x), surrogate_settings)
     result = train(x, y, surrogate_settings)
     result.model.save(out.model)
-    with open(out.metrics, "w") as fh:
-        json.dump(result.metrics, fh, indent=2)
+    write_json(out.metrics, result.metrics)
     with open(out.table, "w") as fh:
         fh.write(metrics_markdown(result.metrics))
     parity_figure(

@@ -1,12 +1,11 @@
 """Rule verify_pareto: one formulation's Pareto designs under the true physics."""
 
-import json
-
-from qsm import settings
 from qsm.optimization.comparison import summary
 from qsm.optimization.nsga import PREDICTION_COLUMNS
 from qsm.optimization.verify import TRUE_COLUMNS, verify_front
+from qsm.settings import actuation, links, physics
 from qsm.surrogate.model import INPUTS
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table, write_table
 
@@ -16,16 +15,15 @@ with logged(snakemake.log[0]) as log:
     path = snakemake.input.pareto
     pareto = read_table(path, [*INPUTS, *PREDICTION_COLUMNS])
     meta = read_meta(path)
-    fit = settings.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
-    duty = settings.duty(p.duty, p.operating_range)
-    check = settings.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
-    drives = settings.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
+    fit = physics.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
+    duty = physics.duty(p.duty, p.operating_range)
+    check = links.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
+    drives = actuation.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
     table = verify_front(pareto, fit, check, p.ratio_bounds, p.build_volume_mm, drives)
     result = {"formulation": meta.get("formulation"), "constraints": meta.get("constraints")}
     result.update(summary(table))
     write_table(table, out.table, {"columns": TRUE_COLUMNS, **result})
-    with open(out.summary, "w") as fh:
-        json.dump(result, fh, indent=2)
+    write_json(out.summary, result)
     log.info(
         "%d designs: %.0f %% truly hold the task, %.0f %% printable, %.0f %% hold their loads, "
         "%.0f %% have drives",

@@ -4,13 +4,13 @@ installed with the package; ``python -m qsm`` runs the same)."""
 from __future__ import annotations
 
 import argparse
-import json
 import sys
 from collections.abc import Sequence
 
 from qsm.app.evaluate import checked_ratios, evaluate_lengths, evaluate_ratios
 from qsm.config import ConfigError, load_config, validate_config
 from qsm.config_checks import config_warnings
+from qsm.workflow.json_files import dumps
 
 #: ``--lengths``: one design as its six lengths, evaluated at that scale.
 LENGTHS: dict = {
@@ -133,5 +133,5 @@ def main(argv: Sequence[str] | None = None) -> int:
     except (ConfigError, ValueError) as exc:
         print(f"error: {exc}", file=sys.stderr)
         return 2
-    print(json.dumps(result, indent=2))
+    print(dumps(result))
     return 0

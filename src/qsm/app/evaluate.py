@@ -7,13 +7,13 @@ from typing import Any
 
 import numpy as np
 
-from qsm import settings
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import fit_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import evaluate_mechanism
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
 from qsm.physics.mirror import is_mirrored
+from qsm.settings import actuation, links, physics
 
 
 def _checked(
@@ -45,7 +45,7 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
     None.
     """
     r = checked_ratios(ratios)
-    fit_settings = settings.fit(
+    fit_settings = physics.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     checks = {
@@ -76,8 +76,8 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
     if out["design_m"] is not None:
         dyn = evaluate_mechanism(
             list(out["design_m"].values()),
-            duty_cycle(settings.duty(config["dynamics"]["duty"], config["operating_range"])),
-            settings.cad(config["cad"], config["material"]),
+            duty_cycle(physics.duty(config["dynamics"]["duty"], config["operating_range"])),
+            physics.cad(config["cad"], config["material"]),
             config["task"]["payload_kg"],
         )
         ok = dyn["status"] == "ok"
@@ -102,14 +102,14 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     from qsm.optimization.verify import verify_design
 
     d = checked_lengths(lengths)
-    fit_settings = settings.fit_of(config)
-    duty = settings.duty(config["dynamics"]["duty"], config["operating_range"])
-    cad, payload = settings.cad(config["cad"], config["material"]), config["task"]["payload_kg"]
+    fit_settings = physics.fit_of(config)
+    duty = physics.duty(config["dynamics"]["duty"], config["operating_range"])
+    cad, payload = physics.cad(config["cad"], config["material"]), config["task"]["payload_kg"]
     out: dict[str, Any] = {
         "design_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True)),
         "mirrored": is_mirrored(config["task"]["points"]),
     }
-    check = settings.strength_check(
+    check = links.strength_check(
         config["cad"], config["material"], config["strength"], payload, duty
     )
     sized = check.section_scales(d)
@@ -122,7 +122,7 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     )
     if out["loop_closes"]:
         out["strength"] = strength_record(d, check)
-        out["drives"] = settings.drive_check(
+        out["drives"] = actuation.drive_check(
             config["drives"], config["cad"], config["material"], payload, duty
         ).report(d, scale)
     return out

@@ -23,7 +23,6 @@ naming the keys.
 
 from __future__ import annotations
 
-import json
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import replace
@@ -33,7 +32,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from qsm import settings
 from qsm.app.evaluate import checked_lengths
 from qsm.app.export_printing import link_printability
 from qsm.app.export_readme import describe_source, export_readme, fmt
@@ -53,7 +51,7 @@ from qsm.physics.cad import CadError, link_outlines, mass_properties
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES, as_design
-from qsm.physics.mirror import task_record
+from qsm.physics.mirror import design_points, task_record
 from qsm.physics.mjcf import mjcf_xml
 from qsm.physics.urdf import LOOP_NOTE, urdf_xml
 from qsm.physics.workspace import OperatingRange
@@ -62,6 +60,9 @@ from qsm.realization.export import export_stls
 from qsm.realization.selection import printing_advice
 from qsm.report.design_sheet import design_sheet
 from qsm.report.drawing import draw_links
+from qsm.settings import actuation, physics
+from qsm.settings import links as link_settings
+from qsm.workflow.json_files import write_json
 
 
 def export_design(
@@ -75,13 +76,13 @@ def export_design(
     d = np.asarray(as_design(design), dtype=float)
     folder = Path(out)
     folder.mkdir(parents=True, exist_ok=True)
-    cad = settings.cad(config["cad"], config["material"])
+    cad = physics.cad(config["cad"], config["material"])
     payload = float(config["task"]["payload_kg"])
     volume = tuple(float(v) for v in config["printing"]["build_volume_mm"])
-    fit = settings.fit_of(config)
-    duty_settings = settings.duty(config["dynamics"]["duty"], config["operating_range"])
+    fit = physics.fit_of(config)
+    duty_settings = physics.duty(config["dynamics"]["duty"], config["operating_range"])
     duty = duty_cycle(duty_settings)
-    check = settings.strength_check(
+    check = link_settings.strength_check(
         config["cad"], config["material"], config["strength"], payload, duty_settings
     )
     sized = check.section_scales(d)
@@ -97,7 +98,7 @@ def export_design(
     xml = mjcf_xml(d, cad, payload, home_pose(d, fit.op), bool(task["mirrored"]), props)
     (folder / "model.xml").write_text(xml)
     strength = strength_record(d, check)
-    part_settings = settings.parts(config["cad"], config["material"], config["strength"])
+    part_settings = link_settings.parts(config["cad"], config["material"], config["strength"])
     part_settings = replace(part_settings, scale=scale)
     names = {j: b["designation"] for j, b in strength["bearings"].items()}
     parts = link_parts(d, bearing_rows(names, part_settings.table), part_settings)
@@ -126,12 +127,12 @@ def export_design(
         printability["advice"] = printing_advice(d, cad, volume, fit.disk)
     test = config["payload_test"]
     op = config["operating_range"]
-    drives = settings.drive_check(
+    drives = actuation.drive_check(
         config["drives"],
         config["cad"],
         config["material"],
         payload,
-        settings.duty(config["dynamics"]["duty"], op),
+        physics.duty(config["dynamics"]["duty"], op),
     ).report(d, None if sized is None else sized.scale)
     effort = test["torque_limits_Nm"] or _drive_efforts(drives, config)
     urdf = urdf_xml(
@@ -184,8 +185,18 @@ def export_design(
         f"{'links hold their loads' if strength['holds_loads'] else 'NOT STRONG ENOUGH'}"
         + ("; designed MIRRORED (x -> -x)" if task["mirrored"] else "")
     )
-    design_sheet(d, config, links, title, folder / "design.png", scale)
-    (folder / "design.json").write_text(json.dumps(record, indent=2) + "\n")
+    design_sheet(
+        d,
+        fit.op,
+        cad,
+        design_points(config["task"]["points"]),
+        volume,
+        links,
+        title,
+        folder / "design.png",
+        scale,
+    )
+    write_json(folder / "design.json", record)
     (folder / "README.md").write_text(export_readme(record, title))
     return record
 
@@ -265,7 +276,7 @@ def _drive_efforts(drives: Mapping[str, Any], config: Mapping[str, Any]) -> list
     :meth:`qsm.embodiment.drive_checks.DriveCheck.report`; 0 where the loop is undefined."""
     from qsm.embodiment.drives.envelope import OutputEnvelope
 
-    cat = settings.catalogue(config["drives"])
+    cat = actuation.catalogue(config["drives"])
     out = []
     for j in ("motor1", "motor2"):
         m = drives["motors"].get(j)

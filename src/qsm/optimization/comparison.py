@@ -44,7 +44,7 @@ def summary(table: pd.DataFrame) -> dict[str, Any]:
         )
         if "has_drives" in table
         else float("nan"),
-        "median_drive_mass_kg": _median_drive_mass(table),
+        **_median_drive_mass(table),
         "objectives": [o.name for o in objectives_of(table)],
         "in_table1_share": _share(table["in_table1"].astype(bool)),
         "n_feasible_with_dynamics": int(ok.sum()),
@@ -64,11 +64,21 @@ def summary(table: pd.DataFrame) -> dict[str, Any]:
     return out
 
 
-def _median_drive_mass(table: pd.DataFrame) -> float:
+def _median_drive_mass(table: pd.DataFrame) -> dict[str, Any]:
+    """``median_drive_mass_kg`` of the designs with drives; None, with a
+    ``median_drive_mass_note`` saying why, when there is none."""
     if "has_drives" not in table:
-        return float("nan")
+        return {"median_drive_mass_kg": None, "median_drive_mass_note": "no drive check ran"}
     mass = table.loc[table["has_drives"].fillna(False).astype(bool), "drive_mass_kg"]
-    return float(mass.median()) if len(mass) else float("nan")
+    if not len(mass):
+        note = f"none of the {len(table)} designs has a drive for each motor in the catalogue"
+        return {"median_drive_mass_kg": None, "median_drive_mass_note": note}
+    return {"median_drive_mass_kg": float(mass.median())}
+
+
+def drive_mass_text(kg: float | None) -> str:
+    """A median drive mass for a table: kg, or "none" when no design has drives."""
+    return "none" if kg is None or not np.isfinite(kg) else f"{kg:.2f} kg"
 
 
 def true_hypervolume(
@@ -132,10 +142,11 @@ def comparison_markdown(result: dict[str, Any]) -> str:
         shares = " | ".join(
             f"{100 * e[k]:.0f} %" for k in ("holds_task_share", "feasible_share", "printable_share")
         )
+        mass = drive_mass_text(e["median_drive_mass_kg"])
         lines.append(
             f"| {name} | {', '.join(e['objectives'])} | {e.get('constraints', '')} | {e['n']} "
             f"| {shares} | {100 * e['feasible_and_printable_share']:.0f} % "
-            f"| {100 * e['has_drives_share']:.0f} % | {e['median_drive_mass_kg']:.2f} kg | {err} "
+            f"| {100 * e['has_drives_share']:.0f} % | {mass} | {err} "
             f"| {e['true_hypervolume']:.4f} | {e['true_hypervolume_drive_mass']:.4f} |"
         )
     best = max(result["fronts"], key=lambda k: result["fronts"][k]["true_hypervolume"])

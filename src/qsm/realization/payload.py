@@ -164,6 +164,18 @@ def motor_inertia(
     return (tau[1:] - tau[0]).T
 
 
+def torque_use(
+    requested: NDArray[np.float64], available: NDArray[np.float64]
+) -> tuple[list[float | None], list[float]]:
+    """Each motor's peak |requested| / available torque over the steps (n, 2), and the share of
+    steps at which it ran past its drive's top speed (no torque available). A motor that ran
+    past its top speed has no finite peak use: None (``past_top_speed_fraction`` says why)."""
+    past = available <= 0
+    ratio = np.divide(np.abs(requested), available, out=np.zeros_like(requested), where=~past)
+    use = [None if p.any() else float(r) for r, p in zip(ratio.max(axis=0), past.T, strict=True)]
+    return use, past.mean(axis=0).tolist()
+
+
 def payload_test(
     design: ArrayLike,
     points: ArrayLike,
@@ -180,6 +192,7 @@ def payload_test(
 
     Returns scalars: ``passed``, ``saturated``, ``max_tracking_error_deg``,
     ``tracking_tolerance_deg``, ``peak_torque_Nm`` (peak |requested| per motor),
+    ``peak_torque_over_available`` and ``past_top_speed_fraction`` (:func:`torque_use`),
     ``peak_feedforward_Nm``, ``limit_Nm``, ``saturated_fraction`` (of time steps),
     ``point_error_mm`` (end-effector error at the end of each hold, per waypoint),
     ``waypoints_deg``, ``payload_kg``, ``min_motor_inertia_kg_m2`` (per motor, over the waypoints),
@@ -260,13 +273,14 @@ def payload_test(
     ends = [n_hold + i * (n_move + n_hold) for i in range(len(way))]
     ee = pose(d, q_act[ends, 0], q_act[ends, 1]).E
     point_err = np.linalg.norm(ee - pts, axis=1) * 1e3
+    use, past_top = torque_use(req, available)
     reasons = []
     if saturated:
-        worst = (np.abs(req) / available).max(axis=0)
         what = "fixed limits" if fixed is not None else "drives' torque-speed envelopes"
         reasons.append(
             f"requested torque exceeds the {what} (peak |requested| / available "
-            f"{worst.round(3).tolist()}; peak {np.abs(req).max(axis=0).round(1).tolist()} N m, "
+            f"{[round(u, 3) if u is not None else 'past its top speed' for u in use]}; "
+            f"peak {np.abs(req).max(axis=0).round(1).tolist()} N m, "
             f"{limit.round(1).tolist()} N m at standstill)"
         )
     if not tracked:
@@ -282,7 +296,8 @@ def payload_test(
         "limits_from": "payload_test.torque_limits_Nm" if fixed is not None else "drives",
         "drives": [e.name for e in envelopes] if envelopes is not None else None,
         "reflected_inertia_kgm2": list(armature),
-        "peak_torque_over_available": (np.abs(req) / available).max(axis=0).tolist(),
+        "peak_torque_over_available": use,
+        "past_top_speed_fraction": past_top,
         "saturated_fraction": float(over.any(axis=1).mean()),
         "point_error_mm": point_err.tolist(),
         "waypoints_deg": np.degrees(way).tolist(),

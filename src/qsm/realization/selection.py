@@ -122,6 +122,21 @@ def select_design(
     return row
 
 
+def _printable_count(
+    table: pd.DataFrame,
+    strong: pd.DataFrame,
+    cad: CadSettings,
+    volume_mm: tuple[float, float, float],
+) -> str:
+    """The fallback line's printer count: none of ``table`` prints; when ``table`` is empty
+    (no design with drives), how many of the ``strong`` designs would."""
+    volume = " x ".join(f"{v:g}" for v in volume_mm)
+    if len(table) or not len(strong):
+        return f", 0 of those printable on {volume} mm"
+    n = int(_printable(strong, cad, volume_mm).sum())
+    return f" ({n} of the {len(strong)} that hold their loads printable on {volume} mm)"
+
+
 def choose_design(
     fronts: Mapping[str, pd.DataFrame],
     primary: str,
@@ -142,7 +157,6 @@ def choose_design(
     strong = {name: table[table["holds_loads"].astype(bool)] for name, table in feasible.items()}
     driven = {name: table[_has_drives(table)] for name, table in strong.items()}
     skipped: list[str] = []
-    volume = " x ".join(f"{v:g}" for v in volume_mm)
     for tier, has_drives in ((driven, True), (strong, False)):
         for name, table in tier.items():
             fits = _printable(table, cad, volume_mm)
@@ -156,7 +170,7 @@ def choose_design(
                 f"{name} {what}: {len(sources[name])} designs, {len(feasible[name])} truly "
                 f"feasible, {len(strong[name])} of them hold their loads"
                 + (f", {len(table)} of those have drives" if has_drives else "")
-                + f", 0 of those printable on {volume} mm"
+                + _printable_count(table, strong[name], cad, volume_mm)
             )
         for name, table in tier.items():
             if len(table):

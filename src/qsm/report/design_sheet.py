@@ -11,34 +11,34 @@ import matplotlib.pyplot as plt
 import numpy as np
 from numpy.typing import ArrayLike
 
-from qsm import settings
-from qsm.physics.cad import link_outlines
+from qsm.physics.cad import CadSettings, link_outlines
 from qsm.physics.kinematics import as_design
-from qsm.physics.mirror import design_points
 from qsm.physics.task import min_enclosing_circle
+from qsm.physics.workspace import OperatingRange
 from qsm.report.figures import draw_design
 
 
 def design_sheet(
     design: ArrayLike,
-    config: Mapping[str, Any],
+    op: OperatingRange,
+    cad: CadSettings,
+    task_points: ArrayLike,
+    volume_mm: tuple[float, float, float],
     boxes: Mapping[str, Mapping[str, Any]],
     title: str,
     path: str | Path,
     scale: ArrayLike | None = None,
 ) -> Path:
-    """PNG: the design with workspace, task disk and points, and its link outlines (each of the
-    configured section scaled by its entry of ``scale`` (4,), None: the configured section) with
-    their boxes (mm) against the printer."""
+    """PNG: the design with its workspace in ``op``, task disk and points (n, 2) m as designed,
+    and its link outlines (each of ``cad``'s section scaled by its entry of ``scale`` (4,), None:
+    the section itself) with their boxes (mm) against the printer ``volume_mm``."""
     d = as_design(design)
-    op = settings.operating_range(config["operating_range"])
-    points = np.asarray(design_points(config["task"]["points"]))
+    points = np.asarray(task_points, dtype=float).reshape(-1, 2)
     fig, (ax, ax_links) = plt.subplots(1, 2, figsize=(12, 5.2), width_ratios=(1, 1.1))
     draw_design(ax, d, op, min_enclosing_circle(points), title)
     ax.plot(points[:, 0], points[:, 1], "x", color="tab:red", ms=6, mew=1.5)
     y = 0.0
-    volume = " x ".join(f"{v:g}" for v in config["printing"]["build_volume_mm"])
-    cad = settings.cad(config["cad"], config["material"])
+    volume = " x ".join(f"{v:g}" for v in volume_mm)
     for name, outline in link_outlines(d, cad, scale).items():
         xy = outline * 1e3
         y -= xy[:, 1].max()

@@ -4,6 +4,7 @@ W, masses in kg)."""
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 
@@ -47,3 +48,9 @@ def drive_sentences(report: dict[str, Any]) -> list[str]:
             f"{s['cont_torque_Nm']:.0f} N m continuous and {s['top_speed_rad_s']:.2f} rad/s"
         )
     return out
+
+
+def use_text(use: Sequence[float | None]) -> str:
+    """Peak torque uses as percentages; "past its top speed" for a motor that ran past its
+    drive's top speed (None: :func:`qsm.realization.payload.torque_use`)."""
+    return ", ".join("past its top speed" if u is None else f"{u:.0%}" for u in use)

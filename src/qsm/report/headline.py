@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from qsm.report.drive_text import use_text
 from qsm.report.headline_tables import (
     drive_failures,
     drive_rows,
@@ -22,8 +23,9 @@ def _pct(x: float) -> str:
     return f"{100 * x:.1f} %"
 
 
-def _drive_mass(kg: float) -> str:
-    return f" ({kg:.2f} kg)" if math.isfinite(kg) else ""
+def _drive_mass(kg: float | None) -> str:
+    """The median drive mass in brackets, nothing when no design has drives (None)."""
+    return f" ({kg:.2f} kg)" if kg is not None and math.isfinite(kg) else ""
 
 
 def _ratio(counts: Mapping[str, Any]) -> float:
@@ -222,7 +224,7 @@ def headline_markdown(
             f"| {e['constraints']} | {e['n']} | {_pct(e['holds_task_share'])} "
             f"| {_pct(e['printable_share'])} | {_pct(e['holds_loads_share'])} "
             f"| {_pct(e.get('has_drives_share', float('nan')))}"
-            f"{_drive_mass(e.get('median_drive_mass_kg', float('nan')))} | {err} "
+            f"{_drive_mass(e.get('median_drive_mass_kg'))} | {err} "
             f"| {e['true_hypervolume']:.3f} |"
         )
     lines += [
@@ -272,7 +274,7 @@ def headline_markdown(
     peak = ", ".join(f"{v:.1f}" for v in payload["peak_torque_Nm"])
     limit = ", ".join(f"{v:.0f}" for v in payload["limit_Nm"])
     if payload.get("drives"):
-        used = ", ".join(f"{v:.0%}" for v in payload["peak_torque_over_available"])
+        used = use_text(payload["peak_torque_over_available"])
         limits = (
             f"on the drives' torque-speed envelopes ({'; '.join(payload['drives'])}; "
             f"{limit} N m at standstill, peak use {used})"
@@ -284,5 +286,10 @@ def headline_markdown(
         f"{'passed' if payload['passed'] else 'FAILED: ' + payload.get('reason', '')}, max "
         f"tracking error {payload['max_tracking_error_deg']:.3f} deg, peak torques {peak} N m "
         f"({limits})."
+        + (
+            f" {payload['drive_note'][0].upper()}{payload['drive_note'][1:]}."
+            if "drive_note" in payload
+            else ""
+        )
     )
     return "\n".join(lines) + "\n"

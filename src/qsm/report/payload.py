@@ -3,6 +3,7 @@ table, its scalar summary for JSON and its figure."""
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -46,6 +47,24 @@ def series_table(result: dict[str, Any]) -> pd.DataFrame:
 def summary(result: dict[str, Any]) -> dict[str, Any]:
     """The scalar part of a :func:`payload_test` result (JSON-friendly)."""
     return {k: v for k, v in result.items() if k not in SERIES_KEYS}
+
+
+def drive_duty_note(motors: Mapping[str, Any], drives: Sequence[Any]) -> dict[str, Any]:
+    """Whether each motor's drive (``selected.json``'s ``drives.motors``) meets its duty, and, when
+    one does not, a ``drive_note`` that says the test simulated the nearest drive, by how much
+    that drive misses its duty (the drive check's violation) and which limits it fails."""
+    meets = [bool(m["has_drive"]) for m in motors.values()]
+    out: dict[str, Any] = {"drive_meets_duty": meets}
+    missing = [
+        f"{name} ({m['drives']}) has no drive in the catalogue that meets its duty: simulated "
+        f"with the nearest, {drive.name}, which exceeds its {', '.join(m['failing'])} limit by "
+        f"{100 * m['violation']:.0f} %"
+        for (name, m), drive, ok in zip(motors.items(), drives, meets, strict=True)
+        if not ok
+    ]
+    if missing:
+        out["drive_note"] = "; ".join(missing) + " (so the test cannot tell whether it can follow)"
+    return out
 
 
 def plot_payload_test(result: dict[str, Any], path: str | Path) -> Path:

@@ -4,8 +4,10 @@ Snakemake reruns a rule when its script changes, not when a module the script im
 rule that passes ``source_hash(script)`` as a param is rerun when any ``qsm`` module it reaches
 through its imports changes, and only then. Absolute and relative imports count, and so does the
 ``__init__.py`` of every package on the way (Python runs it on import). Imports inside functions
-are deferred and not followed (:mod:`qsm.settings` relies on that), nor are ``TYPE_CHECKING``
-blocks.
+(deferred: they run when the function does) count too, so a module reached only through a
+function's import is followed; ``TYPE_CHECKING`` blocks, which never run, are not. An import by a
+computed name (``importlib.import_module``) is not seen: the workflow's scripts do not use one,
+and ``tests/test_provenance.py`` holds every module a script loads while it runs to its hash.
 """
 
 from __future__ import annotations
@@ -17,8 +19,8 @@ from functools import cache
 from pathlib import Path
 
 PACKAGE_DIR = Path(__file__).resolve().parents[1]  # src/qsm
-#: An indented import that may reach ``qsm``: inside a block, so the module's structure decides
-#: whether it runs on import.
+#: An indented import that may reach ``qsm``: inside a block (a function's, or a ``TYPE_CHECKING``
+#: block's, which never runs), so the file is parsed whole.
 _INDENTED = re.compile(r"^[ \t]+(?:from[ \t]+(?:qsm\b|\.)|import[ \t]+qsm\b)", re.M)
 #: A whole import statement at the start of a line: one line, or a parenthesised list.
 _TOP_LEVEL = re.compile(
@@ -35,35 +37,39 @@ def _package_of(path: Path, package_dir: Path) -> list[str] | None:
     return list(rel.parts[:-1])
 
 
-def _module_level(tree: ast.Module) -> list[ast.stmt]:
-    """Statements run on import: the module body and its ``try``/``if`` blocks, not function
-    bodies (deferred imports) nor ``if TYPE_CHECKING:`` blocks (never run)."""
+def _imports(tree: ast.Module) -> list[ast.stmt]:
+    """Every import statement of the module, those inside functions (deferred, run when the
+    function is) included; not those of ``if TYPE_CHECKING:`` blocks (never run)."""
     out: list[ast.stmt] = []
-    todo = list(tree.body)
+    todo: list[ast.AST] = [tree]
     while todo:
         node = todo.pop()
-        out.append(node)
-        if isinstance(node, ast.If):
-            if not (isinstance(node.test, ast.Name) and node.test.id == "TYPE_CHECKING"):
-                todo += node.body + node.orelse
-        elif isinstance(node, ast.Try):
-            todo += node.body + node.orelse + node.finalbody
-            for handler in node.handlers:
-                todo += handler.body
+        if isinstance(node, ast.Import | ast.ImportFrom):
+            out.append(node)
+        elif isinstance(node, ast.If) and _is_type_checking(node.test):
+            todo += node.orelse
+        else:
+            todo += ast.iter_child_nodes(node)
     return out
 
 
+def _is_type_checking(test: ast.expr) -> bool:
+    """``TYPE_CHECKING`` or ``typing.TYPE_CHECKING``."""
+    name = test.attr if isinstance(test, ast.Attribute) else getattr(test, "id", None)
+    return name == "TYPE_CHECKING"
+
+
 def _import_statements(path: Path) -> list[ast.stmt]:
-    """The statements of ``path`` that :func:`_module_level` gives, or at least all its imports:
-    a file whose every ``qsm`` import starts a line has only those lines parsed (parsing whole
-    files was a tenth of Snakemake's start on this workflow)."""
+    """The import statements of ``path`` that :func:`_imports` gives: a file whose every ``qsm``
+    import starts a line has only those lines parsed (parsing whole files was a tenth of
+    Snakemake's start on this workflow)."""
     text = path.read_text()
     if not _INDENTED.search(text):
         try:
             return [node for m in _TOP_LEVEL.finditer(text) for node in ast.parse(m.group()).body]
         except SyntaxError:  # a line of prose that starts like an import
             pass
-    return _module_level(ast.parse(text, filename=str(path)))
+    return _imports(ast.parse(text, filename=str(path)))
 
 
 @cache

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import hashlib
 import json
 from collections.abc import Iterable, Mapping
 from importlib import metadata
@@ -73,3 +74,9 @@ def read_meta(path: str | Path) -> dict[str, Any]:
         raise TableError(
             f"cannot read the metadata of table '{path}': {exc}{_remedy(path)}"
         ) from exc
+
+
+def settings_hash(settings: Mapping[str, Any]) -> str:
+    """Short SHA-256 of the canonical JSON of ``settings`` (what a stage's output depends on)."""
+    text = json.dumps(settings, sort_keys=True, separators=(",", ":"), default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]

@@ -1,0 +1,16 @@
+"""The one settings layer: the validated config's sections as the library's frozen dataclasses.
+
+One function per section, in a module per domain; scripts, the command line and
+``qsm.app.evaluate`` build their settings here and nowhere else. Each function takes the
+section(s) as validated by :mod:`qsm.config` (every default filled from the schema) and passes
+every field on, so the schema's defaults are the ones a run uses; the dataclasses' own defaults,
+for direct notebook calls, are read from the same schema (:mod:`qsm.defaults`).
+
+Each module imports what it builds at its top, and this package imports none of them: a workflow
+script's rerun hash (:mod:`qsm.workflow.provenance`) holds exactly the modules of the settings it
+builds. :mod:`~qsm.settings.physics` (motor ranges, the scale-up, link solids, the duty),
+:mod:`~qsm.settings.links` (material, strength, sizing, parts), :mod:`~qsm.settings.actuation`
+(the drive catalogue and check),
+:mod:`~qsm.settings.surrogate`, :mod:`~qsm.settings.optimization` (g11-g14),
+:mod:`~qsm.settings.topology` and :mod:`~qsm.settings.payload` (Stage 6).
+"""

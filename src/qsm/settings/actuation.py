@@ -1,0 +1,44 @@
+"""Settings of the drives: the catalogue and the drive check of a design."""
+
+from __future__ import annotations
+
+import functools
+from collections.abc import Mapping
+from typing import Any
+
+from qsm.embodiment.drive_checks import DriveCheck
+from qsm.embodiment.drives.catalogue import Catalogue, default_catalogue_folder, read_catalogue
+from qsm.physics.duty import DutySettings, duty_cycle
+from qsm.settings.physics import cad
+
+Section = Mapping[str, Any]
+
+
+@functools.lru_cache(maxsize=4)
+def _catalogue(folder: str | None) -> Catalogue:
+    return read_catalogue(default_catalogue_folder() if folder is None else folder)
+
+
+def catalogue(section: Section) -> Catalogue:
+    """``drives.catalogue``: the drive catalogue (null: the one shipped with qsm), read once per
+    process."""
+    return _catalogue(section["catalogue"])
+
+
+def drive_check(
+    drives_section: Section,
+    cad_section: Section,
+    material_section: Section,
+    payload_kg: float,
+    duty_settings: DutySettings,
+) -> DriveCheck:
+    """The drive check of a design: catalogue, rule, reflected inertia, link section, payload
+    (kg) and duty."""
+    return DriveCheck(
+        catalogue(drives_section),
+        drives_section["rule"],
+        bool(drives_section["reflected_inertia"]),
+        cad(cad_section, material_section),
+        float(payload_kg),
+        duty_cycle(duty_settings),
+    )

@@ -1,0 +1,65 @@
+"""Settings of the links: material, strength requirements, section sizing and bored parts."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from qsm.embodiment.link_checks import StrengthCheck
+from qsm.embodiment.material import Material, StrengthSettings
+from qsm.embodiment.parts import PartSettings
+from qsm.embodiment.sizing import SizingSettings
+from qsm.physics.duty import DutySettings, duty_cycle
+from qsm.settings.physics import cad
+
+Section = Mapping[str, Any]
+
+
+def material(section: Section) -> Material:
+    """``material``: the printed material of every link."""
+    return Material(**section)
+
+
+def parts(
+    cad_section: Section, material_section: Section, strength_section: Section
+) -> PartSettings:
+    """The bored parts: the link solids and ``strength.boss_wall_m`` around the bearing seats."""
+    return PartSettings(
+        cad(cad_section, material_section), boss_wall_m=strength_section["boss_wall_m"]
+    )
+
+
+def strength(section: Section) -> StrengthSettings:
+    """``strength``: what every link must hold."""
+    return StrengthSettings(**section)
+
+
+def strength_check(
+    cad_section: Section,
+    material_section: Section,
+    strength_section: Section,
+    payload_kg: float,
+    duty_settings: DutySettings,
+) -> StrengthCheck:
+    """The link check of a design: section, material, requirements, payload (kg) and duty."""
+    return StrengthCheck(
+        cad(cad_section, material_section),
+        material(material_section),
+        strength(strength_section),
+        float(payload_kg),
+        duty_cycle(duty_settings),
+        sizing=sizing(cad_section),
+    )
+
+
+def sizing(section: Section) -> SizingSettings | None:
+    """``cad.section`` and ``cad.sized``: None for the fixed section, else the sizing bounds."""
+    if section.get("section", "fixed") == "fixed":
+        return None
+    sized = section["sized"]
+    return SizingSettings(
+        width_m=tuple(sized["width_m"]),
+        thickness_m=tuple(sized["thickness_m"]),
+        max_iterations=sized["max_iterations"],
+        tolerance=sized["tolerance"],
+    )

@@ -1,0 +1,31 @@
+"""Settings of the simulated payload test (Stage 6)."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+from qsm.realization.payload import PayloadSettings
+
+Section = Mapping[str, Any]
+
+
+def payload_test(
+    section: Section, payload_kg: float, operating_range_section: Section
+) -> PayloadSettings:
+    """``payload_test`` with ``task.payload_kg`` and ``operating_range``."""
+    return PayloadSettings(
+        payload_kg=payload_kg,
+        torque_limits_Nm=(
+            None if section["torque_limits_Nm"] is None else tuple(section["torque_limits_Nm"])
+        ),
+        segment_duration_s=section["segment_duration_s"],
+        dwell_s=section["dwell_s"],
+        return_to_start=section["return_to_start"],
+        kp_Nm_rad=tuple(section["kp_Nm_rad"]),
+        kd_Nms_rad=tuple(section["kd_Nms_rad"]),
+        tracking_tolerance_deg=section["tracking_tolerance_deg"],
+        plant_mass_error=section["plant_mass_error"],
+        theta1_range_deg=tuple(operating_range_section["theta1_deg"]),
+        theta2_min_deg=operating_range_section["theta2_min_deg"],
+    )
