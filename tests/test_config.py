@@ -97,8 +97,24 @@ def test_unreadable_file_is_named(tmp_path):
     bad.write_text("sampling: [unclosed\n")
     with pytest.raises(ConfigError, match=r"broken\.yaml"):
         load_config(bad)
-    with pytest.raises(ConfigError, match=r"missing\.yaml"):
+    with pytest.raises(ConfigError, match=r"config file '.*missing\.yaml' does not exist"):
         load_config(tmp_path / "missing.yaml")
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("", "is empty: it must hold a mapping"),
+        ("# only a comment\n", "is empty"),
+        ("[1, 2]\n", "must hold a mapping of config keys, not a list"),
+    ],
+)
+def test_an_empty_or_non_mapping_file_is_named(tmp_path, text, message):
+    bad = tmp_path / "odd.yaml"
+    bad.write_text(text)
+    with pytest.raises(ConfigError, match=message) as info:
+        load_config(bad)
+    assert f"config file '{bad}'" in str(info.value)
 
 
 def test_settings_hash_is_stable_and_sensitive():

@@ -130,6 +130,27 @@ ERRORS = [
         "optimization.objectives",
         "set optimization.constraints.drives: true",
     ),
+    ({"task": {"points": [[0.0, 0.0], [-0.3, 0.1]]}}, "task.points", "covers the base joint"),
+    ({"task": {"points": [[-0.1, 0.0], [0.1, 0.05]]}}, "task.points", "covers the base joint"),
+    ({"task": {"points": [[-0.05, 0.0], [-0.6, 0.0]]}}, "task.points", "a ratio of 12; no design"),
+    (
+        {"task": {"points": [[-0.15, 0.0], [-0.35, 0.0]]}, "scale": {"safety_margin_m": 0.12}},
+        "task.points",
+        "grown by scale.safety_margin_m 0.12 m",
+    ),
+    ({"sampling": {"n_mechanisms": 1}}, "sampling.n_mechanisms", "1 is too few"),
+    ({"sampling": {"n_mechanisms": 4}}, "sampling.n_mechanisms", "at least 6"),
+    (
+        {"sampling": {"n_mechanisms": 10}, "surrogate": {"test_fraction": 0.05}},
+        "sampling.n_mechanisms",
+        "at least 21",
+    ),
+    ({"operating_range": {"theta1_deg": [45, 400]}}, "operating_range.theta1_deg", "400 deg"),
+    (
+        {"operating_range": {"theta1_deg": [-365, -100]}},
+        "operating_range.theta1_deg",
+        "-365 deg is past a full turn",
+    ),
 ]
 
 
@@ -159,6 +180,59 @@ def test_a_bad_drive_catalogue_fails_at_config_time_naming_file_line_column(tmp_
     assert "config key 'drives.catalogue'" in msg
     assert f"gearboxes.csv, line {row + 1}, column 'ratio'" in msg
     validate_config({"drives": {"catalogue": str(default_catalogue_folder())}})
+
+
+def test_the_smallest_dataset_splits_into_two_designs_each_side():
+    """scikit-learn's split of the smallest count gives two designs to test and two to train
+    on, and one fewer does not (the rule behind sampling.n_mechanisms' minimum)."""
+    from sklearn.model_selection import train_test_split
+
+    from qsm.config_checks import smallest_dataset
+
+    for fraction in (0.05, 0.2, 0.5, 0.9):
+        n = smallest_dataset(fraction)
+        train, test = train_test_split(np.arange(n), test_size=fraction, random_state=0)
+        assert min(len(train), len(test)) == 2
+        train, test = train_test_split(np.arange(n - 1), test_size=fraction, random_state=0)
+        assert min(len(train), len(test)) < 2
+
+
+def test_the_reach_ratio_bounds_every_design_of_the_ranges():
+    """A brute-force search over the sampled ranges: designs that are crank-rockers and close
+    their loop over the operating range (what Stage 1 keeps), their end effector's nearest and
+    farthest distance from the base over 2001 poses. The nearest stays above the folded-arm
+    bound hypot(ee_x - 1, ee_y), the ratio of farthest to nearest below reach_ratio_bound, which
+    the search comes within 15 % of (the supremum lies where l2 + l3 = 1 + l4)."""
+    from qsm.config_checks import folded_arm_applies, reach_ratio_bound
+    from qsm.mechanisms.filters import crank_rocker
+    from qsm.physics.kinematics import loop_closes_everywhere
+    from qsm.physics.workspace import OperatingRange, arcs
+
+    config = load_config()
+    bounds = config["sampling"]["bounds"]
+    op = OperatingRange.from_degrees(config["operating_range"]["theta1_deg"], -37.5)
+    rng = np.random.default_rng(1)
+    lo = np.array([bounds[k][0] for k in ("l2", "l3", "l4", "ee_x", "ee_y")])
+    hi = np.array([bounds[k][1] for k in ("l2", "l3", "l4", "ee_x", "ee_y")])
+    u = rng.random((20000, 5))
+    u[:10000, 3:] **= 6  # half of them near the smallest ee_x and ee_y, where the ratio peaks
+    ratios = lo + u * (hi - lo)
+    ratios = ratios[crank_rocker(ratios) & loop_closes_everywhere(ratios, op.delta_max)]
+    rho, _, _ = arcs(ratios, op, 2001)
+    near, far = rho.min(axis=1), rho.max(axis=1)
+    assert folded_arm_applies(bounds)
+    assert (near > np.hypot(ratios[:, 3] - 1, ratios[:, 4])).all()
+    bound = reach_ratio_bound(bounds)
+    assert (far / near).max() <= bound
+    assert (far / near).max() > 0.85 * bound
+
+
+def test_a_task_just_inside_the_reach_ratio_is_accepted():
+    from qsm.config_checks import reach_ratio_bound
+
+    ratio = reach_ratio_bound(load_config()["sampling"]["bounds"])
+    near = 0.6 / (0.99 * ratio)  # a disk on the x axis from near to 0.6 m
+    validate_config({"task": {"points": [[-near, 0.0], [-0.6, 0.0]]}})
 
 
 def test_a_task_near_the_base_needs_a_small_scale_only():
@@ -252,7 +326,7 @@ def test_points_at_positive_x_warn_that_the_task_is_mirrored():
 
 @pytest.mark.parametrize(("xs", "side"), [((-0.1, 0.5), "x > 0"), ((-0.5, 0.1), "x <= 0")])
 def test_a_task_on_both_sides_is_designed_on_its_centre_side(xs, side):
-    cfg = validate_config({"task": {"points": [[xs[0], 0.3], [xs[1], 0.3]]}})
+    cfg = validate_config({"task": {"points": [[xs[0], 0.5], [xs[1], 0.5]]}})
     warnings = config_warnings(cfg)
     assert any(
         f"designed on the side of its enclosing disk's centre ({side})" in w for w in warnings

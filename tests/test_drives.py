@@ -152,6 +152,36 @@ def test_catalogue_errors_name_file_line_column(tmp_path, which, text, line, col
     assert column in msg
 
 
+def test_a_stepper_without_a_torque_speed_table_is_named_with_its_file_and_line(tmp_path):
+    """The DC model describes DC and BLDC motors only: a stepper needs its pull-out curve."""
+    motors = MOTORS.replace("CU_B,Custom,B,BLDC,", "CU_B,Custom,B,stepper,")
+    with pytest.raises(CatalogueError) as err:
+        read_catalogue(write_catalogue(tmp_path / "cat", motors=motors))
+    msg = str(err.value)
+    assert "test_motors.csv, line 3, column 'type': motor 'CU_B' is of type 'stepper'" in msg
+    assert "torque_speed.csv" in msg
+    ts = "motor,speed_rad_s,torque_Nm\nCU_B,0,0.5\nCU_B,10,0.3\n"
+    cat = read_catalogue(write_catalogue(tmp_path / "with_table", motors=motors, ts=ts))
+    assert offer(cat)[2]["top_speed_rad_s"] == pytest.approx(10 / 10)  # the table's last speed
+
+
+def test_a_catalogue_path_that_is_a_file_is_named_as_one(tmp_path):
+    path = write_catalogue(tmp_path / "cat") / "test_motors.csv"
+    with pytest.raises(FileNotFoundError, match=r"test_motors\.csv is a file: give the folder"):
+        read_catalogue(path)
+
+
+def test_a_drive_without_a_stated_speed_limit_offers_an_unknown_top_speed(tmp_path):
+    """Neither omega_nl nor max_int_speed given: no finite top speed, so None (JSON null)."""
+    motors = MOTORS.replace(
+        "CU_A,Custom,A,DC,24,0.1,1.0,0.001,0.5,1e-5,200,,2,,300,",
+        "CU_A,Custom,A,DC,24,0.1,1.0,0.001,0.5,1e-5,,,2,,,",
+    )
+    cat = read_catalogue(write_catalogue(tmp_path / "cat", motors=motors))
+    tops = [o["top_speed_rad_s"] for o in offer(cat)]
+    assert tops[:2] == [None, None] and tops[2] == pytest.approx(240 / 10)
+
+
 def test_shipped_catalogue_spans_1_to_300_Nm_and_has_the_papers_drive():
     cat = read_catalogue(default_catalogue_folder())
     assert 10 <= len(cat.drives) <= 30

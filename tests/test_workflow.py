@@ -2,7 +2,6 @@
 
 import copy
 import json
-import math
 
 import numpy as np
 import pandas as pd
@@ -324,11 +323,12 @@ def test_the_design_to_build(run):
     assert first.startswith("**Ready to build" if ready else "**NOT READY TO BUILD")
     assert "## The design to build" in summary_md and "| bearing A |" in summary_md
     for link, r in strength["links"].items():
-        assert r["holds"] == (
-            r["stress_peak_MPa"] <= r["allowable_MPa"]
+        assert r["holds"] == (  # with the verdict's slack of 1e-12 at the limits
+            r["stress_peak_MPa"] <= r["allowable_MPa"] * (1 + 1e-12)
             and (
                 r["buckling_factor"] is None
-                or r["buckling_factor"] >= config["strength"]["buckling_safety_factor"]
+                or r["buckling_factor"]
+                >= config["strength"]["buckling_safety_factor"] * (1 - 1e-12)
             )
         ), link
 
@@ -435,7 +435,10 @@ def test_a_far_heavy_task_completes_with_the_verdicts(tmp_path):
     cad = physics.cad(effective["cad"], effective["material"])
     assert not all_links_fit(np.array(selected["design_m"]), cad, (600, 350, 350))
     smallest = selected["printing_advice"]["smallest_over_designs"]
-    assert smallest["needed_volume_mm"] == [math.ceil(v) for v in smallest["exact_volume_mm"]]
+    for needed, exact in zip(
+        smallest["needed_volume_mm"], smallest["exact_volume_mm"], strict=True
+    ):
+        assert needed - 1 < exact - 1e-6 <= needed  # whole mm up, a size within 1e-6 mm kept
     assert all_links_fit(np.array(smallest["design_m"]), cad, tuple(smallest["needed_volume_mm"]))
     # the payload the advice names holds, 5 % more does not (the strength check run again)
     payload = selected["strength_advice"]["payload_kg"]

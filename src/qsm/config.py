@@ -106,12 +106,14 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
     """The mapping in the YAML (or JSON) file ``path``; ``ConfigError`` naming the file, and the
     line and column of a syntax error. Read with libyaml where PyYAML has it (10,000 task points
     in about a second, several times faster than pure Python)."""
+    if not Path(path).exists():
+        raise ConfigError(f"config file '{path}' does not exist")
     try:
         text = Path(path).read_text()
     except OSError as exc:
         raise ConfigError(f"cannot read config file '{path}': {exc}") from exc
     try:
-        data = yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader)) or {}
+        data = yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
     except yaml.MarkedYAMLError as exc:
         mark = exc.problem_mark or exc.context_mark
         where = f", line {mark.line + 1}, column {mark.column + 1}" if mark else ""
@@ -122,15 +124,24 @@ def read_config_file(path: str | Path) -> dict[str, Any]:
         ) from exc
     except yaml.YAMLError as exc:
         raise ConfigError(f"config file '{path}': not valid YAML: {exc}") from exc
+    if data is None:
+        raise ConfigError(
+            f"config file '{path}' is empty: it must hold a mapping of config keys (for example "
+            f"'task: {{payload_kg: 2.0}}'); config/README.md lists them"
+        )
     if not isinstance(data, dict):
-        raise ConfigError(f"config file '{path}' must hold a mapping of keys")
+        raise ConfigError(
+            f"config file '{path}' must hold a mapping of config keys, not a "
+            f"{type(data).__name__} (for example 'task: {{payload_kg: 2.0}}')"
+        )
     return data
 
 
 def configfile_errors(argv: Sequence[str]) -> list[str]:
-    """The YAML errors (file, line, column) of the files that ``--configfile`` / ``--configfiles``
-    name in a Snakemake command line ``argv``; the workflow profile prints them, since Snakemake
-    reads those files before the Snakefile runs and names neither file nor line."""
+    """The errors of the files that ``--configfile`` / ``--configfiles`` name in a Snakemake
+    command line ``argv``: missing, empty, not a mapping, or a YAML error (file, line, column).
+    The workflow profile prints them and stops, since Snakemake reads those files before the
+    Snakefile runs and names neither file nor line (a missing one ends in a traceback)."""
     files, taking = [], False
     for arg in argv:
         name, eq, value = arg.partition("=")
@@ -143,11 +154,10 @@ def configfile_errors(argv: Sequence[str]) -> list[str]:
             files.append(arg)
     errors = []
     for path in files:
-        if Path(path).is_file():
-            try:
-                read_config_file(path)
-            except ConfigError as exc:
-                errors.append(str(exc))
+        try:
+            read_config_file(path)
+        except ConfigError as exc:
+            errors.append(str(exc))
     return errors
 
 

@@ -22,6 +22,13 @@ from qsm.physics.task_points import MAX_VISITED_POINTS
 MIN_TASK_RADIUS_M = 1e-3
 #: Narrowest theta1 range (deg): a range written in radians spans at most 2 pi = 6.28.
 MIN_THETA1_SPAN_DEG = 6.3
+#: Designs needed on each side of the surrogate's train/test split: two give a test R^2 and a
+#: spread (standard deviation) of the training labels.
+MIN_SPLIT_DESIGNS = 2
+#: Grid cells a side over which :func:`reach_ratio_bound` bounds the reach ratio.
+REACH_GRID_CELLS = 256
+#: A motor angle (deg) past this, either way, is past a full turn.
+FULL_TURN_DEG = 360.0
 #: Smallest printer side (mm); a build volume written in metres has every side below it.
 MIN_PRINTER_SIDE_MM = 10.0
 #: A task point from this distance (m) up is reported as millimetres when it is out of reach.
@@ -38,7 +45,7 @@ MATERIAL_FLOORS = (
 def check_config(config: dict[str, Any]) -> None:
     """Raise :class:`ConfigError` for the first cross-key or plausibility error of ``config``
     (schema-valid, defaults filled)."""
-    _check_sampling(config["sampling"])
+    _check_sampling(config["sampling"], config["surrogate"]["test_fraction"])
     _check_operating_range(config["operating_range"])
     _check_task(config)
     _check_cad(config)
@@ -91,7 +98,50 @@ def largest_reach(bounds: dict[str, list[float]]) -> float:
     return 1.0 + math.hypot(bounds["ee_x"][1], bounds["ee_y"][1])
 
 
-def _check_sampling(sampling: dict[str, Any]) -> None:
+def smallest_dataset(test_fraction: float) -> int:
+    """The fewest mechanisms whose train/test split (scikit-learn's: ceil(fraction n) held out)
+    leaves :data:`MIN_SPLIT_DESIGNS` designs in each part."""
+    n = 2 * MIN_SPLIT_DESIGNS
+    while (
+        math.ceil(test_fraction * n) < MIN_SPLIT_DESIGNS
+        or n - math.ceil(test_fraction * n) < MIN_SPLIT_DESIGNS
+    ):
+        n += 1
+    return n
+
+
+def folded_arm_applies(bounds: dict[str, list[float]]) -> bool:
+    """Whether the folded-arm bound of :func:`reach_bounds` holds for the sampled ranges: the
+    angle from BA to the upper arm's line BD stays below pi (the crank-rocker condition and a loop
+    that closes over the whole range, which Stage 1 demands) and above -asin(l2), so the end
+    effector never comes nearer A than with the arm folded back on AB, as long as 2 atan2(ee_y,
+    ee_x) + asin(l2) <= pi for every design of the ranges."""
+    gamma = math.atan2(bounds["ee_y"][1], bounds["ee_x"][0])
+    return 2 * gamma + math.asin(min(1.0, bounds["l2"][1])) <= math.pi
+
+
+def reach_ratio_bound(bounds: dict[str, list[float]], cells: int = REACH_GRID_CELLS) -> float:
+    """An upper bound on the largest ratio of the farthest to the nearest end-effector distance
+    from A, over the designs of the sampled ranges (inf where none exists).
+
+    Per design (l1 = 1, e = hypot(ee_x, ee_y)): |AE| <= 1 + e, and |AE| > hypot(ee_x - 1, ee_y)
+    (the arm folded back on AB) where :func:`folded_arm_applies`, else |AE| >= e - 1. The ratio
+    of the two is bounded over the ranges of ee_x and ee_y cell by cell of a grid (the largest
+    numerator over the smallest denominator of each cell), so the bound is rigorous; with 256
+    cells a side it is within 0.5 % of the supremum on the default ranges (10.15)."""
+    (x0, x1), (y0, y1) = bounds["ee_x"], bounds["ee_y"]
+    xs, ys = np.linspace(x0, x1, cells + 1), np.linspace(y0, y1, cells + 1)
+    far = 1.0 + np.hypot(xs[1:, None], ys[None, 1:])
+    if folded_arm_applies(bounds):
+        dx = np.clip(np.maximum(1.0 - xs[1:], xs[:-1] - 1.0), 0.0, None)
+        near = np.hypot(dx[:, None], ys[None, :-1])
+    else:
+        near = np.clip(np.hypot(xs[:-1, None], ys[None, :-1]) - 1.0, 0.0, None)
+    with np.errstate(divide="ignore"):
+        return float(np.where(near > 0, far / np.where(near > 0, near, 1.0), np.inf).max())
+
+
+def _check_sampling(sampling: dict[str, Any], test_fraction: float) -> None:
     bounds = sampling["bounds"]
     for name, (lo, hi) in bounds.items():
         if lo <= 0:
@@ -109,6 +159,14 @@ def _check_sampling(sampling: dict[str, Any]) -> None:
             f"with l1 = 1): the smallest l2 + l3 = {bounds['l2'][0]} + {bounds['l3'][0]} is not "
             f"below 1 + the largest l4 = {1.0 + bounds['l4'][1]:g}; lower l2 or l3, or raise l4"
         )
+    smallest = smallest_dataset(test_fraction)
+    if sampling["n_mechanisms"] < smallest:
+        raise ConfigError(
+            f"config key 'sampling.n_mechanisms': {sampling['n_mechanisms']} is too few; the "
+            f"surrogate holds out surrogate.test_fraction = {test_fraction:g} of them to test "
+            f"on, and needs at least {MIN_SPLIT_DESIGNS} designs in each part (a test R^2, and the "
+            f"spread of the training labels that bounds NSGA-II's g5-g10): at least {smallest}"
+        )
     if sampling["n_mechanisms"] > sampling["n_samples"]:
         raise ConfigError(
             f"config key 'sampling.n_mechanisms': {sampling['n_mechanisms']} exceeds "
@@ -119,6 +177,13 @@ def _check_sampling(sampling: dict[str, Any]) -> None:
 def _check_operating_range(op: dict[str, Any]) -> None:
     lo, hi = op["theta1_deg"]
     key = "config key 'operating_range.theta1_deg'"
+    for value in (lo, hi):  # theta2_min_deg's schema keeps it within [-180, 180]
+        if abs(value) > FULL_TURN_DEG:
+            raise ConfigError(
+                f"{key}: {value:g} deg is past a full turn "
+                f"(beyond -{FULL_TURN_DEG:g} or {FULL_TURN_DEG:g} deg); motor angles are "
+                f"degrees within one turn (the paper's theta1 [45, 180], theta2 from -37.5)"
+            )
     if not lo < hi:
         raise ConfigError(f"{key}: min {lo} is not below max {hi}")
     if hi - lo > 360:
@@ -159,6 +224,7 @@ def _check_task(config: dict[str, Any]) -> None:
     far = points[int(np.argmax(dist))]
     need = float(dist.max()) + margin
     if need <= scale * reach:
+        _check_task_near_base(points, margin, config["sampling"]["bounds"])
         return
     basis = (
         f"no design of the sampled ranges reaches farther than {scale * reach:.3g} m from the "
@@ -174,6 +240,37 @@ def _check_task(config: dict[str, Any]) -> None:
         f"config key 'scale.max_m': {scale} m is too small for the task: {basis}; scale.max_m must "
         f"be at least {need / reach:.3g} m, or task.points nearer the base"
     )
+
+
+def _check_task_near_base(points: np.ndarray, margin: float, bounds: dict[str, Any]) -> None:
+    """The task's enclosing disk (grown by ``scale.safety_margin_m``) neither covers the base
+    joint nor spans a range of distances from it wider than any design can
+    (:func:`reach_ratio_bound`): no scale then makes a design hold it."""
+    disk = min_enclosing_circle(points)
+    centre = float(np.hypot(*disk.centre))
+    near, far = centre - disk.radius - margin, centre + disk.radius + margin
+    ratio = reach_ratio_bound(bounds)
+    grown = f" grown by scale.safety_margin_m {margin:g} m" if margin else ""
+    where = (
+        f"the task's enclosing disk (centre {_point(disk.centre)} m, radius {disk.radius:.3g} m"
+        f"{grown})"
+    )
+    if near <= 0 and np.isfinite(ratio):
+        raise ConfigError(
+            f"config key 'task.points': {where} covers the base joint (0, 0); every design of "
+            f"sampling.bounds keeps its end effector away from the base, at least "
+            f"hypot(ee_x - 1, ee_y) x l1 with the upper arm folded back. Move task.points away "
+            f"from the base"
+        )
+    if near > 0 and far / near > ratio:
+        raise ConfigError(
+            f"config key 'task.points': {where} reaches from {near:.3g} to {far:.3g} m from the "
+            f"base, a ratio of {far / near:.3g}; no design of sampling.bounds holds it at any "
+            f"scale: its end effector stays between hypot(ee_x - 1, ee_y) and "
+            f"1 + hypot(ee_x, ee_y) times l1 from the base, a ratio of at most {ratio:.3g}. Move "
+            f"the task away from the base (its nearest point at least {far / ratio:.3g} m from "
+            f"it) or make it smaller"
+        )
 
 
 def _check_cad(config: dict[str, Any]) -> None:

@@ -42,13 +42,16 @@ class Section:
     @property
     def overlap_m(self) -> float | NDArray[np.float64]:
         """Distance from a joint centre to the boss edge along a bar (m)."""
-        return np.sqrt(self.boss_radius_m**2 - (np.asarray(self.width_m) / 2) ** 2)
+        r, h = np.asarray(self.boss_radius_m, float), np.asarray(self.width_m, float) / 2
+        return np.sqrt(r * r - h * h)
 
     @property
     def weak_inertia_m4(self) -> float | NDArray[np.float64]:
-        """Second moment of the bar section about its weaker axis (m^4)."""
-        w, t = self.width_m, self.thickness_m
-        return np.minimum(w * t**3, t * w**3) / 12
+        """Second moment of the bar section about its weaker axis (m^4). Products, not powers:
+        each is correctly rounded, so a Python float and a NumPy array give the same bits
+        (``**`` is libm's ``pow`` on a float and a vectorised ufunc on an array)."""
+        w, t = np.asarray(self.width_m, float), np.asarray(self.thickness_m, float)
+        return np.minimum(w * (t * t * t), t * (w * w * w)) / 12
 
 
 def _pt(x: ArrayLike, y: ArrayLike = 0.0) -> NDArray[np.float64]:

@@ -45,9 +45,14 @@ def drive_sentences(report: dict[str, Any]) -> list[str]:
             f"{head}: NO DRIVE in the catalogue meets its duty ({_required(m)}); the nearest, "
             f"{_drive_name(m['best_drive'])}, exceeds its {fails}; the strongest drive, "
             f"{_drive_name(s)}, offers {s['peak_torque_Nm']:.0f} N m peak, "
-            f"{s['cont_torque_Nm']:.0f} N m continuous and {s['top_speed_rad_s']:.2f} rad/s"
+            f"{s['cont_torque_Nm']:.0f} N m continuous and {_speed(s['top_speed_rad_s'])}"
         )
     return out
+
+
+def _speed(rad_s: float | None) -> str:
+    """A top speed in rad/s, or "an unknown top speed" when the catalogue states none."""
+    return "an unknown top speed" if rad_s is None else f"{rad_s:.2f} rad/s"
 
 
 def use_text(use: Sequence[float | None]) -> str:

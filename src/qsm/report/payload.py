@@ -57,7 +57,8 @@ def drive_duty_note(motors: Mapping[str, Any], drives: Sequence[Any]) -> dict[st
     out: dict[str, Any] = {"drive_meets_duty": meets}
     missing = [
         f"{name} ({m['drives']}) has no drive in the catalogue that meets its duty: simulated "
-        f"with the nearest, {drive.name}, which exceeds its {', '.join(m['failing'])} limit by "
+        f"with the nearest, {drive.name}, which exceeds its "
+        f"{', '.join(k.replace('_', ' ') for k in m['failing'])} limit by "
         f"{100 * m['violation']:.0f} %"
         for (name, m), drive, ok in zip(motors.items(), drives, meets, strict=True)
         if not ok

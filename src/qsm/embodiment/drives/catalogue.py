@@ -34,6 +34,9 @@ GEARBOX_COLUMNS = (
 )  # fmt: skip
 TORQUE_SPEED_COLUMNS = ("motor", "speed_rad_s", "torque_Nm")
 TEXT_COLUMNS = frozenset({"key", "manufacturer", "ID", "type", "motor"})
+#: Motor types the DC model describes (a straight torque-speed line from k_t, V, R and omega_nl);
+#: a motor of any other type (a stepper, say) needs a torque-speed table.
+DC_MODEL_TYPES = frozenset({"DC", "BLDC"})
 
 # Values MGDB's README gives for a value a datasheet does not state (an empty cell).
 _MOTOR_DEFAULTS = {
@@ -84,15 +87,22 @@ def read_catalogue(folder: str | Path) -> Catalogue:
 
     Raises CatalogueError on a missing column, a non-numeric or negative value, a ratio or
     efficiency out of range, a duplicate key, an unknown compatibility key or a bad torque-speed
-    table; FileNotFoundError when the folder holds no motors, gearboxes or compatibility.
+    table, or a motor that is neither described by the DC model nor given a torque-speed table;
+    FileNotFoundError when ``folder`` is a file, or holds no motors, gearboxes or compatibility.
     """
     folder = Path(folder)
+    if folder.is_file():
+        raise FileNotFoundError(
+            f"drive catalogue {folder} is a file: give the folder that holds motors.csv, "
+            f"gearboxes.csv and compatibility.csv"
+        )
     if not folder.is_dir():
         raise FileNotFoundError(f"drive catalogue folder {folder} does not exist")
     motors = _read_table(_files(folder, "motors"), MOTOR_COLUMNS, _MOTOR_DEFAULTS)
     gearboxes = _read_table(_files(folder, "gearboxes"), GEARBOX_COLUMNS, _GEARBOX_DEFAULTS)
     pairs = _read_compatibility(_files(folder, "compatibility"), motors, gearboxes)
     table = _read_torque_speed(_files(folder, "torque_speed", required=False), motors)
+    _check_described(motors, table, folder)
     m = motors.loc[pairs[:, 0]]
     g = gearboxes.loc[pairs[:, 1]]
     ratio = g["ratio"].to_numpy()
@@ -107,6 +117,21 @@ def read_catalogue(folder: str | Path) -> Catalogue:
         }
     )
     return Catalogue(motors, gearboxes, drives, table)
+
+
+def _check_described(
+    motors: pd.DataFrame, table: dict[str, tuple[np.ndarray, np.ndarray]], folder: Path
+) -> None:
+    """Every motor is one the DC model describes (:data:`DC_MODEL_TYPES`) or has a torque-speed
+    table: CatalogueError naming the motor, its file and line otherwise."""
+    for key, kind in motors["type"].items():
+        if str(kind).upper() not in DC_MODEL_TYPES and key not in table:
+            raise CatalogueError(
+                f"{motors.attrs['origin'][key]}, column 'type': motor {key!r} is of type "
+                f"{kind!r}, which the DC model (types {', '.join(sorted(DC_MODEL_TYPES))}) cannot "
+                f"describe; give its pull-out torque against speed in a torque_speed.csv under "
+                f"{folder} (columns motor, speed_rad_s, torque_Nm)"
+            )
 
 
 def _files(folder: Path, kind: str, required: bool = True) -> list[Path]:
@@ -170,9 +195,10 @@ def _read_table(
                 )
             origin[rec["key"]] = f"{path}, line {line}"
             records.append(rec)
-    return pd.DataFrame.from_records(records, columns=_all_columns(records, columns)).set_index(
-        "key", drop=False
-    )
+    frame = pd.DataFrame.from_records(records, columns=_all_columns(records, columns))
+    frame = frame.set_index("key", drop=False)
+    frame.attrs["origin"] = origin  # key -> "file, line N"
+    return frame
 
 
 def _check_row(rec: dict, where: str) -> None:

@@ -83,9 +83,14 @@ class Selection:
 
 def offer(cat: Catalogue | DriveArrays) -> list[dict]:
     """What each drive offers at the output: peak torque at standstill (N m), continuous torque
-    (N m) and top speed (rad/s), in the driving direction."""
+    (N m) and top speed (rad/s; None where the catalogue states no limit), in the driving
+    direction."""
     return [
-        {"peak_torque_Nm": float(p), "cont_torque_Nm": float(c), "top_speed_rad_s": float(s)}
+        {
+            "peak_torque_Nm": float(p),
+            "cont_torque_Nm": float(c),
+            "top_speed_rad_s": float(s) if np.isfinite(s) else None,
+        }
         for p, c, s in zip(*_offer(cat), strict=True)
     ]
 
