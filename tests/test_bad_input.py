@@ -1,15 +1,24 @@
 """Bad input through Snakemake: a clear error naming the key or file; earlier results intact."""
 
+import hashlib
+from pathlib import Path
+
 import pyarrow.parquet as pq
 import pytest
 from workflow_helpers import copy_run, snakemake
 
 pytestmark = pytest.mark.workflow
 
+CATALOGUE = Path(__file__).resolve().parents[1] / "src/qsm/embodiment/drives/data"
+
 
 def snapshot(work):
-    """Modification times of every result file."""
-    return {p: p.stat().st_mtime_ns for p in (work / "results").rglob("*") if p.is_file()}
+    """Modification time and SHA-256 of every result file."""
+    return {
+        p: (p.stat().st_mtime_ns, hashlib.sha256(p.read_bytes()).hexdigest())
+        for p in (work / "results").rglob("*")
+        if p.is_file()
+    }
 
 
 @pytest.fixture
@@ -40,6 +49,14 @@ def finished(run, tmp_path):
         ("scale: {max_m: 0.05}", "config key 'scale.max_m': 0.05 m is too small for the task"),
         ("optimization: {bounds: {l2_m: [0.3, 0.1]}}", "'optimization.bounds.l2_m': [0.3, 0.1]"),
         ("operating_range: {theta2_min_deg: 60}", "'operating_range.theta2_min_deg': 60 must be"),
+        ("task: {points: [[0.0, 0.0], [-0.3, 0.1]]}", "covers the base joint (0, 0)"),
+        ("task: {points: [[-0.05, 0.0], [-0.6, 0.0]]}", "no design of sampling.bounds holds it"),
+        ("sampling: {n_mechanisms: 1}", "config key 'sampling.n_mechanisms': 1 is too few"),
+        ("sampling: {n_mechanisms: 4}", "config key 'sampling.n_mechanisms': 4 is too few"),
+        ("operating_range: {theta1_deg: [45, 400]}", "400 deg is past a full turn"),
+        ("", "bad.yaml' is empty: it must hold a mapping"),
+        ("- 1\n- 2\n", "bad.yaml' must hold a mapping of config keys, not a list"),
+        (f"drives: {{catalogue: {CATALOGUE / 'motors.csv'}}}", "motors.csv is a file"),
     ],
 )
 def test_bad_config_names_the_key_and_keeps_results(finished, tmp_path, text, message):
@@ -52,13 +69,44 @@ def test_bad_config_names_the_key_and_keeps_results(finished, tmp_path, text, me
     assert snapshot(finished) == before
 
 
-def test_task_no_design_can_reach(finished, tmp_path):
-    bad = tmp_path / "far.yaml"
-    bad.write_text("task: {points: [[-3.0, 0.0], [3.0, 0.0]]}")  # a disk round the base
-    out = snakemake(finished, "select_mechanisms", check=False, configs=(str(bad),))
+def test_a_missing_config_file_is_one_line(finished, tmp_path):
+    before = snapshot(finished)
+    out = snakemake(finished, check=False, configs=(str(tmp_path / "nowhere.yaml"),))
     assert out.returncode != 0
-    assert "task.points" in (finished / "results/logs/select_mechanisms.log").read_text()
-    assert (finished / "results/mechanisms/candidates.parquet").exists()
+    assert f"qsm: config file '{tmp_path / 'nowhere.yaml'}' does not exist" in out.stderr
+    assert "Traceback" not in out.stdout + out.stderr
+    assert snapshot(finished) == before
+
+
+def test_a_stepper_without_its_pull_out_curve_is_named(finished, tmp_path):
+    folder = tmp_path / "cat"
+    folder.mkdir()
+    for name in ("motors.csv", "gearboxes.csv", "compatibility.csv"):  # no torque_speed.csv
+        (folder / name).write_text((CATALOGUE / name).read_text())
+    bad = tmp_path / "bad.yaml"
+    bad.write_text(f"drives: {{catalogue: {folder}}}")
+    before = snapshot(finished)
+    out = snakemake(finished, check=False, configs=(str(bad),))
+    assert out.returncode != 0
+    assert "config key 'drives.catalogue'" in out.stderr
+    assert "motor 'SO_17HS19-2004S1' is of type 'stepper'" in out.stderr
+    assert snapshot(finished) == before
+
+
+def test_a_run_that_fails_late_leaves_no_verdict_standing(finished, tmp_path):
+    """A task the config checks accept (its reach ratio 9.5 is within the family's 10.2) that no
+    sampled design holds: Stage 1 fails, and the earlier run's "Ready to build" is withdrawn."""
+    assert "Ready to build" in (finished / "results/summary.md").read_text()
+    late = tmp_path / "late.yaml"
+    late.write_text("task: {points: [[-0.063, 0.0], [-0.6, 0.0]]}")
+    out = snakemake(finished, check=False, configs=(str(late),))
+    assert out.returncode != 0
+    assert (
+        "no design holds the task" in (finished / "results/logs/select_mechanisms.log").read_text()
+    )
+    assert not (finished / "results/summary.md").exists()
+    assert not (finished / "results/html/summary.html").exists()
+    assert "was an earlier run's verdict, not this config's, and is removed" in out.stderr
 
 
 def test_truncated_parquet_between_stages_names_the_file(finished):

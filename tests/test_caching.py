@@ -108,6 +108,21 @@ def test_editing_a_library_module_reruns_exactly_the_rules_that_import_it(run, t
     assert {"sample", "fit_task", "dynamics", "payload_test"} <= set(planned_jobs(work))
 
 
+def test_editing_the_drive_check_reruns_the_selection_and_the_payload_test(run, tmp_path):
+    """select_design reaches the drive check only through a function's import in the settings
+    layer: an edit of it still reruns the selection and everything after it."""
+    work = copy_run(run, tmp_path / "edited")
+    module = work / "src/qsm/embodiment/drive_checks.py"
+    module.write_text(module.read_text() + "\n# an edit\n")
+    jobs = planned_jobs(work)
+    assert {"select_design", "payload_test", "topology_optimize", "summary"} <= set(jobs)
+    selected = work / "results/realization/selected.json"
+    test = work / "results/realization/payload_test.json"
+    before = selected.stat().st_mtime_ns, test.stat().st_mtime_ns
+    snakemake(work, "--until", "payload_test")
+    assert selected.stat().st_mtime_ns > before[0] and test.stat().st_mtime_ns > before[1]
+
+
 def test_turning_the_study_off_reruns_the_summary_alone_and_its_verdicts_follow(run, tmp_path):
     """The findings table follows the config: without the study no experiment backs a verdict."""
     configs = override(tmp_path, "study: {enabled: false}")

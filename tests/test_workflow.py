@@ -2,13 +2,15 @@
 
 import copy
 import json
+import re
+from pathlib import Path
 
 import numpy as np
 import pandas as pd
 import pytest
 import trimesh
 import yaml
-from workflow_helpers import copy_run, copy_workflow, planned_jobs, snakemake
+from workflow_helpers import ROOT, copy_run, copy_workflow, planned_jobs, snakemake
 
 from qsm.app.evaluate import evaluate_ratios
 from qsm.config import validate_config
@@ -466,6 +468,63 @@ def test_a_far_heavy_task_completes_with_the_verdicts(tmp_path):
         assert verification["holds_task_share"] == 1.0
         assert "g12 dropped" in verification["constraints"]
         assert "g13 dropped" in verification["constraints"]
+
+
+def strict_json(path: Path) -> object:
+    """``path`` parsed as strict JSON: NaN, Infinity and -Infinity are refused, as JavaScript's
+    and jq's parsers refuse them."""
+
+    def refuse(name: str) -> None:
+        raise ValueError(f"{path}: {name} is not JSON")
+
+    return json.loads(path.read_text(), parse_constant=refuse)
+
+
+def test_every_json_output_is_strict_json(run):
+    files = sorted((run / "results").rglob("*.json"))
+    assert len(files) > 15
+    for path in files:
+        strict_json(path)
+
+
+def test_a_catalogue_where_no_drive_fits_gives_valid_files_and_plain_words(tmp_path):
+    """Only the stepper and its 50:1 gearhead (5 N m), 1 kg: no drive meets motor 1's duty. The
+    run completes; every JSON output is strict JSON; the payload test simulates the nearest
+    drive and says so, with finite figures (a motor past its drive's top speed has no peak use:
+    null, and the share of steps past it says why); no numpy warning reaches a log."""
+    data = ROOT / "src/qsm/embodiment/drives/data"
+    folder = tmp_path / "steppers"
+    folder.mkdir()
+    for name in ("motors.csv", "gearboxes.csv", "compatibility.csv", "torque_speed.csv"):
+        lines = (data / name).read_text().splitlines()
+        keep = [x for x in lines if not x.startswith(("MM_", "TM_", "HD_"))]
+        (folder / name).write_text("\n".join(keep) + "\n")
+    config = tmp_path / "steppers.yaml"
+    config.write_text(f"task: {{payload_kg: 1.0}}\ndrives: {{catalogue: {folder}}}\n")
+    work = copy_workflow(tmp_path / "work")
+    out = snakemake(work, configs=(str(config),))
+    results = work / "results"
+    for path in results.rglob("*.json"):
+        strict_json(path)
+    selected = strict_json(results / "realization/selected.json")
+    assert not selected["drives"]["has_drives"] and selected["printable"]
+    test = strict_json(results / "realization/payload_test.json")
+    meets = [m["has_drive"] for m in selected["drives"]["motors"].values()]
+    assert test["drive_meets_duty"] == meets and not all(meets)
+    assert (
+        "has no drive in the catalogue that meets its duty: simulated with the nearest"
+        in (test["drive_note"])
+    )
+    uses = test["peak_torque_over_available"]
+    for use, past in zip(uses, test["past_top_speed_fraction"], strict=True):
+        assert (use is None) == (past > 0)
+    summary_md = (results / "summary.md").read_text()
+    assert "**NOT READY TO BUILD" in summary_md
+    assert not re.search(r"\binf\b|\bnan\b", summary_md, re.IGNORECASE)
+    assert "0 of those printable" not in summary_md  # the design is printable
+    for log in results.rglob("*.log"):
+        assert "RuntimeWarning" not in log.read_text(), log
+    assert "RuntimeWarning" not in out.stderr
 
 
 def _cells(row: str) -> list[str]:
