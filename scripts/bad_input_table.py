@@ -18,6 +18,7 @@ import pyarrow.parquet as pq
 
 from qsm.config import ConfigError, load_config
 from qsm.config_checks import config_warnings
+from qsm.embodiment.drives.catalogue import default_catalogue_folder
 from qsm.workflow.tables import read_table
 
 #: (kind of bad input, the YAML a user might write).
@@ -32,6 +33,8 @@ CASES: tuple[tuple[str, str], ...] = (
     ("a single task point", "task: {points: [[-0.6, 0.1]]}"),
     ("task points in millimetres", "task: {points: [[-530, 170], [-700, 20]]}"),
     ("task out of reach", "task: {points: [[-6.0, 0.0], [-5.8, 0.1]]}"),
+    ("task covering the base", "task: {points: [[0.0, 0.0], [-0.3, 0.1]]}"),
+    ("task too near the base for its size", "task: {points: [[-0.05, 0.0], [-0.6, 0.0]]}"),
     ("largest scale too small", "scale: {max_m: 0.05}"),
     ("payload in grams", "task: {payload_kg: 5000}"),
     ("payload beyond the motors", "task: {payload_kg: 120}"),
@@ -44,11 +47,13 @@ CASES: tuple[tuple[str, str], ...] = (
     ),
     ("motor range min above max", "operating_range: {theta1_deg: [180, 45]}"),
     ("motor range over a turn", "operating_range: {theta1_deg: [-200, 200]}"),
+    ("motor angle past a full turn", "operating_range: {theta1_deg: [45, 400]}"),
     ("theta2 range empty", "operating_range: {theta2_min_deg: 60}"),
     ("sampling bounds min above max", "sampling: {bounds: {l3: [1.3, 0.8]}}"),
     ("sampling bound not positive", "sampling: {bounds: {l2: [0.0, 0.6]}}"),
     ("no crank-rocker possible", "sampling: {bounds: {l2: [0.5, 0.6], l3: [1.2, 1.3]}}"),
     ("more mechanisms than samples", "sampling: {n_samples: 1000, n_mechanisms: 2000}"),
+    ("too few mechanisms for the surrogate", "sampling: {n_mechanisms: 4}"),
     ("optimisation bounds min above max", "optimization: {bounds: {l2_m: [0.3, 0.1]}}"),
     ("optimisation bound not positive", "optimization: {bounds: {l2_m: [0.0, 0.1]}}"),
     ("optimisation bounds in millimetres", "optimization: {bounds: {l1_m: [300, 500]}}"),
@@ -59,8 +64,15 @@ CASES: tuple[tuple[str, str], ...] = (
     ("Young's modulus in GPa", "material: {youngs_modulus_pa: 2.2}"),
     ("yield strength in MPa", "material: {yield_strength_pa: 30}"),
     ("drive catalogue missing", "drives: {catalogue: /no/such/folder}"),
+    ("drive catalogue a file", "drives: {catalogue: src/qsm/embodiment/drives/data/motors.csv}"),
+    (
+        "a stepper without its pull-out curve",
+        "drives: {catalogue: steppers}  # motors.csv with a stepper, no torque_speed.csv",
+    ),
+    ("an empty config file", ""),
+    ("a config file that is a list", "- 1\n- 2\n"),
     ("task at x > 0 (designed mirrored)", "task: {points: [[0.53, 0.17], [0.70, 0.02]]}"),
-    ("task on both sides of the base", "task: {points: [[-0.1, 0.3], [0.5, 0.3]]}"),
+    ("task on both sides of the base", "task: {points: [[-0.1, 0.5], [0.5, 0.5]]}"),
 )
 #: (kind of bad points file, its CSV text or None for a missing file, the YAML naming it).
 POINTS_FILES: tuple[tuple[str, str | None, str], ...] = (
@@ -91,6 +103,10 @@ def main() -> None:
     print("| --- | --- | --- | --- | --- |")
     folder = Path(tempfile.mkdtemp())
     path = folder / "mine.yaml"
+    steppers = folder / "steppers"
+    steppers.mkdir()
+    for name in ("motors.csv", "gearboxes.csv", "compatibility.csv"):  # no torque_speed.csv
+        (steppers / name).write_text((default_catalogue_folder() / name).read_text())
     cases = [*CASES, ("10,000 task points", None)]
     for kind, text in cases:
         if text is None:
@@ -99,7 +115,7 @@ def main() -> None:
             shown = "task: {points: [10,000 points around (-0.6, 0.1)]}"
         else:
             shown = text
-        path.write_text(text)
+        path.write_text(text.replace("catalogue: steppers", f"catalogue: {steppers}"))
         start = time.perf_counter()
         try:
             warnings = config_warnings(load_config("config/config.yaml", path))

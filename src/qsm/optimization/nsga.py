@@ -71,8 +71,10 @@ class InfeasibleProblem(RuntimeError):
     """NSGA-II ended with no feasible design; ``violation`` holds each constraint's violation
     (``G`` clipped at 0) for each design of the last population."""
 
-    def __init__(self, violation: NDArray[np.float64]) -> None:
-        super().__init__("NSGA-II found no feasible design")
+    def __init__(
+        self, violation: NDArray[np.float64], message: str = "NSGA-II found no feasible design"
+    ) -> None:
+        super().__init__(message)
         self.violation = violation
 
     def least(self, names: tuple[str, ...], expensive: tuple[str, ...]) -> dict[str, float]:
@@ -163,6 +165,17 @@ def _design_table(
     return table
 
 
+def _paper_infeasible(n_designs: int) -> str:
+    """Why NSGA-II may find no design that meets the paper's g1..g10, and what to change."""
+    return (
+        f"NSGA-II found no design that meets the paper's g1..g10 (the surrogate's predictions "
+        f"positive and within optimization.z standard deviations of the mean of its training "
+        f"labels) after optimization.generations: with {n_designs} designs in the dataset the "
+        f"surrogate and that band may be too poor; raise config key 'sampling.n_mechanisms' "
+        f"(or optimization.generations)"
+    )
+
+
 def optimize(
     formulation: str,
     model: Surrogate,
@@ -227,7 +240,7 @@ def optimize(
             least = exc.least(names, (G13, G14))
             unmet = [n for n in (G12, G14, G13) if least.get(n, 0.0) > 0]
             if extra is None or not unmet:
-                raise
+                raise InfeasibleProblem(exc.violation, _paper_infeasible(len(dataset))) from None
             if unmet[0] == G12:
                 dropped.append(
                     f"g12 dropped: no design printable on "
