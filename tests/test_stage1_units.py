@@ -168,10 +168,10 @@ def test_cli_reports_infeasible_designs_and_bad_input(tmp_path):
         "0.5",
         "1.2",
         "0.4",
-        "--task-points",  # a disk round the base, which no crescent holds
-        "-3",
+        "--task-points",  # a thin annulus about the base, which this crescent does not hold
+        "-0.063",
         "0",
-        "3",
+        "-0.6",
         "0",
     )
     assert far.returncode == 0 and json.loads(far.stdout)["feasible"] is False
