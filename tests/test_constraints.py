@@ -6,15 +6,17 @@ import numpy as np
 import pytest
 from reference_workspace import reachable
 
-from qsm.embodiment.printing import all_links_fit, link_boxes_mm, needed_volume_mm, outline_boxes_mm
+from qsm.embodiment.printing import (
+    all_links_fit,
+    link_boxes_mm,
+    needed_volume_mm,
+    outline_boxes_mm,
+    printability_violation_mm,
+)
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimization.constraint_set import ExtraConstraints
-from qsm.optimization.constraints import (
-    OPEN_LOOP_VIOLATION_M,
-    containment_margin_m,
-    printability_violation_mm,
-)
+from qsm.optimization.constraints import OPEN_LOOP_VIOLATION_M, containment_margin_m
 from qsm.optimization.problems import LabelStats, PaperProblem, RatiosProblem, paper_constraints
 from qsm.physics.cad import CadSettings
 from qsm.physics.containment import containment_margin

@@ -270,6 +270,18 @@ def test_export_round_trip_of_a_pareto_design(run, tmp_path):
         assert record["true_performance"][key] == pytest.approx(row[key], rel=1e-12)
     selected = json.loads((run / "results/realization/selected.json").read_text())
     np.testing.assert_array_equal(design, selected["design_m"])  # rank 1 = the knee selected
+    # one realisation (qsm.realization.pipeline.realize): the export's strength and drive
+    # records are the workflow's, and its solid bored parts the workflow's, file for file
+    assert record["strength"] == selected["strength"]
+    assert record["drives"] == selected["drives"]
+    topology = json.loads((run / "results/realization/topology.json").read_text())
+    links = topology["links"]
+    held = {n for n, link in links.items() if link["carries_loads"] and not link["kept_solid"]}
+    for name, part in record["parts"].items():
+        if name not in held:  # an optimised plate has the openings of its own besides
+            assert part["holes"] == topology["parts"]["holes"][name], name
+        built = run / f"results/realization/stl/before/{name}.stl"
+        assert (out / f"stl/{name}.stl").read_bytes() == built.read_bytes(), name
     # the MJCF loads in MuJoCo with the loop closed, the STLs are watertight millimetre solids
     model = mujoco.MjModel.from_xml_path(str(out / "model.xml"))
     assert model.neq == 1 and model.nu == 2 and model.njnt == 4

@@ -55,16 +55,16 @@ def test_operating_range_defaults_equal_the_schema():
 
 
 def test_the_settings_layer_gives_the_default_dataclasses_on_the_default_config():
-    from qsm.settings import links, payload, physics, surrogate, topology
+    from qsm.settings import links, physics, plates, simulation, surrogate
 
     c = CONFIG
     assert physics.cad(c["cad"], c["material"]) == CadSettings()
     assert links.material(c["material"]) == Material()
     assert links.strength(c["strength"]) == StrengthSettings()
     assert physics.duty(c["dynamics"]["duty"], c["operating_range"]) == DutySettings()
-    assert topology.topology(c["topology"], c["material"], c["strength"]) == TopologySettings()
+    assert plates.topology(c["topology"], c["material"], c["strength"]) == TopologySettings()
     assert surrogate.surrogate(c["surrogate"]) == SurrogateSettings()
-    test = payload.payload_test(c["payload_test"], c["task"]["payload_kg"], c["operating_range"])
+    test = simulation.payload_test(c["payload_test"], c["task"]["payload_kg"], c["operating_range"])
     assert test == PayloadSettings()
     fit = physics.fit(c["operating_range"], c["task"]["points"], c["scale"], c["workspace"])
     assert fit.resolution == Resolution() and fit.op == physics.operating_range(

@@ -9,9 +9,8 @@ import pytest
 import shapely
 import trimesh
 
-from qsm.app.export_printing import link_printability
 from qsm.embodiment import bearings, bom, part_mass, parts, printing
-from qsm.optimization.constraints import printability_violation_mm
+from qsm.embodiment.printing import link_printability, printability_violation_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import LINK_NAMES
 from qsm.realization.export import section_scale

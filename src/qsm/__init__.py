@@ -49,7 +49,7 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "choose_design": ("qsm.realization.selection", "choose_design"),
     "printing_advice": ("qsm.realization.selection", "printing_advice"),
     "containment_margin_m": ("qsm.optimization.constraints", "containment_margin_m"),
-    "printability_violation_mm": ("qsm.optimization.constraints", "printability_violation_mm"),
+    "printability_violation_mm": ("qsm.embodiment.printing", "printability_violation_mm"),
 }
 __all__ = sorted(_EXPORTS)
 

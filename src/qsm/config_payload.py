@@ -18,19 +18,18 @@ GRAMS_FROM_KG = 100.0
 
 def catalogue_folder(config: dict[str, Any]) -> str:
     """The drive catalogue's folder: ``drives.catalogue``, or the one shipped with qsm."""
-    from qsm.embodiment.drives.catalogue import default_catalogue_folder
+    from qsm.embodiment.drives.catalogue import catalogue_folder as folder_of
 
-    folder = config["drives"]["catalogue"]
-    return str(default_catalogue_folder() if folder is None else folder)
+    return str(folder_of(config["drives"]["catalogue"]))
 
 
 def check_drives(config: dict[str, Any]) -> None:
     """The drive catalogue reads: every file, row and column valid (the error names them)."""
-    from qsm.embodiment.drives.catalogue import read_catalogue
+    from qsm.embodiment.drives.catalogue import load_catalogue
 
     folder = catalogue_folder(config)
     try:
-        read_catalogue(folder)
+        load_catalogue(folder)
     except (ValueError, FileNotFoundError) as exc:
         raise ConfigError(f"config key 'drives.catalogue': {folder}: {exc}") from None
 
@@ -41,10 +40,10 @@ def motor_limits_Nm(config: dict[str, Any]) -> tuple[list[float], str]:
     limits = config["payload_test"]["torque_limits_Nm"]
     if limits is not None:
         return [float(v) for v in limits], "payload_test.torque_limits_Nm"
-    from qsm.embodiment.drives.catalogue import read_catalogue
+    from qsm.embodiment.drives.catalogue import load_catalogue
     from qsm.embodiment.drives.selection import offer
 
-    peak = max(o["peak_torque_Nm"] for o in offer(read_catalogue(catalogue_folder(config))))
+    peak = max(o["peak_torque_Nm"] for o in offer(load_catalogue(catalogue_folder(config))))
     return [peak, peak], "the strongest drive of drives.catalogue, for each motor"
 
 

@@ -1,4 +1,6 @@
 # Shared definitions: the conda environment, code provenance and the settings rules depend on.
+import functools
+
 from qsm.physics.task_points import design_task
 from qsm.workflow.provenance import source_hash
 
@@ -43,9 +45,10 @@ def stage2_settings():
     }
 
 
+@functools.cache
 def drive_settings():
     """``drives`` with a hash of the catalogue's CSV files: editing the catalogue reruns the
-    rules that choose drives (a config value alone would not)."""
+    rules that choose drives (a config value alone would not). Hashed once per run."""
     import hashlib
 
     from qsm.config_payload import catalogue_folder

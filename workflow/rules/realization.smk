@@ -73,6 +73,7 @@ rule topology_optimize:
         cad=config["cad"],
         material=config["material"],
         strength=config["strength"],
+        drives=drive_settings(),
         duty=config["dynamics"]["duty"],
         operating_range=config["operating_range"],
         payload_kg=config["task"]["payload_kg"],

@@ -14,7 +14,7 @@ from qsm.report.payload import (
     series_table,
     summary,
 )
-from qsm.settings import actuation, payload, physics
+from qsm.settings import actuation, physics, simulation
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import write_table
@@ -28,7 +28,7 @@ with logged(snakemake.log[0]) as log:
     design = np.asarray(selected["design_m"])
     with open(inp.links) as fh:
         props = props_from_json(json.load(fh))
-    test_settings = payload.payload_test(p.payload_test, p.payload_kg, p.operating_range)
+    test_settings = simulation.payload_test(p.payload_test, p.payload_kg, p.operating_range)
     catalogue = actuation.catalogue(p.drives)
     drives = []
     for j, m in selected["drives"]["motors"].items():  # the chosen drive, or the nearest

@@ -25,7 +25,6 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping, Sequence
-from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -33,7 +32,6 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from qsm.app.evaluate import checked_lengths
-from qsm.app.export_printing import link_printability
 from qsm.app.export_readme import describe_source, export_readme, fmt
 from qsm.app.locate import (
     TRUE_KEYS,
@@ -44,10 +42,10 @@ from qsm.app.locate import (
     ratios_design,
 )
 from qsm.config import load_config, validate_config
-from qsm.embodiment.parts import link_parts, part_meshes
-from qsm.embodiment.verdict import strength_record
+from qsm.embodiment.parts import part_meshes
+from qsm.embodiment.printing import link_printability
 from qsm.optimization.verify import verify_design
-from qsm.physics.cad import CadError, link_outlines, mass_properties
+from qsm.physics.cad import CadError, mass_properties
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES, as_design
@@ -55,13 +53,12 @@ from qsm.physics.mirror import design_points, task_record
 from qsm.physics.mjcf import mjcf_xml
 from qsm.physics.urdf import LOOP_NOTE, urdf_xml
 from qsm.physics.workspace import OperatingRange
-from qsm.realization.assembly import bearing_rows
 from qsm.realization.export import export_stls
+from qsm.realization.pipeline import realize
 from qsm.realization.selection import printing_advice
 from qsm.report.design_sheet import design_sheet
 from qsm.report.drawing import draw_links
-from qsm.settings import actuation, physics
-from qsm.settings import links as link_settings
+from qsm.settings import actuation, physics, realization
 from qsm.workflow.json_files import write_json
 
 
@@ -80,28 +77,18 @@ def export_design(
     payload = float(config["task"]["payload_kg"])
     volume = tuple(float(v) for v in config["printing"]["build_volume_mm"])
     fit = physics.fit_of(config)
-    duty_settings = physics.duty(config["dynamics"]["duty"], config["operating_range"])
-    duty = duty_cycle(duty_settings)
-    check = link_settings.strength_check(
-        config["cad"], config["material"], config["strength"], payload, duty_settings
-    )
-    sized = check.section_scales(d)
-    scale = None if sized is None else tuple(float(f) for f in sized.scale[0])
+    duty = duty_cycle(physics.duty(config["dynamics"]["duty"], config["operating_range"]))
     try:
-        link_outlines(d, cad, scale)
+        done = realize(d, realization.realization_of(config))
     except CadError as exc:
         raise ValueError(f"config 'cad': the link section does not fit this design: {exc}") from exc
+    scale, strength, parts = done.scale, done.strength, done.parts
     verified = verify_design(d, fit, duty, cad, payload, None if scale is None else np.array(scale))
     performance = {k: verified[k] for k in TRUE_KEYS}
     task = task_record(config["task"]["points"])
     props = mass_properties(d, cad, scale)  # the solid links of each link's section
     xml = mjcf_xml(d, cad, payload, home_pose(d, fit.op), bool(task["mirrored"]), props)
     (folder / "model.xml").write_text(xml)
-    strength = strength_record(d, check)
-    part_settings = link_settings.parts(config["cad"], config["material"], config["strength"])
-    part_settings = replace(part_settings, scale=scale)
-    names = {j: b["designation"] for j, b in strength["bearings"].items()}
-    parts = link_parts(d, bearing_rows(names, part_settings.table), part_settings)
     stl = export_stls(part_meshes(parts), folder / "stl", volume)
     draw_links(d, parts, folder / "drawing")
     boxes = link_printability(d, cad, scale, volume)
@@ -127,13 +114,7 @@ def export_design(
         printability["advice"] = printing_advice(d, cad, volume, fit.disk)
     test = config["payload_test"]
     op = config["operating_range"]
-    drives = actuation.drive_check(
-        config["drives"],
-        config["cad"],
-        config["material"],
-        payload,
-        physics.duty(config["dynamics"]["duty"], op),
-    ).report(d, None if sized is None else sized.scale)
+    drives = done.drives
     effort = test["torque_limits_Nm"] or _drive_efforts(drives, config)
     urdf = urdf_xml(
         d,

@@ -28,7 +28,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.drives.catalogue import Catalogue, default_catalogue_folder, read_catalogue
+from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
 from qsm.embodiment.drives.selection import Selection, select_drives
 from qsm.embodiment.drives.utilisation import CHECKS, DriveArrays
 from qsm.embodiment.link_checks import StrengthCheck
@@ -48,7 +48,7 @@ CHUNK = 128
 
 
 def _default_catalogue() -> Catalogue:
-    return read_catalogue(default_catalogue_folder())
+    return load_catalogue()
 
 
 @dataclass(frozen=True)

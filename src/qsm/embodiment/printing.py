@@ -12,7 +12,12 @@ may be turned to any axis-aligned orientation, so only the sorted sides matter).
 the bosses follow the bearings (:func:`qsm.embodiment.parts.joint_radii`), so the boxes are
 computed from the per-joint boss radii (:func:`link_boxes_mm`, closed form of the outlines of
 :mod:`qsm.embodiment.parts`; with every radius equal to ``cad.boss_radius_m`` it is
-:func:`qsm.optimization.constraints.link_boxes_mm`).
+:func:`link_boxes_mm` without radii).
+
+This module is where printability is decided: the fit test (:func:`box_fits`, one tolerance),
+the optimisation's g12 (:func:`printability_violation_mm`), the selection's and the STL files'
+fit (:func:`all_links_fit`, :func:`box_fits`), the export's per-link account with each link of
+its own section (:func:`link_printability`) and the advice on the printer a design needs.
 
 "Smallest" orders the needed volumes lexicographically on their sides sorted from the largest down
 (a long link decides first: it is what rules printers out), then by the volume. Sizes are rounded
@@ -29,8 +34,12 @@ import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.defaults import default
-from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, link_outlines
-from qsm.physics.kinematics import DESIGN_COLUMNS, as_design
+from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, link_outlines, link_settings
+from qsm.physics.kinematics import DESIGN_COLUMNS, LINK_NAMES, as_design
+
+#: How far (mm) a box may exceed the build volume and still fit: rounding, never a real excess.
+#: Every fit test of qsm (the outlines', the STL files', the export's) uses it.
+FIT_TOLERANCE_MM = 1e-9
 
 #: The paper's printer, W x L x H (mm).
 BUILD_VOLUME_MM: tuple[float, float, float] = tuple(map(float, default("printing.build_volume_mm")))
@@ -175,11 +184,28 @@ def fits_build_volume(
 
     Raises :class:`qsm.physics.cad.CadError` when the section does not fit the design at all.
     """
-    vol = np.sort(np.asarray(volume_mm, dtype=float))
     out = {}
     for name, dims in outline_boxes_mm(design, cad).items():
-        out[name] = {"fits": bool(np.all(np.sort(dims) <= vol + 1e-9)), "dims_mm": dims}
+        out[name] = {"fits": box_fits(dims, volume_mm), "dims_mm": dims}
     return out
+
+
+def box_fits(dims_mm: ArrayLike, volume_mm: ArrayLike) -> bool:
+    """Whether a box (mm) fits the build volume ``volume_mm`` in some axis-aligned orientation:
+    sorted side by side, within :data:`FIT_TOLERANCE_MM`."""
+    dims, vol = np.sort(np.asarray(dims_mm, float)), np.sort(np.asarray(volume_mm, float))
+    return bool(np.all(dims <= vol + FIT_TOLERANCE_MM))
+
+
+def shortfall_m(designs: ArrayLike, cad: CadSettings) -> NDArray[np.float64]:
+    """How much (m) each link (N, 4) of ``designs`` (N, 6) falls short of holding its bosses of
+    section ``cad``: a bar (lower arm, crank, coupler) needs two boss overlaps, the upper arm's
+    rocker leg too and its two legs ``cad.leg_min_m`` each (<= 0: the slack)."""
+    d = np.atleast_2d(as_design(designs))
+    x0, leg = cad.boss_overlap_m, cad.leg_min_m
+    bars = 2 * x0 - d[:, :4]
+    upper = np.column_stack([bars[:, 3], leg - d[:, 4], leg - d[:, 5]]).max(axis=1)
+    return np.column_stack([bars[:, :3], upper])
 
 
 def all_links_fit(
@@ -192,3 +218,46 @@ def all_links_fit(
         return all(v["fits"] for v in fits_build_volume(design, cad, volume_mm).values())
     except CadError:
         return False
+
+
+def printability_violation_mm(
+    designs: ArrayLike, cad: CadSettings, volume_mm: ArrayLike
+) -> NDArray[np.float64]:
+    """g12: largest excess (mm) of a link's sorted box over the sorted build volume, per design.
+
+    Also positive when the section is too large for a link (:class:`qsm.physics.cad.CadError`): by
+    how much (mm) the shortest bar falls short of holding its two bosses.
+    """
+    d = np.atleast_2d(as_design(designs))
+    excess = box_excess_mm(d, cad, volume_mm)
+    return np.maximum(excess, shortfall_m(d, cad).max(axis=1) * 1e3)
+
+
+def link_printability(
+    design: ArrayLike, cad: CadSettings, scale: ArrayLike | None, volume_mm: tuple[float, ...]
+) -> dict[str, Any]:
+    """``links``: per link its outline's box (x, y extents and thickness, mm) and whether it fits
+    ``volume_mm`` (:func:`box_fits`); ``needed_volume_mm`` (sides from the largest) and
+    ``print_excess_mm`` (g12, :func:`printability_violation_mm`, link by link), each link of
+    ``cad``'s section scaled by its entry of ``scale`` (4,) (None: ``cad``'s). With one section
+    for every link the numbers are g12's."""
+    d = np.asarray(as_design(design), dtype=float)
+    sections = link_settings(cad, scale)
+    vol = np.sort(np.asarray(volume_mm, dtype=float))
+    links = {}
+    for name, poly in link_outlines(d, cad, scale).items():
+        ext = (poly.max(axis=0) - poly.min(axis=0)) * 1e3
+        dims = (float(ext[0]), float(ext[1]), sections[name].thickness_m * 1e3)
+        links[name] = {"fits": box_fits(dims, vol), "dims_mm": dims}
+    boxes = np.stack(
+        [link_boxes_mm(d[None], None, sections[n])[0, k] for k, n in enumerate(LINK_NAMES)]
+    )
+    excess = max(
+        max(float((np.sort(boxes[k]) - vol).max()), 1e3 * shortfall_m(d, sections[n])[0, k])
+        for k, n in enumerate(LINK_NAMES)
+    )
+    return {
+        "links": links,
+        "needed_volume_mm": np.sort(boxes, axis=-1)[..., ::-1].max(axis=0).tolist(),
+        "print_excess_mm": excess,
+    }

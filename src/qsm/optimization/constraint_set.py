@@ -12,8 +12,9 @@ from numpy.typing import NDArray
 
 from qsm.embodiment.drive_checks import DriveCheck, same_loads, violation_of
 from qsm.embodiment.link_checks import UNDEFINED_VIOLATION, StrengthCheck
+from qsm.embodiment.printing import printability_violation_mm
 from qsm.mechanisms.scale import FitSettings
-from qsm.optimization.constraints import containment_margin_m, printability_violation_mm
+from qsm.optimization.constraints import containment_margin_m
 from qsm.physics.cad import CadSettings
 from qsm.physics.duty import DutySettings
 

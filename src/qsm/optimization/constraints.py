@@ -30,9 +30,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.printing import box_excess_mm
 from qsm.mechanisms.filters import kinematic_checks
-from qsm.physics.cad import CadSettings
 from qsm.physics.containment import disk_arc_half_width
 from qsm.physics.kinematics import as_design
 from qsm.physics.task import Disk
@@ -135,20 +133,3 @@ def containment_margin_m(
     margin = np.minimum(np.where(covered, have - need, -(need + gap)) * radii, radial_m)
     out[closes] = margin.min(axis=1)
     return out
-
-
-def printability_violation_mm(
-    designs: ArrayLike, cad: CadSettings, volume_mm: ArrayLike
-) -> NDArray[np.float64]:
-    """g12: largest excess (mm) of a link's sorted box over the sorted build volume, per design.
-
-    Also positive when the section is too large for a link (:class:`qsm.physics.cad.CadError`): by
-    how much (mm) the shortest bar falls short of holding its two bosses.
-    """
-    d = np.atleast_2d(as_design(designs))
-    excess = box_excess_mm(d, cad, volume_mm)
-    x0, leg = cad.boss_overlap_m, cad.leg_min_m
-    short = np.column_stack([2 * x0 - d[:, :4].min(axis=1), leg - d[:, 4], leg - d[:, 5]]).max(
-        axis=1
-    )
-    return np.maximum(excess, short * 1e3)

@@ -10,11 +10,11 @@ import pandas as pd
 
 from qsm.embodiment.drive_checks import DriveCheck, with_embodiment
 from qsm.embodiment.link_checks import StrengthCheck
-from qsm.embodiment.printing import all_links_fit, needed_volume_mm
+from qsm.embodiment.printing import all_links_fit, needed_volume_mm, printability_violation_mm
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
-from qsm.optimization.constraints import containment_margin_m, printability_violation_mm
+from qsm.optimization.constraints import containment_margin_m
 from qsm.physics.cad import CadSettings
 from qsm.physics.clearance import disk_clearance_m
 from qsm.physics.duty import Duty

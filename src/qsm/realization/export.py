@@ -11,6 +11,7 @@ import numpy as np
 import pandas as pd
 import trimesh
 
+from qsm.embodiment.printing import box_fits
 from qsm.physics.cad import CadSettings, MassProperties
 from qsm.physics.kinematics import DESIGN_COLUMNS, LINK_NAMES
 
@@ -76,7 +77,7 @@ def export_stls(
     """Write each mesh (metres) as ``<name>.stl`` in millimetres and check it.
 
     Returns per link: path, watertight, the sorted box (mm) and whether it fits ``volume_mm`` in
-    some axis-aligned orientation.
+    some axis-aligned orientation (:func:`qsm.embodiment.printing.box_fits`).
     """
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
@@ -91,7 +92,7 @@ def export_stls(
             "path": str(path),
             "watertight": bool(mm.is_watertight),
             "box_mm": box,
-            "fits_build_volume": bool(np.all(np.array(box) <= np.sort(volume_mm))),
+            "fits_build_volume": box_fits(box, volume_mm),
         }
     return checks
 

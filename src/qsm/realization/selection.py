@@ -37,9 +37,9 @@ from qsm.embodiment.printing import (
     box_excess_mm,
     fits_build_volume,
     needed_volume_mm,
+    printability_violation_mm,
 )
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
-from qsm.optimization.constraints import printability_violation_mm
 from qsm.optimization.ranking import OBJECTIVES, RULES, rule_scores, true_columns
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS

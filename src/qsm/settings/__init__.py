@@ -12,5 +12,6 @@ builds. :mod:`~qsm.settings.physics` (motor ranges, the scale-up, link solids, t
 :mod:`~qsm.settings.links` (material, strength, sizing, parts), :mod:`~qsm.settings.actuation`
 (the drive catalogue and check),
 :mod:`~qsm.settings.surrogate`, :mod:`~qsm.settings.optimization` (g11-g14),
-:mod:`~qsm.settings.topology` and :mod:`~qsm.settings.payload` (Stage 6).
+:mod:`~qsm.settings.realization`, :mod:`~qsm.settings.plates` and :mod:`~qsm.settings.simulation`
+(Stage 6).
 """

@@ -2,27 +2,21 @@
 
 from __future__ import annotations
 
-import functools
 from collections.abc import Mapping
 from typing import Any
 
 from qsm.embodiment.drive_checks import DriveCheck
-from qsm.embodiment.drives.catalogue import Catalogue, default_catalogue_folder, read_catalogue
+from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
 from qsm.physics.duty import DutySettings, duty_cycle
 from qsm.settings.physics import cad
 
 Section = Mapping[str, Any]
 
 
-@functools.lru_cache(maxsize=4)
-def _catalogue(folder: str | None) -> Catalogue:
-    return read_catalogue(default_catalogue_folder() if folder is None else folder)
-
-
 def catalogue(section: Section) -> Catalogue:
     """``drives.catalogue``: the drive catalogue (null: the one shipped with qsm), read once per
-    process."""
-    return _catalogue(section["catalogue"])
+    process (:func:`qsm.embodiment.drives.catalogue.load_catalogue`)."""
+    return load_catalogue(section["catalogue"])
 
 
 def drive_check(

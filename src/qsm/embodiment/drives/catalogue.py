@@ -17,6 +17,7 @@ Matlab reader, no direct-drive gearbox is added implicitly: write a gearbox of r
 from __future__ import annotations
 
 import csv
+import functools
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -80,6 +81,25 @@ class Catalogue:
 def default_catalogue_folder() -> Path:
     """The folder of the catalogue shipped with qsm (built from makers' datasheets)."""
     return Path(str(resources.files("qsm.embodiment.drives") / "data"))
+
+
+def catalogue_folder(folder: str | Path | None) -> Path:
+    """``drives.catalogue``'s folder: ``folder``, or the one shipped with qsm when None (the one
+    place that default is decided)."""
+    return default_catalogue_folder() if folder is None else Path(folder)
+
+
+def load_catalogue(folder: str | Path | None = None) -> Catalogue:
+    """The catalogue of :func:`catalogue_folder`, read once per process while its CSV files keep
+    their modification times (config validation, the settings and the checks share it)."""
+    path = catalogue_folder(folder)
+    files = sorted(path.rglob("*.csv")) if path.is_dir() else []
+    return _cached(str(path), tuple((str(f), f.stat().st_mtime_ns) for f in files))
+
+
+@functools.lru_cache(maxsize=8)
+def _cached(folder: str, stamp: tuple[tuple[str, int], ...]) -> Catalogue:
+    return read_catalogue(folder)
 
 
 def read_catalogue(folder: str | Path) -> Catalogue:

@@ -1,0 +1,91 @@
+"""The parts to build of a realised design: the printed plates topology-optimised where they
+still hold, bored for the bearings, their bill of materials, STL files, masses and the torques
+with them (the rule ``topology_optimize``)."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from qsm.embodiment.parts import LinkPart, part_meshes
+from qsm.physics.cad import MassProperties
+from qsm.physics.duty import Duty
+from qsm.realization.assembly import final_parts, write_parts
+from qsm.realization.export import export_stls
+from qsm.realization.fe import TopologySettings
+from qsm.realization.geometry import extrude
+from qsm.realization.pipeline import Realization
+from qsm.realization.topology import TopologyResult, optimise_links
+from qsm.realization.torques import torques_before_after
+
+
+@dataclass(frozen=True)
+class BuiltLinks:
+    """What :func:`build_links` made: the topology result, the final bored parts, the link mass
+    properties (kg, m, kg m^2), the torques before and after (N m), the STL checks (``before``
+    and ``after``) and the ``topology.json`` record."""
+
+    topology: TopologyResult
+    parts: dict[str, LinkPart]
+    props: dict[str, MassProperties]
+    torques: dict[str, Any]
+    stl_checks: dict[str, Any]
+    record: dict[str, Any]
+
+
+def build_links(
+    done: Realization,
+    payload_kg: float,
+    duty: Duty,
+    topology: TopologySettings,
+    material_name: str,
+    folder: str | Path,
+    volume_mm: tuple[float, ...],
+    drawing: dict[str, str],
+) -> BuiltLinks:
+    """Optimise the plates of ``done`` (:func:`qsm.realization.pipeline.realize`) for its loads
+    (``payload_kg`` at E over ``duty``), keep an optimised plate only where it holds, bore every
+    part, and write the BOM into ``folder`` and the STLs (mm) of the solid and the final parts
+    into ``folder/stl/before`` and ``folder/stl/after``, checked against ``volume_mm``.
+    ``drawing`` names the dimensioned drawing's files (``svg``, ``png``) for the record."""
+    cad = done.part_settings.cad
+    result = optimise_links(done.design, cad, payload_kg, duty, topology, scale=done.scale)
+    held = {
+        name: link.polygon
+        for name, link in result.links.items()
+        if link.carries_loads and not link.kept_solid
+    }
+    parts = final_parts(done.design, done.bearing_rows, done.part_settings, held)
+    written = write_parts(
+        parts,
+        done.bearing_rows,
+        done.part_settings,
+        material_name,
+        {name: name in held for name in parts},
+        folder,
+        done.drives,
+    )
+    written["drawing"] = dict(drawing)
+    written["section_mm"] = {  # each part's section as drawn and built
+        name: [1e3 * link.section.width_m, 1e3 * link.section.thickness_m]
+        for name, link in parts.items()
+    }
+    props = written.pop("masses")
+    written["masses_kg"] = {name: m.mass_kg for name, m in props.items()}
+    torques = torques_before_after(done.design, cad, payload_kg, duty, props, done.scale)
+    after = part_meshes(parts)
+    after.update(
+        {name: extrude(parts[name].polygon, parts[name].section.thickness_m) for name in held}
+    )
+    checks = {
+        "before": export_stls(part_meshes(done.parts), f"{folder}/stl/before", volume_mm),
+        "after": export_stls(after, f"{folder}/stl/after", volume_mm),
+    }
+    written["printer"] = {  # the parts to print against the printer, as drawn
+        name: {"box_mm": c["box_mm"], "fits": c["fits_build_volume"]}
+        for name, c in checks["after"].items()
+    }
+    summary = {name: link.summary() for name, link in result.links.items()}
+    record = {"carries_loads": result.carries_loads, "links": summary, "parts": written}
+    return BuiltLinks(result, parts, props, torques, checks, record)

@@ -1,0 +1,147 @@
+"""``selected.json``: the design Stage 6 realises, its realisation and the verdict that states
+it with this run's numbers, and the figure of the design over its workspace."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pandas as pd
+
+from qsm.embodiment.advice import advice_sentences as strength_sentences
+from qsm.embodiment.advice import strength_advice
+from qsm.embodiment.printing import advice_sentence, smallest_build_volume
+from qsm.embodiment.verdict import strength_verdict
+from qsm.physics.cad import CadSettings
+from qsm.physics.clearance import disk_clearance_m
+from qsm.physics.mirror import task_record
+from qsm.physics.task import Disk, min_enclosing_circle
+from qsm.physics.workspace import OperatingRange
+from qsm.realization.export import selection_record
+from qsm.realization.pipeline import Realization, RealizationSettings, realize
+from qsm.realization.selection import (
+    advice_sentences,
+    candidate_pool,
+    choose_design,
+    printing_advice,
+)
+from qsm.report.drive_text import drive_sentences
+from qsm.report.figures import draw_design
+
+
+def selected_record(
+    fronts: Mapping[str, pd.DataFrame],
+    primary: str,
+    dataset: pd.DataFrame,
+    rule: str,
+    volume_mm: tuple[float, float, float],
+    task_points: Sequence[Sequence[float]],
+    user_points: Sequence[Sequence[float]],
+    op: OperatingRange,
+    settings: RealizationSettings,
+) -> tuple[dict[str, Any], Realization]:
+    """The design chosen by ``rule`` from the fronts (``primary`` first) or the dataset
+    (:func:`qsm.realization.selection.choose_design`), realised (:func:`realize`), as the record
+    of ``selected.json``: its row, how it was found, the task (the user's points; the design's
+    are ``task_points``), the clearance (m), strength, drives, the advice where a check fails,
+    and the verdict."""
+    cad = settings.parts.cad
+    disk = min_enclosing_circle(task_points)
+    row, how = choose_design(fronts, primary, dataset, rule, cad, volume_mm)
+    record = selection_record(row)
+    record.update(how)
+    record["task"] = task_record(user_points)
+    record["clearance_m"] = disk_clearance_m(record["design_m"], op, disk)
+    done = realize(record["design_m"], settings)
+    record["strength"], record["drives"] = done.strength, done.drives
+    verdicts = []
+    if not how["holds_loads"]:
+        record["strength_advice"] = strength_advice(record["design_m"], settings.strength)
+        verdicts.append(_strength_failure(record, settings))
+    if not done.has_drives:
+        verdicts.append(
+            "NO DRIVE for each motor in the catalogue"
+            + ("" if how["has_drives"] else ", for any design of the fronts or the dataset")
+            + ": "
+            + "; ".join(drive_sentences(done.drives))
+        )
+    if not how["printable"]:
+        verdicts.append(_printing_failure(record, fronts, dataset, cad, volume_mm, disk))
+    record["verdict"] = ". ".join(verdicts) + "." if verdicts else _ready(record, volume_mm)
+    return record, done
+
+
+def _strength_failure(record: Mapping[str, Any], settings: RealizationSettings) -> str:
+    return (
+        strength_verdict(record["strength"])
+        + ", and no design of the fronts or the dataset holds its loads. What would change "
+        + "that: "
+        + "; ".join(strength_sentences(record["strength_advice"], settings.strength))
+    )
+
+
+def _printing_failure(
+    record: dict[str, Any],
+    fronts: Mapping[str, pd.DataFrame],
+    dataset: pd.DataFrame,
+    cad: CadSettings,
+    volume_mm: tuple[float, float, float],
+    disk: Disk,
+) -> str:
+    """The not-printable verdict; adds ``printing_advice`` to ``record``."""
+    advice = printing_advice(record["design_m"], cad, volume_mm, disk)
+    pool = candidate_pool(fronts, dataset)
+    strong = pool["holds_loads"].astype(bool)
+    advice["smallest_over_designs"] = smallest_build_volume(
+        pool, strong if record["holds_loads"] else np.ones(len(pool), bool), cad
+    )
+    record["printing_advice"] = advice
+    return (
+        "NOT PRINTABLE on the configured printer: no design of the fronts or the dataset "
+        + ("that holds its loads " if record["holds_loads"] else "")
+        + "fits it. What would change that: "
+        + "; ".join(
+            [
+                advice_sentence(advice["smallest_over_designs"], volume_mm),
+                *advice_sentences(advice, cad)[1:],
+            ]
+        )
+    )
+
+
+def _ready(record: Mapping[str, Any], volume_mm: tuple[float, float, float]) -> str:
+    return (
+        f"printable on {' x '.join(f'{v:g}' for v in volume_mm)} mm, every link holds its loads "
+        f"({strength_verdict(record['strength'])}), each motor has a drive "
+        f"({'; '.join(drive_sentences(record['drives']))}), chosen from the "
+        f"{record['source']} {'designs' if record['source'] == 'dataset' else 'front'}"
+    )
+
+
+def selected_figure(
+    record: Mapping[str, Any],
+    rule: str,
+    op: OperatingRange,
+    task_points: Sequence[Sequence[float]],
+    path: str | Path,
+) -> None:
+    """PNG: the selected design over its workspace with the task disk, titled with what it
+    fails, how it was chosen and its true objectives."""
+    fig, ax = plt.subplots(figsize=(6, 6))
+    title = (
+        f"selected ({rule}, {record['formulation']}"
+        f"{'' if record['printable'] else ', NOT PRINTABLE'}"
+        f"{'' if record['holds_loads'] else ', NOT STRONG ENOUGH'}"
+        f"{'' if record['drives']['has_drives'] else ', NO DRIVES'}"
+        f"{', designed MIRRORED (x -> -x)' if record['task']['mirrored'] else ''}): "
+        f"l1 {record['scale_m']:.3f} m\n"
+        f"eta {record['eta_true']:.3f}, tau1 {record['tau1_true_Nm']:.1f} N m, "
+        f"tau2 {record['tau2_true_Nm']:.1f} N m"
+    )
+    disk = min_enclosing_circle(task_points)
+    draw_design(ax, np.asarray(record["design_m"]), op, disk, title)
+    fig.savefig(path, dpi=110, bbox_inches="tight")
+    plt.close(fig)
