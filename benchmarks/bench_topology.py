@@ -17,9 +17,9 @@ from qsm.physics.cad import mass_properties
 from qsm.physics.kinematics import as_design
 from qsm.realization import payload, topology
 from qsm.realization.fe import DEFAULT_TOPOLOGY, SymmetricLU, stiffness
-from qsm.realization.loads import link_problem, peak_loads
+from qsm.realization.plate_loads import link_problem, peak_loads
 from qsm.realization.torques import torques_before_after
-from qsm.report.payload import summary
+from qsm.report.payload_report import summary
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])  # m
 POINTS = [[-0.62, 0.20], [-0.82, 0.02], [-0.70, 0.02], [-0.82, 0.14], [-0.70, 0.14]]

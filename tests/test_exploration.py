@@ -28,7 +28,7 @@ from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import DESIGN_COLUMNS, pose
 from qsm.physics.mjcf import add_point_mass
 from qsm.physics.task import min_enclosing_circle
-from qsm.realization.selection import select_design
+from qsm.realization.choice import select_design
 from qsm.report.animation import EE_COLOUR, frames_record, write_task_motion
 from qsm.settings import physics
 from qsm.workflow.tables import read_table

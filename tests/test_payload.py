@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from qsm.realization import payload
-from qsm.report.payload import plot_payload_test, summary
+from qsm.report.payload_report import plot_payload_test, summary
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])
 POINTS = [[-0.62, 0.20], [-0.82, 0.02], [-0.70, 0.14]]

@@ -59,7 +59,7 @@ def test_importing_the_figure_modules_leaves_matplotlib_backend_alone():
 
     code = (
         "import matplotlib; matplotlib.use('svg'); "
-        "import qsm.report.figures, qsm.design_rules.plots, qsm.report.payload; "
+        "import qsm.report.figures, qsm.design_rules.plots, qsm.report.payload_report; "
         "import qsm.realization.topology; "
         "print(matplotlib.get_backend())"
     )

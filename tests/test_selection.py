@@ -10,7 +10,7 @@ from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task import Disk
-from qsm.realization.selection import (
+from qsm.realization.choice import (
     NoFeasibleDesign,
     advice_sentences,
     choose_design,

@@ -13,8 +13,7 @@ from qsm.embodiment import bearings, bom, part_mass, parts, printing
 from qsm.embodiment.printing import link_printability, printability_violation_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import LINK_NAMES
-from qsm.realization.export import section_scale
-from qsm.realization.loads import LinkLoads, link_problem
+from qsm.realization.plate_loads import LinkLoads, link_problem
 from qsm.report.drawing import draw_links
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
@@ -96,19 +95,6 @@ def test_the_fe_problem_is_the_links_own_plate() -> None:
     fixed, _ = link_problem(DESIGN, CadSettings(), "upper_arm", cases)
     assert fixed.thickness_m == 0.020
     assert problem.solid.sum() > fixed.solid.sum()  # bosses of R 27.5, not 25 mm
-
-
-def test_the_scales_of_a_strength_record() -> None:
-    cad = CadSettings()
-    links = {
-        k: {"width_mm": 40.0 * f, "thickness_mm": 20.0 * f}
-        for k, f in zip(LINK_NAMES, SCALE, strict=True)
-    }
-    assert section_scale({"section": "fixed", "links": links}, cad) is None
-    assert section_scale({"section": "sized", "links": links}, cad) == pytest.approx(SCALE)
-    links["crank"] = {"width_mm": 32.0, "thickness_mm": 20.0}
-    with pytest.raises(ValueError, match="crank"):
-        section_scale({"section": "sized", "links": links}, cad)
 
 
 def test_the_exports_printability_is_each_links_own() -> None:

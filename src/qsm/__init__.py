@@ -46,8 +46,8 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "evaluate_ratios": ("qsm.app.evaluate", "evaluate_ratios"),
     "load_config": ("qsm.config", "load_config"),
     "load_surrogate": ("qsm.surrogate.model", "load"),
-    "choose_design": ("qsm.realization.selection", "choose_design"),
-    "printing_advice": ("qsm.realization.selection", "printing_advice"),
+    "choose_design": ("qsm.realization.choice", "choose_design"),
+    "printing_advice": ("qsm.realization.choice", "printing_advice"),
     "containment_margin_m": ("qsm.optimization.constraints", "containment_margin_m"),
     "printability_violation_mm": ("qsm.embodiment.printing", "printability_violation_mm"),
 }

@@ -5,9 +5,9 @@ import json
 import numpy as np
 
 from qsm.embodiment.drives.envelope import OutputEnvelope
-from qsm.realization.export import props_from_json
+from qsm.realization.outputs import props_from_json
 from qsm.realization.payload import payload_test
-from qsm.report.payload import (
+from qsm.report.payload_report import (
     SERIES_COLUMNS,
     drive_duty_note,
     plot_payload_test,

@@ -5,7 +5,7 @@ import json
 
 from qsm.physics.duty import duty_cycle
 from qsm.realization.build import build_links
-from qsm.realization.export import props_to_json, torques_markdown
+from qsm.realization.outputs import props_to_json, torques_markdown
 from qsm.realization.pipeline import realize
 from qsm.realization.topology_figure import plot_links
 from qsm.report.drawing import draw_links

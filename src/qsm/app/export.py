@@ -45,17 +45,18 @@ from qsm.config import load_config, validate_config
 from qsm.embodiment.parts import part_meshes
 from qsm.embodiment.printing import link_printability
 from qsm.optimization.verify import verify_design
-from qsm.physics.cad import CadError, mass_properties
+from qsm.physics.cad import CadError, CadSettings, mass_properties
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES, as_design
 from qsm.physics.mirror import design_points, task_record
 from qsm.physics.mjcf import mjcf_xml
+from qsm.physics.task import Disk
 from qsm.physics.urdf import LOOP_NOTE, urdf_xml
 from qsm.physics.workspace import OperatingRange
-from qsm.realization.export import export_stls
+from qsm.realization.choice import printing_advice
+from qsm.realization.outputs import export_stls
 from qsm.realization.pipeline import realize
-from qsm.realization.selection import printing_advice
 from qsm.report.design_sheet import design_sheet
 from qsm.report.drawing import draw_links
 from qsm.settings import actuation, physics, realization
@@ -91,41 +92,10 @@ def export_design(
     (folder / "model.xml").write_text(xml)
     stl = export_stls(part_meshes(parts), folder / "stl", volume)
     draw_links(d, parts, folder / "drawing")
-    boxes = link_printability(d, cad, scale, volume)
-    fits = boxes["links"]
-    links = {
-        name: {
-            "file": f"stl/{name}.stl",
-            "box_mm": list(fits[name]["dims_mm"]),
-            "fits": fits[name]["fits"],
-            "watertight": stl[name]["watertight"],
-        }
-        for name in fits
-    }
-    printable = all(link["fits"] for link in links.values())
-    printability: dict[str, Any] = {
-        "printable": printable,
-        "build_volume_mm": list(volume),
-        "print_excess_mm": boxes["print_excess_mm"],
-        "needed_volume_mm": boxes["needed_volume_mm"],
-        "links": links,
-    }
-    if not printable:
-        printability["advice"] = printing_advice(d, cad, volume, fit.disk)
-    test = config["payload_test"]
-    op = config["operating_range"]
+    printability = _printability(d, cad, scale, volume, stl, fit.disk)
+    links = printability["links"]
     drives = done.drives
-    effort = test["torque_limits_Nm"] or _drive_efforts(drives, config)
-    urdf = urdf_xml(
-        d,
-        cad,
-        payload,
-        motor_range_deg=(op["theta1_deg"], (op["theta2_min_deg"], op["theta1_deg"][1])),
-        effort_Nm=effort,
-        velocity_rad_s=math.radians(config["dynamics"]["duty"]["peak_speed_deg_s"]),
-        props=props,
-    )
-    (folder / "model.urdf").write_text(urdf)
+    _write_urdf(d, cad, payload, props, drives, config, folder / "model.urdf")
     record: dict[str, Any] = {
         "design": {
             "lengths_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True)),
@@ -157,15 +127,7 @@ def export_design(
         },
     }
     record = plain(record)
-    title = (
-        f"{describe_source(record['source'])}: l1 {d[0]:.3f} m\n"
-        f"true eta {fmt(performance['eta_true'], 4)}, tau1 {fmt(performance['tau1_true_Nm'], 1)}"
-        f" N m, tau2 {fmt(performance['tau2_true_Nm'], 1)} N m; "
-        f"{'holds the task' if performance['feasible'] else 'does NOT hold the task'}, "
-        f"{'printable' if printable else 'NOT printable'}, "
-        f"{'links hold their loads' if strength['holds_loads'] else 'NOT STRONG ENOUGH'}"
-        + ("; designed MIRRORED (x -> -x)" if task["mirrored"] else "")
-    )
+    title = _title(record, d)
     design_sheet(
         d,
         fit.op,
@@ -180,6 +142,78 @@ def export_design(
     write_json(folder / "design.json", record)
     (folder / "README.md").write_text(export_readme(record, title))
     return record
+
+
+def _printability(
+    d: np.ndarray,
+    cad: CadSettings,
+    scale: tuple[float, ...] | None,
+    volume: tuple[float, ...],
+    stl: Mapping[str, Mapping[str, Any]],
+    disk: Disk,
+) -> dict[str, Any]:
+    """``design.json``'s printability: each link's box (mm), fit, STL file and whether it is
+    watertight, the excess and the volume needed, and the advice when a link does not fit."""
+    boxes = link_printability(d, cad, scale, volume)
+    fits = boxes["links"]
+    links = {
+        name: {
+            "file": f"stl/{name}.stl",
+            "box_mm": list(fits[name]["dims_mm"]),
+            "fits": fits[name]["fits"],
+            "watertight": stl[name]["watertight"],
+        }
+        for name in fits
+    }
+    printable = all(link["fits"] for link in links.values())
+    printability: dict[str, Any] = {
+        "printable": printable,
+        "build_volume_mm": list(volume),
+        "print_excess_mm": boxes["print_excess_mm"],
+        "needed_volume_mm": boxes["needed_volume_mm"],
+        "links": links,
+    }
+    if not printable:
+        printability["advice"] = printing_advice(d, cad, volume, disk)
+    return printability
+
+
+def _write_urdf(
+    d: np.ndarray,
+    cad: CadSettings,
+    payload: float,
+    props: Mapping[str, Any],
+    drives: Mapping[str, Any],
+    config: Mapping[str, Any],
+    path: Path,
+) -> None:
+    """The URDF with the motors' ranges, efforts (the override, or the drives') and speed."""
+    op = config["operating_range"]
+    effort = config["payload_test"]["torque_limits_Nm"] or _drive_efforts(drives, config)
+    urdf = urdf_xml(
+        d,
+        cad,
+        payload,
+        motor_range_deg=(op["theta1_deg"], (op["theta2_min_deg"], op["theta1_deg"][1])),
+        effort_Nm=effort,
+        velocity_rad_s=math.radians(config["dynamics"]["duty"]["peak_speed_deg_s"]),
+        props=props,
+    )
+    path.write_text(urdf)
+
+
+def _title(record: Mapping[str, Any], d: np.ndarray) -> str:
+    """The design sheet's title: the source, scale, true objectives and the verdicts."""
+    performance = record["true_performance"]
+    return (
+        f"{describe_source(record['source'])}: l1 {d[0]:.3f} m\n"
+        f"true eta {fmt(performance['eta_true'], 4)}, tau1 {fmt(performance['tau1_true_Nm'], 1)}"
+        f" N m, tau2 {fmt(performance['tau2_true_Nm'], 1)} N m; "
+        f"{'holds the task' if performance['feasible'] else 'does NOT hold the task'}, "
+        f"{'printable' if record['printability']['printable'] else 'NOT printable'}, "
+        f"{'links hold their loads' if record['strength']['holds_loads'] else 'NOT STRONG ENOUGH'}"
+        + ("; designed MIRRORED (x -> -x)" if record["task"]["mirrored"] else "")
+    )
 
 
 def home_pose(design: ArrayLike, op: OperatingRange) -> np.ndarray:

@@ -165,6 +165,75 @@ def _design_table(
     return table
 
 
+def _relaxed(
+    extra: ExtraConstraints, unmet: str, least: Mapping[str, float]
+) -> tuple[ExtraConstraints, str]:
+    """``extra`` without the constraint ``unmet`` (g12, g14 or g13) that no design met, and the
+    sentence that says so with the least violation of the last generation."""
+    if unmet == G12:
+        volume = " x ".join(f"{v:g}" for v in extra.volume_mm)
+        return replace(extra, printable=False), (
+            f"g12 dropped: no design printable on {volume} mm (least excess in the last "
+            f"generation {least[G12]:.0f} mm)"
+        )
+    if unmet == G14:
+        return replace(extra, drives=None), (
+            "g14 dropped: no design has a drive for each motor in the catalogue (least drive "
+            f"utilisation in the last generation {1 + least[G14] - LOOP_ALLOWANCE:.2f}, on the "
+            "loop's coarser duty)"
+        )
+    return replace(extra, strength=None), (
+        "g13 dropped: no design whose links hold their loads (least strength utilisation in the "
+        f"last generation {1 + least[G13]:.2f}, the links' with the loop's "
+        f"{100 * LOOP_ALLOWANCE:g} % allowance)"
+    )
+
+
+def _full_duty_check(
+    extra: ExtraConstraints | None, front: NDArray[np.float64]
+) -> tuple[NDArray[np.bool_], list[str]]:
+    """The front's designs to keep after g13 and g14 on the full duty (the loop ran them on a
+    coarser one), and what the constraint label says of it."""
+    keep = np.ones(len(front), dtype=bool)
+    if extra is None:
+        return keep, []
+    fails = extra.full_duty_failures(front)
+    if fails.all():
+        return keep, [
+            f"none of the front's {len(fails)} designs passes g13 / g14 on the full duty: "
+            "the front is kept as found"
+        ]
+    if fails.any():
+        return ~fails, [
+            f"{int(fails.sum())} of the front's {len(fails)} designs removed: they fail "
+            "g13 or g14 on the full duty"
+        ]
+    return keep, []
+
+
+def _search_space(
+    formulation: str,
+    dataset: pd.DataFrame,
+    section: Mapping[str, Any],
+    ratio_bounds: Mapping[str, Any],
+    fit: FitSettings,
+    extra: ExtraConstraints | None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], FitSettings]:
+    """NSGA-II's bounds in ``formulation``: the dataset's lengths (m) for ``paper`` (unless
+    ``section["bounds"]`` overrides them), the sampled ratios for ``ratios``, whose scale-up
+    then holds the task disk grown by the containment tolerance."""
+    if formulation == "paper":
+        lo, hi = bounds_from(dataset, INPUTS, section["bounds"])
+        return lo, hi, fit
+    if formulation == "ratios":
+        lo = np.array([ratio_bounds[n][0] for n in RATIO_NAMES], dtype=float)
+        hi = np.array([ratio_bounds[n][1] for n in RATIO_NAMES], dtype=float)
+        if extra is not None:
+            fit = replace(fit, safety_margin=fit.safety_margin + extra.tolerance_m)
+        return lo, hi, fit
+    raise ValueError(f"config key 'optimization.formulations': unknown '{formulation}'")
+
+
 def _paper_infeasible(n_designs: int) -> str:
     """Why NSGA-II may find no design that meets the paper's g1..g10, and what to change."""
     return (
@@ -206,15 +275,7 @@ def optimize(
     labels = dataset[[o.dataset for o in objectives]].to_numpy(float)
     lower, upper = np.nanmin(labels, axis=0), np.nanmax(labels, axis=0)
     objective_range = (lower, np.where(upper > lower, upper, lower + 1.0))  # a constant: span 1
-    if formulation == "paper":
-        lo, hi = bounds_from(dataset, INPUTS, section["bounds"])
-    elif formulation == "ratios":
-        lo = np.array([ratio_bounds[n][0] for n in RATIO_NAMES], dtype=float)
-        hi = np.array([ratio_bounds[n][1] for n in RATIO_NAMES], dtype=float)
-        if extra is not None:  # the scale holds the task disk grown by the tolerance
-            fit = replace(fit, safety_margin=fit.safety_margin + extra.tolerance_m)
-    else:
-        raise ValueError(f"config key 'optimization.formulations': unknown '{formulation}'")
+    lo, hi, fit = _search_space(formulation, dataset, section, ratio_bounds, fit, extra)
 
     def make(extra: ExtraConstraints | None) -> Problem:
         if formulation == "paper":
@@ -241,62 +302,43 @@ def optimize(
             unmet = [n for n in (G12, G14, G13) if least.get(n, 0.0) > 0]
             if extra is None or not unmet:
                 raise InfeasibleProblem(exc.violation, _paper_infeasible(len(dataset))) from None
-            if unmet[0] == G12:
-                dropped.append(
-                    f"g12 dropped: no design printable on "
-                    f"{' x '.join(f'{v:g}' for v in extra.volume_mm)} mm (least excess in the "
-                    f"last generation {least[G12]:.0f} mm)"
-                )
-                extra = replace(extra, printable=False)
-            elif unmet[0] == G14:
-                dropped.append(
-                    "g14 dropped: no design has a drive for each motor in the catalogue (least "
-                    "drive utilisation in the last generation "
-                    f"{1 + least[G14] - LOOP_ALLOWANCE:.2f}, on the loop's coarser duty)"
-                )
-                extra = replace(extra, drives=None)
-            else:
-                dropped.append(
-                    "g13 dropped: no design whose links hold their loads (least strength "
-                    f"utilisation in the last generation {1 + least[G13]:.2f}, the links' with "
-                    f"the loop's {100 * LOOP_ALLOWANCE:g} % allowance)"
-                )
-                extra = replace(extra, strength=None)
+            extra, note = _relaxed(extra, unmet[0], least)
+            dropped.append(note)
             problem = make(extra)
 
     def lengths(x: NDArray) -> NDArray:
         return problem.designs(x)[0] if isinstance(problem, RatiosProblem) else x
 
     front = lengths(result.pareto_x)
-    keep = np.ones(len(front), dtype=bool)
-    if extra is not None:  # the loop's g13 and g14 on the coarser duty: the front on the full one
-        fails = extra.full_duty_failures(front)
-        if fails.all():
-            dropped.append(
-                f"none of the front's {len(fails)} designs passes g13 / g14 on the full duty: "
-                "the front is kept as found"
-            )
-        elif fails.any():
-            keep = ~fails
-            dropped.append(
-                f"{int(fails.sum())} of the front's {len(fails)} designs removed: they fail "
-                "g13 or g14 on the full duty"
-            )
+    keep, notes = _full_duty_check(extra, front)
+    dropped += notes
     if dropped:
         label = "; ".join([extra.label(formulation), *dropped])
     pareto = _design_table(front[keep], result.pareto_p[keep], result.pareto_f[keep], objectives)
-    generations = []
-    first = section["generations"] - len(result.last_populations) + 1
-    for offset, pop in enumerate(result.last_populations):
-        table = _design_table(lengths(pop["X"]), pop["P"], pop["F"], objectives)
-        table.insert(0, "generation", first + offset)
-        table["feasible"] = np.all(pop["G"] <= 0, axis=1)
-        table["constraint_violation"] = np.clip(pop["G"], 0.0, None).sum(axis=1)
-        generations.append(table)
+    generations = _generation_tables(result, section["generations"], lengths, objectives)
     history = pd.DataFrame(
         {
             "generation": np.arange(1, len(result.hypervolume) + 1),
             "hypervolume": result.hypervolume,
         }
     )
-    return FrontTables(pareto, pd.concat(generations, ignore_index=True), history, label)
+    return FrontTables(pareto, generations, history, label)
+
+
+def _generation_tables(
+    result: OptimisationResult,
+    n_generations: int,
+    lengths: Callable[[NDArray], NDArray],
+    objectives: tuple[Objective, ...],
+) -> pd.DataFrame:
+    """The last populations of ``result`` as one table: each design's lengths (m), predictions
+    and objectives, its generation, whether it was feasible and its total violation."""
+    generations = []
+    first = n_generations - len(result.last_populations) + 1
+    for offset, pop in enumerate(result.last_populations):
+        table = _design_table(lengths(pop["X"]), pop["P"], pop["F"], objectives)
+        table.insert(0, "generation", first + offset)
+        table["feasible"] = np.all(pop["G"] <= 0, axis=1)
+        table["constraint_violation"] = np.clip(pop["G"], 0.0, None).sum(axis=1)
+        generations.append(table)
+    return pd.concat(generations, ignore_index=True)

@@ -12,9 +12,9 @@ from qsm.embodiment.parts import LinkPart, part_meshes
 from qsm.physics.cad import MassProperties
 from qsm.physics.duty import Duty
 from qsm.realization.assembly import final_parts, write_parts
-from qsm.realization.export import export_stls
 from qsm.realization.fe import TopologySettings
 from qsm.realization.geometry import extrude
+from qsm.realization.outputs import export_stls
 from qsm.realization.pipeline import Realization
 from qsm.realization.topology import TopologyResult, optimise_links
 from qsm.realization.torques import torques_before_after

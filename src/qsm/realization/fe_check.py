@@ -1,15 +1,15 @@
 """The beam model of :mod:`qsm.embodiment.strength` against plane-stress finite elements.
 
 For one design, at the duty samples of peak |tau1| and |tau2| (those of
-:func:`qsm.realization.loads.peak_loads`), the lower and the upper arm are analysed twice under the
-same loads: the joint forces of :func:`qsm.embodiment.loads.joint_loads` plus the link's own weight
-and d'Alembert inertia.
+:func:`qsm.realization.plate_loads.peak_loads`), the lower and the upper arm are analysed twice
+under the same loads: the joint forces of :func:`qsm.embodiment.loads.joint_loads` plus the
+link's own weight and d'Alembert inertia.
 
 * Beam: :func:`qsm.embodiment.strength.cut_forces` with a solid section (no bore, as the FE plate
   has solid bosses), the peak over the link's bar cuts.
-* FE: the solid CAD plate of :func:`qsm.realization.loads.link_problem` (clamped over the whole
-  boss of A, for the lower arm, or B, for the upper arm; joint forces spread over the nodes of the
-  other bosses), each cell's stiffness and body force in proportion to its area inside the
+* FE: the solid CAD plate of :func:`qsm.realization.plate_loads.link_problem` (clamped over the
+  whole boss of A, for the lower arm, or B, for the upper arm; joint forces spread over the nodes
+  of the other bosses), each cell's stiffness and body force in proportion to its area inside the
   outline; von Mises stress per cell. The peak is taken over the whole cells outside every boss
   (centre farther than the boss radius from every joint): inside, the clamp and the spread point
   loads make stresses that are not real, and a cut cell's strain overstates the stress.
@@ -54,9 +54,9 @@ from qsm.realization.fe_sections import (
     snap,
 )
 from qsm.realization.geometry import cell_fill
-from qsm.realization.loads import LinkLoads, joint_points
+from qsm.realization.plate_loads import LinkLoads, joint_points
 
-#: Links with a finite-element problem (:data:`qsm.realization.loads.OPTIMISED_LINKS`).
+#: Links with a finite-element problem (:data:`qsm.realization.plate_loads.OPTIMISED_LINKS`).
 FE_LINKS = ("lower_arm", "upper_arm")
 
 
@@ -83,7 +83,7 @@ class LinkComparison(NamedTuple):
 def aligned_problem(
     design: NDArray[np.float64], cad: CadSettings, link: str, case: LinkLoads, h: float
 ) -> FeProblem:
-    """The FE problem of :func:`qsm.realization.loads.link_problem` (solid plate of the CAD
+    """The FE problem of :func:`qsm.realization.plate_loads.link_problem` (solid plate of the CAD
     outline, bosses solid, the clamp joint's boss clamped, joint forces spread over the boss
     nodes) on a grid whose cell edges lie on the bars' edges, so that a bar is exactly
     ``width / h`` cells wide (``h`` must divide the width). link_problem centres its grid on the

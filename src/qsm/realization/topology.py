@@ -69,7 +69,13 @@ from qsm.realization.geometry import (
     mesh_mass_properties,
     polygons,
 )
-from qsm.realization.loads import OPTIMISED_LINKS, LinkLoads, joint_points, link_problem, peak_loads
+from qsm.realization.plate_loads import (
+    OPTIMISED_LINKS,
+    LinkLoads,
+    joint_points,
+    link_problem,
+    peak_loads,
+)
 from qsm.realization.simp import simp
 
 #: Step (of the designable cells) by which the kept material grows after a plate that fails.

@@ -80,7 +80,7 @@ class PaletteGifWriter(AbstractMovieWriter):
 
 
 def motion_frames(series: pd.DataFrame, fps: float = FRAME_RATE_HZ) -> pd.DataFrame:
-    """The rows of a payload-test series (:data:`qsm.report.payload.SERIES_COLUMNS`) shown
+    """The rows of a payload-test series (:data:`qsm.report.payload_report.SERIES_COLUMNS`) shown
     as frames: the samples nearest to ``round(duration * fps) + 1`` evenly spaced times from the
     first to the last sample (both included), with the series' row as ``sample``."""
     t = series["t_s"].to_numpy(float)

@@ -20,14 +20,14 @@ from qsm.physics.clearance import disk_clearance_m
 from qsm.physics.mirror import task_record
 from qsm.physics.task import Disk, min_enclosing_circle
 from qsm.physics.workspace import OperatingRange
-from qsm.realization.export import selection_record
-from qsm.realization.pipeline import Realization, RealizationSettings, realize
-from qsm.realization.selection import (
+from qsm.realization.choice import (
     advice_sentences,
     candidate_pool,
     choose_design,
     printing_advice,
 )
+from qsm.realization.outputs import selection_record
+from qsm.realization.pipeline import Realization, RealizationSettings, realize
 from qsm.report.drive_text import drive_sentences
 from qsm.report.figures import draw_design
 
@@ -44,7 +44,7 @@ def selected_record(
     settings: RealizationSettings,
 ) -> tuple[dict[str, Any], Realization]:
     """The design chosen by ``rule`` from the fronts (``primary`` first) or the dataset
-    (:func:`qsm.realization.selection.choose_design`), realised (:func:`realize`), as the record
+    (:func:`qsm.realization.choice.choose_design`), realised (:func:`realize`), as the record
     of ``selected.json``: its row, how it was found, the task (the user's points; the design's
     are ``task_points``), the clearance (m), strength, drives, the advice where a check fails,
     and the verdict."""

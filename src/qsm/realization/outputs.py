@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
@@ -12,8 +11,8 @@ import pandas as pd
 import trimesh
 
 from qsm.embodiment.printing import box_fits
-from qsm.physics.cad import CadSettings, MassProperties
-from qsm.physics.kinematics import DESIGN_COLUMNS, LINK_NAMES
+from qsm.physics.cad import MassProperties
+from qsm.physics.kinematics import DESIGN_COLUMNS
 
 
 def selection_record(row: pd.Series) -> dict[str, Any]:
@@ -27,26 +26,6 @@ def selection_record(row: pd.Series) -> dict[str, Any]:
         out[str(key)] = value
     out["design_m"] = [float(row[c]) for c in DESIGN_COLUMNS]
     return out
-
-
-def section_scale(strength: Mapping[str, Any], cad: CadSettings) -> tuple[float, ...] | None:
-    """Each link's section of a strength record (:func:`qsm.embodiment.verdict.strength_record`)
-    as the factor on ``cad``'s section (:data:`qsm.physics.kinematics.LINK_NAMES` order); None for
-    the fixed section. ``ValueError`` when a link's width and thickness are not one scale of
-    ``cad``'s (the record is of another section)."""
-    if strength["section"] == "fixed":
-        return None
-    out = []
-    for name in LINK_NAMES:
-        link = strength["links"][name]
-        f = link["width_mm"] / (1e3 * cad.width_m)
-        if not math.isclose(link["thickness_mm"] / (1e3 * cad.thickness_m), f, rel_tol=1e-9):
-            raise ValueError(
-                f"the {name}'s section {link['width_mm']} x {link['thickness_mm']} mm is not a "
-                f"scale of the configured {1e3 * cad.width_m} x {1e3 * cad.thickness_m} mm"
-            )
-        out.append(f)
-    return tuple(out)
 
 
 def props_to_json(props: Mapping[str, MassProperties]) -> dict[str, Any]:
