@@ -35,7 +35,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
@@ -47,7 +47,7 @@ from qsm.defaults import default
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
 from qsm.physics.duty import minimum_jerk
-from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, inverse_dynamics, loop_state
+from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, LoopState, inverse_dynamics, loop_state
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import as_design, pose
 from qsm.physics.mjcf import model_spec
@@ -176,6 +176,90 @@ def torque_use(
     return use, past.mean(axis=0).tolist()
 
 
+def _reference_state(
+    d: NDArray[np.float64],
+    t: NDArray[np.float64],
+    th: NDArray[np.float64],
+    dth: NDArray[np.float64],
+    ddth: NDArray[np.float64],
+) -> LoopState:
+    """The loop's state along the reference (times ``t`` s, motor angles rad and their rates);
+    ValueError where it leaves the closing region or nears a transmission singularity."""
+    state = loop_state(d, th, dth, ddth)
+    if not state.closes.all():
+        k = int(np.flatnonzero(~state.closes)[0])
+        raise ValueError(
+            f"reference leaves the closing region at t={t[k]:.3f} s, "
+            f"theta=({math.degrees(th[k, 0]):.2f}, {math.degrees(th[k, 1]):.2f}) deg"
+        )
+    if state.sin_transmission.min() < MIN_SIN_TRANSMISSION:
+        raise ValueError("reference passes through a transmission singularity")
+    return state
+
+
+def _track(
+    plant: mujoco.MjModel,
+    data: mujoco.MjData,
+    tau_ff: NDArray[np.float64],
+    th: NDArray[np.float64],
+    dth: NDArray[np.float64],
+    gains: tuple[NDArray[np.float64], NDArray[np.float64]],
+    substeps: int,
+    limits: Callable[[NDArray[np.float64], NDArray[np.float64]], NDArray[np.float64]],
+) -> tuple[NDArray[np.float64], ...]:
+    """Forward-simulate the plant under feedforward ``tau_ff`` (N m) plus PD on the reference
+    (``gains`` kp N m/rad, kd N m s/rad), each motor's torque clipped to ``limits(torque,
+    speed)``. Returns per sample the motor angles (rad), requested, applied and available
+    torques (N m) and whether the request exceeded the limit."""
+    kp, kd = gains
+    n = len(th)
+    q_act = np.empty((n, 2))
+    req, applied, available = (np.zeros((n, 2)) for _ in range(3))
+    q_act[0] = data.qpos[[0, 2]]
+    over = np.zeros((n, 2), bool)
+    for k in range(n - 1):
+        for j in range(substeps):  # the PD loop runs at the (sub)step; the reference is held
+            q, dq = data.qpos[[0, 2]], data.qvel[[0, 2]]
+            torque = tau_ff[k] + kp * (th[k] - q) + kd * (dth[k] - dq)
+            lim = limits(torque, dq)
+            data.ctrl[:] = np.clip(torque, -lim, lim)
+            over[k] |= np.abs(torque) > lim
+            if j == 0:
+                req[k], applied[k], available[k] = torque, data.ctrl, lim
+            mujoco.mj_step(plant, data)
+        q_act[k + 1] = data.qpos[[0, 2]]
+    dq = data.qvel[[0, 2]]
+    req[-1] = tau_ff[-1] + kp * (th[-1] - q_act[-1]) + kd * (dth[-1] - dq)
+    available[-1] = limits(req[-1], dq)
+    applied[-1] = np.clip(req[-1], -available[-1], available[-1])
+    over[-1] = np.abs(req[-1]) > available[-1]
+    return q_act, req, applied, available, over
+
+
+def _failure_reasons(
+    saturated: bool,
+    what: str,
+    use: Sequence[float | None],
+    req: NDArray[np.float64],
+    limit: NDArray[np.float64],
+    max_err: float,
+    tolerance_deg: float,
+) -> list[str]:
+    """Why the payload test failed: the torque request past ``what`` limited it (with each
+    motor's peak use), the tracking error past its tolerance (deg); empty when it passed."""
+    reasons = []
+    if saturated:
+        reasons.append(
+            f"requested torque exceeds the {what} (peak |requested| / available "
+            f"{[round(u, 3) if u is not None else 'past its top speed' for u in use]}; "
+            f"peak {np.abs(req).max(axis=0).round(1).tolist()} N m, "
+            f"{limit.round(1).tolist()} N m at standstill)"
+        )
+    if not max_err <= tolerance_deg:  # NaN included
+        reasons.append(f"tracking error {max_err:.3f} deg > {tolerance_deg} deg")
+    return reasons
+
+
 def payload_test(
     design: ArrayLike,
     points: ArrayLike,
@@ -224,15 +308,7 @@ def payload_test(
     model = model_spec(d, cad, s.payload_kg, props, armature).compile()
     dt = float(model.opt.timestep)
     t, th, dth, ddth = reference_trajectory(way, s.segment_duration_s, s.dwell_s, dt)
-    state = loop_state(d, th, dth, ddth)
-    if not state.closes.all():
-        k = int(np.flatnonzero(~state.closes)[0])
-        raise ValueError(
-            f"reference leaves the closing region at t={t[k]:.3f} s, "
-            f"theta=({math.degrees(th[k, 0]):.2f}, {math.degrees(th[k, 1]):.2f}) deg"
-        )
-    if state.sin_transmission.min() < MIN_SIN_TRANSMISSION:
-        raise ValueError("reference passes through a transmission singularity")
+    state = _reference_state(d, t, th, dth, ddth)
     tau_ff = inverse_dynamics(model, d, state).tau
     plant = _plant(d, cad, props, s, armature)
     data = mujoco.MjData(plant)
@@ -242,27 +318,9 @@ def payload_test(
     inertia = np.array([np.diag(motor_inertia(model, d, q)) for q in way]).min(axis=0)
     substeps = max(1, math.ceil(np.max(kd * dt / inertia) / STABLE_KD_DT_OVER_M))
     plant.opt.timestep = dt / substeps
-    n = len(t)
-    q_act = np.empty((n, 2))
-    req, applied, available = (np.zeros((n, 2)) for _ in range(3))
-    q_act[0] = data.qpos[[0, 2]]
-    over = np.zeros((n, 2), bool)
-    for k in range(n - 1):
-        for j in range(substeps):  # the PD loop runs at the (sub)step; the reference is held
-            q, dq = data.qpos[[0, 2]], data.qvel[[0, 2]]
-            torque = tau_ff[k] + kp * (th[k] - q) + kd * (dth[k] - dq)
-            lim = limits(torque, dq)
-            data.ctrl[:] = np.clip(torque, -lim, lim)
-            over[k] |= np.abs(torque) > lim
-            if j == 0:
-                req[k], applied[k], available[k] = torque, data.ctrl, lim
-            mujoco.mj_step(plant, data)
-        q_act[k + 1] = data.qpos[[0, 2]]
-    dq = data.qvel[[0, 2]]
-    req[-1] = tau_ff[-1] + kp * (th[-1] - q_act[-1]) + kd * (dth[-1] - dq)
-    available[-1] = limits(req[-1], dq)
-    applied[-1] = np.clip(req[-1], -available[-1], available[-1])
-    over[-1] = np.abs(req[-1]) > available[-1]
+    q_act, req, applied, available, over = _track(
+        plant, data, tau_ff, th, dth, (kp, kd), substeps, limits
+    )
     limit = fixed if fixed is not None else limits(np.ones(2), np.zeros(2))
     err = np.degrees(np.abs(q_act - th))
     saturated = bool(over.any())
@@ -274,17 +332,8 @@ def payload_test(
     ee = pose(d, q_act[ends, 0], q_act[ends, 1]).E
     point_err = np.linalg.norm(ee - pts, axis=1) * 1e3
     use, past_top = torque_use(req, available)
-    reasons = []
-    if saturated:
-        what = "fixed limits" if fixed is not None else "drives' torque-speed envelopes"
-        reasons.append(
-            f"requested torque exceeds the {what} (peak |requested| / available "
-            f"{[round(u, 3) if u is not None else 'past its top speed' for u in use]}; "
-            f"peak {np.abs(req).max(axis=0).round(1).tolist()} N m, "
-            f"{limit.round(1).tolist()} N m at standstill)"
-        )
-    if not tracked:
-        reasons.append(f"tracking error {max_err:.3f} deg > {s.tracking_tolerance_deg} deg")
+    what = "fixed limits" if fixed is not None else "drives' torque-speed envelopes"
+    reasons = _failure_reasons(saturated, what, use, req, limit, max_err, s.tracking_tolerance_deg)
     return {
         "passed": bool(tracked and not saturated),
         "saturated": saturated,
