@@ -65,8 +65,6 @@ OVER_THE_LIMIT = {
     "report/animation.py:write_task_motion",
     "report/interactive.py:front_figure",
     "realization/fe_check.py:compare_design",
-    "embodiment/bom.py:bill_of_materials",
-    "realization/topology.py:optimise_links",
 }
 
 

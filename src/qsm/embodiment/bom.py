@@ -73,83 +73,93 @@ def bill_of_materials(
     """
     t = table if table is not None else load_catalogue()
     topo = topology_optimised or {}
-    rows: list[dict[str, Any]] = []
-    for name in LINK_NAMES:
-        x0, y0, x1, y1 = parts[name].polygon.bounds
-        bores = ", ".join(
-            f"{b.joint} {b.kind} {1e3 * b.diameter_m:.1f} mm" for b in parts[name].bores
-        )
-        rows.append(
-            {
-                "item": name,
-                "category": "printed part",
-                "where": name,
-                "quantity": 1,
-                "material": material,
-                "mass_kg": float(masses[name].mass_kg),
-                "bbox_x_mm": round(1e3 * (x1 - x0), 1),
-                "bbox_y_mm": round(1e3 * (y1 - y0), 1),
-                "bbox_z_mm": round(1e3 * parts[name].section.thickness_m, 1),
-                "topology_optimised": bool(topo.get(name, False)),
-                "notes": f"bores: {bores}",
-            }
-        )
+    rows = [
+        _part_row(name, parts[name], masses[name], material, topo.get(name, False))
+        for name in LINK_NAMES
+    ]
     for joint, i in zip(JOINTS, np.asarray(bearing_index, dtype=int), strict=True):
-        count = 2 if joint == "A" else 1
-        where = "A (one per motor shaft, in the base)" if joint == "A" else joint
-        if i < 0:
-            rows.append(
-                {
-                    "item": f"bearing {joint}",
-                    "category": "bearing",
-                    "where": where,
-                    "quantity": count,
-                    "notes": "no bearing of the catalogue carries the joint's peak load",
-                }
-            )
-            continue
-        b = t.row(int(i))
-        rows.append(
-            {
-                "item": f"bearing {joint}",
-                "category": "bearing",
-                "where": where,
-                "quantity": count,
-                "designation": f"{b['maker']} {b['designation']}",
-                "d_mm": 1e3 * b["d_m"],
-                "D_mm": 1e3 * b["D_m"],
-                "B_mm": 1e3 * b["B_m"],
-                "C_kN": 1e-3 * b["C_N"],
-                "C0_kN": 1e-3 * b["C0_N"],
-                "maker": b["maker"],
-                "source": b["source"],
-                "notes": "deep groove ball bearing",
-            }
-        )
-        if joint != "A":
-            d_mm = 1e3 * b["d_m"]
-            length = 1e3 * sum(
-                p.section.thickness_m
-                for p in parts.values()
-                if any(b.joint == joint for b in p.bores)
-            )
-            rows.append(
-                {
-                    "item": f"pin {joint}",
-                    "category": "pin",
-                    "where": joint,
-                    "quantity": 1,
-                    "designation": f"dowel pin {d_mm:g} x {length:g} mm",
-                    "material": "steel",
-                    "d_mm": d_mm,
-                    "notes": "through both plates of the joint, held in the pin link",
-                }
-            )
+        rows += _joint_rows(joint, int(i), t, parts)
     for item, where in DRIVE_ROWS:
         row = {"item": item, "category": item.split()[0], "where": where, "quantity": 1}
         row.update(dict((drives or {}).get(item, {})))
         rows.append(row)
     return pd.DataFrame(rows, columns=list(BOM_COLUMNS))
+
+
+def _part_row(
+    name: str, part: LinkPart, mass: MassProperties, material: str, optimised: bool
+) -> dict[str, Any]:
+    """The BOM row of the printed link ``name``: its mass (kg), box (mm) and bores."""
+    x0, y0, x1, y1 = part.polygon.bounds
+    bores = ", ".join(f"{b.joint} {b.kind} {1e3 * b.diameter_m:.1f} mm" for b in part.bores)
+    return {
+        "item": name,
+        "category": "printed part",
+        "where": name,
+        "quantity": 1,
+        "material": material,
+        "mass_kg": float(mass.mass_kg),
+        "bbox_x_mm": round(1e3 * (x1 - x0), 1),
+        "bbox_y_mm": round(1e3 * (y1 - y0), 1),
+        "bbox_z_mm": round(1e3 * part.section.thickness_m, 1),
+        "topology_optimised": bool(optimised),
+        "notes": f"bores: {bores}",
+    }
+
+
+def _joint_rows(
+    joint: str, i: int, t: BearingTable, parts: Mapping[str, LinkPart]
+) -> list[dict[str, Any]]:
+    """The BOM rows of a joint: its bearing (row ``i`` of ``t``; two at A, one per motor shaft;
+    -1: none fits, and the row says so) and, at B, C and D, the pin through both plates."""
+    count = 2 if joint == "A" else 1
+    where = "A (one per motor shaft, in the base)" if joint == "A" else joint
+    if i < 0:
+        return [
+            {
+                "item": f"bearing {joint}",
+                "category": "bearing",
+                "where": where,
+                "quantity": count,
+                "notes": "no bearing of the catalogue carries the joint's peak load",
+            }
+        ]
+    b = t.row(i)
+    rows = [
+        {
+            "item": f"bearing {joint}",
+            "category": "bearing",
+            "where": where,
+            "quantity": count,
+            "designation": f"{b['maker']} {b['designation']}",
+            "d_mm": 1e3 * b["d_m"],
+            "D_mm": 1e3 * b["D_m"],
+            "B_mm": 1e3 * b["B_m"],
+            "C_kN": 1e-3 * b["C_N"],
+            "C0_kN": 1e-3 * b["C0_N"],
+            "maker": b["maker"],
+            "source": b["source"],
+            "notes": "deep groove ball bearing",
+        }
+    ]
+    if joint != "A":
+        d_mm = 1e3 * b["d_m"]
+        length = 1e3 * sum(
+            p.section.thickness_m for p in parts.values() if any(x.joint == joint for x in p.bores)
+        )
+        rows.append(
+            {
+                "item": f"pin {joint}",
+                "category": "pin",
+                "where": joint,
+                "quantity": 1,
+                "designation": f"dowel pin {d_mm:g} x {length:g} mm",
+                "material": "steel",
+                "d_mm": d_mm,
+                "notes": "through both plates of the joint, held in the pin link",
+            }
+        )
+    return rows
 
 
 def _cell(value: Any) -> str:

@@ -58,6 +58,8 @@ from qsm.physics.duty import Duty
 from qsm.physics.kinematics import as_design
 from qsm.realization.fe import (
     DEFAULT_TOPOLOGY,
+    FeProblem,
+    FeResult,
     Grid,
     TopologySettings,
     analyse,
@@ -76,7 +78,7 @@ from qsm.realization.plate_loads import (
     link_problem,
     peak_loads,
 )
-from qsm.realization.simp import simp
+from qsm.realization.simp import SimpResult, simp
 
 #: Step (of the designable cells) by which the kept material grows after a plate that fails.
 VOLUME_STEP = 0.1
@@ -196,6 +198,60 @@ def printed_geometry(
     return geom, float(t)
 
 
+@dataclass(frozen=True)
+class _Plate:
+    """The plate a link is printed as: the last SIMP run, its printed geometry (shapely, m) and
+    threshold, the plate's FE, its mesh, its mass properties (None: the solid plate is kept) and
+    every volume fraction tried with its peak von Mises stress (MPa)."""
+
+    opt: SimpResult
+    geometry: shapely.Polygon
+    threshold: float
+    fe: FeResult
+    mesh: trimesh.Trimesh
+    props: MassProperties | None
+    attempts: list[dict[str, float]]
+
+
+def _printed_plate(
+    problem: FeProblem,
+    outline: shapely.Polygon,
+    joints: list[NDArray[np.float64]],
+    sec: CadSettings,
+    settings: TopologySettings,
+    fe_before: FeResult,
+) -> _Plate:
+    """SIMP at the configured volume fraction, raised by VOLUME_STEP until the printed plate
+    holds its loads (peak von Mises at most the allowable); past MAX_VOLUME_FRACTION the solid
+    plate is kept."""
+    attempts: list[dict[str, float]] = []
+    fraction = settings.volume_fraction
+    while True:
+        opt = simp(problem, replace(settings, volume_fraction=fraction))
+        geom, threshold = printed_geometry(
+            problem.grid,
+            opt.density,
+            outline,
+            joints,
+            sec.boss_radius_m,
+            settings.threshold,
+            sec.segments_per_circle,
+        )
+        # the printed plate, rasterised by cell fill, stiffness proportional to the fill
+        fe_after = analyse(problem, cell_fill(problem.grid, geom), settings, penal=1.0)
+        attempts.append(
+            {"volume_fraction": fraction, "max_von_mises_MPa": fe_after.max_von_mises_pa / 1e6}
+        )
+        if fe_after.max_von_mises_pa <= settings.allowable_stress_pa:
+            mesh = extrude(geom, sec.thickness_m)
+            props = mesh_mass_properties(mesh, sec.density_kg_m3)
+            return _Plate(opt, geom, threshold, fe_after, mesh, props, attempts)
+        if fraction + VOLUME_STEP > MAX_VOLUME_FRACTION + 1e-9:
+            mesh = extrude(outline, sec.thickness_m)
+            return _Plate(opt, outline, 1.0, fe_before, mesh, None, attempts)
+        fraction = round(fraction + VOLUME_STEP, 10)
+
+
 def optimise_links(
     design: ArrayLike,
     cad: CadSettings,
@@ -218,65 +274,35 @@ def optimise_links(
     props = dict(before)
     for link in links:
         start = time.perf_counter()
-        sec = sections[link]
         problem, outline = link_problem(d, cad, link, loads[link], settings, scale)
-        full = (problem.design | problem.solid).astype(float)
-        fe_before = analyse(problem, full, settings)
+        fe_before = analyse(problem, (problem.design | problem.solid).astype(float), settings)
         joints = list(joint_points(d)[link].values())
-        attempts: list[dict[str, float]] = []
-        fraction = settings.volume_fraction
-        while True:
-            opt = simp(problem, replace(settings, volume_fraction=fraction))
-            geom, threshold = printed_geometry(
-                problem.grid,
-                opt.density,
-                outline,
-                joints,
-                sec.boss_radius_m,
-                settings.threshold,
-                sec.segments_per_circle,
-            )
-            # the printed plate, rasterised by cell fill, stiffness proportional to the fill
-            fe_after = analyse(problem, cell_fill(problem.grid, geom), settings, penal=1.0)
-            attempts.append(
-                {"volume_fraction": fraction, "max_von_mises_MPa": fe_after.max_von_mises_pa / 1e6}
-            )
-            if fe_after.max_von_mises_pa <= settings.allowable_stress_pa:
-                mesh = extrude(geom, sec.thickness_m)
-                after_props = mesh_mass_properties(mesh, sec.density_kg_m3)
-                kept_solid = False
-                break
-            if fraction + VOLUME_STEP > MAX_VOLUME_FRACTION + 1e-9:
-                geom, threshold, fe_after = outline, 1.0, fe_before
-                mesh = extrude(outline, sec.thickness_m)
-                after_props, kept_solid = before[link], True
-                break
-            fraction = round(fraction + VOLUME_STEP, 10)
-        props[link] = after_props
+        plate = _printed_plate(problem, outline, joints, sections[link], settings, fe_before)
+        props[link] = plate.props if plate.props is not None else before[link]
         results[link] = LinkResult(
             name=link,
             grid=problem.grid,
-            density=opt.density,
+            density=plate.opt.density,
             design_cells=problem.design,
             solid_cells=problem.solid,
             outline=np.asarray(outline.exterior.coords),
-            polygon=geom,
-            mesh=mesh,
+            polygon=plate.geometry,
+            mesh=plate.mesh,
             props_before=before[link],
-            props_after=after_props,
+            props_after=props[link],
             loads=loads[link],
-            history_J=opt.history_J,
-            iterations=opt.iterations,
-            volume_fraction=opt.volume_fraction,
-            threshold=threshold,
+            history_J=plate.opt.history_J,
+            iterations=plate.opt.iterations,
+            volume_fraction=plate.opt.volume_fraction,
+            threshold=plate.threshold,
             compliance_before_J=fe_before.compliance_J,
-            compliance_after_J=fe_after.compliance_J,
+            compliance_after_J=plate.fe.compliance_J,
             max_von_mises_before_pa=fe_before.max_von_mises_pa,
-            max_von_mises_after_pa=fe_after.max_von_mises_pa,
-            p99_von_mises_after_pa=fe_after.p99_von_mises_pa,
+            max_von_mises_after_pa=plate.fe.max_von_mises_pa,
+            p99_von_mises_after_pa=plate.fe.p99_von_mises_pa,
             allowable_stress_pa=settings.allowable_stress_pa,
             seconds=time.perf_counter() - start,
-            kept_solid=kept_solid,
-            attempts=attempts,
+            kept_solid=plate.props is None,
+            attempts=plate.attempts,
         )
     return TopologyResult(results, props, settings)
