@@ -60,7 +60,6 @@ MAX_FUNCTION_LINES = 80
 #: Functions still over the limit, each to be split by concern (issue: size by concern); the list
 #: may only shrink: a function that comes under the limit must leave it.
 OVER_THE_LIMIT = {
-    "report/headline.py:headline_markdown",
     "realization/payload.py:payload_test",
     "report/animation.py:write_task_motion",
     "report/interactive.py:front_figure",

@@ -165,7 +165,6 @@ def headline_markdown(
     bom: str,
 ) -> str:
     """One page of Markdown with the overall verdict and the figures of every stage."""
-    r2 = metrics["test"]["r2"]
     ready, problems = build_verdict(selected, topology, payload)
     lines = [
         "# qsm-design: summary of this run",
@@ -181,6 +180,31 @@ def headline_markdown(
         "",
         *_mirror_lines(selected.get("task", {})),
         *_build_section(selected, topology, bom),
+        *_dataset_lines(filters, status, metrics),
+        *_front_lines(comparison),
+        "",
+        "## Stage 5: design rules",
+        f"- the paper's {len(findings)} findings: {_verdict_counts(findings)} "
+        "(the table and each verdict's experiment: results/design_rules/summary.md).",
+        "",
+        *_realisation_lines(selected, topology),
+    ]
+    for key in ("tau1_Nm", "tau2_Nm"):
+        b, a = torques["before"][key], torques["after"][key]
+        lines.append(
+            f"- {key.removesuffix('_Nm')}: {b:.2f} -> {a:.2f} N m after topology optimisation "
+            f"({_pct((b - a) / b)} lower)."
+        )
+    lines.append(_payload_line(payload))
+    return "\n".join(lines) + "\n"
+
+
+def _dataset_lines(
+    filters: Mapping[str, Any], status: Mapping[str, Any], metrics: Mapping[str, Any]
+) -> list[str]:
+    """The summary's Stages 1-3: the samples and filters, the dynamics, the surrogate."""
+    r2 = metrics["test"]["r2"]
+    return [
         "## Stage 1: mechanisms",
         f"- {filters['samples']:,} LHS samples; crank-rocker {filters['crank_rocker']:,}; loop "
         f"closes {filters['loop_closes']:,}; task fits {filters['task_fits']:,} of the first "
@@ -211,6 +235,12 @@ def headline_markdown(
         f"- test R^2 eta {r2['eta']:.4f}, tau1 {r2['tau1']:.4f}, tau2 {r2['tau2']:.4f} "
         f"(all {r2['all']:.4f}; paper 0.98700); fit {metrics['fit_seconds']:.1f} s.",
         "",
+    ]
+
+
+def _front_lines(comparison: Mapping[str, Any]) -> list[str]:
+    """The summary's Stage 4: each front checked against the physics, a row each."""
+    lines = [
         "## Stage 4: optimisation, checked against the physics",
         "| front | objectives | constraints | designs | truly hold the task | printable "
         "| links hold | have drives (median drive mass) | median error eta / tau1 / tau2 "
@@ -227,12 +257,13 @@ def headline_markdown(
             f"{_drive_mass(e.get('median_drive_mass_kg'))} | {err} "
             f"| {e['true_hypervolume']:.3f} |"
         )
-    lines += [
-        "",
-        "## Stage 5: design rules",
-        f"- the paper's {len(findings)} findings: {_verdict_counts(findings)} "
-        "(the table and each verdict's experiment: results/design_rules/summary.md).",
-        "",
+    return lines
+
+
+def _realisation_lines(selected: Mapping[str, Any], topology: Mapping[str, Any]) -> list[str]:
+    """The summary's Stage 6: the selected design, its verdict, strength, drives and plates."""
+    drives = selected.get("drives", {})
+    return [
         "## Stage 6: realisation",
         f"- selected ({selected['selection_rule']}, from the {selected['source']}"
         f"{'' if selected['source'] == 'dataset' else ' front'}, "
@@ -249,14 +280,14 @@ def headline_markdown(
         "| --- | --- | --- | --- | --- | --- |",
         *strength_rows(selected["strength"]),
         "",
-        f"Drives ({selected.get('drives', {}).get('rule', '')} of the catalogue that meet each "
+        f"Drives ({drives.get('rule', '')} of the catalogue that meet each "
         "motor's duty, reflected inertia included; margins 1 - utilisation):",
         "",
         "| motor | drive | ratio | mass (kg) | peak torque (N m) | RMS torque (N m) "
         "| peak speed (rad/s) | peak power (W) | margins |",
         "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
-        *drive_rows(selected.get("drives", {})),
-        *drive_failures(selected.get("drives", {})),
+        *drive_rows(drives),
+        *drive_failures(drives),
         "",
         "Topology-optimised plates (plane-stress FE of the printed plate):",
         "",
@@ -265,12 +296,11 @@ def headline_markdown(
         *topology_rows(topology),
         "",
     ]
-    for key in ("tau1_Nm", "tau2_Nm"):
-        b, a = torques["before"][key], torques["after"][key]
-        lines.append(
-            f"- {key.removesuffix('_Nm')}: {b:.2f} -> {a:.2f} N m after topology optimisation "
-            f"({_pct((b - a) / b)} lower)."
-        )
+
+
+def _payload_line(payload: Mapping[str, Any]) -> str:
+    """The summary's line of the payload test: passed or why not, tracking error, torques and
+    the limits they met (the drives' envelopes with each motor's peak use, or fixed limits)."""
     peak = ", ".join(f"{v:.1f}" for v in payload["peak_torque_Nm"])
     limit = ", ".join(f"{v:.0f}" for v in payload["limit_Nm"])
     if payload.get("drives"):
@@ -281,15 +311,10 @@ def headline_markdown(
         )
     else:
         limits = f"fixed limits {limit} N m"
-    lines.append(
+    note = payload.get("drive_note")
+    return (
         f"- payload test ({payload['payload_kg']:g} kg): "
         f"{'passed' if payload['passed'] else 'FAILED: ' + payload.get('reason', '')}, max "
         f"tracking error {payload['max_tracking_error_deg']:.3f} deg, peak torques {peak} N m "
-        f"({limits})."
-        + (
-            f" {payload['drive_note'][0].upper()}{payload['drive_note'][1:]}."
-            if "drive_note" in payload
-            else ""
-        )
+        f"({limits})." + (f" {note[0].upper()}{note[1:]}." if note else "")
     )
-    return "\n".join(lines) + "\n"
