@@ -16,7 +16,7 @@ and the last the end pose; the GIF plays in real time. :func:`motion_frames` giv
 from __future__ import annotations
 
 import io
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -24,6 +24,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 from matplotlib.animation import AbstractMovieWriter
+from matplotlib.axes import Axes
 from numpy.typing import ArrayLike, NDArray
 from PIL import Image
 
@@ -133,46 +134,16 @@ def write_task_motion(
     colours = ("tab:blue", "tab:orange")
 
     still = plt.figure(figsize=FIGSIZE_IN, dpi=DPI)
-    ax, ax_tau, ax_bar = (still.add_axes(box) for box in AXES_BOXES)
-    draw_workspace(ax, d, op, 80)
-    ax.add_patch(plt.Circle(disk.centre, disk.radius, fill=False, color="tab:red", lw=1.2))
-    ax.plot(pts[:, 0], pts[:, 1], "x", color="tab:red", ms=7, mew=2)
-    ax.plot(0.0, 0.0, "^", color="k", ms=7)
-    _fit_view(ax, poses, pts, disk, d, op)
-    ax.set_aspect("equal")
-    ax.grid(alpha=0.3)
-    ax.set_xlabel("x (m)")
-    if mirrored:
-        ax.invert_xaxis()
-        ax.xaxis.set_major_formatter(lambda v, _: f"{-v + 0.0:g}")
-    ax.set_ylabel("y (m)")
-    ax.set_title(title, fontsize=9)
-    for j, c in enumerate(colours):
-        ax_tau.plot(t, tau[:, j], color=c, lw=1, label=f"tau{j + 1} requested")
-        for sign in (1, -1):
-            ax_tau.axhline(sign * limits[j], color=c, ls=":", lw=1)
-    ax_tau.set_xlim(t[0], t[-1])
-    ax_tau.set_ylim(*torque_range(tau))
-    ax_tau.set_xlabel("time (s)", labelpad=1)
-    ax_tau.set_ylabel("torque (N m)")
-    ax_tau.set_title(
-        f"motor torques; limits ±{limits[0]:g} / ±{limits[1]:g} N m (dotted when in range)",
-        fontsize=9,
-    )
-    ax_tau.legend(fontsize=7, loc="upper right")
-    ax_tau.grid(alpha=0.3)
-    ax_bar.axvline(100.0, color="tab:red", lw=1.5)
-    ax_bar.set_xlim(0, max(110.0, 105 * float((np.abs(tau) / limits).max())))
-    ax_bar.set_ylim(-0.6, 1.6)
-    ax_bar.set_yticks([1, 0], ["motor 1", "motor 2"], fontsize=8)
-    ax_bar.set_xlabel("|tau| / limit (%)", labelpad=1)
+    drawn = [still.add_axes(box) for box in AXES_BOXES]
+    _draw_scene(drawn[0], d, poses, pts, disk, op, title, mirrored)
+    _draw_torques(drawn[1], drawn[2], t, tau, limits, colours)
     still.canvas.draw()
     background = np.asarray(still.canvas.buffer_rgba()).copy()
 
     fig = plt.figure(figsize=FIGSIZE_IN, dpi=DPI)
     fig.figimage(background, origin="upper")
     live = []
-    for source in (ax, ax_tau, ax_bar):  # transparent twins at the drawn positions and limits
+    for source in drawn:  # transparent twins at the drawn positions and limits
         twin = fig.add_axes(source.get_position())
         twin.set_xlim(source.get_xlim())
         twin.set_ylim(source.get_ylim())
@@ -180,6 +151,42 @@ def write_task_motion(
         twin.set_zorder(2)  # above the background, which the figure draws after its axes
         live.append(twin)
     plt.close(still)
+    ax, ax_tau, _ = live
+    draw = _frame_drawer(fig, live, d, th, poses, tau, frames, limits, colours, t[0])
+    out = Path(path)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    writer = PaletteGifWriter(fps=fps)
+    with writer.saving(fig, out, DPI):
+        for k in range(len(frames)):
+            draw(k)
+            writer.grab_frame()
+    geometry = _axes_geometry(fig, ax)
+    torque_geometry = _axes_geometry(fig, ax_tau)
+    plt.close(fig)
+    return {
+        "frames": frames,
+        "fps": fps,
+        "geometry": geometry,
+        "torque_geometry": torque_geometry,
+    }
+
+
+def _frame_drawer(
+    fig: plt.Figure,
+    live: Sequence[Axes],
+    d: NDArray[np.float64],
+    th: NDArray[np.float64],
+    poses: LoopPose,
+    tau: NDArray[np.float64],
+    frames: pd.DataFrame,
+    limits: NDArray[np.float64],
+    colours: Sequence[str],
+    t0: float,
+) -> Callable[[int], None]:
+    """The moving artists on the ``live`` axes (linkage, torques, bars) and a function that sets
+    them to frame ``k``: the pose at motor angles ``th[k]`` (rad), the trail of the end
+    effector, the torques (N m) at the frame's sample and the clock (the cursor starts at
+    ``t0`` s)."""
     ax, ax_tau, ax_bar = live
     start = pose(d, th[0, 0], th[0, 1])
     bars = [ax.plot([], [], style, lw=2.5)[0] for *_, style in linkage_segments(start)]
@@ -187,7 +194,7 @@ def write_task_motion(
     (trail,) = ax.plot([], [], "-", color="tab:orange", lw=1)
     (tip,) = ax.plot([], [], "s", color=EE_COLOUR, ms=7, mec=EE_COLOUR)
     dots = [ax_tau.plot([], [], "o", color=c, ms=6)[0] for c in colours]
-    cursor = ax_tau.axvline(t[0], color="k", lw=0.8)
+    cursor = ax_tau.axvline(t0, color="k", lw=0.8)
     level = ax_bar.barh([1, 0], [0, 0], color=colours, height=0.6)
     clock = fig.text(0.56, 0.95, "", fontsize=9)
 
@@ -210,22 +217,65 @@ def write_task_motion(
             f"tau2 {now[1]:7.1f} / {limits[1]:g} N m"
         )
 
-    out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    writer = PaletteGifWriter(fps=fps)
-    with writer.saving(fig, out, DPI):
-        for k in range(len(frames)):
-            draw(k)
-            writer.grab_frame()
-    geometry = _axes_geometry(fig, ax)
-    torque_geometry = _axes_geometry(fig, ax_tau)
-    plt.close(fig)
-    return {
-        "frames": frames,
-        "fps": fps,
-        "geometry": geometry,
-        "torque_geometry": torque_geometry,
-    }
+    return draw
+
+
+def _draw_scene(
+    ax: Axes,
+    d: NDArray[np.float64],
+    poses: LoopPose,
+    pts: NDArray[np.float64],
+    disk: Disk,
+    op: OperatingRange,
+    title: str,
+    mirrored: bool,
+) -> None:
+    """The still part of the linkage axes: workspace, task disk and points, base, the view that
+    holds the whole motion; x reversed for a mirrored design."""
+    draw_workspace(ax, d, op, 80)
+    ax.add_patch(plt.Circle(disk.centre, disk.radius, fill=False, color="tab:red", lw=1.2))
+    ax.plot(pts[:, 0], pts[:, 1], "x", color="tab:red", ms=7, mew=2)
+    ax.plot(0.0, 0.0, "^", color="k", ms=7)
+    _fit_view(ax, poses, pts, disk, d, op)
+    ax.set_aspect("equal")
+    ax.grid(alpha=0.3)
+    ax.set_xlabel("x (m)")
+    if mirrored:
+        ax.invert_xaxis()
+        ax.xaxis.set_major_formatter(lambda v, _: f"{-v + 0.0:g}")
+    ax.set_ylabel("y (m)")
+    ax.set_title(title, fontsize=9)
+
+
+def _draw_torques(
+    ax_tau: Axes,
+    ax_bar: Axes,
+    t: NDArray[np.float64],
+    tau: NDArray[np.float64],
+    limits: NDArray[np.float64],
+    colours: Sequence[str],
+) -> None:
+    """The still part of the torque axes (requested torques (N m) against time (s), the limits
+    dotted) and of the bars of |tau| / limit (%)."""
+    for j, c in enumerate(colours):
+        ax_tau.plot(t, tau[:, j], color=c, lw=1, label=f"tau{j + 1} requested")
+        for sign in (1, -1):
+            ax_tau.axhline(sign * limits[j], color=c, ls=":", lw=1)
+    ax_tau.set_xlim(t[0], t[-1])
+    ax_tau.set_ylim(*torque_range(tau))
+    ax_tau.set_xlabel("time (s)", labelpad=1)
+    ax_tau.set_ylabel("torque (N m)")
+    ax_tau.set_title(
+        f"motor torques; limits ±{limits[0]:g} / ±{limits[1]:g} N m (dotted when in range)",
+        fontsize=9,
+    )
+    ax_tau.legend(fontsize=7, loc="upper right")
+    ax_tau.grid(alpha=0.3)
+    ax_bar.axvline(100.0, color="tab:red", lw=1.5)
+    ax_bar.set_xlim(0, max(110.0, 105 * float((np.abs(tau) / limits).max())))
+    ax_bar.set_ylim(-0.6, 1.6)
+    ax_bar.set_yticks([1, 0], ["motor 1", "motor 2"], fontsize=8)
+    ax_bar.set_xlabel("|tau| / limit (%)", labelpad=1)
 
 
 def torque_range(tau_Nm: NDArray) -> tuple[float, float]:
