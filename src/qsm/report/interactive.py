@@ -23,6 +23,7 @@ from plotly.subplots import make_subplots
 
 from qsm.optimization.ranking import (
     OBJECTIVE_SETS,
+    Objective,
     drawn_objectives,
     front_ranks,
     objectives_of,
@@ -122,61 +123,103 @@ def front_figure(
         horizontal_spacing=0.08,
         vertical_spacing=0.09,
     )
+    symbols = (symbol_3d, symbol_2d)
     for group, which, visible in (("predicted", 0, True), ("true", 1, "legendonly")):
-        values = [verified[o.true if which else o.predicted].to_numpy(float) for o in drawn]
-        name = "NSGA-II's values" if which == 0 else "true values (physics)"
-        common = {
-            "mode": "markers",
-            "name": name,
-            "legendgroup": group,
-            "visible": visible,
-            "text": texts,
-            "hovertemplate": "%{text}<extra></extra>",
-        }
-        marker = {"color": colour, "coloraxis": "coloraxis"}
-        fig.add_trace(
-            go.Scatter3d(
-                x=values[0],
-                y=values[1],
-                z=values[2],
-                marker={
-                    **marker,
-                    "size": 5 if which == 0 else 4,
-                    "symbol": symbol_3d if which == 0 else "diamond",
-                    "opacity": 0.9,
-                },
-                **common,
-            ),
-            row=1,
-            col=1,
-        )
-        flat = {
-            **marker,
-            "size": 8 if which == 0 else 7,
-            "symbol": symbol_2d if which == 0 else "diamond-open",
-            "line": {"width": 1.5 if which == 1 else 0.5},
-        }
-        for row, (i, j) in enumerate(PAIRS, start=1):
-            trace = go.Scatter(x=values[i], y=values[j], showlegend=False, marker=flat, **common)
-            fig.add_trace(trace, row=row, col=2)
-            fig.update_xaxes(title_text=f"{drawn[i].label}{BETTER}", row=row, col=2)
-            fig.update_yaxes(title_text=f"{drawn[j].label}{BETTER}", row=row, col=2)
+        _add_values(fig, verified, drawn, texts, (group, which, visible), symbols, colour)
     if selected is not None:
-        values = [verified[o.true].to_numpy(float)[selected] for o in drawn]
-        star = {
-            "mode": "markers",
-            "name": "the realised design (true values)",
-            "legendgroup": "selected",
-            "text": [texts[selected]],
-            "hovertemplate": "%{text}<extra></extra>",
-            "marker": {"color": "red", "size": 16, "symbol": "star", "line": {"width": 1}},
-        }
-        three_d = {**star, "marker": {**star["marker"], "symbol": "diamond", "size": 9}}
-        fig.add_trace(go.Scatter3d(x=[values[0]], y=[values[1]], z=[values[2]], **three_d), 1, 1)
-        for row, (i, j) in enumerate(PAIRS, start=1):
-            fig.add_trace(
-                go.Scatter(x=[values[i]], y=[values[j]], showlegend=False, **star), row=row, col=2
-            )
+        _add_selected(fig, verified, drawn, texts, selected)
+    _lay_out(fig, verified, front, constraints, good, drawn)
+    return fig
+
+
+def _add_values(
+    fig: go.Figure,
+    verified: pd.DataFrame,
+    drawn: Sequence[Objective],
+    texts: Sequence[str],
+    which: tuple[str, int, bool | str],
+    symbols: tuple[list[str], list[str]],
+    colour: np.ndarray,
+) -> None:
+    """The front's designs in 3D and in each pair of objectives: ``which`` is (legend group,
+    0 for NSGA-II's predicted values or 1 for the true ones, initial visibility)."""
+    group, which, visible = which
+    symbol_3d, symbol_2d = symbols
+    values = [verified[o.true if which else o.predicted].to_numpy(float) for o in drawn]
+    name = "NSGA-II's values" if which == 0 else "true values (physics)"
+    common = {
+        "mode": "markers",
+        "name": name,
+        "legendgroup": group,
+        "visible": visible,
+        "text": texts,
+        "hovertemplate": "%{text}<extra></extra>",
+    }
+    marker = {"color": colour, "coloraxis": "coloraxis"}
+    fig.add_trace(
+        go.Scatter3d(
+            x=values[0],
+            y=values[1],
+            z=values[2],
+            marker={
+                **marker,
+                "size": 5 if which == 0 else 4,
+                "symbol": symbol_3d if which == 0 else "diamond",
+                "opacity": 0.9,
+            },
+            **common,
+        ),
+        row=1,
+        col=1,
+    )
+    flat = {
+        **marker,
+        "size": 8 if which == 0 else 7,
+        "symbol": symbol_2d if which == 0 else "diamond-open",
+        "line": {"width": 1.5 if which == 1 else 0.5},
+    }
+    for row, (i, j) in enumerate(PAIRS, start=1):
+        trace = go.Scatter(x=values[i], y=values[j], showlegend=False, marker=flat, **common)
+        fig.add_trace(trace, row=row, col=2)
+        fig.update_xaxes(title_text=f"{drawn[i].label}{BETTER}", row=row, col=2)
+        fig.update_yaxes(title_text=f"{drawn[j].label}{BETTER}", row=row, col=2)
+
+
+def _add_selected(
+    fig: go.Figure,
+    verified: pd.DataFrame,
+    drawn: Sequence[Objective],
+    texts: Sequence[str],
+    selected: int,
+) -> None:
+    """The realised design (row ``selected``), starred at its true values in every view."""
+    values = [verified[o.true].to_numpy(float)[selected] for o in drawn]
+    star = {
+        "mode": "markers",
+        "name": "the realised design (true values)",
+        "legendgroup": "selected",
+        "text": [texts[selected]],
+        "hovertemplate": "%{text}<extra></extra>",
+        "marker": {"color": "red", "size": 16, "symbol": "star", "line": {"width": 1}},
+    }
+    three_d = {**star, "marker": {**star["marker"], "symbol": "diamond", "size": 9}}
+    fig.add_trace(go.Scatter3d(x=[values[0]], y=[values[1]], z=[values[2]], **three_d), 1, 1)
+    for row, (i, j) in enumerate(PAIRS, start=1):
+        fig.add_trace(
+            go.Scatter(x=[values[i]], y=[values[j]], showlegend=False, **star), row=row, col=2
+        )
+
+
+def _lay_out(
+    fig: go.Figure,
+    verified: pd.DataFrame,
+    front: str,
+    constraints: str,
+    good: np.ndarray,
+    drawn: Sequence[Objective],
+) -> None:
+    """The title with the front's counts (designs that hold the task, print, hold their loads,
+    have drives, and all four), the 3D scene's axes, the colour axis, legend and the note."""
     labels = [f"{o.label}{BETTER}" for o in drawn]
     n_good, n = int(good.sum()), len(verified)
     held = int(verified["task_contained"].astype(bool).sum())
@@ -225,7 +268,6 @@ def front_figure(
             }
         ],
     )
-    return fig
 
 
 def selected_row(verified: pd.DataFrame, design_m: Sequence[float]) -> int | None:
