@@ -60,7 +60,6 @@ MAX_FUNCTION_LINES = 80
 #: Functions still over the limit, each to be split by concern (issue: size by concern); the list
 #: may only shrink: a function that comes under the limit must leave it.
 OVER_THE_LIMIT = {
-    "realization/payload.py:payload_test",
     "realization/fe_check.py:compare_design",
 }
 
