@@ -1,4 +1,4 @@
-"""Beam model against plane-stress FE of the solid arm plates (qsm.realization.fe_check): prints
+"""Beam model against plane-stress FE of the solid arm plates (tests/reference_fe.py): prints
 the tables of docs/strength.md. Usage: python benchmarks/bench_strength_fe.py [--upper-arm]
 [--fillet RATIO] [cell_mm ...] (default 4 2 mm cells, both arms, cad.corner_fillet_ratio 0.25;
 on an idle machine 1 mm takes about 1 min a design, 0.5 mm about 5 min)."""
@@ -7,9 +7,12 @@ from __future__ import annotations
 
 import sys
 import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
+from reference_fe import FE_LINKS, compare_design
 
 from qsm.physics.cad import CadSettings
-from qsm.realization.fe_check import FE_LINKS, compare_design
 
 DESIGNS = {
     "T1": [0.5, 0.15, 0.5, 0.22, 0.6, 0.2],

@@ -1,14 +1,14 @@
 """The beam model of the link strength against plane-stress finite elements of the same solid
-plates (qsm.realization.fe_check; docs/strength.md has the measured agreement)."""
+plates (tests/reference_fe.py; docs/strength.md has the measured agreement)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
+from reference_fe import compare_design
 
 from qsm.embodiment.material import StrengthSettings
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
-from qsm.realization.fe_check import compare_design
 
 #: Two designs of tests/test_strength.py and a default-like one; 4 mm cells (about 1 s each).
 DESIGNS = [[0.35, 0.1, 0.38, 0.14, 0.42, 0.2], [0.40, 0.12, 0.40, 0.20, 0.48, 0.16]]

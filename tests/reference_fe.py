@@ -29,6 +29,13 @@ from typing import NamedTuple
 import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
+from reference_fe_sections import (
+    SectionResult,
+    bar_sections,
+    inside_corner,
+    section_cuts,
+    snap,
+)
 
 from qsm.embodiment.beam import Section, link_cuts
 from qsm.embodiment.loads import GRAVITY, Inertials, joint_loads, link_motion
@@ -45,13 +52,6 @@ from qsm.realization.fe import (
     analyse,
     clamped_dofs,
     nodal_forces,
-)
-from qsm.realization.fe_sections import (
-    SectionResult,
-    bar_sections,
-    inside_corner,
-    section_cuts,
-    snap,
 )
 from qsm.realization.geometry import cell_fill
 from qsm.realization.plate_loads import LinkLoads, joint_points

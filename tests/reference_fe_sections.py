@@ -1,4 +1,4 @@
-"""Cross-sections of the beam-against-FE comparison (:mod:`qsm.realization.fe_check`): where
+"""Cross-sections of the beam-against-FE comparison (tests/reference_fe.py): where
 the arms are cut, the beam's cuts there, and the FE's peak at the upper arm's inside corner."""
 
 from __future__ import annotations
