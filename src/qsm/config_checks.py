@@ -111,7 +111,7 @@ def smallest_dataset(test_fraction: float) -> int:
 
 
 def folded_arm_applies(bounds: dict[str, list[float]]) -> bool:
-    """Whether the folded-arm bound of :func:`reach_bounds` holds for the sampled ranges: the
+    """Whether the folded-arm bound of :func:`reach_ratio_bound` holds for the sampled ranges: the
     angle from BA to the upper arm's line BD stays below pi (the crank-rocker condition and a loop
     that closes over the whole range, which Stage 1 demands) and above -asin(l2), so the end
     effector never comes nearer A than with the arm folded back on AB, as long as 2 atan2(ee_y,
@@ -255,19 +255,23 @@ def _check_task_near_base(points: np.ndarray, margin: float, bounds: dict[str, A
         f"the task's enclosing disk (centre {_point(disk.centre)} m, radius {disk.radius:.3g} m"
         f"{grown})"
     )
+    nearest = (
+        "hypot(ee_x - 1, ee_y), the upper arm folded back,"
+        if folded_arm_applies(bounds)
+        else "hypot(ee_x, ee_y) - 1"
+    )
     if near <= 0 and np.isfinite(ratio):
         raise ConfigError(
             f"config key 'task.points': {where} covers the base joint (0, 0); every design of "
-            f"sampling.bounds keeps its end effector away from the base, at least "
-            f"hypot(ee_x - 1, ee_y) x l1 with the upper arm folded back. Move task.points away "
-            f"from the base"
+            f"sampling.bounds keeps its end effector at least {nearest} times l1 from the base. "
+            f"Move task.points away from the base"
         )
     if near > 0 and far / near > ratio:
         raise ConfigError(
             f"config key 'task.points': {where} reaches from {near:.3g} to {far:.3g} m from the "
             f"base, a ratio of {far / near:.3g}; no design of sampling.bounds holds it at any "
-            f"scale: its end effector stays between hypot(ee_x - 1, ee_y) and "
-            f"1 + hypot(ee_x, ee_y) times l1 from the base, a ratio of at most {ratio:.3g}. Move "
+            f"scale: its end effector stays between {nearest} and 1 + hypot(ee_x, ee_y) times l1 "
+            f"from the base, a ratio of at most {ratio:.3g}. Move "
             f"the task away from the base (its nearest point at least {far / ratio:.3g} m from "
             f"it) or make it smaller"
         )
