@@ -91,3 +91,18 @@ def test_arc_length_margin_is_an_upper_bound_not_a_lower_one() -> None:
 def test_open_loop_gives_nan() -> None:
     bad = design_from_ratios([0.6, 0.8, 0.3, 1.2, 0.5], 0.3)  # |l3 - l4| > |BC| somewhere
     assert np.isnan(disk_clearances_m(bad[None], OP, TASK)[0])
+
+
+def test_a_workspace_whose_plane_image_folds_is_measured() -> None:
+    """A Pareto design of a near task (0.3-0.38 m out, mirrored): mapping its polar patches to
+    the plane folded a boundary onto itself, and the union raised a GEOS TopologyException that
+    stopped the run's verification. The repaired union gives the independent distance."""
+    design = np.array(
+        [0.21116364141951685, 0.06988274639547845, 0.19874110995210706,
+         0.08672125113334025, 0.19099306085604623, 0.06942155190278095]
+    )  # fmt: skip
+    disk = Disk((-0.34, 0.05), 0.04)
+    ours = disk_clearance_m(design, OP, disk)
+    ref = independent_clearance_m(design, OP, disk, radius=0.1)
+    assert ours == pytest.approx(ref, abs=1e-4)
+    assert ours > 0.02  # some 31 mm of room, within the reference's 0.1 m window

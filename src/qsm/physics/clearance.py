@@ -124,7 +124,8 @@ def local_workspace(
         _to_plane(shapely.intersection(union, shapely.box(lo, rho_lo, hi, rho_hi)), angle0, scale)
         for lo, hi in ((-half, 1e-6), (-1e-6, half))
     ]
-    return shapely.union_all(planar), whole
+    # the polar-to-plane map can fold a piece's boundary onto itself: repaired before the union
+    return shapely.union_all(shapely.make_valid(planar)), whole
 
 
 def disk_clearance_m(
