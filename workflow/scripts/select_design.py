@@ -19,7 +19,7 @@ with logged(snakemake.log[0]) as log:
         p.cad, p.material, p.strength, p.drives, p.payload_kg, p.duty, p.operating_range
     )
     volume = tuple(p.printing["build_volume_mm"])
-    record, _ = selected_record(
+    record = selected_record(
         fronts, p.primary, dataset, rule, volume, p.task_points, p.user_points, op, settings
     )
     if record["task"]["mirrored"]:

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from qsm.embodiment.parts import LinkPart, part_meshes
+from qsm.embodiment.parts import part_meshes
 from qsm.physics.cad import MassProperties
 from qsm.physics.duty import Duty
 from qsm.realization.assembly import final_parts, write_parts
@@ -22,12 +22,11 @@ from qsm.realization.torques import torques_before_after
 
 @dataclass(frozen=True)
 class BuiltLinks:
-    """What :func:`build_links` made: the topology result, the final bored parts, the link mass
-    properties (kg, m, kg m^2), the torques before and after (N m), the STL checks (``before``
-    and ``after``) and the ``topology.json`` record."""
+    """What :func:`build_links` made: the topology result, the link mass properties (kg, m,
+    kg m^2) of the parts to build, the torques before and after (N m), the STL checks
+    (``before`` and ``after``) and the ``topology.json`` record."""
 
     topology: TopologyResult
-    parts: dict[str, LinkPart]
     props: dict[str, MassProperties]
     torques: dict[str, Any]
     stl_checks: dict[str, Any]
@@ -88,4 +87,4 @@ def build_links(
     }
     summary = {name: link.summary() for name, link in result.links.items()}
     record = {"carries_loads": result.carries_loads, "links": summary, "parts": written}
-    return BuiltLinks(result, parts, props, torques, checks, record)
+    return BuiltLinks(result, props, torques, checks, record)

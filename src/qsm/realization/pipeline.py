@@ -51,11 +51,6 @@ class Realization:
     parts: dict[str, LinkPart]
 
     @property
-    def holds_loads(self) -> bool:
-        """Every link and bearing holds its loads."""
-        return bool(self.strength["holds_loads"])
-
-    @property
     def has_drives(self) -> bool:
         """Each motor has a drive of the catalogue that meets its duty."""
         return bool(self.drives["has_drives"])

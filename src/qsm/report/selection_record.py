@@ -27,7 +27,7 @@ from qsm.realization.choice import (
     printing_advice,
 )
 from qsm.realization.outputs import selection_record
-from qsm.realization.pipeline import Realization, RealizationSettings, realize
+from qsm.realization.pipeline import RealizationSettings, realize
 from qsm.report.drive_text import drive_sentences
 from qsm.report.figures import draw_design
 
@@ -42,7 +42,7 @@ def selected_record(
     user_points: Sequence[Sequence[float]],
     op: OperatingRange,
     settings: RealizationSettings,
-) -> tuple[dict[str, Any], Realization]:
+) -> dict[str, Any]:
     """The design chosen by ``rule`` from the fronts (``primary`` first) or the dataset
     (:func:`qsm.realization.choice.choose_design`), realised (:func:`realize`), as the record
     of ``selected.json``: its row, how it was found, the task (the user's points; the design's
@@ -71,7 +71,7 @@ def selected_record(
     if not how["printable"]:
         verdicts.append(_printing_failure(record, fronts, dataset, cad, volume_mm, disk))
     record["verdict"] = ". ".join(verdicts) + "." if verdicts else _ready(record, volume_mm)
-    return record, done
+    return record
 
 
 def _strength_failure(record: Mapping[str, Any], settings: RealizationSettings) -> str:
