@@ -19,7 +19,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "tests"))
 from reference_workspace import pixel_area
 
 from qsm import settings
-from qsm.config import load_config
+from qsm.config.reading import load_config
 from qsm.mechanisms.scale import FitSettings, fit_design
 from qsm.physics.kinematics import design_from_ratios, loop_closes_everywhere
 from qsm.physics.workspace import Resolution, slice_workspace

@@ -1,8 +1,8 @@
 """Print config/README.md's table of bad inputs: each kind, an example and the message qsm gives.
 
 Each example is written to a file and read as ``snakemake --configfile config/config.yaml FILE``
-merges it (``qsm.config.load_config``, which ``qsm check-config`` and the Snakefile run); the
-message column is what that prints, the time column how long the check took here. Run from the
+merges it (``qsm.config.reading.load_config``, which ``qsm check-config`` and the Snakefile run);
+the message column is what that prints, the time column how long the check took here. Run from the
 checkout: ``python scripts/bad_input_table.py > table.md``.
 """
 
@@ -16,8 +16,8 @@ import numpy as np
 import pyarrow as pa
 import pyarrow.parquet as pq
 
-from qsm.config import ConfigError, load_config
-from qsm.config_checks import config_warnings
+from qsm.config.checks import config_warnings
+from qsm.config.reading import ConfigError, load_config
 from qsm.embodiment.drives.catalogue import default_catalogue_folder
 from qsm.workflow.tables import read_table
 

@@ -1,11 +1,12 @@
-"""The beam model of :mod:`qsm.embodiment.strength` against plane-stress finite elements.
+"""The beam model of :mod:`qsm.embodiment.strength.stresses` against plane-stress finite elements.
 
 For one design, at the duty samples of peak |tau1| and |tau2| (those of
 :func:`qsm.realization.plate_loads.peak_loads`), the lower and the upper arm are analysed twice
-under the same loads: the joint forces of :func:`qsm.embodiment.loads.joint_loads` plus the
+under the same loads: the joint forces of :func:`qsm.embodiment.strength.loads.joint_loads` plus the
 link's own weight and d'Alembert inertia.
 
-* Beam: :func:`qsm.embodiment.strength.cut_forces` with a solid section (no bore, as the FE plate
+* Beam: :func:`qsm.embodiment.strength.stresses.cut_forces` with a solid section (no bore, as the
+FE plate
   has solid bosses), the peak over the link's bar cuts.
 * FE: the solid CAD plate of :func:`qsm.realization.plate_loads.link_problem` (clamped over the
   whole boss of A, for the lower arm, or B, for the upper arm; joint forces spread over the nodes
@@ -37,9 +38,9 @@ from reference_fe_sections import (
     snap,
 )
 
-from qsm.embodiment.beam import Section, link_cuts
-from qsm.embodiment.loads import GRAVITY, Inertials, joint_loads, link_motion
-from qsm.embodiment.strength import cut_forces, section_stress
+from qsm.embodiment.strength.beam import Section, link_cuts
+from qsm.embodiment.strength.loads import GRAVITY, Inertials, joint_loads, link_motion
+from qsm.embodiment.strength.stresses import cut_forces, section_stress
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, link_outlines, mass_properties
 from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.dynamics import loop_state

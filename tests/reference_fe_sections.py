@@ -8,7 +8,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from qsm.embodiment.beam import Cuts, Section
+from qsm.embodiment.strength.beam import Cuts, Section
 from qsm.physics.cad import CadSettings
 
 
@@ -64,7 +64,7 @@ def snap(grid_origin: float, h: float, x: float) -> float:
 
 
 def section_cuts(design: NDArray[np.float64], link: str, sections: list[Section2D]) -> Cuts:
-    """Cuts of :mod:`qsm.embodiment.strength` at ``sections`` (bar stress, no bore)."""
+    """Cuts of :mod:`qsm.embodiment.strength.stresses` at ``sections`` (bar stress, no bore)."""
     l1, _, _, l4, ex, ey = (float(v) for v in design)
     at, tangent, piece, load, slot = [], [], [], [], []
     for s in sections:

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from qsm.embodiment import bearings
+from qsm.embodiment.parts import bearings
 
 
 @pytest.fixture(scope="module")

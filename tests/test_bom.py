@@ -6,7 +6,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm.embodiment import bearings, bom, part_mass, parts
+from qsm.embodiment.parts import bearings, bom, part_mass
+from qsm.embodiment.parts import link_parts as parts
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 

@@ -112,7 +112,7 @@ def test_editing_the_drive_check_reruns_the_selection_and_the_payload_test(run, 
     """select_design reaches the drive check only through a function's import in the settings
     layer: an edit of it still reruns the selection and everything after it."""
     work = copy_run(run, tmp_path / "edited")
-    module = work / "src/qsm/embodiment/drive_checks.py"
+    module = work / "src/qsm/embodiment/drives/drive_checks.py"
     module.write_text(module.read_text() + "\n# an edit\n")
     jobs = planned_jobs(work)
     assert {"select_design", "payload_test", "topology_optimize", "summary"} <= set(jobs)

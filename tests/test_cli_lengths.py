@@ -8,7 +8,7 @@ import pytest
 import trimesh
 
 from qsm.app.cli import main
-from qsm.config import load_config
+from qsm.config.reading import load_config
 from qsm.physics.cad import DEFAULT_CAD
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import evaluate_mechanism

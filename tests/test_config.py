@@ -6,7 +6,7 @@ from pathlib import Path
 import pytest
 import yaml
 
-from qsm.config import ConfigError, load_config, schema, validate_config
+from qsm.config.reading import ConfigError, load_config, schema, validate_config
 from qsm.workflow.tables import settings_hash
 
 ROOT = Path(__file__).resolve().parents[1]

@@ -1,4 +1,4 @@
-"""Checks across keys and unit slips (qsm.config_checks): each names the key and the cause."""
+"""Checks across keys and unit slips (qsm.config.checks): each names the key and the cause."""
 
 import copy
 import os
@@ -9,8 +9,8 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from qsm.config import ConfigError, load_config, merge_config, validate_config
-from qsm.config_checks import config_warnings, largest_reach
+from qsm.config.checks import config_warnings, largest_reach
+from qsm.config.reading import ConfigError, load_config, merge_config, validate_config
 from qsm.physics.kinematics import end_effector
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -187,7 +187,7 @@ def test_the_smallest_dataset_splits_into_two_designs_each_side():
     on, and one fewer does not (the rule behind sampling.n_mechanisms' minimum)."""
     from sklearn.model_selection import train_test_split
 
-    from qsm.config_checks import smallest_dataset
+    from qsm.config.checks import smallest_dataset
 
     for fraction in (0.05, 0.2, 0.5, 0.9):
         n = smallest_dataset(fraction)
@@ -203,7 +203,7 @@ def test_the_reach_ratio_bounds_every_design_of_the_ranges():
     farthest distance from the base over 2001 poses. The nearest stays above the folded-arm
     bound hypot(ee_x - 1, ee_y), the ratio of farthest to nearest below reach_ratio_bound, which
     the search comes within 15 % of (the supremum lies where l2 + l3 = 1 + l4)."""
-    from qsm.config_checks import folded_arm_applies, reach_ratio_bound
+    from qsm.config.checks import folded_arm_applies, reach_ratio_bound
     from qsm.mechanisms.filters import crank_rocker
     from qsm.physics.kinematics import loop_closes_everywhere
     from qsm.physics.workspace import OperatingRange, arcs
@@ -228,7 +228,7 @@ def test_the_reach_ratio_bounds_every_design_of_the_ranges():
 
 
 def test_a_task_just_inside_the_reach_ratio_is_accepted():
-    from qsm.config_checks import reach_ratio_bound
+    from qsm.config.checks import reach_ratio_bound
 
     ratio = reach_ratio_bound(load_config()["sampling"]["bounds"])
     near = 0.6 / (0.99 * ratio)  # a disk on the x axis from near to 0.6 m

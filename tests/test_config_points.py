@@ -1,5 +1,5 @@
 """Many task points: task.points_file, the numpy check of long task.points, and the reduced task
-the workflow's stages get (qsm.config_points, qsm.physics.task_points.design_task)."""
+the workflow's stages get (qsm.config.points, qsm.physics.task_points.design_task)."""
 
 import copy
 import itertools
@@ -9,7 +9,7 @@ import re
 import numpy as np
 import pytest
 
-from qsm.config import ConfigError, load_config, validate_config
+from qsm.config.reading import ConfigError, load_config, validate_config
 from qsm.physics.mirror import design_points, is_mirrored
 from qsm.physics.task_points import MAX_VISITED_POINTS, design_task, visited_points
 

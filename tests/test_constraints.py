@@ -1,12 +1,12 @@
 """g11 (task containment, m) and g12 (printability, mm) against hand-computed cases and
 independent references: point membership by inverse kinematics, Stage 1's containment test and
-the box check of qsm.embodiment.printing on the link outlines."""
+the box check of qsm.embodiment.parts.printing on the link outlines."""
 
 import numpy as np
 import pytest
 from reference_workspace import reachable
 
-from qsm.embodiment.printing import (
+from qsm.embodiment.parts.printing import (
     all_links_fit,
     link_boxes_mm,
     needed_volume_mm,
@@ -216,8 +216,8 @@ def test_g11_holds_exactly_when_the_euclidean_clearance_reaches_the_tolerance():
 def test_g13_g14_evaluated_only_where_the_cheaper_constraints_hold():
     """g13 / g14 of the designs that meet g1..g12 equal the checks' own values (with the loop's
     allowance); the others read NOT_EVALUATED, and never reach the checks."""
-    from qsm.embodiment.drive_checks import DriveCheck
-    from qsm.embodiment.link_checks import StrengthCheck
+    from qsm.embodiment.drives.drive_checks import DriveCheck
+    from qsm.embodiment.strength.link_checks import StrengthCheck
     from qsm.optimization.constraint_set import LOOP_ALLOWANCE, NOT_EVALUATED
     from qsm.physics.duty import DutySettings, duty_cycle
 

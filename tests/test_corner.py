@@ -1,15 +1,15 @@
 """The stress concentration at the upper arm's filleted inside corner: hand-computed beam cases
-(qsm.embodiment.strength.link_peaks)."""
+(qsm.embodiment.strength.stresses.link_peaks)."""
 
 from __future__ import annotations
 
 import numpy as np
 import pytest
 
-from qsm.embodiment.beam import Section
-from qsm.embodiment.loads import Inertials, JointLoads, LinkMotion
-from qsm.embodiment.material import Material, StrengthSettings
-from qsm.embodiment.strength import link_strength
+from qsm.embodiment.strength.beam import Section
+from qsm.embodiment.strength.loads import Inertials, JointLoads, LinkMotion
+from qsm.embodiment.strength.material import Material, StrengthSettings
+from qsm.embodiment.strength.stresses import link_strength
 
 SEC = Section(width_m=0.04, thickness_m=0.02, boss_radius_m=0.025)
 BORES = np.full(4, 0.022)

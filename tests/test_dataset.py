@@ -9,7 +9,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm.config import load_config
+from qsm.config.reading import load_config
+from qsm.config.settings import physics
 from qsm.mechanisms.dataset import (
     DRIVE_COLUMNS,
     DYNAMICS_COLUMNS,
@@ -21,7 +22,6 @@ from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import joint_torques, loop_state
 from qsm.physics.kinematics import DESIGN_NAMES, pose
-from qsm.settings import physics
 
 
 def mechanisms(ids):

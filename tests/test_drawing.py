@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from qsm.embodiment import bearings, parts
+from qsm.embodiment.parts import bearings
+from qsm.embodiment.parts import link_parts as parts
 from qsm.report.drawing import draw_links
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])

@@ -1,5 +1,5 @@
-"""Drives in the loop (qsm.embodiment.drive_checks): reflected inertia against MuJoCo armature,
-the per-candidate choice, g14 and the dataset columns."""
+"""Drives in the loop (qsm.embodiment.drives.drive_checks): reflected inertia against MuJoCo
+armature, the per-candidate choice, g14 and the dataset columns."""
 
 from __future__ import annotations
 
@@ -7,10 +7,10 @@ import numpy as np
 import pytest
 from test_drives import write_catalogue
 
-from qsm.embodiment.drive_checks import DriveCheck
 from qsm.embodiment.drives.catalogue import read_catalogue
+from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.embodiment.drives.selection import select_drives
-from qsm.embodiment.loads import Inertials, joint_loads
+from qsm.embodiment.strength.loads import Inertials, joint_loads
 from qsm.mechanisms.dataset import DRIVE_COLUMNS
 from qsm.physics.cad import mass_properties
 from qsm.physics.duty import Duty, duty_cycle
@@ -134,7 +134,7 @@ def test_g14_and_the_dataset_columns_on_a_real_design(three):
 def test_g14_from_the_strength_checks_torques_equals_its_own():
     """The optimisation computes the loads once: g14 from the strength check's torques is the
     drive check's own g14 (the same section, payload and duty)."""
-    from qsm.embodiment.link_checks import StrengthCheck
+    from qsm.embodiment.strength.link_checks import StrengthCheck
     from qsm.physics.duty import DutySettings, duty_cycle
 
     duty = duty_cycle(DutySettings(samples_per_segment=6))

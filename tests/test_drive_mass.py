@@ -12,10 +12,11 @@ import pytest
 from test_drive_checks import _duty
 from test_drives import write_catalogue
 
-from qsm.config import load_config
-from qsm.embodiment.drive_checks import DriveCheck
+from qsm.config.reading import load_config
+from qsm.config.settings import actuation, links, physics
 from qsm.embodiment.drives.catalogue import read_catalogue
-from qsm.embodiment.link_checks import StrengthCheck
+from qsm.embodiment.drives.drive_checks import DriveCheck
+from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.optimization.comparison import compare, true_hypervolume
 from qsm.optimization.constraint_set import ExtraConstraints, loop_duty
 from qsm.optimization.nsga import optimize
@@ -27,7 +28,6 @@ from qsm.optimization.ranking import (
     rule_scores,
 )
 from qsm.physics.cad import DEFAULT_CAD
-from qsm.settings import actuation, links, physics
 from qsm.surrogate.model import INPUTS, SurrogateSettings, train
 
 

@@ -19,7 +19,8 @@ from workflow_helpers import ROOT, copy_run, snakemake
 
 from qsm.app.cli import main
 from qsm.app.export import TRUE_KEYS, export
-from qsm.config import load_config
+from qsm.config.reading import load_config
+from qsm.config.settings import physics
 from qsm.optimization.ranking import front_ranks
 from qsm.optimization.verify import verify_design
 from qsm.physics.cad import mass_properties
@@ -30,7 +31,6 @@ from qsm.physics.mjcf import add_point_mass
 from qsm.physics.task import min_enclosing_circle
 from qsm.realization.choice import select_design
 from qsm.report.animation import EE_COLOUR, frames_record, write_task_motion
-from qsm.settings import physics
 from qsm.workflow.tables import read_table
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])  # a crank-rocker that closes everywhere

@@ -7,13 +7,13 @@ import numpy as np
 import pytest
 
 from qsm.app.evaluate import evaluate_ratios
-from qsm.config import load_config, validate_config
+from qsm.config.reading import load_config, validate_config
+from qsm.config.settings import physics
 from qsm.physics.dynamics import inverse_dynamics, loop_state
 from qsm.physics.inverse_kinematics import joint_angles
 from qsm.physics.mirror import design_points, is_mirrored, mirror_points, mirror_spec, task_record
 from qsm.physics.mjcf import mjcf_xml, model_spec
 from qsm.physics.task import min_enclosing_circle
-from qsm.settings import physics
 
 #: A unit design (l2, l3, l4, ee_x, ee_y) that holds the default task (asserted below).
 RATIOS = (0.4, 1.0, 0.45, 1.2, 0.45)

@@ -10,11 +10,11 @@ import pytest
 from PIL import Image
 from test_exploration import DESIGN, synthetic_series
 
+from qsm.config.settings import physics
 from qsm.physics.kinematics import pose
 from qsm.physics.task import min_enclosing_circle
 from qsm.report.animation import write_task_motion
 from qsm.report.motion_page import gif_frames, write_viewer_html
-from qsm.settings import physics
 
 LIMITS_NM = (150.0, 100.0)  # far above the synthetic torques (40 and 20 N m at most)
 

@@ -3,11 +3,11 @@
 import numpy as np
 import pytest
 
-from qsm.config import load_config
+from qsm.config.reading import load_config
+from qsm.config.settings import physics
 from qsm.mechanisms.scale import fit_design
 from qsm.optimization.nsga import run_nsga2
 from qsm.optimization.problems import LabelStats, PaperProblem, RatiosProblem, paper_constraints
-from qsm.settings import physics
 from qsm.surrogate.model import SurrogateSettings, train
 
 

@@ -7,7 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from qsm.embodiment import bearings, part_mass, part_outlines, parts
+from qsm.embodiment.parts import bearings, part_mass, part_outlines
+from qsm.embodiment.parts import link_parts as parts
 from qsm.physics import cad
 from qsm.physics.kinematics import LINK_NAMES
 

@@ -6,7 +6,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm.embodiment import printing
+from qsm.embodiment.parts import printing
 from qsm.physics import cad
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.realization.choice import select_design

@@ -6,7 +6,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm.embodiment import parts, printing
+from qsm.embodiment.parts import link_parts as parts
+from qsm.embodiment.parts import printing
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
 

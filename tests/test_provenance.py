@@ -111,14 +111,14 @@ def test_deferred_imports_are_followed_and_type_checking_ones_are_not(tmp_path):
 
 def test_select_designs_hash_follows_the_drive_check(tmp_path):
     """select_design runs the drive check only through the settings layer: an edit of
-    embodiment/drive_checks.py changes its rule's hash (edaf7cc's hash left it out)."""
+    embodiment/drives/drive_checks.py changes its rule's hash (edaf7cc's hash left it out)."""
     import shutil
 
     pkg = tmp_path / "qsm"
     shutil.copytree(PACKAGE_DIR, pkg, ignore=shutil.ignore_patterns("__pycache__"))
     script = ROOT / "workflow" / "scripts" / "select_design.py"
     before = source_hash(script, pkg)
-    module = pkg / "embodiment" / "drive_checks.py"
+    module = pkg / "embodiment" / "drives" / "drive_checks.py"
     module.write_text(module.read_text() + "\n# an edit\n")
     module_closure.cache_clear()
     assert source_hash(script, pkg) != before

@@ -14,7 +14,7 @@ import numpy as np
 import pytest
 from workflow_helpers import snakemake
 
-from qsm.config import load_config
+from qsm.config.reading import load_config
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.mirror import mirror_points
 from qsm.workflow.tables import read_table

@@ -1,6 +1,6 @@
 """The settings dataclasses' defaults are the config schema's, the defaults a run uses.
 
-Notebook calls take the dataclass defaults (read from the schema by :mod:`qsm.defaults`), the
+Notebook calls take the dataclass defaults (read from the schema by :mod:`qsm.config.defaults`), the
 workflow the validated config's: each field must read its own key.
 """
 
@@ -8,8 +8,8 @@ import dataclasses
 
 import pytest
 
-from qsm.config import load_config
-from qsm.embodiment.material import Material, StrengthSettings
+from qsm.config.reading import load_config
+from qsm.embodiment.strength.material import Material, StrengthSettings
 from qsm.physics.cad import CadSettings
 from qsm.physics.duty import DutySettings
 from qsm.physics.workspace import Resolution
@@ -55,7 +55,7 @@ def test_operating_range_defaults_equal_the_schema():
 
 
 def test_the_settings_layer_gives_the_default_dataclasses_on_the_default_config():
-    from qsm.settings import links, physics, plates, simulation, surrogate
+    from qsm.config.settings import links, physics, plates, simulation, surrogate
 
     c = CONFIG
     assert physics.cad(c["cad"], c["material"]) == CadSettings()
@@ -73,7 +73,7 @@ def test_the_settings_layer_gives_the_default_dataclasses_on_the_default_config(
 
 
 def test_a_default_names_a_key_the_schema_lacks():
-    from qsm.defaults import default
+    from qsm.config.defaults import default
 
     assert default("cad.width_m") == CONFIG["cad"]["width_m"]
     assert default("operating_range.theta1_deg") == tuple(CONFIG["operating_range"]["theta1_deg"])

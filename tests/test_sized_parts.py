@@ -9,8 +9,9 @@ import pytest
 import shapely
 import trimesh
 
-from qsm.embodiment import bearings, bom, part_mass, parts, printing
-from qsm.embodiment.printing import link_printability, printability_violation_mm
+from qsm.embodiment.parts import bearings, bom, part_mass, printing
+from qsm.embodiment.parts import link_parts as parts
+from qsm.embodiment.parts.printing import link_printability, printability_violation_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import LINK_NAMES
 from qsm.realization.plate_loads import LinkLoads, link_problem
@@ -98,7 +99,7 @@ def test_the_fe_problem_is_the_links_own_plate() -> None:
 
 
 def test_the_exports_printability_is_each_links_own() -> None:
-    """With one section: the numbers of qsm.embodiment.printing and g12; sized: the coupler's
+    """With one section: the numbers of qsm.embodiment.parts.printing and g12; sized: the coupler's
     CAD outline is 550 + 2 x 40 by 80 mm, 32 thick, and the upper arm's the longest."""
     cad, volume = CadSettings(), (600.0, 350.0, 350.0)
     fixed = link_printability(DESIGN, cad, None, volume)
@@ -122,7 +123,7 @@ def test_a_sized_export_builds_each_link_at_its_checked_section(tmp_path) -> Non
     import mujoco
 
     from qsm.app.export import export_design
-    from qsm.config import load_config
+    from qsm.config.reading import load_config
     from qsm.physics.cad import mass_properties
 
     config = load_config()

@@ -1,4 +1,4 @@
-"""Sections sized by strength (qsm.embodiment.sizing): a hand-computed cantilever, the
+"""Sections sized by strength (qsm.embodiment.strength.sizing): a hand-computed cantilever, the
 loads -> sections -> masses iteration, the bounds, a load no section holds, fixed mode unchanged."""
 
 from __future__ import annotations
@@ -11,13 +11,13 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm.config import load_config
-from qsm.config_checks import check_config
-from qsm.config_errors import ConfigError
-from qsm.embodiment.link_checks import StrengthCheck
-from qsm.embodiment.loads import Inertials, joint_loads, link_motion
-from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH
-from qsm.embodiment.sizing import (
+from qsm.config.checks import check_config
+from qsm.config.errors import ConfigError
+from qsm.config.reading import load_config
+from qsm.embodiment.strength.link_checks import StrengthCheck
+from qsm.embodiment.strength.loads import Inertials, joint_loads, link_motion
+from qsm.embodiment.strength.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH
+from qsm.embodiment.strength.sizing import (
     TARGET,
     SizedSections,
     SizingSettings,
@@ -25,7 +25,7 @@ from qsm.embodiment.sizing import (
     smallest_holding,
     utilisation,
 )
-from qsm.embodiment.strength import LinkLoads
+from qsm.embodiment.strength.stresses import LinkLoads
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import DEFAULT_CAD
 from qsm.physics.duty import DutySettings, duty_cycle
@@ -190,8 +190,8 @@ def test_config_checks_the_sizing_bounds():
 def test_the_loop_sizes_within_its_allowance():
     """The optimisation's g13 multiplies the utilisation by 1 + LOOP_ALLOWANCE (coarser duty):
     its sized check sizes the links that much lower, so a sized link passes g13."""
+    from qsm.config.settings import optimization, physics
     from qsm.optimization.constraint_set import LOOP_ALLOWANCE
-    from qsm.settings import optimization, physics
 
     config = load_config()
     config["cad"]["section"] = "sized"

@@ -10,13 +10,13 @@ import pandas as pd
 import pytest
 
 from qsm.app.cli import main
-from qsm.config import load_config
+from qsm.config.reading import load_config
+from qsm.config.settings import physics
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube
 from qsm.mechanisms.scale import examined_fits, fit_counts, fit_designs, select_mechanisms
 from qsm.physics.kinematics import RATIO_NAMES, pose
 from qsm.physics.workspace import OperatingRange
-from qsm.settings import physics
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import TableError, read_meta, read_table, write_table
 

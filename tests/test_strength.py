@@ -8,17 +8,17 @@ import math
 import numpy as np
 import pytest
 
-from qsm.embodiment.beam import Section
-from qsm.embodiment.link_checks import STRENGTH_COLUMNS, StrengthCheck
-from qsm.embodiment.loads import (
+from qsm.embodiment.strength.beam import Section
+from qsm.embodiment.strength.link_checks import STRENGTH_COLUMNS, StrengthCheck
+from qsm.embodiment.strength.loads import (
     GRAVITY,
     Inertials,
     JointLoads,
     LinkMotion,
     joint_loads,
 )
-from qsm.embodiment.material import Material, StrengthSettings
-from qsm.embodiment.strength import link_strength
+from qsm.embodiment.strength.material import Material, StrengthSettings
+from qsm.embodiment.strength.stresses import link_strength
 from qsm.physics import duty as duty_mod
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import CadSettings, mass_properties

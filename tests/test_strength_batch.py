@@ -7,10 +7,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from qsm.embodiment.beam import LOADS, Section, link_cuts
-from qsm.embodiment.link_checks import StrengthCheck
-from qsm.embodiment.loads import GRAVITY, Inertials, joint_loads, link_motion
-from qsm.embodiment.strength import _SPINE, cut_coefficients, cut_forces
+from qsm.embodiment.strength.beam import LOADS, Section, link_cuts
+from qsm.embodiment.strength.link_checks import StrengthCheck
+from qsm.embodiment.strength.loads import GRAVITY, Inertials, joint_loads, link_motion
+from qsm.embodiment.strength.stresses import _SPINE, cut_coefficients, cut_forces
 from qsm.physics import duty as duty_mod
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import DEFAULT_CAD

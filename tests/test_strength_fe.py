@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 from reference_fe import compare_design
 
-from qsm.embodiment.material import StrengthSettings
+from qsm.embodiment.strength.material import StrengthSettings
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 
 #: Two designs of tests/test_strength.py and a default-like one; 4 mm cells (about 1 s each).

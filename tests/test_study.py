@@ -8,7 +8,8 @@ import pytest
 from SALib.test_functions import Ishigami
 from test_design_rules import agreeing_evidence
 
-from qsm.config import load_config
+from qsm.config.reading import load_config
+from qsm.config.settings import physics
 from qsm.design_rules.claims import Study
 from qsm.design_rules.eta_derivatives import true_etas
 from qsm.design_rules.experiments import independent_lengths, table3_sweep
@@ -22,7 +23,6 @@ from qsm.physics.duty import duty_cycle
 from qsm.physics.kinematics import DESIGN_NAMES
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import Resolution
-from qsm.settings import physics
 
 CONFIG = load_config()
 

@@ -5,8 +5,8 @@ import json
 import numpy as np
 import pytest
 
-from qsm.config import load_config
-from qsm.settings import surrogate
+from qsm.config.reading import load_config
+from qsm.config.settings import surrogate
 from qsm.surrogate.model import (
     Surrogate,
     SurrogateSettings,

@@ -5,7 +5,7 @@ import itertools
 import numpy as np
 import pytest
 
-from qsm.config import load_config
+from qsm.config.reading import load_config
 from qsm.physics.task import _circumcircle, min_enclosing_circle
 
 

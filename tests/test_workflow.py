@@ -13,8 +13,9 @@ import yaml
 from workflow_helpers import ROOT, copy_run, copy_workflow, planned_jobs, snakemake
 
 from qsm.app.evaluate import evaluate_ratios
-from qsm.config import validate_config
-from qsm.embodiment.printing import all_links_fit
+from qsm.config.reading import validate_config
+from qsm.config.settings import links, physics
+from qsm.embodiment.parts.printing import all_links_fit
 from qsm.mechanisms.dataset import DATASET_COLUMNS
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube
@@ -24,7 +25,6 @@ from qsm.optimization.verify import verify_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.workspace import OperatingRange
 from qsm.report.headline import headline_markdown
-from qsm.settings import links, physics
 from qsm.surrogate.model import INPUTS
 from qsm.surrogate.model import load as load_surrogate
 from qsm.workflow.tables import read_meta, read_table, settings_hash

@@ -18,24 +18,25 @@ from typing import Any
 
 __version__ = "0.1.0"
 
-#: The packages and top-level modules of ``qsm`` by layer, lowest first: a layer imports only
-#: from the layers before it (tests/test_layers.py holds the code to this).
+#: The parts of ``qsm`` by layer, lowest first: a package, a top-level module, or a dotted part of
+#: a package (``config.defaults``). A layer imports only from the layers before it
+#: (tests/test_layers.py holds the code to this).
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("defaults",),  # every setting's default, from the config schema
+    ("config.defaults",),  # every setting's default, from the config schema
     ("physics",),  # kinematics, workspace, solids, MuJoCo dynamics, clearance
     ("mechanisms", "surrogate"),  # Stage 1 designs and the dataset's columns; the MLP
-    ("embodiment",),  # loads, strength, bearings, drives, parts, printability
+    ("embodiment",),  # parts and printability, strength, drives
     ("optimization",),  # NSGA-II, constraints, verification, ranking
-    ("realization",),  # selection, topology, assembly, payload test
+    ("realization",),  # the realisation pipeline: selection, topology, assembly, payload test
     ("report",),  # figures, drawings, headline, interactive pages
     ("design_rules",),  # Stage 5 and the study
     ("workflow",),  # tables, logs, shards, provenance: plumbing for the rules
-    ("config_errors",),
-    ("config_points",),  # the task points: a points file, long lists checked with numpy
-    ("config_payload",),  # the drive catalogue and the payload the arm can hold
-    ("config_checks",),
-    ("config",),
-    ("settings",),
+    ("config.errors",),
+    ("config.points",),  # the task points: a points file, long lists checked with numpy
+    ("config.drive_limits",),  # the drive catalogue and the payload the arm can hold
+    ("config.checks",),
+    ("config.reading",),
+    ("config.settings",),
     ("app",),  # the command line and notebook calls: evaluate, locate and export a design
     ("__main__",),
 )
@@ -44,12 +45,12 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "end_effector": ("qsm.physics.kinematics", "end_effector"),
     "joint_torques": ("qsm.physics.dynamics", "joint_torques"),
     "evaluate_ratios": ("qsm.app.evaluate", "evaluate_ratios"),
-    "load_config": ("qsm.config", "load_config"),
+    "load_config": ("qsm.config.reading", "load_config"),
     "load_surrogate": ("qsm.surrogate.model", "load"),
     "choose_design": ("qsm.realization.choice", "choose_design"),
     "printing_advice": ("qsm.realization.choice", "printing_advice"),
     "containment_margin_m": ("qsm.optimization.constraints", "containment_margin_m"),
-    "printability_violation_mm": ("qsm.embodiment.printing", "printability_violation_mm"),
+    "printability_violation_mm": ("qsm.embodiment.parts.printing", "printability_violation_mm"),
 }
 __all__ = sorted(_EXPORTS)
 

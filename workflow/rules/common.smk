@@ -51,7 +51,7 @@ def drive_settings():
     rules that choose drives (a config value alone would not). Hashed once per run."""
     import hashlib
 
-    from qsm.config_payload import catalogue_folder
+    from qsm.config.drive_limits import catalogue_folder
 
     digest = hashlib.sha256()
     folder = Path(catalogue_folder(config))

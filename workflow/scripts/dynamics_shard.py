@@ -1,13 +1,13 @@
 """Rule dynamics: closed-chain inverse dynamics, link strength and drives of one shard of the
 mechanisms."""
 
-from qsm.embodiment.drive_checks import with_embodiment
+from qsm.config.settings import actuation, links, physics
+from qsm.embodiment.drives.drive_checks import with_embodiment
 from qsm.mechanisms.dataset import status_counts
 from qsm.mechanisms.evaluation import evaluate_table
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.duty import duty_cycle
 from qsm.physics.kinematics import DESIGN_COLUMNS
-from qsm.settings import actuation, links, physics
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table

@@ -1,10 +1,10 @@
 """Rule eta_derivatives_shard: d eta / d x of the true eta for one shard of the mechanisms."""
 
+from qsm.config.settings import physics
 from qsm.design_rules.eta_derivatives import eta_gradients
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import Resolution
-from qsm.settings import physics
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table

@@ -1,8 +1,8 @@
 """Rule filter_kinematics: crank-rocker, loop closure and transmission-angle filters."""
 
+from qsm.config.settings import physics
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.physics.kinematics import RATIO_NAMES
-from qsm.settings import physics
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table

@@ -1,8 +1,8 @@
 """Rule fit_task: workspace, minimal scale factor and eta for one shard of the candidates."""
 
+from qsm.config.settings import physics
 from qsm.mechanisms.scale import fit_designs
 from qsm.physics.kinematics import RATIO_NAMES
-from qsm.settings import physics
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table

@@ -1,9 +1,9 @@
 """Rule optimize: NSGA-II on the surrogate in one formulation; tables and figures."""
 
+from qsm.config.settings import optimization, physics
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.optimization.nsga import optimize
 from qsm.report.figures import pareto_figures, representatives_figure
-from qsm.settings import optimization, physics
 from qsm.surrogate.model import load
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table

@@ -4,6 +4,7 @@ import json
 
 import numpy as np
 
+from qsm.config.settings import actuation, physics, simulation
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.realization.outputs import props_from_json
 from qsm.realization.payload import payload_test
@@ -14,7 +15,6 @@ from qsm.report.payload_report import (
     series_table,
     summary,
 )
-from qsm.settings import actuation, physics, simulation
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import write_table

@@ -1,9 +1,9 @@
 """Rule plot_mechanisms: example designs with workspace and task, scale and eta distributions."""
 
+from qsm.config.settings import physics
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.task import min_enclosing_circle
 from qsm.report.figures import distributions_figure, examples_figure
-from qsm.settings import physics
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 

@@ -1,8 +1,8 @@
 """Rule select_design: the design to realise, printable if any is, truly feasible always."""
 
+from qsm.config.settings import physics, realization
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.report.selection_record import selected_figure, selected_record
-from qsm.settings import physics, realization
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table

@@ -4,12 +4,12 @@ import json
 
 import numpy as np
 
+from qsm.config.settings import physics
 from qsm.design_rules.experiments import table3_sweep
 from qsm.design_rules.plots import table3_figure
 from qsm.design_rules.study import PAPER_TABLE3_PCT
 from qsm.physics.duty import duty_cycle
 from qsm.realization.outputs import props_from_json
-from qsm.settings import physics
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import write_table
 

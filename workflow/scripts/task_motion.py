@@ -3,10 +3,10 @@ that plays it with play/pause and a slider."""
 
 import json
 
+from qsm.config.settings import physics
 from qsm.physics.task import min_enclosing_circle
 from qsm.report.animation import frames_record, write_task_motion
 from qsm.report.motion_page import write_viewer_html
-from qsm.settings import physics
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table

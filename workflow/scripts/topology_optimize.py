@@ -3,13 +3,13 @@ bill of materials), torques again."""
 
 import json
 
+from qsm.config.settings import physics, plates, realization
 from qsm.physics.duty import duty_cycle
 from qsm.realization.build import build_links
 from qsm.realization.outputs import props_to_json, torques_markdown
 from qsm.realization.pipeline import realize
 from qsm.realization.topology_figure import plot_links
 from qsm.report.drawing import draw_links
-from qsm.settings import physics, plates, realization
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 

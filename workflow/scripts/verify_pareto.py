@@ -1,9 +1,9 @@
 """Rule verify_pareto: one formulation's Pareto designs under the true physics."""
 
+from qsm.config.settings import actuation, links, physics
 from qsm.optimization.comparison import summary
 from qsm.optimization.nsga import PREDICTION_COLUMNS
 from qsm.optimization.verify import TRUE_COLUMNS, verify_front
-from qsm.settings import actuation, links, physics
 from qsm.surrogate.model import INPUTS
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged

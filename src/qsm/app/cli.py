@@ -8,8 +8,8 @@ import sys
 from collections.abc import Sequence
 
 from qsm.app.evaluate import checked_ratios, evaluate_lengths, evaluate_ratios
-from qsm.config import ConfigError, load_config, validate_config
-from qsm.config_checks import config_warnings
+from qsm.config.checks import config_warnings
+from qsm.config.reading import ConfigError, load_config, validate_config
 from qsm.workflow.json_files import dumps
 
 #: ``--lengths``: one design as its six lengths, evaluated at that scale.

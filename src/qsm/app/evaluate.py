@@ -7,13 +7,13 @@ from typing import Any
 
 import numpy as np
 
+from qsm.config.settings import actuation, links, physics
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import fit_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import evaluate_mechanism
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
 from qsm.physics.mirror import is_mirrored
-from qsm.settings import actuation, links, physics
 
 
 def _checked(
@@ -98,7 +98,7 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     the true kinematics, task containment and clearance, eta and the MuJoCo torques of the
     optimisation's verification, each link's strength and each joint's bearing, and each
     motor's drive. JSON-friendly (NaN as None)."""
-    from qsm.embodiment.verdict import strength_record
+    from qsm.embodiment.strength.verdict import strength_record
     from qsm.optimization.verify import verify_design
 
     d = checked_lengths(lengths)

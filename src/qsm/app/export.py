@@ -41,9 +41,10 @@ from qsm.app.locate import (
     plain,
     ratios_design,
 )
-from qsm.config import load_config, validate_config
-from qsm.embodiment.parts import part_meshes
-from qsm.embodiment.printing import link_printability
+from qsm.config.reading import load_config, validate_config
+from qsm.config.settings import actuation, physics, realization
+from qsm.embodiment.parts.link_parts import part_meshes
+from qsm.embodiment.parts.printing import link_printability
 from qsm.optimization.verify import verify_design
 from qsm.physics.cad import CadError, CadSettings, mass_properties
 from qsm.physics.duty import duty_cycle
@@ -59,7 +60,6 @@ from qsm.realization.outputs import export_stls
 from qsm.realization.pipeline import realize
 from qsm.report.design_sheet import design_sheet
 from qsm.report.drawing import draw_links
-from qsm.settings import actuation, physics, realization
 from qsm.workflow.json_files import write_json
 
 
@@ -288,7 +288,7 @@ def export(
 
 def _drive_efforts(drives: Mapping[str, Any], config: Mapping[str, Any]) -> list[float]:
     """Each motor's standstill peak torque at the joint (N m) of its drive (or the nearest) in a
-    :meth:`qsm.embodiment.drive_checks.DriveCheck.report`; 0 where the loop is undefined."""
+    :meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`; 0 where the loop is undefined."""
     from qsm.embodiment.drives.envelope import OutputEnvelope
 
     cat = actuation.catalogue(config["drives"])

@@ -2,7 +2,7 @@
 
 Light on purpose (no MuJoCo, no trimesh): most later rules read the dataset through it. One shard's
 dynamics is :func:`qsm.mechanisms.evaluation.evaluate_table` of its rows, then
-:func:`qsm.embodiment.drive_checks.with_embodiment` (strength and drives)."""
+:func:`qsm.embodiment.drives.drive_checks.with_embodiment` (strength and drives)."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ JOINT_COLUMNS: dict[str, str] = {
     "D": "d",
     "E": "e",
 }
-#: Columns of the strength check (:mod:`qsm.embodiment.link_checks`) that Stage 2 adds.
+#: Columns of the strength check (:mod:`qsm.embodiment.strength.link_checks`) that Stage 2 adds.
 STRENGTH_COLUMNS: dict[str, str] = {
     **{f"stress_peak_{k}_MPa": f"peak stress in the {k} over the duty (MPa)" for k in LINK_NAMES},
     **{f"safety_factor_{k}": f"yield strength / peak stress of the {k} (-)" for k in LINK_NAMES},
@@ -77,7 +77,7 @@ STRENGTH_COLUMNS: dict[str, str] = {
 MOTORS: dict[int, str] = {1: "lower arm", 2: "crank"}
 #: Limits of a drive checked over the duty (:data:`qsm.embodiment.drives.utilisation.CHECKS`).
 DRIVE_CHECKS: tuple[str, ...] = ("motor_peak", "motor_rms", "motor_speed", "gear_peak", "gear_rms")
-#: Columns of the drive check (:mod:`qsm.embodiment.drive_checks`) that Stage 2 adds. Each
+#: Columns of the drive check (:mod:`qsm.embodiment.drives.drive_checks`) that Stage 2 adds. Each
 #: motor's drive columns describe the drive chosen for it or, when no drive of the catalogue
 #: meets its duty, the one that comes nearest (its violation is then > 0).
 DRIVE_COLUMNS: dict[str, str] = {

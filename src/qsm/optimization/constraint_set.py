@@ -10,9 +10,9 @@ from dataclasses import dataclass, replace
 import numpy as np
 from numpy.typing import NDArray
 
-from qsm.embodiment.drive_checks import DriveCheck, same_loads, violation_of
-from qsm.embodiment.link_checks import UNDEFINED_VIOLATION, StrengthCheck
-from qsm.embodiment.printing import printability_violation_mm
+from qsm.embodiment.drives.drive_checks import DriveCheck, same_loads, violation_of
+from qsm.embodiment.parts.printing import printability_violation_mm
+from qsm.embodiment.strength.link_checks import UNDEFINED_VIOLATION, StrengthCheck
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimization.constraints import containment_margin_m
 from qsm.physics.cad import CadSettings
@@ -64,10 +64,10 @@ class ExtraConstraints:
     ratios formulation holds the task by its scale, fitted to the same grown disk);
     ``printable`` (g12) for the link section ``cad`` and the printer
     ``volume_mm`` (W, L, H in mm); ``strength`` (g13, every formulation, when given): every link
-    holds its loads over the duty (:class:`qsm.embodiment.link_checks.StrengthCheck`);
+    holds its loads over the duty (:class:`qsm.embodiment.strength.link_checks.StrengthCheck`);
     ``drives`` (g14, every formulation, when given): each motor has a drive in the catalogue
-    that meets its duty (:class:`qsm.embodiment.drive_checks.DriveCheck`); ``drive_mass`` (when
-    given): the drive check whose selection gives the drive-mass objective (kept when g14 is
+    that meets its duty (:class:`qsm.embodiment.drives.drive_checks.DriveCheck`); ``drive_mass``
+    (when given): the drive check whose selection gives the drive-mass objective (kept when g14 is
     dropped). ``strength`` and ``drives`` run on the loop's coarser duty (:func:`loop_duty`);
     ``full_strength`` and ``full_drives`` are the same checks on the full duty, which the front
     must pass at the end (:meth:`full_duty_failures`).

@@ -19,7 +19,7 @@ workspace's edge. The margin itself is an arc length, an upper bound on that cle
 (:mod:`qsm.physics.clearance` computes the clearance).
 
 **g12, printability** (millimetres). A link fits when its bounding box in the link frame
-(:func:`qsm.embodiment.printing.link_boxes_mm`, the closed form of the outlines),
+(:func:`qsm.embodiment.parts.printing.link_boxes_mm`, the closed form of the outlines),
 sorted, is no larger than the sorted build volume. g12 = the largest excess over every link and
 dimension; a design whose section does not fit its links at all (:class:`qsm.physics.cad.CadError`)
 also violates it, by how much a bar is too short.

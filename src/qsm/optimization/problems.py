@@ -5,10 +5,10 @@ g13 (every link holds its loads) and g14 (each motor has a drive you can buy).
 Objectives, all minimised (``optimization.objectives``): ``torques``, (eta', tau1', tau2'), the
 surrogate's predictions (the paper's); or ``drive_mass``, (eta', total mass of both motors'
 drives in kg), the drives chosen on the true closed-chain duty with g14's loads
-(:meth:`qsm.embodiment.drive_checks.DriveCheck.mass_objective`: a design without a drive for each
-motor gets a penalty mass plus its g14 violation). Every evaluation also records the surrogate's
-predictions as ``P`` (N, 3), which the front's tables keep. Constraints in pymoo's ``G <= 0``
-form:
+(:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.mass_objective`: a design without a drive for
+each motor gets a penalty mass plus its g14 violation). Every evaluation also records the
+surrogate's predictions as ``P`` (N, 3), which the front's tables keep. Constraints in pymoo's ``G
+<= 0`` form:
 
 * g1..g3: eta' > 0, tau1' > 0, tau2' > 0  ->  ``-eta'``, ``-tau1'``, ``-tau2'``;
 * g4: crank-rocker l3 + l2 < l1 + l4      ->  ``l3 + l2 - l1 - l4``;
@@ -23,10 +23,10 @@ form:
   (:mod:`qsm.optimization.constraints`, millimetres);
 * g13 (every formulation, ``constraints.strong``): every link holds its loads over the duty, the
   largest strength utilisation less 1, from the true closed-chain loads of the design
-  (:mod:`qsm.embodiment.link_checks`);
+  (:mod:`qsm.embodiment.strength.link_checks`);
 * g14 (every formulation, ``constraints.drives``): each motor has a drive in the catalogue that
   meets its duty, the larger motor's least violation over the catalogue
-  (:mod:`qsm.embodiment.drive_checks`, from the same true torques).
+  (:mod:`qsm.embodiment.drives.drive_checks`, from the same true torques).
 
 g13, g14 and the drive mass are the costly ones (the closed-chain loads of every duty sample):
 they are evaluated only for the candidates that meet every other constraint (about half of a

@@ -8,9 +8,9 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.embodiment.drive_checks import DriveCheck, with_embodiment
-from qsm.embodiment.link_checks import StrengthCheck
-from qsm.embodiment.printing import all_links_fit, needed_volume_mm, printability_violation_mm
+from qsm.embodiment.drives.drive_checks import DriveCheck, with_embodiment
+from qsm.embodiment.parts.printing import all_links_fit, needed_volume_mm, printability_violation_mm
+from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings

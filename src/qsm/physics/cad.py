@@ -37,7 +37,7 @@ import shapely
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.defaults import default
+from qsm.config.defaults import default
 from qsm.physics.kinematics import LINK_NAMES, as_design
 
 

@@ -23,7 +23,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.defaults import default
+from qsm.config.defaults import default
 from qsm.physics.kinematics import as_design, pose
 
 #: The motor ranges (deg) of the config's default ``operating_range`` (the paper's).

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.defaults import default
+from qsm.config.defaults import default
 from qsm.physics.kinematics import relative_arm_angle
 from qsm.physics.slicing import (
     intervals_on_levels,

@@ -11,11 +11,11 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike
 
-from qsm.embodiment.bearings import BearingTable
-from qsm.embodiment.bom import bill_of_materials, write_bom
-from qsm.embodiment.part_mass import part_mass_properties
-from qsm.embodiment.part_outlines import hole_polygon
-from qsm.embodiment.parts import LinkPart, PartSettings, link_parts
+from qsm.embodiment.parts.bearings import BearingTable
+from qsm.embodiment.parts.bom import bill_of_materials, write_bom
+from qsm.embodiment.parts.link_parts import LinkPart, PartSettings, link_parts
+from qsm.embodiment.parts.part_mass import part_mass_properties
+from qsm.embodiment.parts.part_outlines import hole_polygon
 from qsm.physics.cad import MassProperties
 
 
@@ -55,7 +55,8 @@ def final_parts(
 
 def drive_rows(report: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
     """BOM values of the motor and gearbox rows from a drives report
-    (:meth:`qsm.embodiment.drive_checks.DriveCheck.report`); none for a motor without a drive."""
+    (:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`); none for a motor without a
+    drive."""
     rows: dict[str, dict[str, Any]] = {}
     for k, motor in enumerate(report.get("motors", {}).values(), start=1):
         if not motor.get("has_drive"):

@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from qsm.embodiment.parts import part_meshes
+from qsm.embodiment.parts.link_parts import part_meshes
 from qsm.physics.cad import MassProperties
 from qsm.physics.duty import Duty
 from qsm.realization.assembly import final_parts, write_parts

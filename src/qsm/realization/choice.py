@@ -7,7 +7,7 @@ first from the primary front (``optimization.formulation``), then the other fron
 then the dataset (every design of which truly holds the task, with true dynamics):
 
 1. the truly feasible designs whose links hold their loads, whose motors each have a drive in the
-   catalogue (:mod:`qsm.embodiment.drive_checks`) and that fit the printer;
+   catalogue (:mod:`qsm.embodiment.drives.drive_checks`) and that fit the printer;
 2. without one: those that hold their loads and have drives, marked *not printable*, with what
    it would take to print them (:func:`printing_advice`);
 3. without one: steps 1 and 2 among the designs that hold their loads without drives for both
@@ -31,7 +31,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.embodiment.printing import (
+from qsm.embodiment.parts.printing import (
     BUILD_VOLUME_MM,
     all_links_fit,
     box_excess_mm,
@@ -70,8 +70,8 @@ def _feasible(table: pd.DataFrame) -> pd.DataFrame:
 
 
 def _printable(table: pd.DataFrame, cad: CadSettings, volume_mm: tuple[float, ...]) -> pd.Series:
-    """Whether every link fits, decided by :func:`qsm.embodiment.printing.all_links_fit` on the
-    outlines (the closed-form boxes only pre-screen the designs clearly too large)."""
+    """Whether every link fits, decided by :func:`qsm.embodiment.parts.printing.all_links_fit` on
+    the outlines (the closed-form boxes only pre-screen the designs clearly too large)."""
     designs = table.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)
     near = printability_violation_mm(designs, cad, volume_mm) <= 0.5
     fits = np.zeros(len(table), dtype=bool)

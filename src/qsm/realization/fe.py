@@ -10,7 +10,7 @@ import scipy.sparse as sps
 from numpy.typing import ArrayLike, NDArray
 from scipy.sparse.linalg import splu
 
-from qsm.defaults import default
+from qsm.config.defaults import default
 from qsm.realization.pymoto_quiet import pym
 
 
@@ -26,8 +26,8 @@ class TopologySettings:
     penal: SIMP exponent, default 3. filter_radius_cells: density filter radius, default 1.5.
     move: OC move limit, default 0.2. min_density: void stiffness factor, default 1e-9.
     youngs_modulus_pa, poisson_ratio, yield_strength_pa, safety_factor: the material's and the
-    strength requirement's (:mod:`qsm.embodiment.material`; the workflow passes the config's).
-    threshold: density above which a cell is solid in the printed part, default 0.5.
+    strength requirement's (:mod:`qsm.embodiment.strength.material`; the workflow passes the
+    config's). threshold: density above which a cell is solid in the printed part, default 0.5.
     """
 
     volume_fraction: float = default("topology.volume_fraction")

@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 import trimesh
 
-from qsm.embodiment.printing import box_fits
+from qsm.embodiment.parts.printing import box_fits
 from qsm.physics.cad import MassProperties
 from qsm.physics.kinematics import DESIGN_COLUMNS
 
@@ -56,7 +56,7 @@ def export_stls(
     """Write each mesh (metres) as ``<name>.stl`` in millimetres and check it.
 
     Returns per link: path, watertight, the sorted box (mm) and whether it fits ``volume_mm`` in
-    some axis-aligned orientation (:func:`qsm.embodiment.printing.box_fits`).
+    some axis-aligned orientation (:func:`qsm.embodiment.parts.printing.box_fits`).
     """
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)

@@ -11,7 +11,7 @@ properties) is simulated forward:
   (solution closest to the previous one), joined by rest-to-rest minimum-jerk segments in joint
   space of ``segment_duration_s``, each followed by a ``dwell_s`` hold (the test starts with one
   hold at the first point);
-* drives: each motor is the drive chosen for it (:mod:`qsm.embodiment.drive_checks`); the
+* drives: each motor is the drive chosen for it (:mod:`qsm.embodiment.drives.drive_checks`); the
   model and the plant carry its reflected inertia as joint armature on theta1 / theta2, and the
   torque it can give at the joint is its torque-speed envelope on the output side
   (:class:`qsm.embodiment.drives.envelope.OutputEnvelope`: gear efficiency eta both ways,
@@ -43,7 +43,7 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.defaults import default
+from qsm.config.defaults import default
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
 from qsm.physics.duty import minimum_jerk

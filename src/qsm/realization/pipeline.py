@@ -2,8 +2,8 @@
 notebook: its link check and sections, bearings, bored parts and drives.
 
 :func:`realize` runs the checks of :class:`RealizationSettings` on one design (6 lengths, m) and
-returns a :class:`Realization`: the strength record (:func:`qsm.embodiment.verdict
-.strength_record`), the drive report (:meth:`qsm.embodiment.drive_checks.DriveCheck.report`),
+returns a :class:`Realization`: the strength record (:func:`qsm.embodiment.strength.verdict
+.strength_record`), the drive report (:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`),
 each link's section scale, the bearing rows and the solid bored parts. The rules
 ``select_design`` and ``topology_optimize`` and :func:`qsm.app.export.export_design` each take
 what they write from it, so the command line cannot drift from the workflow.
@@ -17,10 +17,10 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.drive_checks import DriveCheck
-from qsm.embodiment.link_checks import StrengthCheck
-from qsm.embodiment.parts import LinkPart, PartSettings, link_parts
-from qsm.embodiment.verdict import strength_record
+from qsm.embodiment.drives.drive_checks import DriveCheck
+from qsm.embodiment.parts.link_parts import LinkPart, PartSettings, link_parts
+from qsm.embodiment.strength.link_checks import StrengthCheck
+from qsm.embodiment.strength.verdict import strength_record
 from qsm.physics.kinematics import as_design
 from qsm.realization.assembly import bearing_rows
 

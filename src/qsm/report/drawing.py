@@ -18,7 +18,7 @@ from matplotlib.patches import PathPatch
 from matplotlib.path import Path as MplPath
 from numpy.typing import ArrayLike
 
-from qsm.embodiment.parts import LinkPart
+from qsm.embodiment.parts.link_parts import LinkPart
 from qsm.physics.kinematics import LINK_NAMES, as_design
 
 KIND_LABEL = {"seat": "bearing seat", "pin": "pin", "shaft": "motor shaft", "tool": "tool mount"}
@@ -90,8 +90,8 @@ def draw_links(
 ) -> tuple[Path, Path]:
     """Draw every link with its dimensions; write ``<path_stem>.svg`` and ``<path_stem>.png``.
 
-    ``design`` the 6 scaled lengths (m); ``parts`` from :func:`qsm.embodiment.parts.link_parts`.
-    Returns the SVG and PNG paths.
+    ``design`` the 6 scaled lengths (m); ``parts`` from
+    :func:`qsm.embodiment.parts.link_parts.link_parts`. Returns the SVG and PNG paths.
     """
     d = as_design(design).astype(float)
     stem = Path(path_stem)

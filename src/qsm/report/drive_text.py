@@ -1,6 +1,6 @@
 """Plain sentences about a design's drives for ``summary.md`` and ``selected.json``, from a
-:meth:`qsm.embodiment.drive_checks.DriveCheck.report` (torques in N m, speeds in rad/s, power in
-W, masses in kg)."""
+:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report` (torques in N m, speeds in rad/s,
+power in W, masses in kg)."""
 
 from __future__ import annotations
 

@@ -11,10 +11,10 @@ import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
 
-from qsm.embodiment.advice import advice_sentences as strength_sentences
-from qsm.embodiment.advice import strength_advice
-from qsm.embodiment.printing import advice_sentence, smallest_build_volume
-from qsm.embodiment.verdict import strength_verdict
+from qsm.embodiment.parts.printing import advice_sentence, smallest_build_volume
+from qsm.embodiment.strength.advice import advice_sentences as strength_sentences
+from qsm.embodiment.strength.advice import strength_advice
+from qsm.embodiment.strength.verdict import strength_verdict
 from qsm.physics.cad import CadSettings
 from qsm.physics.clearance import disk_clearance_m
 from qsm.physics.mirror import task_record

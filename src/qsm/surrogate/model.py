@@ -20,7 +20,7 @@ from sklearn.metrics import mean_squared_error, r2_score
 from sklearn.model_selection import train_test_split
 from sklearn.neural_network import MLPRegressor
 
-from qsm.defaults import default
+from qsm.config.defaults import default
 from qsm.physics.kinematics import DESIGN_COLUMNS
 
 INPUTS: tuple[str, ...] = DESIGN_COLUMNS

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from qsm.config_errors import ConfigError
+from qsm.config.errors import ConfigError
 
 G = 9.81  # m/s^2
 #: A payload from this mass (kg) up is reported as grams when it is too heavy.

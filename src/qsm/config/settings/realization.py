@@ -5,10 +5,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from qsm.config.settings.actuation import drive_check
+from qsm.config.settings.links import parts, strength_check
+from qsm.config.settings.physics import duty
 from qsm.realization.pipeline import RealizationSettings
-from qsm.settings.actuation import drive_check
-from qsm.settings.links import parts, strength_check
-from qsm.settings.physics import duty
 
 Section = Mapping[str, Any]
 

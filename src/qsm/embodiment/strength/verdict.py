@@ -1,6 +1,7 @@
 """A design's link strength as a record for outputs, and the verdict sentence that states it.
 
-Every number comes from :class:`qsm.embodiment.link_checks.StrengthCheck` run on the design.
+Every number comes from :class:`qsm.embodiment.strength.link_checks.StrengthCheck` run on the
+design.
 """
 
 from __future__ import annotations
@@ -12,7 +13,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from qsm.embodiment.link_checks import StrengthCheck
+from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.physics.kinematics import LINK_NAMES
 
 

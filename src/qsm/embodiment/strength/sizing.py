@@ -13,8 +13,8 @@ outline keeps its proportions and the bosses keep exceeding half the width. ``s`
   that hold each joint (:func:`joint_bearings`) among those that fit the largest section.
 
 Within these, ``s`` is the smallest whose strength utilisation (the checks of
-:mod:`qsm.embodiment.strength` with the configured safety factors: bar bending and axial stress,
-net section at the bores, pin-loaded lugs, Euler buckling) is at most ``target`` under the
+:mod:`qsm.embodiment.strength.stresses` with the configured safety factors: bar bending and axial
+stress, net section at the bores, pin-loaded lugs, Euler buckling) is at most ``target`` under the
 current loads (:func:`smallest_holding`); at fixed loads each check falls as ``s`` grows. Where
 the upper bound does not hold, ``s`` is the upper bound and the link fails g13 (the strength
 check names it).
@@ -36,13 +36,13 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from qsm.defaults import default
-from qsm.embodiment.beam import Section
-from qsm.embodiment.bearings import BearingChoice, BearingTable, min_shaft_diameter_m
-from qsm.embodiment.bearings import select_bearings as _select
-from qsm.embodiment.loads import Inertials, JointLoads, joint_loads, link_motion
-from qsm.embodiment.material import Material, StrengthSettings
-from qsm.embodiment.strength import BORES, JOINTS, LinkLoads, link_loads, link_peaks
+from qsm.config.defaults import default
+from qsm.embodiment.parts.bearings import BearingChoice, BearingTable, min_shaft_diameter_m
+from qsm.embodiment.parts.bearings import select_bearings as _select
+from qsm.embodiment.strength.beam import Section
+from qsm.embodiment.strength.loads import Inertials, JointLoads, joint_loads, link_motion
+from qsm.embodiment.strength.material import Material, StrengthSettings
+from qsm.embodiment.strength.stresses import BORES, JOINTS, LinkLoads, link_loads, link_peaks
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import CadSettings
 from qsm.physics.duty import Duty
@@ -185,7 +185,7 @@ def utilisation(
     strength: StrengthSettings,
 ) -> NDArray[np.float64]:
     """Strength utilisation (..., 4) of each link with its section scaled by ``scale`` (..., 4)
-    under fixed loads ``links`` (:func:`qsm.embodiment.strength.link_loads`): the larger of
+    under fixed loads ``links`` (:func:`qsm.embodiment.strength.stresses.link_loads`): the larger of
     stress x safety factor / yield and compression x buckling factor / Euler load."""
     y = material.yield_strength_pa
     out = []

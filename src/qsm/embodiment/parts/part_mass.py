@@ -11,7 +11,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.parts import LinkPart, PartSettings, link_parts
+from qsm.embodiment.parts.link_parts import LinkPart, PartSettings, link_parts
 from qsm.physics.cad import CadError, MassProperties, prism_properties
 
 

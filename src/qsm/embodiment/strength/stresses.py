@@ -2,10 +2,10 @@
 
 Each link is a flat plate of the CAD section (width ``w`` in the plane, thickness ``t``; bosses of
 radius ``R`` with a bore at every joint but E, of diameter ``d_b`` given per joint A-D: the joint's
-bearing seat, or at A the motor shaft; :mod:`qsm.embodiment.link_checks` chooses them). It is
-analysed as a beam along its spine (the straight bars between the joint centres; the upper arm's
-spine is D - B - E' - E) under the joint forces of :mod:`qsm.embodiment.loads`, its weight and
-its d'Alembert inertia. The link's mass is spread evenly along its spine (a simplification: the
+bearing seat, or at A the motor shaft; :mod:`qsm.embodiment.strength.link_checks` chooses them). It
+is analysed as a beam along its spine (the straight bars between the joint centres; the upper arm's
+spine is D - B - E' - E) under the joint forces of :mod:`qsm.embodiment.strength.loads`, its weight
+and its d'Alembert inertia. The link's mass is spread evenly along its spine (a simplification: the
 bosses hold more than the bars; a finite-element comparison bounds the error, docs/strength.md).
 
 At a cut through the spine the piece beyond the cut (away from the motor for the lower arm and the
@@ -27,10 +27,10 @@ linear variation). Checks:
   buckling safety factor is meant to cover. Bending-compression interaction is not modelled.
 
 The safety factor of a link is yield / peak stress, its buckling factor the Euler load over the
-peak compression. It holds when both reach :class:`qsm.embodiment.material.StrengthSettings`'
-factors; the utilisation ``max(stress * safety_factor / yield, compression *
-buckling_safety_factor / Euler load)`` is at most 1 then, and g13 is the largest utilisation minus
-1 over the links.
+peak compression. It holds when both reach
+:class:`qsm.embodiment.strength.material.StrengthSettings`' factors; the utilisation ``max(stress *
+safety_factor / yield, compression * buckling_safety_factor / Euler load)`` is at most 1 then, and
+g13 is the largest utilisation minus 1 over the links.
 """
 
 from __future__ import annotations
@@ -42,9 +42,9 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.beam import LOADS, Cuts, Section, link_cuts
-from qsm.embodiment.loads import GRAVITY, Inertials, JointLoads, LinkMotion
-from qsm.embodiment.material import Material, StrengthSettings
+from qsm.embodiment.strength.beam import LOADS, Cuts, Section, link_cuts
+from qsm.embodiment.strength.loads import GRAVITY, Inertials, JointLoads, LinkMotion
+from qsm.embodiment.strength.material import Material, StrengthSettings
 from qsm.physics.kinematics import LINK_NAMES, as_design, cross
 
 #: Euler effective-length factor (K) of every member checked for buckling: pinned-pinned.
@@ -203,7 +203,7 @@ class LinkLoads(NamedTuple):
 
 def peak_forces(loads: JointLoads) -> dict[str, NDArray[np.float64]]:
     """Peak magnitude (N) over the duty samples of each joint force of ``loads`` with a bore,
-    (...) each, keyed as :class:`qsm.embodiment.loads.JointLoads`."""
+    (...) each, keyed as :class:`qsm.embodiment.strength.loads.JointLoads`."""
     f = loads._asdict()
     names = {n for bores in BORES.values() for _, n in bores}
     return {n: np.sqrt((f[n][..., 0] ** 2 + f[n][..., 1] ** 2).max(axis=-1)) for n in names}

@@ -5,10 +5,10 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from qsm.embodiment.drive_checks import DriveCheck
+from qsm.config.settings.physics import cad
 from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
+from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.physics.duty import DutySettings, duty_cycle
-from qsm.settings.physics import cad
 
 Section = Mapping[str, Any]
 

@@ -5,12 +5,12 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from qsm.embodiment.link_checks import StrengthCheck
-from qsm.embodiment.material import Material, StrengthSettings
-from qsm.embodiment.parts import PartSettings
-from qsm.embodiment.sizing import SizingSettings
+from qsm.config.settings.physics import cad
+from qsm.embodiment.parts.link_parts import PartSettings
+from qsm.embodiment.strength.link_checks import StrengthCheck
+from qsm.embodiment.strength.material import Material, StrengthSettings
+from qsm.embodiment.strength.sizing import SizingSettings
 from qsm.physics.duty import DutySettings, duty_cycle
-from qsm.settings.physics import cad
 
 Section = Mapping[str, Any]
 

@@ -4,14 +4,14 @@ or thousands.
 :class:`StrengthCheck` bundles what the check needs (section, material, requirements, bearing
 catalogue, payload and duty) and evaluates designs in chunks, every step vectorised over the chunk:
 link mass properties (:func:`qsm.physics.batch_mass.batch_mass_properties`), the loop state, the
-joint loads (:mod:`qsm.embodiment.loads`), the bearing of every joint
-(:mod:`qsm.embodiment.bearings`: the smallest whose static rating covers the joint's peak force with
-the bearing safety factor, among those whose seat leaves ``boss_wall_m`` of the boss and no wider
-than the plate, whose bore takes a steel pin in shear, and at A a motor shaft in torsion under the
-larger motor torque), and the link stresses with those bores (:mod:`qsm.embodiment.strength`: the
-bearing's seat at B, C, D, its bore, the motor shaft, at A). It gives Stage 2's strength columns
-(:data:`STRENGTH_COLUMNS`) and the optimisation's g13: the largest of the links' utilisation less 1
-and the bearings' violation.
+joint loads (:mod:`qsm.embodiment.strength.loads`), the bearing of every joint
+(:mod:`qsm.embodiment.parts.bearings`: the smallest whose static rating covers the joint's peak
+force with the bearing safety factor, among those whose seat leaves ``boss_wall_m`` of the boss and
+no wider than the plate, whose bore takes a steel pin in shear, and at A a motor shaft in torsion
+under the larger motor torque), and the link stresses with those bores
+(:mod:`qsm.embodiment.strength.stresses`: the bearing's seat at B, C, D, its bore, the motor shaft,
+at A). It gives Stage 2's strength columns (:data:`STRENGTH_COLUMNS`) and the optimisation's g13:
+the largest of the links' utilisation less 1 and the bearings' violation.
 
 The link masses are those of solid bosses (:mod:`qsm.physics.cad`): the bores make the printed
 links lighter, so these loads bound the bored parts' from above (the realised design reports the
@@ -27,11 +27,21 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.beam import Section
-from qsm.embodiment.bearings import BearingChoice, BearingTable, astuple_shallow, load_catalogue
-from qsm.embodiment.loads import Inertials, JointLoads, joint_loads, link_motion
-from qsm.embodiment.material import DEFAULT_MATERIAL, DEFAULT_STRENGTH, Material, StrengthSettings
-from qsm.embodiment.sizing import (
+from qsm.embodiment.parts.bearings import (
+    BearingChoice,
+    BearingTable,
+    astuple_shallow,
+    load_catalogue,
+)
+from qsm.embodiment.strength.beam import Section
+from qsm.embodiment.strength.loads import Inertials, JointLoads, joint_loads, link_motion
+from qsm.embodiment.strength.material import (
+    DEFAULT_MATERIAL,
+    DEFAULT_STRENGTH,
+    Material,
+    StrengthSettings,
+)
+from qsm.embodiment.strength.sizing import (
     SizedSections,
     SizingSettings,
     fitting_bores,
@@ -39,7 +49,7 @@ from qsm.embodiment.sizing import (
     seat_limit,
     size_sections,
 )
-from qsm.embodiment.strength import JOINTS, LinkStrength, link_strength
+from qsm.embodiment.strength.stresses import JOINTS, LinkStrength, link_strength
 from qsm.mechanisms.dataset import JOINT_COLUMNS, STRENGTH_COLUMNS
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
@@ -78,7 +88,7 @@ class _Core(NamedTuple):
 class StrengthCheck:
     """What the link check needs: the CAD section, the material, the requirements, the payload
     (kg) at E, the duty, and ``sizing`` (None: every link has the CAD section; else each link's
-    section is sized by strength, :mod:`qsm.embodiment.sizing`)."""
+    section is sized by strength, :mod:`qsm.embodiment.strength.sizing`)."""
 
     cad: CadSettings = DEFAULT_CAD
     material: Material = DEFAULT_MATERIAL
@@ -112,7 +122,7 @@ class StrengthCheck:
 
     def section_scales(self, designs: ArrayLike) -> SizedSections | None:
         """Each link's section of designs (N, 6) m sized by strength
-        (:func:`qsm.embodiment.sizing.size_sections`), None with the fixed section."""
+        (:func:`qsm.embodiment.strength.sizing.size_sections`), None with the fixed section."""
         if self.sizing is None:
             return None
         d = np.atleast_2d(as_design(designs))

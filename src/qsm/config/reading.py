@@ -11,10 +11,10 @@ from typing import Any
 import jsonschema
 import yaml
 
-from qsm.config_checks import check_config
-from qsm.config_errors import ConfigError
-from qsm.config_points import check_finite_points, plain_points, resolve_points_file
-from qsm.defaults import schema
+from qsm.config.checks import check_config
+from qsm.config.defaults import schema
+from qsm.config.errors import ConfigError
+from qsm.config.points import check_finite_points, plain_points, resolve_points_file
 
 
 def _with_defaults(cls: type) -> type:
@@ -42,7 +42,7 @@ def validate_config(config: dict[str, Any]) -> dict[str, Any]:
     """Validate ``config`` in place, fill in defaults and return it.
 
     Raises ``ConfigError`` naming the offending key (dotted path) for the first problem found.
-    ``task.points_file`` is read into ``task.points`` (:mod:`qsm.config_points`).
+    ``task.points_file`` is read into ``task.points`` (:mod:`qsm.config.points`).
     """
     task = config.get("task")
     points = task.get("points") if isinstance(task, dict) else None
@@ -90,7 +90,7 @@ def _coerce_whole_numbers(value: Any, sub_schema: dict[str, Any]) -> Any:
 
 def _check_finite(value: Any, path: tuple[str, ...] = ()) -> None:
     """Every number in the config is finite (JSON schema bounds let NaN through); not
-    ``task.points`` (:func:`qsm.config_points.check_finite_points`)."""
+    ``task.points`` (:func:`qsm.config.points.check_finite_points`)."""
     if isinstance(value, dict):
         for key, item in value.items():
             if (*path, key) != ("task", "points"):

@@ -2,8 +2,8 @@
 
 :class:`DriveCheck` bundles what the check needs (catalogue, rule, section, payload and duty) and
 evaluates designs in chunks, every step vectorised over the chunk: the joint torques come from
-the Newton-Euler loads of :mod:`qsm.embodiment.loads` (tested against MuJoCo), the speeds and
-accelerations from the duty (both motors are absolute joint angles), the time weights are the
+the Newton-Euler loads of :mod:`qsm.embodiment.strength.loads` (tested against MuJoCo), the speeds
+and accelerations from the duty (both motors are absolute joint angles), the time weights are the
 duty's ``weight_s``; :func:`qsm.embodiment.drives.selection.select_drives` then checks every
 drive against every sample.
 
@@ -31,9 +31,9 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
 from qsm.embodiment.drives.selection import Selection, select_drives
 from qsm.embodiment.drives.utilisation import CHECKS, DriveArrays
-from qsm.embodiment.link_checks import StrengthCheck
-from qsm.embodiment.loads import Inertials, joint_loads
-from qsm.embodiment.sizing import SizedSections
+from qsm.embodiment.strength.link_checks import StrengthCheck
+from qsm.embodiment.strength.loads import Inertials, joint_loads
+from qsm.embodiment.strength.sizing import SizedSections
 from qsm.mechanisms.dataset import DRIVE_COLUMNS, MOTORS
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
@@ -154,7 +154,7 @@ class DriveCheck:
         """:data:`DRIVE_COLUMNS` of designs (N, 6) m; NaN (and no drives) where the loop does not
         close or is singular on the duty. ``torques``: the motor torques (N, samples, 2) N m
         over this check's duty and where they are defined (N,), when computed elsewhere
-        (:meth:`qsm.embodiment.link_checks.StrengthCheck.evaluate_with_torques`)."""
+        (:meth:`qsm.embodiment.strength.link_checks.StrengthCheck.evaluate_with_torques`)."""
         d = np.atleast_2d(as_design(designs))
         parts = [
             self._chunk(

@@ -15,7 +15,7 @@ from typing import Any
 
 import numpy as np
 
-from qsm.config_errors import ConfigError
+from qsm.config.errors import ConfigError
 
 #: The header a points file starts with.
 POINTS_HEADER = ("x_m", "y_m")

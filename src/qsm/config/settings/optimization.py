@@ -6,13 +6,13 @@ import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
-from qsm.defaults import default
+from qsm.config.defaults import default
+from qsm.config.settings.actuation import drive_check
+from qsm.config.settings.links import strength_check
+from qsm.config.settings.physics import cad, duty
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimization.constraint_set import LOOP_ALLOWANCE, ExtraConstraints, loop_duty
 from qsm.physics.cad import DEFAULT_CAD
-from qsm.settings.actuation import drive_check
-from qsm.settings.links import strength_check
-from qsm.settings.physics import cad, duty
 
 Section = Mapping[str, Any]
 

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from qsm.defaults import default
+from qsm.config.defaults import default
 
 
 @dataclass(frozen=True)
@@ -52,7 +52,7 @@ class StrengthSettings:
         ``cad.corner_fillet_ratio`` 0.25; default 3.0, from plane-stress FE of the filleted
         plates (docs/strength.md).
     bearing_safety_factor: static safety factor s0 = C0 / P0 of the joint bearings, default 2
-        (SKF's guideline for quiet running; :mod:`qsm.embodiment.bearings`).
+        (SKF's guideline for quiet running; :mod:`qsm.embodiment.parts.bearings`).
     boss_wall_m: printed wall between a bearing seat and the boss's edge, default 4 mm.
     pin_yield_strength_pa: yield strength of the steel pins and motor shafts in the bores, default
         235 MPa (S235, EN 10025-2); sizes the bores with the bearing safety factor.

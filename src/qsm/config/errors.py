@@ -1,4 +1,4 @@
-"""The error of a configuration value no run can use (:func:`qsm.config_checks.check_config`)."""
+"""The error of a configuration value no run can use (:func:`qsm.config.checks.check_config`)."""
 
 from __future__ import annotations
 

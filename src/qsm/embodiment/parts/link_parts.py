@@ -2,7 +2,8 @@
 
 The link frames, bar width, plate thickness and material are those of :mod:`qsm.physics.cad`, each
 link with its own section (:attr:`PartSettings.scale`: the configured section, or the one sized
-by strength, :mod:`qsm.embodiment.sizing`); what changes is that every joint has a **bore** and a
+by strength, :mod:`qsm.embodiment.strength.sizing`); what changes is that every joint has a
+**bore** and a
 **boss sized for it**:
 
 ========== ======= ================ ====================================================
@@ -24,8 +25,8 @@ upper_arm  E       tool hole        a clearance hole for the tool mount (``tool_
 ========== ======= ================ ====================================================
 
 d and D are the bore and outer diameter of the joint's bearing
-(:mod:`qsm.embodiment.bearings`), so each joint has one bearing and one pin (at A: the two motor
-shafts, each with its support bearing). A link's boss at a joint has the radius
+(:mod:`qsm.embodiment.parts.bearings`), so each joint has one bearing and one pin (at A: the two
+motor shafts, each with its support bearing). A link's boss at a joint has the radius
 ``max(R, D / 2 + boss_wall_m)`` (at E: ``tool_hole_m / 2 + boss_wall_m``), R the boss radius of
 the link's section: with one section for all links, both links at a joint get the same boss.
 
@@ -34,7 +35,7 @@ circle (flats at the nominal radius), so a bearing or pin of the nominal diamete
 mass properties are those of exactly that polygonal plate. They are exact for the holed prism: the
 area moments of the outline (the polygon formulas of
 :func:`qsm.physics.cad.polygon_mass_properties`) less the moments of every hole
-(:mod:`qsm.embodiment.part_mass`).
+(:mod:`qsm.embodiment.parts.part_mass`).
 """
 
 from __future__ import annotations
@@ -49,14 +50,14 @@ import shapely
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.bearings import (
+from qsm.embodiment.parts.bearings import (
     DEFAULT_BOSS_WALL_M,
     JOINTS,
     BearingTable,
     boss_radius_m,
     load_catalogue,
 )
-from qsm.embodiment.part_outlines import bar_outline, hole_polygon, upper_arm_outline
+from qsm.embodiment.parts.part_outlines import bar_outline, hole_polygon, upper_arm_outline
 from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, link_settings
 from qsm.physics.kinematics import LINK_NAMES, as_design
 
@@ -81,9 +82,9 @@ class PartSettings:
     cad: the section and material (:class:`qsm.physics.cad.CadSettings`); boss_wall_m: printed
     wall around a bearing seat or the tool hole (m, default 4 mm); tool_hole_m: diameter of the
     tool-mount hole at E (m, default 9 mm; 0 for none); catalogue: bearing table (default
-    :func:`qsm.embodiment.bearings.load_catalogue`); scale: each link's section as ``cad``'s
+    :func:`qsm.embodiment.parts.bearings.load_catalogue`); scale: each link's section as ``cad``'s
     scaled by this factor (:data:`qsm.physics.kinematics.LINK_NAMES` order; the sized sections
-    of :mod:`qsm.embodiment.sizing`), None: ``cad`` for every link.
+    of :mod:`qsm.embodiment.strength.sizing`), None: ``cad`` for every link.
     """
 
     cad: CadSettings = field(default_factory=CadSettings)
@@ -165,7 +166,7 @@ def joint_radii(
     bearing_index: ArrayLike, settings: PartSettings = PartSettings()
 ) -> NDArray[np.float64]:
     """Boss radii (..., 5) in m at A, B, C, D (from the bearings ``bearing_index`` (..., 4),
-    catalogue rows as :attr:`qsm.embodiment.bearings.BearingChoice.index`) and at E (the tool
+    catalogue rows as :attr:`qsm.embodiment.parts.bearings.BearingChoice.index`) and at E (the tool
     hole's), with the boss radius of ``settings.cad`` (a link's own: :meth:`PartSettings.of_link`).
     Vectorised over designs."""
     i = np.asarray(bearing_index, dtype=np.intp)

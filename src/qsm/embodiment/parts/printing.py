@@ -9,9 +9,9 @@ the two together).
 
 The build volume a design needs is the largest sorted bounding box over its four links (each link
 may be turned to any axis-aligned orientation, so only the sorted sides matter). With bored parts
-the bosses follow the bearings (:func:`qsm.embodiment.parts.joint_radii`), so the boxes are
-computed from the per-joint boss radii (:func:`link_boxes_mm`, closed form of the outlines of
-:mod:`qsm.embodiment.parts`; with every radius equal to ``cad.boss_radius_m`` it is
+the bosses follow the bearings (:func:`qsm.embodiment.parts.link_parts.joint_radii`), so the boxes
+are computed from the per-joint boss radii (:func:`link_boxes_mm`, closed form of the outlines of
+:mod:`qsm.embodiment.parts.link_parts`; with every radius equal to ``cad.boss_radius_m`` it is
 :func:`link_boxes_mm` without radii).
 
 This module is where printability is decided: the fit test (:func:`box_fits`, one tolerance),
@@ -33,7 +33,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.defaults import default
+from qsm.config.defaults import default
 from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, link_outlines, link_settings
 from qsm.physics.kinematics import DESIGN_COLUMNS, LINK_NAMES, as_design
 

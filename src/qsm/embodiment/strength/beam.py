@@ -122,7 +122,7 @@ def link_cuts(
     design: ArrayLike, sec: Section, links: tuple[str, ...] = tuple(LOADS)
 ) -> dict[str, Cuts]:
     """The cuts of each of ``links`` (all by default) of ``design`` (..., 6) m (see
-    :mod:`qsm.embodiment.strength`)."""
+    :mod:`qsm.embodiment.strength.stresses`)."""
     d = as_design(design)
     l1, l2, l3, l4, ex, ey = (d[..., i] for i in range(6))
     out = {}

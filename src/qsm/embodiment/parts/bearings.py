@@ -49,7 +49,7 @@ S235_YIELD_PA = 235e6
 
 
 def _default_catalogue() -> Path:
-    return Path(str(resources.files("qsm.embodiment") / "data" / "bearings.csv"))
+    return Path(str(resources.files("qsm.embodiment.parts") / "data" / "bearings.csv"))
 
 
 DEFAULT_CATALOGUE = _default_catalogue()

@@ -13,8 +13,8 @@ from typing import Any
 
 import numpy as np
 
-from qsm.config_errors import ConfigError
-from qsm.config_payload import check_drives, check_payload
+from qsm.config.drive_limits import check_drives, check_payload
+from qsm.config.errors import ConfigError
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.task_points import MAX_VISITED_POINTS
 

@@ -1,7 +1,7 @@
 """What would let a design's links hold their loads, each answer checked by the strength check.
 
-For a design that does not hold (:class:`qsm.embodiment.link_checks.StrengthCheck`), every lever
-is searched by bisection with the full check (the link masses, and so the loads, follow the
+For a design that does not hold (:class:`qsm.embodiment.strength.link_checks.StrengthCheck`), every
+lever is searched by bisection with the full check (the link masses, and so the loads, follow the
 section): the smallest boss that holds (room for larger bearings and shafts), the thinnest plate
 that holds, the weakest material that holds, and the heaviest payload that holds. A lever that
 cannot make the design hold within its range is None.
@@ -16,7 +16,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike
 
-from qsm.embodiment.link_checks import StrengthCheck
+from qsm.embodiment.strength.link_checks import StrengthCheck
 
 #: Largest multiple of the configured value a lever searches.
 MAX_FACTOR = 8.0

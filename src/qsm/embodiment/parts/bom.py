@@ -6,7 +6,7 @@ theta2 and the crank) and stay empty until a drive is chosen (pass ``drives``). 
 dowels of the bearing's bore through both plates of the joint (length: the sum of the two links'
 thicknesses); at A the motor shafts take the place of pins, and each shaft runs in its own bearing
 in the base (2 at A). Each printed part's thickness is its own section's
-(:attr:`qsm.embodiment.parts.LinkPart.section`).
+(:attr:`qsm.embodiment.parts.link_parts.LinkPart.section`).
 """
 
 from __future__ import annotations
@@ -18,8 +18,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.embodiment.bearings import JOINTS, BearingTable, load_catalogue
-from qsm.embodiment.parts import LinkPart
+from qsm.embodiment.parts.bearings import JOINTS, BearingTable, load_catalogue
+from qsm.embodiment.parts.link_parts import LinkPart
 from qsm.physics.cad import MassProperties
 from qsm.physics.kinematics import LINK_NAMES
 
@@ -64,9 +64,9 @@ def bill_of_materials(
 ) -> pd.DataFrame:
     """The BOM as a DataFrame with :data:`BOM_COLUMNS`.
 
-    ``parts`` and ``masses`` of the links (:func:`qsm.embodiment.parts.link_parts`,
-    :func:`qsm.embodiment.part_mass.part_mass_properties`, or the topology-optimised links' masses);
-    ``bearing_index`` the catalogue rows at A, B, C, D (-1: none fits, the row says so);
+    ``parts`` and ``masses`` of the links (:func:`qsm.embodiment.parts.link_parts.link_parts`,
+    :func:`qsm.embodiment.parts.part_mass.part_mass_properties`, or the topology-optimised links'
+    masses); ``bearing_index`` the catalogue rows at A, B, C, D (-1: none fits, the row says so);
     ``topology_optimised`` per link (default all False); ``drives`` optional values per drive
     item (``"motor 1"`` ...) for the columns ``designation``, ``maker``, ``mass_kg``, ``source``,
     ``notes``.
