@@ -115,12 +115,24 @@ def test_editing_the_drive_check_reruns_the_selection_and_the_payload_test(run, 
     module = work / "src/qsm/embodiment/drives/drive_checks.py"
     module.write_text(module.read_text() + "\n# an edit\n")
     jobs = planned_jobs(work)
-    assert {"select_design", "payload_test", "topology_optimize", "summary"} <= set(jobs)
-    selected = work / "results/realization/selected.json"
+    assert {"select_design", "payload_test", "topology_optimize", "accuracy_budget"} <= set(jobs)
+    selected = work / "results/realization/choice.json"
     test = work / "results/realization/payload_test.json"
     before = selected.stat().st_mtime_ns, test.stat().st_mtime_ns
     snakemake(work, "--until", "payload_test")
     assert selected.stat().st_mtime_ns > before[0] and test.stat().st_mtime_ns > before[1]
+
+
+def test_a_new_tolerance_reruns_only_the_accuracy_budget_and_the_summary(run, tmp_path):
+    """task.tolerance_mm changes the verdict, not the design: the selection, plates and payload
+    test stand."""
+    configs = override(tmp_path, "task: {tolerance_mm: 50.0}")
+    assert planned_jobs(run, configs=configs) == {
+        "accuracy_budget": 1,
+        "summary": 1,
+        "markdown_pages": 1,
+        "default": 1,
+    }
 
 
 def test_turning_the_study_off_reruns_the_summary_alone_and_its_verdicts_follow(run, tmp_path):

@@ -51,3 +51,8 @@ def test_export_lengths_writes_bored_parts_a_drawing_and_a_closed_home_pose(tmp_
         "payload" in (out / "README.md").read_text() and "bore" in (out / "README.md").read_text()
     )
     assert load_config()["task"]["payload_kg"] == record["task"]["payload_kg"]
+    budget = record["stiffness"]  # the exported parts' accuracy at the default task, or why not
+    assert isinstance(budget["meets_requirements"], bool) and budget["verdict"]
+    if "per_point" in budget:
+        worst = budget["worst"]["error_budget_mm"]
+        assert budget["meets_requirements"] == (worst <= load_config()["task"]["tolerance_mm"])

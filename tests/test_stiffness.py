@@ -5,7 +5,7 @@ a plane-stress finite-element plate, and a point mass on the tool's compliance."
 import numpy as np
 import pytest
 
-from qsm.embodiment.stiffness.accuracy import (
+from qsm.embodiment.stiffness.error_terms import (
     lost_motion_m,
     peak_sag_m,
     sag_m,

@@ -323,6 +323,7 @@ def test_the_design_to_build(run):
         and strength["holds_loads"]
         and all(link["carries_loads"] for link in topo["links"].values())
         and json.loads((real / "payload_test.json").read_text())["passed"]
+        and selected["stiffness"]["meets_requirements"]
     )
     assert first.startswith("**Ready to build" if ready else "**NOT READY TO BUILD")
     assert "## The design to build" in summary_md and "| bearing A |" in summary_md
@@ -379,6 +380,7 @@ def test_sized_sections_are_drawn_and_built_as_checked(run, tmp_path):
         and all(link["carries_loads"] for link in topo["links"].values())
         and all(part["fits"] for part in topo["parts"]["printer"].values())
         and payload["passed"]
+        and selected["stiffness"]["meets_requirements"]
     )
     summary_md = (work / "results/summary.md").read_text()
     assert "was checked with the section" not in summary_md

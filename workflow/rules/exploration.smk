@@ -9,7 +9,7 @@ EXPLORATION_OUTPUTS = [
 rule pareto_html:
     input:
         verification=f"{OPT}/{{formulation}}/verification.parquet",
-        selected=rules.select_design.output.selected,
+        selected=rules.select_design.output.choice,
     output:
         html=report(
             f"{OPT}/{{formulation}}/pareto.html",
@@ -32,7 +32,7 @@ rule pareto_html:
 
 rule task_motion:
     input:
-        selected=rules.select_design.output.selected,
+        selected=rules.select_design.output.choice,
         payload=rules.payload_test.output.result,
         series=rules.payload_test.output.series,
     output:

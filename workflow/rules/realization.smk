@@ -1,7 +1,11 @@
 # Stage 6: printable design, topology-optimised links, STL files and a simulated payload test.
 
 LINKS = ["lower_arm", "crank", "coupler", "upper_arm"]
-STAGE6_OUTPUTS = [f"{REAL}/torques.json", f"{REAL}/payload_test.json"]
+STAGE6_OUTPUTS = [
+    f"{REAL}/torques.json",
+    f"{REAL}/payload_test.json",
+    f"{REAL}/selected.json",
+]
 
 
 rule select_design:
@@ -9,7 +13,7 @@ rule select_design:
         fronts=expand(f"{OPT}/{{formulation}}/verification.parquet", formulation=FORMULATIONS),
         dataset=rules.gather_dataset.output.dataset,
     output:
-        selected=f"{REAL}/selected.json",
+        choice=f"{REAL}/choice.json",
         figure=report(
             f"{RESULTS}/figures/selected_design.png",
             caption="../report/selected_design.rst",
@@ -40,7 +44,7 @@ rule select_design:
 
 rule topology_optimize:
     input:
-        selected=rules.select_design.output.selected,
+        selected=rules.select_design.output.choice,
     output:
         torques=f"{REAL}/torques.json",
         table=f"{REAL}/torques.md",  # in the report as a page (rule markdown_pages)
@@ -84,7 +88,7 @@ rule topology_optimize:
 
 rule payload_test:
     input:
-        selected=rules.select_design.output.selected,
+        selected=rules.select_design.output.choice,
         links=rules.topology_optimize.output.links,
     output:
         result=f"{REAL}/payload_test.json",
@@ -112,3 +116,37 @@ rule payload_test:
         operating_range=config["operating_range"],
     script:
         "../scripts/payload_test.py"
+
+
+rule accuracy_budget:
+    input:
+        choice=rules.select_design.output.choice,
+        links=rules.topology_optimize.output.links,
+        topology=rules.topology_optimize.output.topology,
+        payload=rules.payload_test.output.result,
+    output:
+        selected=f"{REAL}/selected.json",
+        figure=report(
+            f"{RESULTS}/figures/accuracy_budget.png",
+            caption="../report/accuracy_budget.rst",
+            category="6. Realisation",
+        ),
+    log:
+        f"{RESULTS}/logs/accuracy_budget.log",
+    priority: 10  # the critical path: ahead of the design-rule shards
+    conda:
+        ENV
+    params:
+        code=code("accuracy_budget.py"),
+        cad=config["cad"],
+        material=config["material"],
+        strength=config["strength"],
+        drives=drive_settings(),
+        payload_kg=config["task"]["payload_kg"],
+        duty=config["dynamics"]["duty"],
+        operating_range=config["operating_range"],
+        task=config["task"],
+        payload_test=config["payload_test"],
+        task_points=TASK_POINTS,
+    script:
+        "../scripts/accuracy_budget.py"

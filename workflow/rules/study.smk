@@ -37,7 +37,7 @@ rule study_lengths:
 
 rule study_table3:
     input:
-        selected=rules.select_design.output.selected,
+        selected=rules.select_design.output.choice,
         links=rules.topology_optimize.output.links,
     output:
         table=f"{STUDY}/table3_sweep.parquet",

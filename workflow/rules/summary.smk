@@ -8,7 +8,7 @@ rule summary:
         metrics=rules.train_surrogate.output.metrics,
         comparison=rules.compare_fronts.output.data,
         findings=rules.design_rules_summary.output.table,
-        selected=rules.select_design.output.selected,
+        selected=rules.accuracy_budget.output.selected,
         torques=rules.topology_optimize.output.torques,
         payload=rules.payload_test.output.result,
         topology=rules.topology_optimize.output.topology,

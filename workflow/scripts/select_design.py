@@ -1,4 +1,5 @@
-"""Rule select_design: the design to realise, printable if any is, truly feasible always."""
+"""Rule select_design: the design to realise (choice.json), printable if any is, truly feasible
+always."""
 
 from qsm.config.settings import physics, realization
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
@@ -28,6 +29,6 @@ with logged(snakemake.log[0]) as log:
         log.warning("skipped: %s", line)
     if not (record["printable"] and record["holds_loads"] and record["drives"]["has_drives"]):
         log.warning(record["verdict"])
-    write_json(out.selected, record)
+    write_json(out.choice, record)
     selected_figure(record, rule, op, p.task_points, out.figure)
     log.info("selected %s: %s", record["design_m"], record["verdict"])

@@ -57,10 +57,32 @@ from qsm.physics.urdf import LOOP_NOTE, urdf_xml
 from qsm.physics.workspace import OperatingRange
 from qsm.realization.choice import printing_advice
 from qsm.realization.outputs import export_stls
-from qsm.realization.pipeline import realize
+from qsm.realization.pipeline import Realization, budget_of, realize
 from qsm.report.design_sheet import design_sheet
 from qsm.report.drawing import draw_links
 from qsm.workflow.json_files import write_json
+
+
+def _files(links: Mapping[str, Any]) -> dict[str, Any]:
+    """The export folder's files, by kind."""
+    return {
+        "mjcf": "model.xml",
+        "urdf": "model.urdf",
+        "stl": [link["file"] for link in links.values()],
+        "drawing": "design.png",
+        "dimensioned_drawing": ["drawing.svg", "drawing.png"],
+        "json": "design.json",
+    }
+
+
+def _accuracy(done: Realization, config: Mapping[str, Any]) -> dict[str, Any]:
+    """The accuracy budget of the exported (solid) parts at the task points the design serves,
+    or why there is none (a point it cannot reach)."""
+    try:
+        points = design_points(config["task"]["points"])
+        return budget_of(done, realization.realization_of(config), points)
+    except ValueError as exc:
+        return {"meets_requirements": False, "verdict": f"no accuracy budget: {exc}"}
 
 
 def export_design(
@@ -83,6 +105,7 @@ def export_design(
         done = realize(d, realization.realization_of(config))
     except CadError as exc:
         raise ValueError(f"config 'cad': the link section does not fit this design: {exc}") from exc
+    accuracy = _accuracy(done, config)
     scale, strength, parts = done.scale, done.strength, done.parts
     verified = verify_design(d, fit, duty, cad, payload, None if scale is None else np.array(scale))
     performance = {k: verified[k] for k in TRUE_KEYS}
@@ -113,18 +136,9 @@ def export_design(
         "strength": strength,
         "parts": {name: {"holes": p.holes} for name, p in parts.items()},
         "drives": drives,
-        "files": {
-            "mjcf": "model.xml",
-            "urdf": "model.urdf",
-            "stl": [link["file"] for link in links.values()],
-            "drawing": "design.png",
-            "dimensioned_drawing": ["drawing.svg", "drawing.png"],
-            "json": "design.json",
-        },
-        "urdf": {
-            "written": True,
-            "closed_loop": LOOP_NOTE,
-        },
+        "stiffness": accuracy,
+        "files": _files(links),
+        "urdf": {"written": True, "closed_loop": LOOP_NOTE},
     }
     record = plain(record)
     title = _title(record, d)

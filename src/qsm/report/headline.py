@@ -9,6 +9,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from qsm.report.accuracy_report import accuracy_lines
 from qsm.report.drive_text import use_text
 from qsm.report.headline_tables import (
     drive_failures,
@@ -98,7 +99,19 @@ def build_verdict(
             f"the payload test failed (max tracking error {payload['max_tracking_error_deg']:.3f}"
             " deg)"
         )
+    budget = selected.get("stiffness")
+    if budget is not None and not budget["meets_requirements"]:
+        problems.append(budget["verdict"])
     return not problems, problems
+
+
+def _accuracy_clause(selected: Mapping[str, Any]) -> str:
+    """The ready verdict's accuracy clause, with the run's numbers."""
+    worst = selected["stiffness"]["worst"]
+    return (
+        f"placing error at most {worst['error_budget_mm']:.1f} mm "
+        f"(tolerance {selected['stiffness']['tolerance_mm']:g} mm)"
+    )
 
 
 def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom: str) -> list[str]:
@@ -172,7 +185,7 @@ def headline_markdown(
         "**"
         + (
             "Ready to build: printable, every part holds its loads, each motor has a drive, "
-            "payload test passed."
+            "payload test passed, " + _accuracy_clause(selected) + "."
             if ready
             else "NOT READY TO BUILD: " + "; ".join(problems) + "."
         )
@@ -180,6 +193,7 @@ def headline_markdown(
         "",
         *_mirror_lines(selected.get("task", {})),
         *_build_section(selected, topology, bom),
+        *accuracy_lines(selected.get("stiffness")),
         *_dataset_lines(filters, status, metrics),
         *_front_lines(comparison),
         "",

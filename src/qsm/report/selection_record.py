@@ -1,5 +1,6 @@
-"""``selected.json``: the design Stage 6 realises, its realisation and the verdict that states
-it with this run's numbers, and the figure of the design over its workspace."""
+"""``choice.json``: the design Stage 6 realises, its realisation and the verdict that states it
+with this run's numbers, and the figure of the design over its workspace.
+:mod:`qsm.report.accuracy_report` completes it, with the accuracy budget, into ``selected.json``."""
 
 from __future__ import annotations
 

@@ -50,12 +50,14 @@ _GEARBOX_DEFAULTS = {
 }  # fmt: skip
 _NON_NEGATIVE = frozenset(
     {"V", "k_t", "R", "L", "mass", "inertia", "omega_nl", "I_nom", "max_int_torque",
-     "max_int_speed", "max_cont_speed", "max_cont_torque"}
+     "max_int_speed", "max_cont_speed", "max_cont_torque", "backlash_arcmin",
+     "torsional_stiffness_Nm_rad"}
 )  # fmt: skip
 # Extra MGDB columns that hold numbers; any other extra column (e.g. source, note) is text.
 _NUMERIC_EXTRA = frozenset(
-    {"k_e", "diameter", "length", "coulomb_friction", "viscous_friction", "Rth1", "Rth2"}
-)
+    {"k_e", "diameter", "length", "coulomb_friction", "viscous_friction", "Rth1", "Rth2",
+     "backlash_arcmin", "torsional_stiffness_Nm_rad"}
+)  # fmt: skip
 
 
 class CatalogueError(ValueError):
@@ -229,6 +231,11 @@ def _check_row(rec: dict, where: str) -> None:
     eff = rec.get("efficiency", np.nan)
     if not np.isnan(eff) and not 0 < eff <= 1:
         raise CatalogueError(f"{where}, column 'efficiency': must lie in (0, 1], got {eff}")
+    if rec.get("torsional_stiffness_Nm_rad", np.nan) == 0:
+        raise CatalogueError(
+            f"{where}, column 'torsional_stiffness_Nm_rad': must be positive (leave it empty "
+            f"when the maker gives none)"
+        )
 
 
 def _all_columns(records: list[dict], columns: tuple[str, ...]) -> list[str]:

@@ -13,6 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from qsm.embodiment.drives.catalogue import Catalogue
+from qsm.embodiment.drives.compliance import gear_compliance
 from qsm.embodiment.drives.utilisation import CHECKS, DriveArrays, duty_arrays, utilisation
 
 RULES = {"lightest": "mass", "smallest_inertia": "reflected_inertia"}
@@ -78,6 +79,7 @@ class Selection:
             "ratio": float(row["ratio"]),
             "mass_kg": float(row["mass"]),
             "reflected_inertia_kgm2": float(row["reflected_inertia"]),
+            **gear_compliance(g),
         }
 
 

@@ -1,0 +1,298 @@
+"""How precisely a realised design places its payload at every task point: the accuracy budget.
+
+At each task point (the motor angles of :func:`qsm.physics.inverse_kinematics.joint_path`), by
+the frame of :mod:`qsm.embodiment.stiffness.frame`:
+
+* ``sag_rigid_drives_mm``: the tool's displacement under the payload's weight, solid links of
+  the drawn sections, rigid drives (the reference an independent frame model reproduces);
+* ``sag_mm``: the same with the printed links (a topology-optimised plate's stiffness is its
+  solid section's times its FE compliance ratio) and each gearbox's torsional stiffness;
+* ``dynamic_sag_mm``: under the payload's peak inertial and weight force over the duty, in the
+  worst direction;
+* ``lost_motion_mm``: each gearbox's backlash through the Jacobian, for the joints whose torque
+  reverses along the task's motion (Newton-Euler along the payload test's reference path);
+* ``tracking_error_mm``: the payload test's end-effector error at the end of each hold;
+* ``error_budget_mm``: the worst-case sum, max(sag, dynamic sag) + lost motion + tracking error;
+* ``first_mode_hz``: the loaded arm's first natural frequency.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any, NamedTuple
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.config.defaults import default
+from qsm.embodiment.drives.compliance import ARCMIN_RAD
+from qsm.embodiment.stiffness.error_terms import (
+    lost_motion_m,
+    payload_force_N,
+    peak_sag_m,
+    sag_m,
+    tool_acceleration,
+    tool_jacobian,
+    torque_reverses,
+)
+from qsm.embodiment.stiffness.frame import FrameSections, tool_compliance
+from qsm.embodiment.stiffness.modes import loaded_first_mode_hz
+from qsm.embodiment.strength.loads import Inertials, joint_loads
+from qsm.physics.duty import Duty
+from qsm.physics.dynamics import loop_state
+from qsm.physics.inverse_kinematics import joint_path
+from qsm.realization.payload import PayloadSettings, reference_trajectory
+
+#: Time step (s) of the task motion along which the joints' torques are checked for reversals.
+MOTION_STEP_S = 0.01
+#: The terms of the budget, per task point, in mm (and the first mode in Hz).
+TERMS = (
+    "sag_rigid_drives_mm",
+    "sag_mm",
+    "dynamic_sag_mm",
+    "lost_motion_mm",
+    "tracking_error_mm",
+    "error_budget_mm",
+    "first_mode_hz",
+)
+
+
+@dataclass(frozen=True)
+class AccuracySettings:
+    """What the user needs: ``tolerance_mm`` (the largest placing error at a task point, mm) and
+    ``min_first_mode_hz`` (the lowest first natural frequency, Hz; None: no requirement)."""
+
+    tolerance_mm: float = default("task.tolerance_mm")
+    min_first_mode_hz: float | None = default("task.min_first_mode_hz")
+
+
+class ArmModel(NamedTuple):
+    """The realised arm as the budget sees it: ``sections`` (solid, per link), ``factor`` (4,)
+    on each link's stiffness (plates; ones for solid links), link masses (4,) kg and inertials,
+    and per drive its torsional stiffness (N m/rad), backlash (rad) and reflected inertia."""
+
+    design: NDArray[np.float64]
+    sections: FrameSections
+    factor: NDArray[np.float64]
+    inertials: Inertials
+    drive_stiffness: NDArray[np.float64]
+    backlash_rad: NDArray[np.float64]
+    reflected_kgm2: NDArray[np.float64]
+
+
+def drive_terms(drives: dict[str, Any]) -> tuple[NDArray, NDArray, NDArray, dict[str, Any]]:
+    """Each motor's gearbox stiffness (N m/rad), backlash (rad), reflected inertia (kg m^2) and
+    their sources, from a drive report (the chosen drive, else the nearest one)."""
+    k, play, ref, notes = [], [], [], {}
+    for name, motor in drives.get("motors", {}).items():
+        d = motor.get("drive") or motor.get("best_drive") or {}
+        k.append(float(d.get("torsional_stiffness_Nm_rad", math.inf)))
+        play.append(float(d.get("backlash_arcmin", 0.0)) * ARCMIN_RAD)
+        ref.append(float(d.get("reflected_inertia_kgm2", 0.0)))
+        notes[name] = {
+            key: d.get(key) for key in ("gearbox", "backlash_arcmin", "torsional_stiffness_Nm_rad")
+        } | {key: d.get(key) for key in ("backlash_from", "stiffness_from")}
+    if len(k) != 2:  # no drive report (an undefined design): rigid drives without play
+        return np.full(2, math.inf), np.zeros(2), np.zeros(2), {}
+    return np.array(k), np.array(play), np.array(ref), notes
+
+
+def task_motion_torques(
+    model: ArmModel, angles: NDArray[np.float64], payload: PayloadSettings
+) -> NDArray[np.float64]:
+    """The joints' torques (N, 2) N m along the payload test's reference motion through the
+    task points' motor ``angles`` (n, 2) rad, by Newton-Euler (without the drives' inertia)."""
+    way = (
+        angles
+        if not payload.return_to_start or len(angles) < 2
+        else angles[[*range(len(angles)), 0]]
+    )
+    _, th, dth, ddth = reference_trajectory(
+        way, payload.segment_duration_s, payload.dwell_s, MOTION_STEP_S
+    )
+    state = loop_state(model.design, th, dth, ddth)
+    return joint_loads(model.design, model.inertials, payload.payload_kg, state).tau
+
+
+def point_terms(
+    model: ArmModel,
+    angles: NDArray[np.float64],
+    payload_kg: float,
+    duty: Duty,
+    reverses: ArrayLike,
+) -> dict[str, NDArray[np.float64]]:
+    """The budget's terms (n,) at the task points' motor ``angles`` (n, 2) rad, but the tracking
+    error: mm, and the first mode in Hz. ``reverses`` (2,): whose torque changes sign."""
+    d, t1, t2 = model.design, angles[:, 0], angles[:, 1]
+    weight = payload_force_N(payload_kg, np.zeros(2))
+    printed = model.sections._replace(factor=model.factor)
+    rigid = not np.isfinite(model.drive_stiffness).all()
+    k = None if rigid else model.drive_stiffness
+    compliance = tool_compliance(d, t1, t2, printed, k)
+    accel = tool_acceleration(d, duty.theta, duty.dtheta, duty.ddtheta)
+    peak_N = float(np.nanmax(np.linalg.norm(payload_force_N(payload_kg, accel), axis=-1)))
+    mode = loaded_first_mode_hz(
+        d, t1, t2, printed, model.inertials.mass_kg, payload_kg, k,
+        None if rigid else model.reflected_kgm2,
+    )  # fmt: skip
+    jac = tool_jacobian(d, t1, t2)
+    return {
+        "sag_rigid_drives_mm": 1e3 * sag_m(tool_compliance(d, t1, t2, model.sections), weight),
+        "sag_mm": 1e3 * sag_m(compliance, weight),
+        "dynamic_sag_mm": 1e3 * peak_sag_m(compliance, peak_N),
+        "lost_motion_mm": 1e3 * lost_motion_m(jac, model.backlash_rad, reverses),
+        "first_mode_hz": mode,
+    }
+
+
+def budget_mm(terms: dict[str, NDArray], tracking_mm: ArrayLike | None) -> NDArray[np.float64]:
+    """The worst-case placing error (n,) mm: max(sag, dynamic sag) + lost motion + tracking."""
+    track = 0.0 if tracking_mm is None else np.asarray(tracking_mm, dtype=float)
+    elastic = np.maximum(terms["sag_mm"], terms["dynamic_sag_mm"])
+    return elastic + terms["lost_motion_mm"] + track
+
+
+def _worst(per_point: dict[str, Any]) -> dict[str, float | None]:
+    out: dict[str, float | None] = {}
+    for key, values in per_point.items():
+        if values is None:
+            out[key] = None
+        else:
+            v = np.asarray(values, dtype=float)
+            out[key] = float(v.min() if key == "first_mode_hz" else v.max())
+    return out
+
+
+#: How the budget models the arm, stated in its record.
+MODEL_NOTE = (
+    "planar Timoshenko frame of the links' drawn sections between joint centres (bosses and "
+    "bores not modelled), pins and bearings rigid at B, C and D, each gearbox a torsional "
+    "spring at A; the servo holding each rotor is taken as rigid"
+)
+
+
+def _scaled(model: ArmModel, section: float = 1.0, modulus: float = 1.0) -> ArmModel:
+    s = model.sections
+    return model._replace(
+        sections=s._replace(
+            width_m=s.width_m * section,
+            thickness_m=s.thickness_m * section,
+            youngs_pa=s.youngs_pa * modulus,
+        )
+    )
+
+
+def _smallest_factor(meets: Any, high: float) -> float | None:
+    """The smallest factor in [1, high] for which ``meets(factor)`` holds (bisection, 1 %), or
+    None when even ``high`` does not."""
+    if not meets(high):
+        return None
+    low = 1.0
+    while high / low > 1.01:
+        mid = math.sqrt(low * high)
+        low, high = (low, mid) if meets(mid) else (mid, high)
+    return high
+
+
+def advice(
+    model: ArmModel, angles: NDArray, payload_kg: float, duty: Duty, reverses: NDArray,
+    tracking_mm: ArrayLike | None, tolerance_mm: float,
+) -> list[str]:  # fmt: skip
+    """What would meet ``tolerance_mm``, each answer checked by the budget: a larger section, a
+    stiffer material, or drives without compliance and play."""
+
+    def meets(m: ArmModel) -> bool:
+        terms = point_terms(m, angles, payload_kg, duty, reverses)
+        return bool((budget_mm(terms, tracking_mm) <= tolerance_mm).all())
+
+    out = []
+    s = model.sections
+    f = _smallest_factor(lambda x: meets(_scaled(model, section=x)), 3.0)
+    if f is not None:
+        w, t = 1e3 * s.width_m * f, 1e3 * s.thickness_m * f
+        sizes = ", ".join(f"{a:.0f} x {b:.0f}" for a, b in zip(w, t, strict=True))
+        out.append(f"sections {f:.2f}x as large ({sizes} mm per link)")
+    e = _smallest_factor(lambda x: meets(_scaled(model, modulus=x)), 100.0)
+    if e is not None:
+        out.append(f"a material of Young's modulus {s.youngs_pa * e / 1e9:.1f} GPa or more")
+    ideal = model._replace(drive_stiffness=np.full(2, math.inf), backlash_rad=np.zeros(2))
+    if meets(ideal) and not np.isinf(model.drive_stiffness).all():
+        out.append("stiffer gearboxes with less backlash (rigid drives without play would meet it)")
+    return out or ["none of a section up to 3x, a material up to 100x as stiff, or rigid drives"]
+
+
+def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str, bool]:
+    """The budget's sentence, with its numbers, and whether the design meets the tolerance and
+    the first-mode requirement."""
+    budget = np.asarray(per_point["error_budget_mm"])
+    i = int(np.argmax(budget))
+    mode = float(np.min(per_point["first_mode_hz"]))
+    tol, low = settings.tolerance_mm, settings.min_first_mode_hz
+    parts = [
+        f"sag {max(per_point['sag_mm'][i], per_point['dynamic_sag_mm'][i]):.1f} mm",
+        f"lost motion {per_point['lost_motion_mm'][i]:.1f} mm",
+    ]
+    if per_point["tracking_error_mm"] is not None:
+        parts.append(f"tracking {per_point['tracking_error_mm'][i]:.2f} mm")
+    detail = f"{budget[i]:.1f} mm at point {i + 1} ({', '.join(parts)}; tolerance {tol:g} mm)"
+    problems = []
+    if not budget[i] <= tol:
+        elastic = max(per_point["sag_mm"][i], per_point["dynamic_sag_mm"][i])
+        label = "NOT STIFF ENOUGH" if elastic >= per_point["lost_motion_mm"][i] else "TOO MUCH PLAY"
+        problems.append(f"{label}: the tool's placing error reaches {detail}")
+    if low is not None and not mode >= low:
+        problems.append(f"RINGS TOO LOW: first mode {mode:.1f} Hz (required {low:g} Hz)")
+    if problems:
+        return "; ".join(problems), False
+    return (
+        f"within tolerance: the placing error is at most {detail}; first mode {mode:.1f} Hz",
+        True,
+    )
+
+
+def accuracy_record(
+    model: ArmModel,
+    points_m: ArrayLike,
+    payload: PayloadSettings,
+    duty: Duty,
+    settings: AccuracySettings,
+    tracking_mm: ArrayLike | None = None,
+    drive_notes: dict[str, Any] | None = None,
+) -> dict[str, Any]:
+    """JSON-ready accuracy budget of ``model`` at task ``points_m`` (n, 2) m: per point and worst
+    (:data:`TERMS`), each drive's play and whether its torque reverses along the task's motion,
+    the verdict against ``settings`` and, when it fails, what would meet it. ``tracking_mm``:
+    the payload test's error per point (None before the test has run)."""
+    points = np.asarray(points_m, dtype=float).reshape(-1, 2)
+    angles = joint_path(model.design, points, payload.theta1_range_deg, payload.theta2_min_deg)
+    reverses = torque_reverses(task_motion_torques(model, angles, payload))
+    terms = point_terms(model, angles, payload.payload_kg, duty, reverses)
+    track = None if tracking_mm is None else np.asarray(tracking_mm, dtype=float)[: len(points)]
+    per_point: dict[str, Any] = {k: v.tolist() for k, v in terms.items()}
+    per_point["tracking_error_mm"] = None if track is None else track.tolist()
+    per_point["error_budget_mm"] = budget_mm(terms, track).tolist()
+    verdict, ok = _verdict(per_point, settings)
+    joints = {
+        name: (drive_notes or {}).get(name, {})
+        | {"torque_reverses": bool(r), "backlash_counted": bool(r)}
+        for name, r in zip(("motor1", "motor2"), reverses, strict=True)
+    }
+    return {
+        "tolerance_mm": settings.tolerance_mm,
+        "min_first_mode_hz": settings.min_first_mode_hz,
+        "points_m": points.tolist(),
+        "per_point": {k: per_point[k] for k in TERMS},
+        "worst": _worst({k: per_point[k] for k in TERMS}),
+        "worst_point": int(np.argmax(per_point["error_budget_mm"])) + 1,
+        "joints": joints,
+        "stiffness_factor": model.factor.tolist(),
+        "meets_requirements": ok,
+        "verdict": verdict,
+        "would_meet": []
+        if ok
+        else advice(
+            model, angles, payload.payload_kg, duty, reverses, track, settings.tolerance_mm
+        ),
+        "model": MODEL_NOTE,
+    }

@@ -1,0 +1,179 @@
+"""``selected.json``: the chosen design's record (``choice.json``) completed, once its plates are
+optimised and its payload test has run, with its final accuracy budget; its verdict sentence, and
+the figure of the tool's sag over the task region."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from pathlib import Path
+from typing import Any
+
+import matplotlib.pyplot as plt
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.embodiment.stiffness.error_terms import payload_force_N, sag_m
+from qsm.embodiment.stiffness.frame import tool_compliance
+from qsm.physics.cad import MassProperties
+from qsm.physics.inverse_kinematics import joint_angles
+from qsm.physics.kinematics import LINK_NAMES
+from qsm.physics.task import min_enclosing_circle
+from qsm.physics.task_points import visited_points
+from qsm.realization.pipeline import RealizationSettings, arm_model, budget_of, realize
+
+
+def plate_factors(topology: Mapping[str, Any]) -> NDArray[np.float64]:
+    """Each link's stiffness factor (4,): an optimised plate's FE compliance before over after
+    optimisation under its own load cases (1 for a solid link or a plate kept solid)."""
+    links = topology.get("links", {})
+    out = np.ones(len(LINK_NAMES))
+    for k, name in enumerate(LINK_NAMES):
+        r = links.get(name)
+        if r and not r.get("kept_solid") and r.get("compliance_after_J"):
+            out[k] = r["compliance_before_J"] / r["compliance_after_J"]
+    return out
+
+
+def tracking_per_point(points: ArrayLike, point_error_mm: Sequence[float]) -> NDArray[np.float64]:
+    """The payload test's end-effector error at each task point (n,) mm: at the point's hold
+    where the test visits it, else the largest error of any hold."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    err = np.asarray(point_error_mm, dtype=float)
+    out = np.full(len(pts), float(err.max()) if err.size else 0.0)
+    visited = visited_points(pts)
+    out[visited] = err[: len(visited)]
+    return out
+
+
+def final_record(
+    choice: Mapping[str, Any],
+    topology: Mapping[str, Any],
+    props: dict[str, MassProperties],
+    payload: Mapping[str, Any],
+    settings: RealizationSettings,
+    points: ArrayLike,
+) -> dict[str, Any]:
+    """``choice`` with its ``stiffness`` the final budget (the optimised plates' stiffness and
+    masses, the payload test's tracking error) and the verdict sentence that adds it."""
+    done = realize(choice["design_m"], settings)
+    tracking = tracking_per_point(points, payload.get("point_error_mm", []))
+    budget = budget_of(done, settings, points, props, plate_factors(topology), tracking)
+    record = dict(choice)
+    record["stiffness"] = budget
+    record["verdict"] = f"{choice['verdict'].rstrip('.')}. {accuracy_sentence(budget)}."
+    return record
+
+
+def accuracy_sentence(budget: Mapping[str, Any]) -> str:
+    """The budget's verdict, and what would meet the tolerance where it fails."""
+    if budget["meets_requirements"]:
+        return "Accurate enough: " + budget["verdict"]
+    return budget["verdict"] + ". What would meet it: " + "; ".join(budget["would_meet"])
+
+
+def accuracy_lines(budget: Mapping[str, Any] | None) -> list[str]:
+    """``summary.md``'s accuracy section: the budget per task point, its verdict and the
+    assumptions on the gearboxes."""
+    if budget is None:
+        return []
+    per = budget["per_point"]
+    head = "| point | " + " | ".join(k.replace("_", " ") for k in per) + " |"
+    rows = [head, "|" + " --- |" * (len(per) + 1)]
+    for k in range(len(budget["points_m"])):
+        cells = ["-" if v is None else f"{v[k]:.2f}" for v in per.values()]
+        rows.append(f"| {k + 1} | " + " | ".join(cells) + " |")
+    spared = {
+        True: "counted: its torque reverses along the task",
+        False: "spared: its torque "
+        "keeps one sign along the task (gravity keeps the gear loaded on one flank)",
+    }
+    joints = [
+        f"- {name}: {j.get('gearbox')}, backlash {j.get('backlash_arcmin')} arcmin "
+        f"({j.get('backlash_from')}), {spared[j['torque_reverses']]}; "
+        f"stiffness {j.get('torsional_stiffness_Nm_rad')} N m/rad ({j.get('stiffness_from')})."
+        for name, j in budget["joints"].items()
+    ]
+    return [
+        "## Accuracy",
+        f"- {accuracy_sentence(budget)}.",
+        f"- model: {budget['model']}.",
+        *joints,
+        "",
+        *rows,
+        "",
+    ]
+
+
+def _sag_grid(
+    done: Any, settings: RealizationSettings, props: dict[str, MassProperties] | None,
+    factor: ArrayLike, points: NDArray, n: int = 15,
+) -> tuple[NDArray, NDArray, NDArray]:  # fmt: skip
+    """The tool's sag (n, n) mm under the payload's weight on a grid over the task disk (NaN
+    where the design cannot reach), with the grid's x and y (n,) m."""
+    disk = min_enclosing_circle(points)
+    (cx, cy), r = disk.centre, max(disk.radius, 0.02)
+    xs, ys = np.linspace(cx - r, cx + r, n), np.linspace(cy - r, cy + r, n)
+    model = arm_model(done, settings, props, factor)
+    angles = np.full((n, n, 2), np.nan)
+    for i, y in enumerate(ys):
+        for j, x in enumerate(xs):
+            if np.hypot(x - cx, y - cy) <= r:
+                try:
+                    angles[i, j] = joint_angles(
+                        done.design, (x, y), settings.motion.theta1_range_deg,
+                        settings.motion.theta2_min_deg,
+                    )  # fmt: skip
+                except ValueError:
+                    pass
+    ok = np.isfinite(angles[..., 0])
+    sag = np.full((n, n), np.nan)
+    rigid = not np.isfinite(model.drive_stiffness).all()
+    c = tool_compliance(
+        done.design, angles[ok][:, 0], angles[ok][:, 1],
+        model.sections._replace(factor=model.factor), None if rigid else model.drive_stiffness,
+    )  # fmt: skip
+    sag[ok] = 1e3 * sag_m(c, payload_force_N(settings.motion.payload_kg, np.zeros(2)))
+    return xs, ys, sag
+
+
+def accuracy_figure(
+    record: Mapping[str, Any],
+    topology: Mapping[str, Any],
+    props: dict[str, MassProperties],
+    settings: RealizationSettings,
+    points: ArrayLike,
+    path: str | Path,
+) -> None:
+    """PNG: left, the tool's sag under the payload's weight over the task region (the printed
+    links and the drives' stiffness); right, the budget's terms at each task point against the
+    tolerance."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    done = realize(record["design_m"], settings)
+    xs, ys, sag = _sag_grid(done, settings, props, plate_factors(topology), pts)
+    budget = record["stiffness"]
+    per = budget["per_point"]
+    fig, (left, right) = plt.subplots(1, 2, figsize=(11, 4.5))
+    mesh = left.pcolormesh(xs, ys, sag, shading="nearest", cmap="viridis")
+    fig.colorbar(mesh, ax=left, label="sag under the payload's weight (mm)")
+    left.plot(pts[:, 0], pts[:, 1], "wo", mec="k")
+    for k, (x, y) in enumerate(pts, start=1):
+        left.annotate(str(k), (x, y), textcoords="offset points", xytext=(4, 4), color="w")
+    left.set(xlabel="x (m)", ylabel="y (m)", aspect="equal", title="tool sag over the task region")
+    k = np.arange(1, len(pts) + 1)
+    bottom = np.zeros(len(pts))
+    track = per["tracking_error_mm"]
+    terms = [
+        ("sag (static or dynamic)", np.maximum(per["sag_mm"], per["dynamic_sag_mm"])),
+        ("lost motion", np.asarray(per["lost_motion_mm"])),
+        ("tracking", np.zeros(len(pts)) if track is None else np.asarray(track)),
+    ]
+    for label, values in terms:
+        right.bar(k, values, bottom=bottom, label=label)
+        bottom = bottom + values
+    right.axhline(budget["tolerance_mm"], color="r", ls="--", label="tolerance")
+    right.set(xlabel="task point", ylabel="placing error (mm)", xticks=k)
+    right.set_title("accuracy budget: " + ("met" if budget["meets_requirements"] else "NOT met"))
+    right.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)

@@ -1,0 +1,198 @@
+"""The realised design's accuracy budget (qsm.realization.accuracy_budget) and the gearboxes'
+stiffness and play (qsm.embodiment.drives.compliance)."""
+
+import json
+import math
+from dataclasses import replace
+
+import numpy as np
+import pandas as pd
+import pytest
+
+from qsm.config.reading import load_config
+from qsm.config.settings.realization import realization_of
+from qsm.embodiment.drives.catalogue import (
+    CatalogueError,
+    default_catalogue_folder,
+    read_catalogue,
+)
+from qsm.embodiment.drives.compliance import (
+    DEFAULT_BACKLASH_ARCMIN,
+    DEFAULT_STIFFNESS_NM_RAD,
+    gear_compliance,
+)
+from qsm.embodiment.stiffness.error_terms import payload_force_N, sag_m, torque_reverses
+from qsm.embodiment.stiffness.frame import tool_compliance
+from qsm.physics.dynamics import inverse_dynamics, loop_state
+from qsm.physics.inverse_kinematics import joint_path
+from qsm.physics.kinematics import end_effector
+from qsm.physics.mjcf import model_spec
+from qsm.realization.accuracy_budget import (
+    MOTION_STEP_S,
+    AccuracySettings,
+    budget_mm,
+    task_motion_torques,
+)
+from qsm.realization.payload import reference_trajectory
+from qsm.realization.pipeline import arm_model, realize
+from qsm.report.accuracy_report import plate_factors, tracking_per_point
+
+DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
+ANGLES = np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0]])
+
+
+@pytest.fixture(scope="module")
+def settings():
+    return realization_of(load_config())
+
+
+@pytest.fixture(scope="module")
+def points():
+    return end_effector(DESIGN, ANGLES[:, 0], ANGLES[:, 1])
+
+
+@pytest.fixture(scope="module")
+def realised(settings, points):
+    return realize(DESIGN, settings, points)
+
+
+def test_the_record_is_strict_json_with_every_term_per_point(realised, points):
+    budget = realised.accuracy
+    text = json.dumps(budget, allow_nan=False)
+    assert json.loads(text) == budget
+    for key, values in budget["per_point"].items():
+        assert values is None or len(values) == len(points), key
+    assert budget["per_point"]["tracking_error_mm"] is None  # no payload test yet
+
+
+def test_the_budget_is_the_worst_case_sum_of_its_terms():
+    terms = {
+        "sag_mm": np.array([1.0, 4.0]),
+        "dynamic_sag_mm": np.array([2.0, 3.0]),
+        "lost_motion_mm": np.array([0.5, 0.0]),
+    }
+    np.testing.assert_allclose(budget_mm(terms, [0.25, 1.0]), [2.75, 5.0])
+    np.testing.assert_allclose(budget_mm(terms, None), [2.5, 4.0])
+
+
+def test_the_static_sag_is_the_frames_response_to_the_payloads_weight(realised, settings, points):
+    """sag_rigid_drives_mm against the frame solved here: the payload's weight m g at E."""
+    model = arm_model(realised, settings)
+    c = tool_compliance(DESIGN, ANGLES[:, 0], ANGLES[:, 1], model.sections)
+    m = settings.motion.payload_kg
+    expected = 1e3 * np.hypot(c[:, 0, 1], c[:, 1, 1]) * m * 9.80665
+    np.testing.assert_allclose(realised.accuracy["per_point"]["sag_rigid_drives_mm"], expected)
+    assert (np.array(realised.accuracy["per_point"]["sag_mm"]) >= expected).all()
+
+
+@pytest.mark.parametrize("tolerance_mm", [1e3, 1e-2])
+def test_the_tolerance_decides_the_verdict_and_its_numbers(settings, points, tolerance_mm):
+    tight = replace(settings, accuracy=AccuracySettings(tolerance_mm=tolerance_mm))
+    budget = realize(DESIGN, tight, points).accuracy
+    worst = budget["worst"]["error_budget_mm"]
+    assert budget["meets_requirements"] is (worst <= tolerance_mm)
+    assert f"{worst:.1f} mm" in budget["verdict"]
+    assert f"tolerance {tolerance_mm:g} mm" in budget["verdict"]
+    if budget["meets_requirements"]:
+        assert budget["would_meet"] == []
+    else:
+        assert budget["verdict"].startswith(("NOT STIFF ENOUGH", "TOO MUCH PLAY"))
+        assert budget["would_meet"]
+
+
+def test_a_first_mode_requirement_above_the_arms_is_reported(settings, points):
+    lowest = realize(DESIGN, settings, points).accuracy["worst"]["first_mode_hz"]
+    need = replace(settings, accuracy=AccuracySettings(1e3, min_first_mode_hz=2 * lowest))
+    budget = realize(DESIGN, need, points).accuracy
+    assert not budget["meets_requirements"]
+    assert f"first mode {lowest:.1f} Hz" in budget["verdict"]
+
+
+def test_torque_reversals_agree_with_mujocos_inverse_dynamics(realised, settings, points):
+    """The Newton-Euler torques along the task's motion change sign where MuJoCo's do."""
+    model = arm_model(realised, settings)
+    angles = joint_path(DESIGN, points, settings.motion.theta1_range_deg)
+    ne = task_motion_torques(model, angles, settings.motion)
+    way = angles[[*range(len(angles)), 0]] if settings.motion.return_to_start else angles
+    _, th, dth, ddth = reference_trajectory(
+        way, settings.motion.segment_duration_s, settings.motion.dwell_s, MOTION_STEP_S
+    )
+    from qsm.embodiment.parts.part_mass import part_mass_properties
+
+    props = part_mass_properties(realised.parts)
+    mj = model_spec(DESIGN, settings.strength.cad, settings.motion.payload_kg, props).compile()
+    tau = inverse_dynamics(mj, DESIGN, loop_state(DESIGN, th, dth, ddth)).tau
+    np.testing.assert_allclose(ne, tau, atol=1e-6 * np.abs(tau).max())
+    assert (torque_reverses(ne) == torque_reverses(tau)).all()
+
+
+def test_play_moves_the_tool_only_where_a_torque_reverses(realised, settings, points):
+    budget = realised.accuracy
+    lost = np.asarray(budget["per_point"]["lost_motion_mm"])
+    counted = [j["backlash_counted"] for j in budget["joints"].values()]
+    assert (lost > 0).all() == any(counted)
+    assert (lost == 0).all() == (not any(counted))
+
+
+def test_plate_factors_are_the_fe_compliance_ratios():
+    topology = {
+        "links": {
+            "lower_arm": {"compliance_before_J": 1.0, "compliance_after_J": 1.25},
+            "upper_arm": {
+                "compliance_before_J": 2.0,
+                "compliance_after_J": 2.0,
+                "kept_solid": True,
+            },
+        }
+    }
+    np.testing.assert_allclose(plate_factors(topology), [0.8, 1.0, 1.0, 1.0])
+
+
+def test_tracking_error_of_an_unvisited_point_is_the_largest():
+    pts = np.array([[0.0, 0.5], [0.1, 0.5]])
+    np.testing.assert_allclose(tracking_per_point(pts, [0.2, 0.3, 0.2]), [0.2, 0.3])
+
+
+def test_a_gearbox_without_values_gets_stated_assumptions():
+    row = pd.Series({"key": "X", "type": "planetary"})
+    got = gear_compliance(row)
+    assert got["backlash_arcmin"] == DEFAULT_BACKLASH_ARCMIN
+    assert got["torsional_stiffness_Nm_rad"] == DEFAULT_STIFFNESS_NM_RAD
+    assert got["backlash_from"].startswith("assumed") and got["stiffness_from"].startswith(
+        "assumed"
+    )
+    given = gear_compliance(
+        pd.Series(
+            {"type": "harmonic", "backlash_arcmin": 1.0, "torsional_stiffness_Nm_rad": 6.7e4,
+             "stiffness_status": "published", "stiffness_source": "HD catalogue"}
+        )
+    )  # fmt: skip
+    assert given["torsional_stiffness_Nm_rad"] == 6.7e4
+    assert given["stiffness_from"] == "published: HD catalogue"
+
+
+def test_the_shipped_catalogue_gives_every_gearbox_its_values_and_status():
+    gearboxes = read_catalogue(default_catalogue_folder()).gearboxes
+    assert gearboxes["backlash_arcmin"].gt(0).all()
+    assert gearboxes["torsional_stiffness_Nm_rad"].gt(0).all()
+    assert set(gearboxes["backlash_status"]) | set(gearboxes["stiffness_status"]) <= {
+        "published",
+        "assumed",
+    }
+    assert gearboxes["stiffness_source"].str.len().gt(20).all()
+
+
+def test_a_zero_stiffness_is_refused_naming_the_column(tmp_path):
+    for f in default_catalogue_folder().glob("*.csv"):
+        text = f.read_text()
+        if f.name == "gearboxes.csv":
+            text = text.replace(",60,2400,", ",60,0,", 1)
+        (tmp_path / f.name).write_text(text)
+    with pytest.raises(CatalogueError, match="torsional_stiffness_Nm_rad"):
+        read_catalogue(tmp_path)
+
+
+def test_sag_of_a_pure_weight_is_linear_in_the_payload():
+    c = np.array([[3e-4, 1e-4], [1e-4, 2e-4]])
+    one, two = (sag_m(c, payload_force_N(m, np.zeros(2))) for m in (1.0, 2.0))
+    assert two == pytest.approx(2 * one) and math.isfinite(one)
