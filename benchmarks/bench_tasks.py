@@ -29,6 +29,8 @@ from typing import Any
 import pandas as pd
 import yaml
 
+from qsm.realization.accuracy_budget import TERMS
+
 ROOT = Path(__file__).resolve().parents[1]
 
 #: name: (what it exercises, task points in m, payload in kg)
@@ -121,6 +123,13 @@ def row(work: Path, name: str) -> dict[str, Any]:
             for k, v in fronts.items()
         },
         "embodiment": embodiment(selected, topology, payload),
+        "accuracy": accuracy(
+            selected,
+            {
+                k: json.loads((res / f"optimization/{k}/verification.json").read_text())
+                for k in fronts
+            },
+        ),
         "selected": {
             "source": selected["source"],
             "printable": selected["printable"],
@@ -213,6 +222,56 @@ def embodiment(
         },
         "payload_test_passed": payload["passed"],
     }
+
+
+def accuracy(selected: dict[str, Any], fronts: dict[str, Any]) -> dict[str, Any]:
+    """The selected design's accuracy budget (worst over the task points), the serial-arm
+    comparison, and each front's g15 (``fronts``: their verification.json): its share within the
+    tolerance, or that it was dropped."""
+    budget = selected.get("stiffness") or {}
+    worst = budget.get("worst", {})
+    serial = budget.get("serial_arm") or {}
+    return {
+        "tolerance_mm": budget.get("tolerance_mm"),
+        **{k: worst.get(k) for k in TERMS},
+        "meets": budget.get("meets_requirements"),
+        "serial_sag_mm": serial.get("serial", {}).get("sag_mm"),
+        "serial_first_mode_hz": serial.get("serial", {}).get("first_mode_hz"),
+        "g15": {
+            k: "dropped"
+            if "g15 dropped" in (v.get("constraints") or "")
+            else f"{100 * v.get('within_tolerance_share', float('nan')):.0f} %"
+            for k, v in fronts.items()
+        },
+    }
+
+
+def accuracy_markdown(rows: list[dict[str, Any]]) -> str:
+    """One row per task that ran: the selected design's accuracy and each front's g15."""
+    lines = [
+        "| task | g15: paper / ratios front | sag, rigid drives (mm) | sag, printed with drives "
+        "(mm) | dynamic sag (mm) | lost motion (mm) | tracking (mm) | budget / tolerance (mm) "
+        "| first mode (Hz) | serial 2R arm: sag (mm), first mode (Hz) |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+
+    def num(v: Any, fmt: str = ".1f") -> str:
+        return "-" if v is None else format(v, fmt)
+
+    for r in rows:
+        if "error" in r:
+            continue
+        a = r["accuracy"]
+        g15 = " / ".join(a["g15"].get(k, "-") for k in ("paper", "ratios"))
+        budget = f"{num(a['error_budget_mm'])} / {num(a['tolerance_mm'], 'g')}"
+        budget += "" if a["meets"] else " (NOT met)"
+        lines.append(
+            f"| {r['task']} | {g15} | {num(a['sag_rigid_drives_mm'])} | {num(a['sag_mm'])} | "
+            f"{num(a['dynamic_sag_mm'])} | {num(a['lost_motion_mm'])} | "
+            f"{num(a['tracking_error_mm'], '.2f')} | {budget} | {num(a['first_mode_hz'])} | "
+            f"{num(a['serial_sag_mm'])}, {num(a['serial_first_mode_hz'])} |"
+        )
+    return "\n".join(lines)
 
 
 def run_task(
@@ -347,6 +406,8 @@ def main() -> None:
     print(markdown(rows))
     print()
     print(embodiment_markdown(rows))
+    print()
+    print(accuracy_markdown(rows))
     if args.out:
         args.out.write_text(json.dumps(rows, indent=2))
 

@@ -196,3 +196,29 @@ def test_sag_of_a_pure_weight_is_linear_in_the_payload():
     c = np.array([[3e-4, 1e-4], [1e-4, 2e-4]])
     one, two = (sag_m(c, payload_force_N(m, np.zeros(2))) for m in (1.0, 2.0))
     assert two == pytest.approx(2 * one) and math.isfinite(one)
+
+
+def test_g15s_sag_is_the_budgets_rigid_sag_at_the_configured_section(realised, settings, points):
+    """The loop's check (batch inverse kinematics, solid links, rigid drives) gives the budget's
+    sag_rigid_drives_mm of a fixed-section design, worst over the points."""
+    from qsm.embodiment.stiffness.sag_check import SagCheck
+
+    check = SagCheck(points=tuple(map(tuple, points)), cad=settings.strength.cad)
+    worst = realised.accuracy["worst"]["sag_rigid_drives_mm"]
+    assert check.sag_mm(DESIGN)[0] == pytest.approx(worst, rel=1e-9)
+    assert check.violation(DESIGN)[0] == pytest.approx(worst - check.tolerance_mm, rel=1e-9)
+    far = SagCheck(points=((5.0, 5.0),))
+    assert far.violation(DESIGN)[0] > 1e5  # out of reach: a large violation, not NaN
+
+
+def test_g15_is_a_column_of_the_extra_constraints(settings, points):
+    from qsm.embodiment.stiffness.sag_check import SagCheck
+    from qsm.optimization.constraint_set import G15, ExtraConstraints
+    from qsm.physics.cad import DEFAULT_CAD
+
+    check = SagCheck(points=tuple(map(tuple, points)), tolerance_mm=10.0)
+    extra = ExtraConstraints(False, False, None, DEFAULT_CAD, (600, 350, 350), sag=check)
+    assert extra.names("paper")[-1] == G15 and "g15 tool sag within 10 mm" in extra.label("paper")
+    designs = np.stack([DESIGN, DESIGN * 1.1])
+    (g15,) = extra.columns("paper", designs)
+    np.testing.assert_allclose(g15, check.violation(designs))

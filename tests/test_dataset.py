@@ -14,6 +14,7 @@ from qsm.config.settings import physics
 from qsm.mechanisms.dataset import (
     DRIVE_COLUMNS,
     DYNAMICS_COLUMNS,
+    STIFFNESS_COLUMNS,
     STRENGTH_COLUMNS,
     DatasetError,
     gather,
@@ -38,6 +39,7 @@ def test_gather_keeps_the_mechanism_order_and_every_status():
     table = mechanisms([5, 3, 9, 1])
     parts = [shard([9, 1]), shard([5], status="singular"), shard([3])]
     columns = ["mechanism_id", *DYNAMICS_COLUMNS, *STRENGTH_COLUMNS, *DRIVE_COLUMNS]
+    columns += list(STIFFNESS_COLUMNS)
     full = [p.reindex(columns=columns) for p in parts]
     for p, src in zip(full, parts, strict=True):
         p["status"] = src["status"].to_numpy()

@@ -205,6 +205,8 @@ def test_the_loop_sizes_within_its_allowance():
         operating_range=config["operating_range"],
         drives_section=config["drives"],
         build_volume_mm=config["printing"]["build_volume_mm"],
+        tolerance_mm=config["task"]["tolerance_mm"],
+        task_points=config["task"]["points"],
     )
     fit = physics.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]

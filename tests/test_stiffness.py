@@ -206,3 +206,28 @@ def test_tool_acceleration_is_the_second_derivative_along_the_motion():
     dt = t[1] - t[0]
     numeric = (e[1001] - 2 * e[1000] + e[999]) / dt**2
     np.testing.assert_allclose(tool_acceleration(DESIGN, th0, v0, a0), numeric, rtol=1e-4)
+
+
+@pytest.mark.parametrize("pose", range(len(POSES)))
+def test_the_serial_arm_is_the_virtual_work_of_its_cantilever_chain(pose):
+    """The serial 2R arm of the comparison: link 1 from A to B, the upper arm's L from B, a drive
+    spring at A and one at B; its tool compliance against the unit-load method."""
+    from qsm.embodiment.stiffness.serial_arm import serial_matrices
+
+    t1, t2 = POSES[pose]
+    k, _ = serial_matrices(DESIGN, t1, t2, SECTIONS, DRIVES, (1.0, 1.0, 1.0, 1.0, 0.0))
+    c = np.linalg.inv(k)[np.ix_([8, 9], [8, 9])]
+    at = nodes(DESIGN, t1, t2)
+    units = [np.array([1.0, 0.0]), np.array([0.0, 1.0])]
+    ref = np.zeros((2, 2))
+    for i, real in enumerate(units):
+        for j, virt in enumerate(units):
+            r, v = [(at["E"], real)], [(at["E"], virt)]
+            work = _member_work(at["A"], at["B"], r, v, 0)
+            work += _member_work(at["B"], at["E'"], r, v, 3)
+            work += _member_work(at["E'"], at["E"], r, v, 3)
+            work += _cross(at["E"], real) * _cross(at["E"], virt) / DRIVES[0]
+            arm = at["E"] - at["B"]
+            work += _cross(arm, real) * _cross(arm, virt) / DRIVES[1]
+            ref[i, j] = work
+    np.testing.assert_allclose(c, ref, rtol=1e-8)

@@ -68,25 +68,28 @@ def optimization_settings():
 
 
 def constraint_settings(formulation):
-    """g11 / g12 / g13 / g14 as they apply to ``formulation``, with what each needs (nothing
-    when off)."""
+    """g11 / g12 / g13 / g14 / g15 as they apply to ``formulation``, with what each needs
+    (nothing when off)."""
     section = config["optimization"]["constraints"]
     out = {
         "containment": False,
         "printable": section["printable"],
         "strong": section["strong"],
         "drives": section["drives"],
+        "stiff": section["stiff"],
     }
     if formulation == "ratios" or section["containment"]:
         out.update(
             containment=formulation == "paper",
             tolerance_m=section["containment_tolerance_m"],
         )
-    if section["printable"] or section["strong"] or section["drives"]:
+    if section["printable"] or section["strong"] or section["drives"] or section["stiff"]:
         out.update(cad=config["cad"], material=config["material"])
     if section["printable"]:
         out.update(build_volume_mm=config["printing"]["build_volume_mm"])
-    if section["strong"] or section["drives"]:
+    if section["stiff"]:
+        out.update(tolerance_mm=config["task"]["tolerance_mm"], task_points=TASK_POINTS)
+    if section["strong"] or section["drives"] or section["stiff"]:
         out.update(
             payload_kg=config["task"]["payload_kg"],
             duty=config["dynamics"]["duty"],

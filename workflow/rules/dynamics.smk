@@ -32,6 +32,7 @@ rule dynamics:
         strength=config["strength"],
         drives=drive_settings(),
         payload_kg=config["task"]["payload_kg"],
+        task_points=TASK_POINTS,
     script:
         "../scripts/dynamics_shard.py"
 

@@ -85,6 +85,7 @@ rule verify_pareto:
         drives=drive_settings(),
         duty=config["dynamics"]["duty"],
         payload_kg=config["task"]["payload_kg"],
+        tolerance_mm=config["task"]["tolerance_mm"],
         ratio_bounds=config["sampling"]["bounds"],
         build_volume_mm=config["printing"]["build_volume_mm"],
     script:

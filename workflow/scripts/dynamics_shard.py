@@ -1,6 +1,8 @@
 """Rule dynamics: closed-chain inverse dynamics, link strength and drives of one shard of the
 mechanisms."""
 
+import numpy as np
+
 from qsm.config.settings import actuation, links, physics
 from qsm.embodiment.drives.drive_checks import with_embodiment
 from qsm.mechanisms.dataset import status_counts
@@ -27,6 +29,11 @@ with logged(snakemake.log[0]) as log:
     ).reset_index(drop=True)
     drives = actuation.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
     result = with_embodiment(result, designs, check, drives, sized)
+    sag = links.sag_check(p.cad, p.material, p.payload_kg, p.task_points, p.operating_range)
+    ok = result["status"].eq("ok").to_numpy()
+    result["tool_sag_mm"] = np.where(
+        ok, sag.sag_mm(designs, None if sized is None else sized.scale), np.nan
+    )
     log.info(
         "shard %d of %d: %d mechanisms, status %s, %d hold their loads, %d have drives",
         shard,

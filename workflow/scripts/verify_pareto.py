@@ -19,17 +19,21 @@ with logged(snakemake.log[0]) as log:
     duty = physics.duty(p.duty, p.operating_range)
     check = links.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
     drives = actuation.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
-    table = verify_front(pareto, fit, check, p.ratio_bounds, p.build_volume_mm, drives)
+    sag = links.sag_check(
+        p.cad, p.material, p.payload_kg, p.task_points, p.operating_range, p.tolerance_mm
+    )
+    table = verify_front(pareto, fit, check, p.ratio_bounds, p.build_volume_mm, drives, sag)
     result = {"formulation": meta.get("formulation"), "constraints": meta.get("constraints")}
     result.update(summary(table))
     write_table(table, out.table, {"columns": TRUE_COLUMNS, **result})
     write_json(out.summary, result)
     log.info(
         "%d designs: %.0f %% truly hold the task, %.0f %% printable, %.0f %% hold their loads, "
-        "%.0f %% have drives",
+        "%.0f %% have drives, %.0f %% keep the tool's sag within the tolerance",
         result["n"],
         100 * result["holds_task_share"],
         100 * result["printable_share"],
         100 * result["holds_loads_share"],
         100 * result["has_drives_share"],
+        100 * result["within_tolerance_share"],
     )

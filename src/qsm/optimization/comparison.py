@@ -44,6 +44,9 @@ def summary(table: pd.DataFrame) -> dict[str, Any]:
         )
         if "has_drives" in table
         else float("nan"),
+        "within_tolerance_share": _share(table["within_tolerance"].astype(bool))
+        if "within_tolerance" in table
+        else float("nan"),
         **_median_drive_mass(table),
         "objectives": [o.name for o in objectives_of(table)],
         "in_table1_share": _share(table["in_table1"].astype(bool)),

@@ -1,6 +1,6 @@
-"""The constraint set of Stage 4: the names of the columns g1..g14 and :class:`ExtraConstraints`,
-which of g11..g14 are on and their values (g11 m, g12 mm, g13 and g14 utilisation less 1); see
-:mod:`qsm.optimization.problems`.
+"""The constraint set of Stage 4: the names of the columns g1..g15 and :class:`ExtraConstraints`,
+which of g11..g15 are on and their values (g11 m, g12 mm, g13 and g14 utilisation less 1, g15
+mm); see :mod:`qsm.optimization.problems`.
 """
 
 from __future__ import annotations
@@ -12,6 +12,7 @@ from numpy.typing import NDArray
 
 from qsm.embodiment.drives.drive_checks import DriveCheck, same_loads, violation_of
 from qsm.embodiment.parts.printing import printability_violation_mm
+from qsm.embodiment.stiffness.sag_check import SagCheck
 from qsm.embodiment.strength.link_checks import UNDEFINED_VIOLATION, StrengthCheck
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimization.constraints import containment_margin_m
@@ -46,6 +47,10 @@ G13 = "g13_links_hold"
 LOOP_SAMPLES_DIVISOR = 4
 LOOP_ALLOWANCE = 0.02
 G14 = "g14_drives_exist"
+G15 = "g15_tool_within_tolerance"
+#: The optimisation's g15 checks at most this many of the task points (spread over them, by
+#: :func:`qsm.physics.task_points.visited_points`); the front is checked at every one at the end.
+LOOP_SAG_POINTS = 5
 
 
 def loop_duty(settings: DutySettings) -> DutySettings:
@@ -57,7 +62,7 @@ def loop_duty(settings: DutySettings) -> DutySettings:
 
 @dataclass(frozen=True)
 class ExtraConstraints:
-    """g11, g12, g13 and g14: which are on and what they need.
+    """g11, g12, g13, g14 and g15: which are on and what they need.
 
     ``containment`` (g11, paper formulation only): the task disk of ``fit`` grown by
     ``tolerance_m`` (m) lies in the workspace, a Euclidean clearance of ``tolerance_m`` (the
@@ -70,7 +75,9 @@ class ExtraConstraints:
     (when given): the drive check whose selection gives the drive-mass objective (kept when g14 is
     dropped). ``strength`` and ``drives`` run on the loop's coarser duty (:func:`loop_duty`);
     ``full_strength`` and ``full_drives`` are the same checks on the full duty, which the front
-    must pass at the end (:meth:`full_duty_failures`).
+    must pass at the end (:meth:`full_duty_failures`). ``sag`` (g15, every formulation, when
+    given): the tool's sag at the task points (a coarse set of them) stays within the
+    tolerance; ``full_sag`` the same at every point, for the end.
     """
 
     containment: bool
@@ -84,14 +91,17 @@ class ExtraConstraints:
     drive_mass: DriveCheck | None = None
     full_strength: StrengthCheck | None = None
     full_drives: DriveCheck | None = None
+    sag: SagCheck | None = None
+    full_sag: SagCheck | None = None
 
     def names(self, formulation: str) -> tuple[str, ...]:
-        """Constraint columns of ``formulation`` in order: g1..g10, then g11, g12, g13, g14 if
-        on."""
+        """Constraint columns of ``formulation`` in order: g1..g10, then g11, g12, g13, g14,
+        g15 if on."""
         extra = (G11,) if self.containment and formulation == "paper" else ()
         extra += (G12,) if self.printable else ()
         extra += (G13,) if self.strength is not None else ()
-        return PAPER_CONSTRAINTS + extra + ((G14,) if self.drives is not None else ())
+        extra += (G14,) if self.drives is not None else ()
+        return PAPER_CONSTRAINTS + extra + ((G15,) if self.sag is not None else ())
 
     def label(self, formulation: str) -> str:
         """Human-readable constraint set, e.g. 'g1..g10 (the paper's) + g12 printable'."""
@@ -109,6 +119,11 @@ class ExtraConstraints:
             text += " + g13 links hold their loads"
         if G14 in names:
             text += " + g14 each motor has a drive"
+        if G15 in names:
+            text += (
+                f" + g15 tool sag within {self.sag.tolerance_mm:g} mm (configured section, rigid "
+                "drives)"
+            )
         return text
 
     def columns(
@@ -138,7 +153,7 @@ class ExtraConstraints:
             cols.append(-margin)
         if self.printable:
             cols.append(printability_violation_mm(design, self.cad, self.volume_mm))
-        if self.strength is None and (self.drives or self.drive_mass) is None:
+        if self.strength is None and (self.drives or self.drive_mass or self.sag) is None:
             return cols, None
         cheap = [np.asarray(c).reshape(len(design), -1) for c in ([] if g is None else [g])]
         cheap += [np.asarray(c).reshape(len(design), -1) for c in cols]
@@ -163,13 +178,16 @@ class ExtraConstraints:
             g13, *torques = self.strength.violation_and_torques(design, LOOP_ALLOWANCE)
             cols.append(g13)
         check = self.drives or self.drive_mass
-        if check is None:
-            return cols, None
-        shared = torques is not None and same_loads(self.strength, check)
-        table = check.evaluate(design, tuple(torques) if shared else None)
-        if self.drives is not None:
-            cols.append(violation_of(table) + LOOP_ALLOWANCE)
-        return cols, None if self.drive_mass is None else self.drive_mass.mass_objective(table)
+        mass = None
+        if check is not None:
+            shared = torques is not None and same_loads(self.strength, check)
+            table = check.evaluate(design, tuple(torques) if shared else None)
+            if self.drives is not None:
+                cols.append(violation_of(table) + LOOP_ALLOWANCE)
+            mass = None if self.drive_mass is None else self.drive_mass.mass_objective(table)
+        if self.sag is not None:
+            cols.append(self.sag.violation(design))
+        return cols, mass
 
     def full_duty_failures(self, design: NDArray[np.float64]) -> NDArray[np.bool_]:
         """Which scaled designs (N, 6) fail g13 or g14 (those on, with their full-duty checks
@@ -183,4 +201,6 @@ class ExtraConstraints:
             shared = torques is not None and same_loads(self.full_strength, self.full_drives)
             table = self.full_drives.evaluate(design, tuple(torques) if shared else None)
             fails |= violation_of(table) > 0
+        if self.sag is not None and self.full_sag is not None:
+            fails |= self.full_sag.violation(design) > 0
         return fails

@@ -19,7 +19,14 @@ from pymoo.indicators.hv import HV
 from pymoo.optimize import minimize
 
 from qsm.mechanisms.scale import FitSettings
-from qsm.optimization.constraint_set import G12, G13, G14, LOOP_ALLOWANCE, ExtraConstraints
+from qsm.optimization.constraint_set import (
+    G12,
+    G13,
+    G14,
+    G15,
+    LOOP_ALLOWANCE,
+    ExtraConstraints,
+)
 from qsm.optimization.problems import LabelStats, PaperProblem, RatiosProblem
 from qsm.optimization.ranking import OBJECTIVE_SETS, PREDICTION_COLUMNS, Objective
 from qsm.physics.kinematics import RATIO_NAMES
@@ -168,8 +175,13 @@ def _design_table(
 def _relaxed(
     extra: ExtraConstraints, unmet: str, least: Mapping[str, float]
 ) -> tuple[ExtraConstraints, str]:
-    """``extra`` without the constraint ``unmet`` (g12, g14 or g13) that no design met, and the
-    sentence that says so with the least violation of the last generation."""
+    """``extra`` without the constraint ``unmet`` (g12, g15, g14 or g13) that no design met, and
+    the sentence that says so with the least violation of the last generation."""
+    if unmet == G15:
+        return replace(extra, sag=None, full_sag=None), (
+            f"g15 dropped: no design keeps the tool's sag within {extra.sag.tolerance_mm:g} mm "
+            f"(least excess in the last generation {least[G15]:.1f} mm)"
+        )
     if unmet == G12:
         volume = " x ".join(f"{v:g}" for v in extra.volume_mm)
         return replace(extra, printable=False), (
@@ -187,6 +199,23 @@ def _relaxed(
         f"last generation {1 + least[G13]:.2f}, the links' with the loop's "
         f"{100 * LOOP_ALLOWANCE:g} % allowance)"
     )
+
+
+def _stiffness_in_reach(
+    extra: ExtraConstraints | None, dataset: pd.DataFrame
+) -> tuple[ExtraConstraints | None, list[str]]:
+    """``extra`` without g15 when no design of the dataset keeps the tool's sag within the
+    tolerance (its ``tool_sag_mm``), with the sentence that says so; as it is otherwise."""
+    if extra is None or extra.sag is None or "tool_sag_mm" not in dataset:
+        return extra, []
+    sag = dataset["tool_sag_mm"].to_numpy(float)
+    least = float(np.nanmin(sag)) if np.isfinite(sag).any() else float("inf")
+    if least <= extra.sag.tolerance_mm:
+        return extra, []
+    return replace(extra, sag=None, full_sag=None), [
+        f"g15 dropped: no design of the dataset keeps the tool's sag within "
+        f"{extra.sag.tolerance_mm:g} mm (least {least:.1f} mm at the configured section)"
+    ]
 
 
 def _full_duty_check(
@@ -287,8 +316,8 @@ def optimize(
         return run_nsga2(problem, section["pop_size"], n_gen, seed, objective_range, progress)
 
     label = extra.label(formulation) if extra is not None else "g1..g10 (the paper's)"
+    extra, dropped = _stiffness_in_reach(extra, dataset)
     problem = make(extra)
-    dropped: list[str] = []
     while True:
         try:
             result = run(problem)
@@ -298,8 +327,8 @@ def optimize(
             # catalogue serves) or g13 (a heavy task): optimize without it (in that order, the
             # least important first), and say so
             names = extra.names(formulation) if extra is not None else ()
-            least = exc.least(names, (G13, G14))
-            unmet = [n for n in (G12, G14, G13) if least.get(n, 0.0) > 0]
+            least = exc.least(names, (G13, G14, G15))
+            unmet = [n for n in (G12, G15, G14, G13) if least.get(n, 0.0) > 0]
             if extra is None or not unmet:
                 raise InfeasibleProblem(exc.violation, _paper_infeasible(len(dataset))) from None
             extra, note = _relaxed(extra, unmet[0], least)

@@ -10,8 +10,9 @@ import pandas as pd
 
 from qsm.embodiment.drives.drive_checks import DriveCheck, with_embodiment
 from qsm.embodiment.parts.printing import all_links_fit, needed_volume_mm, printability_violation_mm
+from qsm.embodiment.stiffness.sag_check import SagCheck
 from qsm.embodiment.strength.link_checks import StrengthCheck
-from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
+from qsm.mechanisms.dataset import DRIVE_COLUMNS, STIFFNESS_COLUMNS, STRENGTH_COLUMNS
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimization.constraints import containment_margin_m
@@ -53,6 +54,9 @@ TRUE_COLUMNS: dict[str, str] = {
     },
     **STRENGTH_COLUMNS,
     **DRIVE_COLUMNS,
+    **STIFFNESS_COLUMNS,
+    "within_tolerance": "the tool's sag at every task point stays within task.tolerance_mm: g15 "
+    "on the full task (-)",
 }
 
 
@@ -101,12 +105,14 @@ def verify_front(
     ratio_bounds: Mapping[str, Sequence[float]],
     volume_mm: Sequence[float],
     drives: DriveCheck | None = None,
+    sag: SagCheck | None = None,
 ) -> pd.DataFrame:
     """``pareto`` (lengths and predictions) with the true values beside the predictions, whether
     each design's ratios lie within ``ratio_bounds`` (Table 1, where the data were sampled),
     whether its links fit the printer ``volume_mm`` and whether they hold their loads over
     ``check``'s duty with its payload, section and material, and (with ``drives``) whether each
-    motor has a drive in the catalogue (see :data:`TRUE_COLUMNS`)."""
+    motor has a drive in the catalogue, and (with ``sag``) the tool's sag at every task point
+    (see :data:`TRUE_COLUMNS`)."""
     lengths = pareto[list(INPUTS)].to_numpy()
     cad, duty, payload_kg = check.cad, check.duty, check.payload_kg
     sized = check.section_scales(lengths)
@@ -133,4 +139,7 @@ def verify_front(
     needed = needed_volume_mm(lengths, None, cad)
     for k, side in enumerate(("long", "mid", "short")):
         table[f"needed_volume_{side}_mm"] = needed[:, k]
+    if sag is not None:
+        table["tool_sag_mm"] = sag.sag_mm(lengths, None if sized is None else sized.scale)
+        table["within_tolerance"] = table["tool_sag_mm"] <= sag.tolerance_mm
     return table

@@ -38,6 +38,7 @@ from qsm.embodiment.stiffness.error_terms import (
 )
 from qsm.embodiment.stiffness.frame import FrameSections, tool_compliance
 from qsm.embodiment.stiffness.modes import loaded_first_mode_hz
+from qsm.embodiment.stiffness.serial_arm import serial_comparison
 from qsm.embodiment.strength.loads import Inertials, joint_loads
 from qsm.physics.duty import Duty
 from qsm.physics.dynamics import loop_state
@@ -70,7 +71,8 @@ class AccuracySettings:
 class ArmModel(NamedTuple):
     """The realised arm as the budget sees it: ``sections`` (solid, per link), ``factor`` (4,)
     on each link's stiffness (plates; ones for solid links), link masses (4,) kg and inertials,
-    and per drive its torsional stiffness (N m/rad), backlash (rad) and reflected inertia."""
+    and per drive its torsional stiffness (N m/rad), backlash (rad), reflected inertia (kg m^2)
+    and mass (kg)."""
 
     design: NDArray[np.float64]
     sections: FrameSections
@@ -79,23 +81,26 @@ class ArmModel(NamedTuple):
     drive_stiffness: NDArray[np.float64]
     backlash_rad: NDArray[np.float64]
     reflected_kgm2: NDArray[np.float64]
+    drive_mass_kg: NDArray[np.float64]
 
 
-def drive_terms(drives: dict[str, Any]) -> tuple[NDArray, NDArray, NDArray, dict[str, Any]]:
-    """Each motor's gearbox stiffness (N m/rad), backlash (rad), reflected inertia (kg m^2) and
-    their sources, from a drive report (the chosen drive, else the nearest one)."""
-    k, play, ref, notes = [], [], [], {}
+def drive_terms(drives: dict[str, Any]) -> tuple[NDArray, NDArray, NDArray, NDArray, dict]:
+    """Each motor's gearbox stiffness (N m/rad), backlash (rad), reflected inertia (kg m^2),
+    drive mass (kg) and their sources, from a drive report (the chosen drive, else the nearest
+    one)."""
+    k, play, ref, mass, notes = [], [], [], [], {}
     for name, motor in drives.get("motors", {}).items():
         d = motor.get("drive") or motor.get("best_drive") or {}
         k.append(float(d.get("torsional_stiffness_Nm_rad", math.inf)))
         play.append(float(d.get("backlash_arcmin", 0.0)) * ARCMIN_RAD)
         ref.append(float(d.get("reflected_inertia_kgm2", 0.0)))
+        mass.append(float(d.get("mass_kg", 0.0)))
         notes[name] = {
             key: d.get(key) for key in ("gearbox", "backlash_arcmin", "torsional_stiffness_Nm_rad")
         } | {key: d.get(key) for key in ("backlash_from", "stiffness_from")}
     if len(k) != 2:  # no drive report (an undefined design): rigid drives without play
-        return np.full(2, math.inf), np.zeros(2), np.zeros(2), {}
-    return np.array(k), np.array(play), np.array(ref), notes
+        return np.full(2, math.inf), np.zeros(2), np.zeros(2), np.zeros(2), {}
+    return np.array(k), np.array(play), np.array(ref), np.array(mass), notes
 
 
 def task_motion_torques(
@@ -294,5 +299,42 @@ def accuracy_record(
         else advice(
             model, angles, payload.payload_kg, duty, reverses, track, settings.tolerance_mm
         ),
+        "serial_arm": serial_record(model, angles, payload.payload_kg, terms),
         "model": MODEL_NOTE,
     }
+
+
+def serial_record(
+    model: ArmModel, angles: NDArray, payload_kg: float, terms: dict[str, NDArray]
+) -> dict[str, Any] | None:
+    """The design against the serial 2R arm of the same reach, sections, material and drives
+    (:mod:`qsm.embodiment.stiffness.serial_arm`), worst over the task points: tool sag under the
+    payload, first mode and holding torques, and the verdict (None without drives)."""
+    if not np.isfinite(model.drive_stiffness).all():
+        return None
+    m = model.inertials.mass_kg
+    masses = (m[0], m[3], float(model.drive_mass_kg[1]), payload_kg, float(model.reflected_kgm2[0]))
+    printed = model.sections._replace(factor=model.factor)
+    serial = serial_comparison(model.design, angles, printed, model.drive_stiffness, masses)
+    state = loop_state(model.design, angles, np.zeros_like(angles), np.zeros_like(angles))
+    quasi_tau = np.abs(joint_loads(model.design, model.inertials, payload_kg, state).tau)
+    quasi = {
+        "sag_mm": float(np.max(terms["sag_mm"])),
+        "first_mode_hz": float(np.min(terms["first_mode_hz"])),
+        "holding_torque_Nm": quasi_tau.max(axis=0).tolist(),
+    }
+    other = {
+        "sag_mm": float(serial["sag_mm"].max()),
+        "first_mode_hz": float(serial["first_mode_hz"].min()),
+        "holding_torque_Nm": serial["holding_torque_Nm"].max(axis=0).tolist(),
+    }
+    stiffer = quasi["sag_mm"] < other["sag_mm"]
+    verdict = (
+        f"{'stiffer' if stiffer else 'NOT stiffer'} than the serial 2R arm of the same reach, "
+        f"sections and drives: sag {quasi['sag_mm']:.1f} vs {other['sag_mm']:.1f} mm, first mode "
+        f"{quasi['first_mode_hz']:.1f} vs {other['first_mode_hz']:.1f} Hz, holding torques "
+        f"{quasi['holding_torque_Nm'][0]:.1f} / {quasi['holding_torque_Nm'][1]:.1f} vs "
+        f"{other['holding_torque_Nm'][0]:.1f} / {other['holding_torque_Nm'][1]:.1f} N m "
+        f"(motor 1 / motor 2, worst over the task points)"
+    )
+    return {"quasi_serial": quasi, "serial": other, "stiffer": stiffer, "verdict": verdict}

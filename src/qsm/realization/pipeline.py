@@ -118,7 +118,7 @@ def arm_model(
         youngs_pa=material.youngs_modulus_pa,
         poisson=material.poisson_ratio,
     )
-    stiffness, play, reflected, _ = drive_terms(done.drives)
+    stiffness, play, reflected, mass, _ = drive_terms(done.drives)
     return ArmModel(
         design=done.design,
         sections=frame,
@@ -127,6 +127,7 @@ def arm_model(
         drive_stiffness=stiffness,
         backlash_rad=play,
         reflected_kgm2=reflected if settings.drives.reflected_inertia else np.zeros(2),
+        drive_mass_kg=mass,
     )
 
 
@@ -142,7 +143,7 @@ def budget_of(
     realised design at task ``points_m``; ``props`` and ``factor`` for the optimised plates,
     ``tracking_mm`` the payload test's error per point."""
     model = arm_model(done, settings, props, factor)
-    notes = drive_terms(done.drives)[3]
+    notes = drive_terms(done.drives)[-1]
     return accuracy_record(
         model,
         points_m,

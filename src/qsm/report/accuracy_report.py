@@ -93,9 +93,11 @@ def accuracy_lines(budget: Mapping[str, Any] | None) -> list[str]:
         f"stiffness {j.get('torsional_stiffness_Nm_rad')} N m/rad ({j.get('stiffness_from')})."
         for name, j in budget["joints"].items()
     ]
+    serial = budget.get("serial_arm")
     return [
         "## Accuracy",
         f"- {accuracy_sentence(budget)}.",
+        *([f"- the paper's claim, measured: {serial['verdict']}."] if serial else []),
         f"- model: {budget['model']}.",
         *joints,
         "",

@@ -2,11 +2,12 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from qsm.config.settings.physics import cad
 from qsm.embodiment.parts.link_parts import PartSettings
+from qsm.embodiment.stiffness.sag_check import SagCheck
 from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.embodiment.strength.material import Material, StrengthSettings
 from qsm.embodiment.strength.sizing import SizingSettings
@@ -62,4 +63,26 @@ def sizing(section: Section) -> SizingSettings | None:
         thickness_m=tuple(sized["thickness_m"]),
         max_iterations=sized["max_iterations"],
         tolerance=sized["tolerance"],
+    )
+
+
+def sag_check(
+    cad_section: Section,
+    material_section: Section,
+    payload_kg: float,
+    points: Sequence[Sequence[float]],
+    operating_range: Section,
+    tolerance_mm: float | None = None,
+) -> SagCheck:
+    """The tool's sag at the task ``points`` (m) under ``payload_kg`` (g15 against
+    ``tolerance_mm``; the schema's default when None, for the dataset's column alone)."""
+    extra = {} if tolerance_mm is None else {"tolerance_mm": float(tolerance_mm)}
+    return SagCheck(
+        points=tuple((float(x), float(y)) for x, y in points),
+        cad=cad(cad_section, material_section),
+        material=material(material_section),
+        payload_kg=float(payload_kg),
+        theta1_range_deg=tuple(operating_range["theta1_deg"]),
+        theta2_min_deg=float(operating_range["theta2_min_deg"]),
+        **extra,
     )

@@ -8,11 +8,17 @@ from typing import Any
 
 from qsm.config.defaults import default
 from qsm.config.settings.actuation import drive_check
-from qsm.config.settings.links import strength_check
+from qsm.config.settings.links import sag_check, strength_check
 from qsm.config.settings.physics import cad, duty
 from qsm.mechanisms.scale import FitSettings
-from qsm.optimization.constraint_set import LOOP_ALLOWANCE, ExtraConstraints, loop_duty
+from qsm.optimization.constraint_set import (
+    LOOP_ALLOWANCE,
+    LOOP_SAG_POINTS,
+    ExtraConstraints,
+    loop_duty,
+)
 from qsm.physics.cad import DEFAULT_CAD
+from qsm.physics.task_points import visited_points
 
 Section = Mapping[str, Any]
 
@@ -22,9 +28,10 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
     ``printable``, ``strong`` and, when on, ``tolerance_m``, ``cad`` and ``material`` (sections),
     ``build_volume_mm``, for g13 ``strength``, ``payload_kg``, ``duty`` and
     ``operating_range``, and for g14 (``drives``) the ``drives_section`` with ``cad``,
-    ``material``, ``payload_kg``, ``duty`` and ``operating_range``. g13 and g14 run on the
-    optimisation's coarser duty (:func:`qsm.optimization.constraint_set.loop_duty`), and the
-    front's final check on the full duty."""
+    ``material``, ``payload_kg``, ``duty`` and ``operating_range``, and for g15 (``stiff``)
+    ``tolerance_mm`` and ``task_points`` besides. g13 and g14 run on the optimisation's coarser
+    duty (:func:`qsm.optimization.constraint_set.loop_duty`) and g15 on a coarse set of the task
+    points, and the front's final check on the full duty and every point."""
     printable, strong = bool(section["printable"]), bool(section.get("strong", False))
     drives = bool(section.get("drives", False))
     checks: dict[str, Any] = {}  # g13 and g14 on the loop's duty, and on the full duty
@@ -51,6 +58,7 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
     if check is not None and check.sizing is not None:  # sized within g13's allowance
         target = check.sizing.target / (1 + LOOP_ALLOWANCE)
         check = dataclasses.replace(check, sizing=dataclasses.replace(check.sizing, target=target))
+    sags = _sag_checks(section) if section.get("stiff", False) else {}
     return ExtraConstraints(
         containment=bool(section["containment"]),
         printable=printable,
@@ -62,4 +70,14 @@ def constraints(section: Section, fit_settings: FitSettings) -> ExtraConstraints
         drives=checks.get("loop_drives"),
         full_strength=checks.get("full_strength"),
         full_drives=checks.get("full_drives"),
+        **sags,
     )
+
+
+def _sag_checks(section: Section) -> dict[str, Any]:
+    """g15 on a coarse set of the task points (the loop's) and on all of them (the front's)."""
+    points = section["task_points"]
+    coarse = [points[k] for k in visited_points(points, LOOP_SAG_POINTS)]
+    args = (section["cad"], section["material"], section["payload_kg"])
+    tail = (section["operating_range"], section["tolerance_mm"])
+    return {"sag": sag_check(*args, coarse, *tail), "full_sag": sag_check(*args, points, *tail)}
