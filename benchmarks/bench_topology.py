@@ -54,7 +54,7 @@ def factorisations(cs: cad.CadSettings, d: duty.Duty, repeats: int = 5) -> dict[
 def main() -> None:
     cs, d = cad.CadSettings(), duty.duty_cycle()
     t0 = time.perf_counter()
-    res = topology.optimise_links(DESIGN, cs, 5.0, d)
+    res = topology.optimize_links(DESIGN, cs, 5.0, d)
     t1 = time.perf_counter()
     tq = torques_before_after(DESIGN, cs, 5.0, d, res.props)
     t2 = time.perf_counter()

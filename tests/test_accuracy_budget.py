@@ -52,12 +52,12 @@ def points():
 
 
 @pytest.fixture(scope="module")
-def realised(settings, points):
+def realized(settings, points):
     return realize(DESIGN, settings, points)
 
 
-def test_the_record_is_strict_json_with_every_term_per_point(realised, points):
-    budget = realised.accuracy
+def test_the_record_is_strict_json_with_every_term_per_point(realized, points):
+    budget = realized.accuracy
     text = json.dumps(budget, allow_nan=False)
     assert json.loads(text) == budget
     for key, values in budget["per_point"].items():
@@ -75,14 +75,14 @@ def test_the_budget_is_the_worst_case_sum_of_its_terms():
     np.testing.assert_allclose(budget_mm(terms, None), [2.5, 4.0])
 
 
-def test_the_static_sag_is_the_frames_response_to_the_payloads_weight(realised, settings, points):
+def test_the_static_sag_is_the_frames_response_to_the_payloads_weight(realized, settings, points):
     """sag_rigid_drives_mm against the frame solved here: the payload's weight m g at E."""
-    model = arm_model(realised, settings)
+    model = arm_model(realized, settings)
     c = tool_compliance(DESIGN, ANGLES[:, 0], ANGLES[:, 1], model.sections)
     m = settings.motion.payload_kg
     expected = 1e3 * np.hypot(c[:, 0, 1], c[:, 1, 1]) * m * 9.80665
-    np.testing.assert_allclose(realised.accuracy["per_point"]["sag_rigid_drives_mm"], expected)
-    assert (np.array(realised.accuracy["per_point"]["sag_mm"]) >= expected).all()
+    np.testing.assert_allclose(realized.accuracy["per_point"]["sag_rigid_drives_mm"], expected)
+    assert (np.array(realized.accuracy["per_point"]["sag_mm"]) >= expected).all()
 
 
 @pytest.mark.parametrize("tolerance_mm", [1e3, 1e-2])
@@ -108,9 +108,9 @@ def test_a_first_mode_requirement_above_the_arms_is_reported(settings, points):
     assert f"first mode {lowest:.1f} Hz" in budget["verdict"]
 
 
-def test_torque_reversals_agree_with_mujocos_inverse_dynamics(realised, settings, points):
+def test_torque_reversals_agree_with_mujocos_inverse_dynamics(realized, settings, points):
     """The Newton-Euler torques along the task's motion change sign where MuJoCo's do."""
-    model = arm_model(realised, settings)
+    model = arm_model(realized, settings)
     angles = joint_path(DESIGN, points, settings.motion.theta1_range_deg)
     ne = task_motion_torques(model, angles, settings.motion)
     way = angles[[*range(len(angles)), 0]] if settings.motion.return_to_start else angles
@@ -119,15 +119,15 @@ def test_torque_reversals_agree_with_mujocos_inverse_dynamics(realised, settings
     )
     from qsm.embodiment.parts.part_mass import part_mass_properties
 
-    props = part_mass_properties(realised.parts)
+    props = part_mass_properties(realized.parts)
     mj = model_spec(DESIGN, settings.strength.cad, settings.motion.payload_kg, props).compile()
     tau = inverse_dynamics(mj, DESIGN, loop_state(DESIGN, th, dth, ddth)).tau
     np.testing.assert_allclose(ne, tau, atol=1e-6 * np.abs(tau).max())
     assert (torque_reverses(ne) == torque_reverses(tau)).all()
 
 
-def test_play_moves_the_tool_only_where_a_torque_reverses(realised, settings, points):
-    budget = realised.accuracy
+def test_play_moves_the_tool_only_where_a_torque_reverses(realized, settings, points):
+    budget = realized.accuracy
     lost = np.asarray(budget["per_point"]["lost_motion_mm"])
     counted = [j["backlash_counted"] for j in budget["joints"].values()]
     assert (lost > 0).all() == any(counted)
@@ -198,13 +198,13 @@ def test_sag_of_a_pure_weight_is_linear_in_the_payload():
     assert two == pytest.approx(2 * one) and math.isfinite(one)
 
 
-def test_g15s_sag_is_the_budgets_rigid_sag_at_the_configured_section(realised, settings, points):
+def test_g15s_sag_is_the_budgets_rigid_sag_at_the_configured_section(realized, settings, points):
     """The loop's check (batch inverse kinematics, solid links, rigid drives) gives the budget's
     sag_rigid_drives_mm of a fixed-section design, worst over the points."""
     from qsm.embodiment.stiffness.sag_check import SagCheck
 
     check = SagCheck(points=tuple(map(tuple, points)), cad=settings.strength.cad)
-    worst = realised.accuracy["worst"]["sag_rigid_drives_mm"]
+    worst = realized.accuracy["worst"]["sag_rigid_drives_mm"]
     assert check.sag_mm(DESIGN)[0] == pytest.approx(worst, rel=1e-9)
     assert check.violation(DESIGN)[0] == pytest.approx(worst - check.tolerance_mm, rel=1e-9)
     far = SagCheck(points=((5.0, 5.0),))

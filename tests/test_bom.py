@@ -22,7 +22,7 @@ def test_bom_rows_and_files(tmp_path) -> None:
     built = parts.link_parts(DESIGN, idx)
     masses = part_mass.part_mass_properties(built)
     frame = bom.bill_of_materials(
-        built, masses, idx, topology_optimised={"lower_arm": True}, material="ABS | M30"
+        built, masses, idx, topology_optimized={"lower_arm": True}, material="ABS | M30"
     )
     assert list(frame.columns) == list(bom.BOM_COLUMNS)
     printed = frame[frame.category == "printed part"].set_index("item")

@@ -25,7 +25,7 @@ def test_second_run_does_nothing(run):
     assert planned_jobs(run) == {}
 
 
-def test_generations_rerun_only_the_optimisation_and_after(run, tmp_path):
+def test_generations_rerun_only_the_optimization_and_after(run, tmp_path):
     jobs = planned_jobs(run, configs=override(tmp_path, "optimization: {generations: 16}"))
     assert jobs["optimize"] == 2 and jobs["verify_pareto"] == 2 and "compare_fronts" in jobs
     assert not (STAGE1 | STAGE2 | STAGE3 | {"sobol", "eta_derivatives"}) & set(jobs)
@@ -43,7 +43,7 @@ def test_payload_reruns_dynamics_but_not_the_workspace(run, tmp_path):
     assert "dynamics" in jobs and not STAGE1 & set(jobs)
 
 
-def test_choosing_the_primary_front_does_not_rerun_the_optimisation(run, tmp_path):
+def test_choosing_the_primary_front_does_not_rerun_the_optimization(run, tmp_path):
     jobs = planned_jobs(run, configs=override(tmp_path, "optimization: {formulation: ratios}"))
     assert "decision_trees" in jobs and "design_rules_summary" in jobs
     assert not {"optimize", "verify_pareto", "train_surrogate"} & set(jobs)
@@ -56,7 +56,7 @@ def test_g11_switch_reruns_only_the_paper_front(run, tmp_path):
     assert not (STAGE1 | STAGE2 | STAGE3) & set(jobs)
 
 
-def test_printer_reruns_the_optimisation_when_g12_is_on(run, tmp_path):
+def test_printer_reruns_the_optimization_when_g12_is_on(run, tmp_path):
     text = "printing: {build_volume_mm: [700, 400, 400]}"
     jobs = planned_jobs(run, configs=override(tmp_path, text))
     assert jobs["optimize"] == 2 and "select_design" in jobs

@@ -64,7 +64,7 @@ def test_each_candidate_is_checked_with_its_own_reflected_inertia(three):
     sel = select_drives(three, tau, omega, w, accel=[0.0, 2e4])
     assert sel.choice.tolist() == [-1]
     assert sel.best.tolist() == [0]
-    u = sel.utilisation[0]
+    u = sel.utilization[0]
     assert u[3] == pytest.approx(22.1 / 20)  # gearbox peak
     assert sel.violation[0] == pytest.approx(u.max() - 1)
 

@@ -114,7 +114,7 @@ def _verified(**columns) -> pd.DataFrame:
     return pd.DataFrame({**base, **columns})
 
 
-def test_knee_uses_the_drive_mass_of_a_front_optimised_on_it():
+def test_knee_uses_the_drive_mass_of_a_front_optimized_on_it():
     # eta (0.1, 0.2, 0.3), tau1 (30, 20, 10), drive mass (3, 1, 2) kg: normalised to [0, 1],
     # the torque knee distances are (1, 0.71, 1) with tau2 constant; drive mass
     # (eta, mass): (0, 1) -> 1, (0.5, 0) -> 0.5, (1, 0.5) -> 1.12

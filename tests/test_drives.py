@@ -12,7 +12,7 @@ from qsm.embodiment.drives.catalogue import (
     read_catalogue,
 )
 from qsm.embodiment.drives.selection import offer, select_drives
-from qsm.embodiment.drives.utilisation import CHECKS, utilisation
+from qsm.embodiment.drives.utilization import CHECKS, utilization
 
 MOTORS = """key,manufacturer,ID,type,V,k_t,R,L,mass,inertia,omega_nl,I_nl,I_nom,max_int_torque,\
 max_int_speed,max_cont_speed,max_cont_power,source
@@ -59,7 +59,7 @@ def test_drive_table_mass_and_reflected_inertia(three):
 
 def test_envelope_rms_speed_and_gear_by_hand(three):
     # constant 8 N m at +5 rad/s (driving)
-    u = utilisation(three, np.full(4, 8.0), np.full(4, 5.0), np.ones(4))[0]
+    u = utilization(three, np.full(4, 8.0), np.full(4, 5.0), np.ones(4))[0]
     # (A, G10): tau_m = 8 / (10 0.8) = 1 N m, w_m = 50 rad/s; stall = 0.1 24 / 1 = 2.4 N m
     assert u[0] == pytest.approx([1 / 2.4 + 50 / 200, 1.0 / 0.2, 50 / 300, 8 / 20, 8 / 10])
     # (A, G50): tau_m = 8 / 25 = 0.32, w_m = 250 beyond the no-load speed
@@ -71,7 +71,7 @@ def test_envelope_rms_speed_and_gear_by_hand(three):
 
 def test_back_driven_samples_and_weighted_rms_by_hand(three):
     # 2 N m at +1 rad/s for 3 s (driving), 6 N m at -1 rad/s for 1 s (back-driven)
-    u = utilisation(three, [2.0, 6.0], [1.0, -1.0], [3.0, 1.0])[0, 0]
+    u = utilization(three, [2.0, 6.0], [1.0, -1.0], [3.0, 1.0])[0, 0]
     drive, back = 2 / (10 * 0.8), 6 * 0.8 / 10  # motor torque, N m
     rms = np.sqrt((3 * drive**2 + 1 * back**2) / 4)
     # the back-driven sample brakes: no speed term in its envelope, and it is the peak
@@ -80,7 +80,7 @@ def test_back_driven_samples_and_weighted_rms_by_hand(three):
     gear_rms = np.sqrt((3 * 2.0**2 + 6.0**2) / 4)
     assert u == pytest.approx([peak, rms / 0.2, 10 / 300, 6 / 20, gear_rms / 10])
     # (B, G10): the back-driven 0.48 N m against the intermittent 1.5 N m is the peak
-    u = utilisation(three, [2.0, 6.0], [1.0, -1.0], [3.0, 1.0])[0, 2]
+    u = utilization(three, [2.0, 6.0], [1.0, -1.0], [3.0, 1.0])[0, 2]
     assert u[0] == pytest.approx(6 * 0.8 / 10 / 1.5)
 
 
@@ -122,11 +122,11 @@ def test_torque_speed_table_envelope(tmp_path):
     gb = GEARBOXES + "CU_G5,Custom,G5,planetary,1,5,0.1,0,1.0,1,,\n"
     cat = read_catalogue(write_catalogue(tmp_path, gearboxes=gb, compat="CU_A,CU_G5\n", ts=ts))
     # w_m = 15 rad/s: pull-out 0.2 N m; tau_m = 0.8 / 5 = 0.16 N m; speed limit = last speed 20
-    u = utilisation(cat, [0.8], [3.0], [1.0])[0, 0]
+    u = utilization(cat, [0.8], [3.0], [1.0])[0, 0]
     assert u[0] == pytest.approx(0.16 / 0.2)
     assert u[2] == pytest.approx(15 / 20)
     # above the table: speed fails; the envelope uses the last torque
-    u = utilisation(cat, [0.4], [5.0], [1.0])[0, 0]
+    u = utilization(cat, [0.4], [5.0], [1.0])[0, 0]
     assert u[[0, 2]] == pytest.approx([0.08 / 0.1, 25 / 20])
     assert offer(cat)[0]["peak_torque_Nm"] == pytest.approx(0.5 * 5)
 

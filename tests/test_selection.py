@@ -23,18 +23,18 @@ SMALL = [0.30, 0.10, 0.30, 0.15, 0.36, 0.12]  # upper arm 560 mm long: fits
 LARGE = [0.40, 0.12, 0.40, 0.20, 0.48, 0.16]  # upper arm 730 mm long: does not fit
 
 
-def strong(table, utilisation, drives=True):
+def strong(table, utilization, drives=True):
     """Strength and drive columns: every one NaN but the utilisation and whether it is at most
     1, and whether each motor has a drive."""
     for column in [*STRENGTH_COLUMNS, *DRIVE_COLUMNS]:
         table[column] = np.nan
-    table["strength_utilisation"] = utilisation
+    table["strength_utilisation"] = utilization
     table["holds_loads"] = table["strength_utilisation"] <= 1.0
     table["has_drives"] = drives
     return table
 
 
-def front(designs, feasible, tau1, utilisation=0.5, drives=True):
+def front(designs, feasible, tau1, utilization=0.5, drives=True):
     table = pd.DataFrame(designs, columns=list(DESIGN_COLUMNS))
     table["scale_m"] = table["l1_m"]
     table["eta_true"] = 0.1
@@ -42,15 +42,15 @@ def front(designs, feasible, tau1, utilisation=0.5, drives=True):
     table["tau2_true_Nm"] = 10.0
     table["feasible"] = feasible
     table["dynamics_status"] = "ok"
-    return strong(table, utilisation, drives)
+    return strong(table, utilization, drives)
 
 
-def dataset(designs, tau1, utilisation=0.5):
+def dataset(designs, tau1, utilization=0.5):
     table = pd.DataFrame(designs, columns=list(DESIGN_COLUMNS))
     table["mechanism_id"] = np.arange(len(table))
     table["scale_m"] = table["l1_m"]
     table["eta"], table["tau1_Nm"], table["tau2_Nm"], table["status"] = 0.1, tau1, 10.0, "ok"
-    return strong(table, utilisation)
+    return strong(table, utilization)
 
 
 def test_primary_front_first():
@@ -101,7 +101,7 @@ def test_nothing_printable_gives_the_best_feasible_design_marked():
 
 def test_strength_comes_before_printability():
     """A printable design that breaks loses to a strong one that needs a larger printer."""
-    fronts = {"ratios": front([SMALL, LARGE], True, [5.0, 50.0], utilisation=[1.2, 0.9])}
+    fronts = {"ratios": front([SMALL, LARGE], True, [5.0, 50.0], utilization=[1.2, 0.9])}
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 1.5), "knee", CAD, PRINTER)
     assert how["holds_loads"] and not how["printable"]
     assert row["tau1_true_Nm"] == 50.0
@@ -126,8 +126,8 @@ def test_drives_come_after_strength_and_before_printability():
     assert any("has a drive in the catalogue for each motor" in line for line in how["fallback"])
 
 
-def test_nothing_strong_gives_the_least_utilised_design_marked():
-    fronts = {"ratios": front([SMALL, SMALL], True, [5.0, 50.0], utilisation=[1.3, 1.1])}
+def test_nothing_strong_gives_the_least_utilized_design_marked():
+    fronts = {"ratios": front([SMALL, SMALL], True, [5.0, 50.0], utilization=[1.3, 1.1])}
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 2.0), "knee", CAD, PRINTER)
     assert how == {
         "source": "ratios",

@@ -23,7 +23,7 @@ from qsm.embodiment.strength.sizing import (
     SizingSettings,
     size_sections,
     smallest_holding,
-    utilisation,
+    utilization,
 )
 from qsm.embodiment.strength.stresses import LinkLoads
 from qsm.physics.batch_mass import batch_mass_properties
@@ -70,7 +70,7 @@ def test_cantilever_section_meets_the_allowable_exactly():
     lo, hi = np.full((3, 4), 0.3), np.full((3, 4), 3.0)
 
     def util(x: np.ndarray) -> np.ndarray:
-        return utilisation(links, x, DEFAULT_CAD, DEFAULT_MATERIAL, DEFAULT_STRENGTH)
+        return utilization(links, x, DEFAULT_CAD, DEFAULT_MATERIAL, DEFAULT_STRENGTH)
 
     s = smallest_holding(util, lo, hi)
     np.testing.assert_allclose(s, np.repeat(expected[:, None], 4, 1), rtol=2e-3)

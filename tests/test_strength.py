@@ -208,7 +208,7 @@ def test_own_weight_of_a_horizontal_bar_hand_computed():
     assert up["crank"].compression_N == pytest.approx(mass * 9.81 * (0.2 - x0) / 0.2, rel=1e-12)
 
 
-def test_g13_is_the_largest_utilisation_over_the_links(duty):
+def test_g13_is_the_largest_utilization_over_the_links(duty):
     check = StrengthCheck(payload_kg=PAYLOAD_KG, duty=duty)
     table = check.evaluate(DESIGNS)
     assert list(table.columns) == list(STRENGTH_COLUMNS)

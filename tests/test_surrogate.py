@@ -40,9 +40,9 @@ def test_paper_settings_are_the_defaults():
 def test_forward_pass_equals_scikit_learn(fitted):
     x, _, _, result = fitted
     model = result.model
-    normalised = (x - model.x_min) / model.x_span
+    normalized = (x - model.x_min) / model.x_span
     np.testing.assert_allclose(
-        model.predict_normalised(x), result.estimator.predict(normalised), rtol=1e-12, atol=1e-12
+        model.predict_normalized(x), result.estimator.predict(normalized), rtol=1e-12, atol=1e-12
     )
 
 

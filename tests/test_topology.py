@@ -82,7 +82,7 @@ def test_mesh_mass_properties_match_the_exact_polygon_moments() -> None:
     np.testing.assert_allclose(props.inertia_kg_m2, exact.inertia_kg_m2, atol=1e-9)
 
 
-def test_link_optimisation_lightens_links_and_lowers_torques(tmp_path) -> None:
+def test_link_optimization_lightens_links_and_lowers_torques(tmp_path) -> None:
     coarse = fe.TopologySettings(volume_fraction=0.6, cell_size_m=0.005, max_iterations=40)
     cs = cad.CadSettings()
     d = duty.duty_cycle(
@@ -90,7 +90,7 @@ def test_link_optimisation_lightens_links_and_lowers_torques(tmp_path) -> None:
             raster_lines=3, samples_per_segment=8, static_theta1_count=3, static_theta2_count=3
         )
     )
-    res = topology.optimise_links(DESIGN, cs, 5.0, d, coarse)
+    res = topology.optimize_links(DESIGN, cs, 5.0, d, coarse)
     assert set(res.links) == {"lower_arm", "upper_arm"}
     for link in res.links.values():
         s = link.summary()
@@ -120,7 +120,7 @@ def test_a_plate_over_the_stress_limit_is_not_kept(tmp_path) -> None:
             raster_lines=3, samples_per_segment=8, static_theta1_count=3, static_theta2_count=3
         )
     )
-    res = topology.optimise_links(DESIGN, cad.CadSettings(), 6.0, d, lean, links=("lower_arm",))
+    res = topology.optimize_links(DESIGN, cad.CadSettings(), 6.0, d, lean, links=("lower_arm",))
     link = res.links["lower_arm"]
     allow = lean.allowable_stress_pa / 1e6
     first = link.attempts[0]

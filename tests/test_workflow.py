@@ -233,7 +233,7 @@ def test_design_rules_outputs(run):
     assert 0 < len(lengths) <= config["study"]["n_designs"]
 
 
-def test_realisation_outputs(run):
+def test_realization_outputs(run):
     config = effective_config(run)
     real = run / "results/realization"
     selected = json.loads((real / "selected.json").read_text())

@@ -19,9 +19,9 @@ with logged(snakemake.log[0]) as log:
     with open(snakemake.input.selected) as fh:
         design = np.asarray(json.load(fh)["design_m"])
     with open(snakemake.input.links) as fh:
-        optimised = props_from_json(json.load(fh))
+        optimized = props_from_json(json.load(fh))
     duty = duty_cycle(physics.duty(p.duty, p.operating_range))
-    sweep = table3_sweep(design, physics.cad(p.cad, p.material), duty, optimised, p.payloads_kg)
+    sweep = table3_sweep(design, physics.cad(p.cad, p.material), duty, optimized, p.payloads_kg)
     write_table(sweep, out.table)
     run_ratio = p.payload_kg / sweep["link_mass_kg"].iloc[0]
     table3_figure(sweep, PAPER_TABLE3_PCT, run_ratio, out.figure)

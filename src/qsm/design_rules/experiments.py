@@ -65,7 +65,7 @@ def table3_sweep(
     design: NDArray[np.float64],
     cad: CadSettings,
     duty: Duty,
-    optimised: dict[str, MassProperties],
+    optimized: dict[str, MassProperties],
     payloads_kg: list[float],
 ) -> pd.DataFrame:
     """Peak torques with the CAD links and with the optimised ones at each payload (kg), the
@@ -73,7 +73,7 @@ def table3_sweep(
     link_mass = sum(p.mass_kg for p in mass_properties(design, cad).values())
     rows = []
     for payload in payloads_kg:
-        t = torques_before_after(design, cad, payload, duty, optimised)
+        t = torques_before_after(design, cad, payload, duty, optimized)
         rows.append(
             {
                 "payload_kg": payload,

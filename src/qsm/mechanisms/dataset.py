@@ -75,7 +75,7 @@ STRENGTH_COLUMNS: dict[str, str] = {
 
 #: The motors: index (1, 2) and what each drives.
 MOTORS: dict[int, str] = {1: "lower arm", 2: "crank"}
-#: Limits of a drive checked over the duty (:data:`qsm.embodiment.drives.utilisation.CHECKS`).
+#: Limits of a drive checked over the duty (:data:`qsm.embodiment.drives.utilization.CHECKS`).
 DRIVE_CHECKS: tuple[str, ...] = ("motor_peak", "motor_rms", "motor_speed", "gear_peak", "gear_rms")
 #: Columns of the drive check (:mod:`qsm.embodiment.drives.drive_checks`) that Stage 2 adds. Each
 #: motor's drive columns describe the drive chosen for it or, when no drive of the catalogue

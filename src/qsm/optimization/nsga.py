@@ -63,7 +63,7 @@ class Recorder(Callback):
 
 
 @dataclass(frozen=True)
-class OptimisationResult:
+class OptimizationResult:
     """Pareto designs (variables, objectives, the surrogate's predictions), the last populations
     and the hypervolume history."""
 
@@ -106,7 +106,7 @@ def run_nsga2(
     seed: int,
     objective_range: tuple[NDArray, NDArray],
     progress: Callable[[int, float], None] | None = None,
-) -> OptimisationResult:
+) -> OptimizationResult:
     """Run NSGA-II for ``generations`` with a recorder; ``objective_range`` normalises the HV."""
     recorder = Recorder(*objective_range, progress=progress)
     result = minimize(
@@ -120,7 +120,7 @@ def run_nsga2(
     if result.opt is None or result.X is None:
         g = recorder.populations[-1]["G"]
         raise InfeasibleProblem(np.clip(g, 0.0, None))
-    return OptimisationResult(
+    return OptimizationResult(
         pareto_x=np.atleast_2d(result.opt.get("X")),
         pareto_f=np.atleast_2d(result.opt.get("F")),
         pareto_p=np.atleast_2d(result.opt.get("P")),
@@ -311,7 +311,7 @@ def optimize(
             return PaperProblem(model, lo, hi, stats, extra)
         return RatiosProblem(model, lo, hi, stats, fit, extra)
 
-    def run(problem: Problem) -> OptimisationResult:
+    def run(problem: Problem) -> OptimizationResult:
         n_gen, seed = section["generations"], section["seed"]
         return run_nsga2(problem, section["pop_size"], n_gen, seed, objective_range, progress)
 
@@ -355,7 +355,7 @@ def optimize(
 
 
 def _generation_tables(
-    result: OptimisationResult,
+    result: OptimizationResult,
     n_generations: int,
     lengths: Callable[[NDArray], NDArray],
     objectives: tuple[Objective, ...],

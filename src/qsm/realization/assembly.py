@@ -32,12 +32,12 @@ def final_parts(
     design: ArrayLike,
     bearing_index: list[int],
     settings: PartSettings,
-    optimised: Mapping[str, shapely.Geometry],
+    optimized: Mapping[str, shapely.Geometry],
 ) -> dict[str, LinkPart]:
     """The bored links of ``design``; a link in ``optimised`` takes that printed plate (link
     frame, m) with the same bores cut through it."""
     parts = link_parts(design, bearing_index, settings)
-    for name, plate in optimised.items():
+    for name, plate in optimized.items():
         seg = parts[name].section.segments_per_circle
         holes = shapely.union_all(
             [
@@ -79,7 +79,7 @@ def write_parts(
     bearing_index: list[int],
     settings: PartSettings,
     material: str,
-    optimised: Mapping[str, bool],
+    optimized: Mapping[str, bool],
     directory: str | Path,
     drives: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
@@ -94,7 +94,7 @@ def write_parts(
         bearing_index,
         settings.table,
         material,
-        optimised,
+        optimized,
         drive_rows(drives or {}),
     )
     csv, md = write_bom(bom, out)

@@ -16,7 +16,7 @@ from qsm.realization.fe import TopologySettings
 from qsm.realization.geometry import extrude
 from qsm.realization.outputs import export_stls
 from qsm.realization.pipeline import Realization
-from qsm.realization.topology import TopologyResult, optimise_links
+from qsm.realization.topology import TopologyResult, optimize_links
 from qsm.realization.torques import torques_before_after
 
 
@@ -49,7 +49,7 @@ def build_links(
     into ``folder/stl/before`` and ``folder/stl/after``, checked against ``volume_mm``.
     ``drawing`` names the dimensioned drawing's files (``svg``, ``png``) for the record."""
     cad = done.part_settings.cad
-    result = optimise_links(done.design, cad, payload_kg, duty, topology, scale=done.scale)
+    result = optimize_links(done.design, cad, payload_kg, duty, topology, scale=done.scale)
     held = {
         name: link.polygon
         for name, link in result.links.items()

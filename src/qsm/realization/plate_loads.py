@@ -30,7 +30,7 @@ from qsm.realization.fe import (
     nodal_forces,
 )
 
-OPTIMISED_LINKS: tuple[str, ...] = ("lower_arm", "upper_arm")
+OPTIMIZED_LINKS: tuple[str, ...] = ("lower_arm", "upper_arm")
 
 
 @dataclass(frozen=True)

@@ -72,7 +72,7 @@ from qsm.realization.geometry import (
     polygons,
 )
 from qsm.realization.plate_loads import (
-    OPTIMISED_LINKS,
+    OPTIMIZED_LINKS,
     LinkLoads,
     joint_points,
     link_problem,
@@ -252,13 +252,13 @@ def _printed_plate(
         fraction = round(fraction + VOLUME_STEP, 10)
 
 
-def optimise_links(
+def optimize_links(
     design: ArrayLike,
     cad: CadSettings,
     payload_kg: float,
     duty: Duty,
     settings: TopologySettings = DEFAULT_TOPOLOGY,
-    links: tuple[str, ...] = OPTIMISED_LINKS,
+    links: tuple[str, ...] = OPTIMIZED_LINKS,
     scale: ArrayLike | None = None,
 ) -> TopologyResult:
     """Topology-optimise ``links`` of ``design`` (6 lengths, m) for the peak loads over ``duty``

@@ -201,7 +201,7 @@ def headline_markdown(
         f"- the paper's {len(findings)} findings: {_verdict_counts(findings)} "
         "(the table and each verdict's experiment: results/design_rules/summary.md).",
         "",
-        *_realisation_lines(selected, topology),
+        *_realization_lines(selected, topology),
     ]
     for key in ("tau1_Nm", "tau2_Nm"):
         b, a = torques["before"][key], torques["after"][key]
@@ -274,7 +274,7 @@ def _front_lines(comparison: Mapping[str, Any]) -> list[str]:
     return lines
 
 
-def _realisation_lines(selected: Mapping[str, Any], topology: Mapping[str, Any]) -> list[str]:
+def _realization_lines(selected: Mapping[str, Any], topology: Mapping[str, Any]) -> list[str]:
     """The summary's Stage 6: the selected design, its verdict, strength, drives and plates."""
     drives = selected.get("drives", {})
     return [

@@ -68,7 +68,7 @@ class Surrogate:
     label_mean: NDArray[np.float64]  # of the training labels, physical units (constraints g5..g10)
     label_std: NDArray[np.float64]
 
-    def predict_normalised(self, x: ArrayLike) -> NDArray[np.float64]:
+    def predict_normalized(self, x: ArrayLike) -> NDArray[np.float64]:
         """Network output (normalised, transformed targets) for raw inputs (N, 6) in metres."""
         h = (np.atleast_2d(np.asarray(x, dtype=float)) - self.x_min) / self.x_span
         for i, (w, b) in enumerate(zip(self.weights, self.biases, strict=True)):
@@ -79,7 +79,7 @@ class Surrogate:
 
     def predict(self, x: ArrayLike) -> NDArray[np.float64]:
         """(eta, tau1 in Nm, tau2 in Nm) for designs (N, 6) of scaled lengths in metres."""
-        y = self.predict_normalised(x) * self.y_span + self.y_min
+        y = self.predict_normalized(x) * self.y_span + self.y_min
         return np.exp(y) if self.output_transform == "log" else y
 
     def to_dict(self) -> dict[str, Any]:

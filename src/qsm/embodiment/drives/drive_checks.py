@@ -30,7 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
 from qsm.embodiment.drives.selection import Selection, select_drives
-from qsm.embodiment.drives.utilisation import CHECKS, DriveArrays
+from qsm.embodiment.drives.utilization import CHECKS, DriveArrays
 from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.embodiment.strength.loads import Inertials, joint_loads
 from qsm.embodiment.strength.sizing import SizedSections
@@ -134,7 +134,7 @@ class DriveCheck:
             for key, values in self._columns.items():
                 out[f"drive{j}_{key}"] = values[b]
             for k, check in enumerate(CHECKS):
-                out[f"drive{j}_margin_{check}"] = 1.0 - sel.utilisation[:, k]
+                out[f"drive{j}_margin_{check}"] = 1.0 - sel.utilization[:, k]
             out[f"drive{j}_violation"] = sel.violation
         for j in MOTORS:
             for key in (f"drive{j}_motor", f"drive{j}_gearbox"):

@@ -1,5 +1,5 @@
 """The torque one drive can give at its joint, by speed and direction (N m), for a simulation that
-saturates the motor on it; the conventions of :mod:`qsm.embodiment.drives.utilisation`.
+saturates the motor on it; the conventions of :mod:`qsm.embodiment.drives.utilization`.
 """
 
 from __future__ import annotations
@@ -10,14 +10,14 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from qsm.embodiment.drives.catalogue import Catalogue
-from qsm.embodiment.drives.utilisation import DriveArrays
+from qsm.embodiment.drives.utilization import DriveArrays
 
 
 @dataclass(frozen=True)
 class OutputEnvelope:
     """The torque one drive can give at the joint (output side), by speed and direction, for a
     simulation that saturates the motor on it (the conventions of
-    :func:`qsm.embodiment.drives.utilisation.utilisation`: a driving sample gets eta N T_m, a
+    :func:`qsm.embodiment.drives.utilization.utilisation`: a driving sample gets eta N T_m, a
     back-driven one N T_m / eta, both at most the gearbox's intermittent torque; T_m is the motor's
     torque-speed line or table at N |omega|, at most its intermittent torque, and 0 beyond its
     speed limit)."""

@@ -1,6 +1,6 @@
 """Choose a drive for a joint's duty: every compatible motor-gearbox pair checked at once.
 
-Each drive gets the utilisations of :mod:`qsm.embodiment.drives.utilisation` (<= 1 meets the
+Each drive gets the utilisations of :mod:`qsm.embodiment.drives.utilization` (<= 1 meets the
 limit); a drive's violation is max(u) - 1 and it meets the duty when that is <= 0. The joint's
 violation (constraint g14) is the least violation over the catalogue: <= 0 when some drive meets
 the duty, continuous in the duty otherwise.
@@ -14,7 +14,7 @@ import numpy as np
 
 from qsm.embodiment.drives.catalogue import Catalogue
 from qsm.embodiment.drives.compliance import gear_compliance
-from qsm.embodiment.drives.utilisation import CHECKS, DriveArrays, duty_arrays, utilisation
+from qsm.embodiment.drives.utilization import CHECKS, DriveArrays, duty_arrays, utilization
 
 RULES = {"lightest": "mass", "smallest_inertia": "reflected_inertia"}
 
@@ -36,7 +36,7 @@ class Selection:
     choice: np.ndarray
     best: np.ndarray
     violation: np.ndarray
-    utilisation: np.ndarray
+    utilization: np.ndarray
     peak_torque: np.ndarray
     rms_torque: np.ndarray
     peak_speed: np.ndarray
@@ -47,7 +47,7 @@ class Selection:
         """JSON-ready account of duty ``d``: the drive, its margins (1 - utilisation) and, when
         no drive meets the duty, the failing limits of the best drive (excess = utilisation - 1)
         and what the strongest drive offers."""
-        u = self.utilisation[d]
+        u = self.utilization[d]
         out = {
             "has_drive": bool(self.choice[d] >= 0),
             "violation": float(self.violation[d]),
@@ -147,10 +147,10 @@ def select_drives(
     if acc is not None:
         finite &= np.isfinite(acc).all(axis=1)
     if finite.all():
-        u = utilisation(arr, tau, omega, w, acc)
+        u = utilization(arr, tau, omega, w, acc)
     else:
         u = np.full((n_d, n_c, len(CHECKS)), np.inf)
-        u[finite] = utilisation(
+        u[finite] = utilization(
             arr, tau[finite], omega[finite], w[finite], None if acc is None else acc[finite]
         )
     v = u.max(axis=2) - 1
@@ -171,7 +171,7 @@ def select_drives(
         choice=choice,
         best=best,
         violation=violation,
-        utilisation=u[rows, best],
+        utilization=u[rows, best],
         peak_torque=a.max(axis=1),
         rms_torque=np.sqrt((wn * tau**2).sum(axis=1)),
         peak_speed=np.abs(omega).max(axis=1),

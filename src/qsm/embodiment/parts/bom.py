@@ -59,7 +59,7 @@ def bill_of_materials(
     bearing_index: Sequence[int],
     table: BearingTable | None = None,
     material: str = "ABS-M30",
-    topology_optimised: Mapping[str, bool] | None = None,
+    topology_optimized: Mapping[str, bool] | None = None,
     drives: Mapping[str, Mapping[str, Any]] | None = None,
 ) -> pd.DataFrame:
     """The BOM as a DataFrame with :data:`BOM_COLUMNS`.
@@ -72,7 +72,7 @@ def bill_of_materials(
     ``notes``.
     """
     t = table if table is not None else load_catalogue()
-    topo = topology_optimised or {}
+    topo = topology_optimized or {}
     rows = [
         _part_row(name, parts[name], masses[name], material, topo.get(name, False))
         for name in LINK_NAMES
@@ -87,7 +87,7 @@ def bill_of_materials(
 
 
 def _part_row(
-    name: str, part: LinkPart, mass: MassProperties, material: str, optimised: bool
+    name: str, part: LinkPart, mass: MassProperties, material: str, optimized: bool
 ) -> dict[str, Any]:
     """The BOM row of the printed link ``name``: its mass (kg), box (mm) and bores."""
     x0, y0, x1, y1 = part.polygon.bounds
@@ -102,7 +102,7 @@ def _part_row(
         "bbox_x_mm": round(1e3 * (x1 - x0), 1),
         "bbox_y_mm": round(1e3 * (y1 - y0), 1),
         "bbox_z_mm": round(1e3 * part.section.thickness_m, 1),
-        "topology_optimised": bool(optimised),
+        "topology_optimised": bool(optimized),
         "notes": f"bores: {bores}",
     }
 

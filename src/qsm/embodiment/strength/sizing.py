@@ -177,7 +177,7 @@ def fitting_bores(
     return out
 
 
-def utilisation(
+def utilization(
     links: dict[str, LinkLoads],
     scale: NDArray[np.float64],
     cad: CadSettings,
@@ -273,7 +273,7 @@ def size_sections(
         }
 
         def util(x: NDArray[np.float64], links: dict = links) -> NDArray[np.float64]:
-            return utilisation(links, x, cad, material, strength)
+            return utilization(links, x, cad, material, strength)
 
         new = smallest_holding(util, lower, upper, sizing.target)
         change_tau = (np.abs(tau - tau_prev) / np.maximum(tau, 1e-12)).max(-1)

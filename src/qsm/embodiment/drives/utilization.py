@@ -109,7 +109,7 @@ class DriveArrays:
         return DriveArrays(**fields, tables=tables)
 
 
-def utilisation(
+def utilization(
     cat: Catalogue | DriveArrays,
     tau: np.ndarray,
     omega: np.ndarray,

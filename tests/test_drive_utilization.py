@@ -1,5 +1,5 @@
 """The one-pass utilisation and selection (qsm.embodiment.drives) against a sample-by-sample
-reference written from the conventions of :mod:`qsm.embodiment.drives.utilisation`, one drive
+reference written from the conventions of :mod:`qsm.embodiment.drives.utilization`, one drive
 at a time, on random duties with every kind of sample."""
 
 from __future__ import annotations
@@ -10,7 +10,7 @@ from test_drives import GEARBOXES, MOTORS, write_catalogue
 
 from qsm.embodiment.drives.catalogue import Catalogue, default_catalogue_folder, read_catalogue
 from qsm.embodiment.drives.selection import RULES, select_drives
-from qsm.embodiment.drives.utilisation import utilisation
+from qsm.embodiment.drives.utilization import utilization
 
 TABLE = "motor,speed_rad_s,torque_Nm\nCU_A,0,0.5\nCU_A,10,0.3\nCU_A,20,0.1\n"
 
@@ -69,19 +69,19 @@ def catalogue(request, tmp_path):
     return read_catalogue(folder), 1.0
 
 
-def test_utilisation_equals_the_sample_by_sample_reference(catalogue):
+def test_utilization_equals_the_sample_by_sample_reference(catalogue):
     cat, scale = catalogue
     rng = np.random.default_rng(3)
     for _ in range(6):
         tau, omega, w, accel = random_duty(rng, int(rng.integers(2, 30)), 12, scale)
         for acc in (None, accel):
             np.testing.assert_allclose(
-                utilisation(cat, tau, omega, w, acc), reference(cat, tau, omega, w, acc), 1e-12
+                utilization(cat, tau, omega, w, acc), reference(cat, tau, omega, w, acc), 1e-12
             )
     # a speed per design (no shared duty)
     omega = rng.normal(0, 3, tau.shape)
     np.testing.assert_allclose(
-        utilisation(cat, tau, omega, w, accel), reference(cat, tau, omega, w, accel), 1e-12
+        utilization(cat, tau, omega, w, accel), reference(cat, tau, omega, w, accel), 1e-12
     )
 
 
@@ -105,7 +105,7 @@ def test_selection_equals_the_reference_choice(catalogue, rule):
         assert sel.violation[d] == pytest.approx(v[d].min(), rel=1e-12)
         best = meets[0] if meets else int(np.argmin(v[d]))
         assert sel.best[d] == best
-        np.testing.assert_allclose(sel.utilisation[d], u[d, best], 1e-12)
+        np.testing.assert_allclose(sel.utilization[d], u[d, best], 1e-12)
     assert 0 < (sel.choice >= 0).mean() < 1
 
 
@@ -115,7 +115,7 @@ def test_each_designs_numbers_do_not_depend_on_the_designs_beside_it():
     cat = read_catalogue(default_catalogue_folder())
     rng = np.random.default_rng(7)
     tau, omega, w, accel = random_duty(rng, 377, 300, 60.0)
-    whole = utilisation(cat, tau, omega, w, accel)
+    whole = utilization(cat, tau, omega, w, accel)
     for rows in (slice(0, 1), slice(5, 8), slice(17, 150)):
-        part = utilisation(cat, tau[rows], omega[rows], w, accel[rows])
+        part = utilization(cat, tau[rows], omega[rows], w, accel[rows])
         np.testing.assert_array_equal(part, whole[rows])
