@@ -71,9 +71,8 @@ def test_nsga_with_drive_mass_on_the_test_config(model):
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
     )
     coarse = loop_duty(physics.duty(config["dynamics"]["duty"], config["operating_range"]))
-    drives = actuation.drive_check(
-        config["drives"], config["cad"], config["material"], config["task"]["payload_kg"], coarse
-    )
+    case = links.load_case_of(config).with_duty(coarse)
+    drives = actuation.drive_check(config["drives"], case)
     extra = ExtraConstraints(
         containment=True,
         printable=False,
@@ -189,9 +188,8 @@ def test_the_front_is_checked_on_the_full_duty(model):
     kg = config["task"]["payload_kg"]
 
     def check(duty, payload_kg):
-        return links.strength_check(
-            config["cad"], config["material"], config["strength"], payload_kg, duty
-        )
+        case = replace(links.load_case_of(config), duty=duty, payload_kg=payload_kg)
+        return links.strength_check(case, config["strength"])
 
     extra = ExtraConstraints(
         containment=True,

@@ -197,12 +197,14 @@ def test_the_loop_sizes_within_its_allowance():
     config["cad"]["section"] = "sized"
     section = dict(
         config["optimization"]["constraints"],
-        cad=config["cad"],
-        material=config["material"],
+        load_case={
+            "cad": config["cad"],
+            "material": config["material"],
+            "payload_kg": 5.0,
+            "duty": config["dynamics"]["duty"],
+            "operating_range": config["operating_range"],
+        },
         strength=config["strength"],
-        payload_kg=5.0,
-        duty=config["dynamics"]["duty"],
-        operating_range=config["operating_range"],
         drives_section=config["drives"],
         build_volume_mm=config["printing"]["build_volume_mm"],
         tolerance_mm=config["task"]["tolerance_mm"],

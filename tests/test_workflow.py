@@ -3,6 +3,7 @@
 import copy
 import json
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -448,12 +449,10 @@ def test_a_far_heavy_task_completes_with_the_verdicts(tmp_path):
     assert all_links_fit(np.array(smallest["design_m"]), cad, tuple(smallest["needed_volume_mm"]))
     # the payload the advice names holds, 5 % more does not (the strength check run again)
     payload = selected["strength_advice"]["payload_kg"]
-    duty = physics.duty(effective["dynamics"]["duty"], effective["operating_range"])
+    case = links.load_case_of(effective)
 
     def violation(kg):
-        check = links.strength_check(
-            effective["cad"], effective["material"], effective["strength"], kg, duty
-        )
+        check = links.strength_check(replace(case, payload_kg=kg), effective["strength"])
         return check.violation(np.array(selected["design_m"]))[0]
 
     assert violation(payload) <= 0 < violation(1.05 * payload)

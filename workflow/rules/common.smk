@@ -67,6 +67,18 @@ def optimization_settings():
     return {k: v for k, v in config["optimization"].items() if k not in skip}
 
 
+def load_case():
+    """What the links and drives carry, one param: section, material, payload, duty and the
+    operating range (qsm.config.settings.links.load_case)."""
+    return {
+        "cad": config["cad"],
+        "material": config["material"],
+        "payload_kg": config["task"]["payload_kg"],
+        "duty": config["dynamics"]["duty"],
+        "operating_range": config["operating_range"],
+    }
+
+
 def constraint_settings(formulation):
     """g11 / g12 / g13 / g14 / g15 as they apply to ``formulation``, with what each needs
     (nothing when off)."""
@@ -84,17 +96,11 @@ def constraint_settings(formulation):
             tolerance_m=section["containment_tolerance_m"],
         )
     if section["printable"] or section["strong"] or section["drives"] or section["stiff"]:
-        out.update(cad=config["cad"], material=config["material"])
+        out.update(load_case=load_case())
     if section["printable"]:
         out.update(build_volume_mm=config["printing"]["build_volume_mm"])
     if section["stiff"]:
         out.update(tolerance_mm=config["task"]["tolerance_mm"], task_points=TASK_POINTS)
-    if section["strong"] or section["drives"] or section["stiff"]:
-        out.update(
-            payload_kg=config["task"]["payload_kg"],
-            duty=config["dynamics"]["duty"],
-            operating_range=config["operating_range"],
-        )
     if section["strong"]:
         out.update(strength=config["strength"])
     if section["drives"]:

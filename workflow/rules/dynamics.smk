@@ -25,13 +25,9 @@ rule dynamics:
     params:
         code=code("dynamics_shard.py"),
         shards=config["dynamics"]["shards"],
-        duty=config["dynamics"]["duty"],
-        operating_range=config["operating_range"],
-        cad=config["cad"],
-        material=config["material"],
+        load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),
-        payload_kg=config["task"]["payload_kg"],
         task_points=TASK_POINTS,
     script:
         "../scripts/dynamics_shard.py"

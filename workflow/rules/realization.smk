@@ -27,15 +27,11 @@ rule select_design:
     params:
         code=code("select_design.py"),
         printing=config["printing"],
-        cad=config["cad"],
-        material=config["material"],
+        load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),
-        payload_kg=config["task"]["payload_kg"],
-        duty=config["dynamics"]["duty"],
         primary=config["optimization"]["formulation"],
         formulations=FORMULATIONS,
-        operating_range=config["operating_range"],
         task_points=TASK_POINTS,
         user_points=config["task"]["points"],
     script:
@@ -74,13 +70,9 @@ rule topology_optimize:
     params:
         code=code("topology_optimize.py"),
         topology=config["topology"],
-        cad=config["cad"],
-        material=config["material"],
+        load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),
-        duty=config["dynamics"]["duty"],
-        operating_range=config["operating_range"],
-        payload_kg=config["task"]["payload_kg"],
         build_volume_mm=config["printing"]["build_volume_mm"],
     script:
         "../scripts/topology_optimize.py"
@@ -138,13 +130,9 @@ rule accuracy_budget:
         ENV
     params:
         code=code("accuracy_budget.py"),
-        cad=config["cad"],
-        material=config["material"],
+        load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),
-        payload_kg=config["task"]["payload_kg"],
-        duty=config["dynamics"]["duty"],
-        operating_range=config["operating_range"],
         task=config["task"],
         payload_test=config["payload_test"],
         task_points=TASK_POINTS,

@@ -1,8 +1,9 @@
 """Rule accuracy_budget: selected.json, the chosen design with its final accuracy budget."""
 
 import json
+from pathlib import Path
 
-from qsm.config.settings import realization
+from qsm.config.settings import links, realization
 from qsm.realization.outputs import props_from_json
 from qsm.report.accuracy_report import accuracy_figure, final_record
 from qsm.workflow.json_files import write_json
@@ -12,14 +13,11 @@ with logged(snakemake.log[0]) as log:
     p = snakemake.params
     inp = snakemake.input
     out = snakemake.output
-    choice, links, topology, payload = (
-        json.load(open(path)) for path in (inp.choice, inp.links, inp.topology, inp.payload)
-    )
-    props = props_from_json(links)
-    settings = realization.realization(
-        p.cad, p.material, p.strength, p.drives, p.payload_kg, p.duty, p.operating_range,
-        p.task, p.payload_test,
-    )  # fmt: skip
+    paths = (inp.choice, inp.links, inp.topology, inp.payload)
+    choice, optimized, topology, payload = (json.loads(Path(f).read_text()) for f in paths)
+    props = props_from_json(optimized)
+    case = links.load_case(p.load_case)
+    settings = realization.realization(case, p.strength, p.drives, p.task, p.payload_test)
     record = final_record(choice, topology, props, payload, settings, p.task_points)
     write_json(out.selected, record)
     accuracy_figure(record, topology, props, settings, p.task_points, out.figure)

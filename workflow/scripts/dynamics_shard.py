@@ -3,12 +3,11 @@ mechanisms."""
 
 import numpy as np
 
-from qsm.config.settings import actuation, links, physics
+from qsm.config.settings import actuation, links
 from qsm.embodiment.drives.drive_checks import with_embodiment
 from qsm.mechanisms.dataset import status_counts
 from qsm.mechanisms.evaluation import evaluate_table
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
-from qsm.physics.duty import duty_cycle
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
@@ -18,22 +17,19 @@ with logged(snakemake.log[0]) as log:
     p = snakemake.params
     shard = int(snakemake.wildcards.shard)
     mechanisms = read_table(snakemake.input[0], MECHANISM_COLUMNS)
-    duty = physics.duty(p.duty, p.operating_range)
+    case = links.load_case(p.load_case)
     rows = mechanisms.iloc[shard_slice(len(mechanisms), p.shards, shard)]
     designs = rows[list(DESIGN_COLUMNS)].to_numpy(float)
-    check = links.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
+    check = links.strength_check(case, p.strength)
     sized = check.section_scales(designs)  # None: the fixed section
-    cad = physics.cad(p.cad, p.material)
-    result = evaluate_table(
-        rows, duty_cycle(duty), cad, p.payload_kg, scales=None if sized is None else sized.scale
-    ).reset_index(drop=True)
-    drives = actuation.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
+    scales = None if sized is None else sized.scale
+    result = evaluate_table(rows, check.duty, case.cad, case.payload_kg, scales=scales)
+    result = result.reset_index(drop=True)
+    drives = actuation.drive_check(p.drives, case)
     result = with_embodiment(result, designs, check, drives, sized)
-    sag = links.sag_check(p.cad, p.material, p.payload_kg, p.task_points, p.operating_range)
+    sag = links.sag_check(case, p.task_points)
     ok = result["status"].eq("ok").to_numpy()
-    result["tool_sag_mm"] = np.where(
-        ok, sag.sag_mm(designs, None if sized is None else sized.scale), np.nan
-    )
+    result["tool_sag_mm"] = np.where(ok, sag.sag_mm(designs, scales), np.nan)
     log.info(
         "shard %d of %d: %d mechanisms, status %s, %d hold their loads, %d have drives",
         shard,

@@ -1,7 +1,7 @@
 """Rule select_design: the design to realise (choice.json), printable if any is, truly feasible
 always."""
 
-from qsm.config.settings import physics, realization
+from qsm.config.settings import links, physics, realization
 from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.report.selection_record import selected_figure, selected_record
 from qsm.workflow.json_files import write_json
@@ -15,10 +15,8 @@ with logged(snakemake.log[0]) as log:
     fronts = {name: read_table(path) for name, path in zip(p.formulations, inp.fronts, strict=True)}
     dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
     rule = p.printing["selection_rule"]
-    op = physics.operating_range(p.operating_range)
-    settings = realization.realization(
-        p.cad, p.material, p.strength, p.drives, p.payload_kg, p.duty, p.operating_range
-    )
+    op = physics.operating_range(p.load_case["operating_range"])
+    settings = realization.realization(links.load_case(p.load_case), p.strength, p.drives)
     volume = tuple(p.printing["build_volume_mm"])
     record = selected_record(
         fronts, p.primary, dataset, rule, volume, p.task_points, p.user_points, op, settings

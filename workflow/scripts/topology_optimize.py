@@ -3,8 +3,7 @@ bill of materials), torques again."""
 
 import json
 
-from qsm.config.settings import physics, plates, realization
-from qsm.physics.duty import duty_cycle
+from qsm.config.settings import links, plates, realization
 from qsm.realization.build import build_links
 from qsm.realization.outputs import props_to_json, torques_markdown
 from qsm.realization.pipeline import realize
@@ -18,17 +17,18 @@ with logged(snakemake.log[0]) as log:
     out = snakemake.output
     with open(snakemake.input.selected) as fh:
         selected = json.load(fh)
-    settings = realization.realization(
-        p.cad, p.material, p.strength, p.drives, p.payload_kg, p.duty, p.operating_range
-    )
+    case = links.load_case(p.load_case)
+    settings = realization.realization(case, p.strength, p.drives)
     done = realize(selected["design_m"], settings)
     folder = out.bom_csv.rsplit("/", 1)[0]
     svg, png = draw_links(done.design, done.parts, f"{folder}/drawing")
-    duty = duty_cycle(physics.duty(p.duty, p.operating_range))
-    topo = plates.topology(p.topology, p.material, p.strength)
+    topo = plates.topology(p.topology, p.load_case["material"], p.strength)
     volume = tuple(p.build_volume_mm)
     drawing = {"svg": str(svg), "png": str(png)}
-    built = build_links(done, p.payload_kg, duty, topo, p.material["name"], folder, volume, drawing)
+    material = case.material.name
+    built = build_links(
+        done, case.payload_kg, case.cycle(), topo, material, folder, volume, drawing
+    )
     write_json(out.torques, built.torques)
     with open(out.table, "w") as fh:
         fh.write(torques_markdown(built.torques))

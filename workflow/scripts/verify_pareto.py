@@ -16,12 +16,10 @@ with logged(snakemake.log[0]) as log:
     pareto = read_table(path, [*INPUTS, *PREDICTION_COLUMNS])
     meta = read_meta(path)
     fit = physics.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
-    duty = physics.duty(p.duty, p.operating_range)
-    check = links.strength_check(p.cad, p.material, p.strength, p.payload_kg, duty)
-    drives = actuation.drive_check(p.drives, p.cad, p.material, p.payload_kg, duty)
-    sag = links.sag_check(
-        p.cad, p.material, p.payload_kg, p.task_points, p.operating_range, p.tolerance_mm
-    )
+    case = links.load_case(p.load_case)
+    check = links.strength_check(case, p.strength)
+    drives = actuation.drive_check(p.drives, case)
+    sag = links.sag_check(case, p.task_points, p.tolerance_mm)
     table = verify_front(pareto, fit, check, p.ratio_bounds, p.build_volume_mm, drives, sag)
     result = {"formulation": meta.get("formulation"), "constraints": meta.get("constraints")}
     result.update(summary(table))

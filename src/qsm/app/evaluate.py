@@ -109,9 +109,8 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
         "design_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True)),
         "mirrored": is_mirrored(config["task"]["points"]),
     }
-    check = links.strength_check(
-        config["cad"], config["material"], config["strength"], payload, duty
-    )
+    case = links.load_case_of(config)
+    check = links.strength_check(case, config["strength"])
     sized = check.section_scales(d)
     scale = None if sized is None else sized.scale
     true = verify_design(
@@ -122,7 +121,5 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     )
     if out["loop_closes"]:
         out["strength"] = strength_record(d, check)
-        out["drives"] = actuation.drive_check(
-            config["drives"], config["cad"], config["material"], payload, duty
-        ).report(d, scale)
+        out["drives"] = actuation.drive_check(config["drives"], case).report(d, scale)
     return out

@@ -5,10 +5,9 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from qsm.config.settings.physics import cad
 from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
 from qsm.embodiment.drives.drive_checks import DriveCheck
-from qsm.physics.duty import DutySettings, duty_cycle
+from qsm.embodiment.load_case import LoadCase
 
 Section = Mapping[str, Any]
 
@@ -19,20 +18,14 @@ def catalogue(section: Section) -> Catalogue:
     return load_catalogue(section["catalogue"])
 
 
-def drive_check(
-    drives_section: Section,
-    cad_section: Section,
-    material_section: Section,
-    payload_kg: float,
-    duty_settings: DutySettings,
-) -> DriveCheck:
-    """The drive check of a design: catalogue, rule, reflected inertia, link section, payload
-    (kg) and duty."""
+def drive_check(drives_section: Section, case: LoadCase) -> DriveCheck:
+    """The drive check of a design under ``case``: the catalogue, rule and reflected inertia of
+    ``drives``."""
     return DriveCheck(
         catalogue(drives_section),
         drives_section["rule"],
         bool(drives_section["reflected_inertia"]),
-        cad(cad_section, material_section),
-        float(payload_kg),
-        duty_cycle(duty_settings),
+        case.cad,
+        case.payload_kg,
+        case.cycle(),
     )

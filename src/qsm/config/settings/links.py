@@ -5,13 +5,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
-from qsm.config.settings.physics import cad
+from qsm.config.settings.physics import cad, duty
+from qsm.embodiment.load_case import LoadCase
 from qsm.embodiment.parts.link_parts import PartSettings
 from qsm.embodiment.stiffness.sag_check import SagCheck
 from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.embodiment.strength.material import Material, StrengthSettings
 from qsm.embodiment.strength.sizing import SizingSettings
-from qsm.physics.duty import DutySettings, duty_cycle
 
 Section = Mapping[str, Any]
 
@@ -21,13 +21,10 @@ def material(section: Section) -> Material:
     return Material(**section)
 
 
-def parts(
-    cad_section: Section, material_section: Section, strength_section: Section
-) -> PartSettings:
-    """The bored parts: the link solids and ``strength.boss_wall_m`` around the bearing seats."""
-    return PartSettings(
-        cad(cad_section, material_section), boss_wall_m=strength_section["boss_wall_m"]
-    )
+def parts(case: LoadCase, strength_section: Section) -> PartSettings:
+    """The bored parts: the link solids of ``case`` and ``strength.boss_wall_m`` around the
+    bearing seats."""
+    return PartSettings(case.cad, boss_wall_m=strength_section["boss_wall_m"])
 
 
 def strength(section: Section) -> StrengthSettings:
@@ -35,21 +32,40 @@ def strength(section: Section) -> StrengthSettings:
     return StrengthSettings(**section)
 
 
-def strength_check(
-    cad_section: Section,
-    material_section: Section,
-    strength_section: Section,
-    payload_kg: float,
-    duty_settings: DutySettings,
-) -> StrengthCheck:
-    """The link check of a design: section, material, requirements, payload (kg) and duty."""
+def load_case(section: Section) -> LoadCase:
+    """The rules' ``load_case`` param: the ``cad``, ``material``, ``dynamics.duty`` and
+    ``operating_range`` sections and ``payload_kg``, as one value."""
+    return LoadCase(
+        cad=cad(section["cad"], section["material"]),
+        material=material(section["material"]),
+        payload_kg=float(section["payload_kg"]),
+        duty=duty(section["duty"], section["operating_range"]),
+        sizing=sizing(section["cad"]),
+    )
+
+
+def load_case_of(config: Section) -> LoadCase:
+    """:func:`load_case` of a whole validated config."""
+    return load_case(
+        {
+            "cad": config["cad"],
+            "material": config["material"],
+            "payload_kg": config["task"]["payload_kg"],
+            "duty": config["dynamics"]["duty"],
+            "operating_range": config["operating_range"],
+        }
+    )
+
+
+def strength_check(case: LoadCase, strength_section: Section) -> StrengthCheck:
+    """The link check of a design under ``case``, with the ``strength`` requirements."""
     return StrengthCheck(
-        cad(cad_section, material_section),
-        material(material_section),
+        case.cad,
+        case.material,
         strength(strength_section),
-        float(payload_kg),
-        duty_cycle(duty_settings),
-        sizing=sizing(cad_section),
+        case.payload_kg,
+        case.cycle(),
+        sizing=case.sizing,
     )
 
 
@@ -67,22 +83,18 @@ def sizing(section: Section) -> SizingSettings | None:
 
 
 def sag_check(
-    cad_section: Section,
-    material_section: Section,
-    payload_kg: float,
-    points: Sequence[Sequence[float]],
-    operating_range: Section,
-    tolerance_mm: float | None = None,
+    case: LoadCase, points: Sequence[Sequence[float]], tolerance_mm: float | None = None
 ) -> SagCheck:
-    """The tool's sag at the task ``points`` (m) under ``payload_kg`` (g15 against
-    ``tolerance_mm``; the schema's default when None, for the dataset's column alone)."""
+    """The tool's sag at the task ``points`` (m) under ``case`` (g15 against ``tolerance_mm``;
+    the schema's default when None, for the dataset's column alone)."""
     extra = {} if tolerance_mm is None else {"tolerance_mm": float(tolerance_mm)}
+    theta1, theta2_min = case.operating_range_deg
     return SagCheck(
         points=tuple((float(x), float(y)) for x, y in points),
-        cad=cad(cad_section, material_section),
-        material=material(material_section),
-        payload_kg=float(payload_kg),
-        theta1_range_deg=tuple(operating_range["theta1_deg"]),
-        theta2_min_deg=float(operating_range["theta2_min_deg"]),
+        cad=case.cad,
+        material=case.material,
+        payload_kg=case.payload_kg,
+        theta1_range_deg=theta1,
+        theta2_min_deg=theta2_min,
         **extra,
     )

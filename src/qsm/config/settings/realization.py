@@ -7,9 +7,9 @@ from dataclasses import replace
 from typing import Any
 
 from qsm.config.settings.actuation import drive_check
-from qsm.config.settings.links import parts, strength_check
-from qsm.config.settings.physics import duty
+from qsm.config.settings.links import load_case_of, parts, strength_check
 from qsm.config.settings.simulation import payload_test
+from qsm.embodiment.load_case import LoadCase
 from qsm.realization.accuracy_budget import AccuracySettings
 from qsm.realization.pipeline import RealizationSettings
 
@@ -17,31 +17,27 @@ Section = Mapping[str, Any]
 
 
 def realization(
-    cad: Section,
-    material: Section,
+    case: LoadCase,
     strength: Section,
     drives: Section,
-    payload_kg: float,
-    duty_section: Section,
-    operating_range: Section,
     task: Section | None = None,
     payload_test_section: Section | None = None,
 ) -> RealizationSettings:
-    """The link check, drive check and bored parts of the ``cad``, ``material``, ``strength``
-    and ``drives`` sections, ``task.payload_kg`` and the duty (``dynamics.duty`` over
-    ``operating_range``); the accuracy ``task`` needs and its motion (``payload_test``), for
-    the accuracy budget (None: the schema's defaults, for rules that do not make it)."""
-    duty_settings = duty(duty_section, operating_range)
+    """The link check, drive check and bored parts of a design under ``case``, with the
+    ``strength`` and ``drives`` sections; the accuracy ``task``
+    needs and its motion (``payload_test``), for the accuracy budget (None: the schema's
+    defaults, for rules that do not make it)."""
     done = RealizationSettings(
-        strength=strength_check(cad, material, strength, payload_kg, duty_settings),
-        drives=drive_check(drives, cad, material, payload_kg, duty_settings),
-        parts=parts(cad, material, strength),
+        strength=strength_check(case, strength),
+        drives=drive_check(drives, case),
+        parts=parts(case, strength),
     )
     if task is not None:
         done = replace(done, accuracy=accuracy(task))
     if payload_test_section is not None:
-        motion = payload_test(payload_test_section, payload_kg, operating_range)
-        done = replace(done, motion=motion)
+        (lo, hi), theta2_min = case.operating_range_deg
+        op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
+        done = replace(done, motion=payload_test(payload_test_section, case.payload_kg, op))
     return done
 
 
@@ -56,13 +52,9 @@ def accuracy(task: Section) -> AccuracySettings:
 def realization_of(config: Section) -> RealizationSettings:
     """:func:`realization` of a whole validated config (``qsm export``, a notebook)."""
     return realization(
-        config["cad"],
-        config["material"],
+        load_case_of(config),
         config["strength"],
         config["drives"],
-        float(config["task"]["payload_kg"]),
-        config["dynamics"]["duty"],
-        config["operating_range"],
         config["task"],
         config["payload_test"],
     )

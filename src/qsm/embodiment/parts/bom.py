@@ -185,17 +185,8 @@ def markdown_table(frame: pd.DataFrame, columns: Sequence[str] | None = None) ->
 
 
 #: Columns of the summary's BOM table (the CSV has them all).
-SUMMARY_COLUMNS: tuple[str, ...] = (
-    "item",
-    "where",
-    "quantity",
-    "designation",
-    "material",
-    "mass_kg",
-    "bbox_x_mm",
-    "bbox_y_mm",
-    "bbox_z_mm",
-    "topology_optimised",
+SUMMARY_COLUMNS: tuple[str, ...] = tuple(
+    c for c in BOM_COLUMNS[: BOM_COLUMNS.index("topology_optimised") + 1] if c != "category"
 )
 
 
