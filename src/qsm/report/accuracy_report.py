@@ -10,12 +10,13 @@ from typing import Any
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib import patheffects
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.stiffness.error_terms import payload_force_N, sag_m
 from qsm.embodiment.stiffness.frame import tool_compliance
+from qsm.physics.batch_ik import batch_joint_angles
 from qsm.physics.cad import MassProperties
-from qsm.physics.inverse_kinematics import joint_angles
 from qsm.physics.kinematics import LINK_NAMES
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.task_points import visited_points
@@ -116,17 +117,13 @@ def _sag_grid(
     (cx, cy), r = disk.centre, max(disk.radius, 0.02)
     xs, ys = np.linspace(cx - r, cx + r, n), np.linspace(cy - r, cy + r, n)
     model = arm_model(done, settings, props, factor)
-    angles = np.full((n, n, 2), np.nan)
-    for i, y in enumerate(ys):
-        for j, x in enumerate(xs):
-            if np.hypot(x - cx, y - cy) <= r:
-                try:
-                    angles[i, j] = joint_angles(
-                        done.design, (x, y), settings.motion.theta1_range_deg,
-                        settings.motion.theta2_min_deg,
-                    )  # fmt: skip
-                except ValueError:
-                    pass
+    gx, gy = np.meshgrid(xs, ys)
+    grid = np.column_stack([gx.ravel(), gy.ravel()])
+    motion = settings.motion
+    angles = batch_joint_angles(done.design, grid, motion.theta1_range_deg, motion.theta2_min_deg)[
+        0
+    ].reshape(n, n, 2)
+    angles[np.hypot(gx - cx, gy - cy) > r] = np.nan
     ok = np.isfinite(angles[..., 0])
     sag = np.full((n, n), np.nan)
     rigid = not np.isfinite(model.drive_stiffness).all()
@@ -159,7 +156,8 @@ def accuracy_figure(
     fig.colorbar(mesh, ax=left, label="sag under the payload's weight (mm)")
     left.plot(pts[:, 0], pts[:, 1], "wo", mec="k")
     for k, (x, y) in enumerate(pts, start=1):
-        left.annotate(str(k), (x, y), textcoords="offset points", xytext=(4, 4), color="w")
+        label = left.annotate(str(k), (x, y), textcoords="offset points", xytext=(4, 4), color="w")
+        label.set_path_effects([patheffects.withStroke(linewidth=2, foreground="k")])
     left.set(xlabel="x (m)", ylabel="y (m)", aspect="equal", title="tool sag over the task region")
     k = np.arange(1, len(pts) + 1)
     bottom = np.zeros(len(pts))
@@ -175,7 +173,7 @@ def accuracy_figure(
     right.axhline(budget["tolerance_mm"], color="r", ls="--", label="tolerance")
     right.set(xlabel="task point", ylabel="placing error (mm)", xticks=k)
     right.set_title("accuracy budget: " + ("met" if budget["meets_requirements"] else "NOT met"))
-    right.legend()
+    right.legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=4, fontsize="small")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
