@@ -29,7 +29,7 @@ with logged(snakemake.log[0]) as log:
     result = with_embodiment(result, designs, check, drives, sized)
     sag = links.sag_check(case, p.task_points)
     ok = result["status"].eq("ok").to_numpy()
-    result["tool_sag_mm"] = np.where(ok, sag.sag_mm(designs, scales), np.nan)
+    result["tool_sag_mm"] = np.where(ok, sag.sag_mm(designs), np.nan)  # the configured section
     log.info(
         "shard %d of %d: %d mechanisms, status %s, %d hold their loads, %d have drives",
         shard,

@@ -115,8 +115,7 @@ DRIVE_COLUMNS: dict[str, str] = {
 #: The stiffness column Stage 2 adds (:class:`qsm.embodiment.stiffness.sag_check.SagCheck`).
 STIFFNESS_COLUMNS: dict[str, str] = {
     "tool_sag_mm": "largest sag of the tool under the payload's weight at the task points: solid "
-    "links of the section (sized: each link's), rigid drives (mm; g15 compares it with "
-    "task.tolerance_mm)",
+    "links of the configured section, rigid drives (mm; g15 compares it with task.tolerance_mm)",
 }
 
 

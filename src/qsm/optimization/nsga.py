@@ -229,13 +229,13 @@ def _full_duty_check(
     fails = extra.full_duty_failures(front)
     if fails.all():
         return keep, [
-            f"none of the front's {len(fails)} designs passes g13 / g14 on the full duty: "
-            "the front is kept as found"
+            f"none of the front's {len(fails)} designs passes g13 / g14 / g15 on the full duty "
+            "and task: the front is kept as found"
         ]
     if fails.any():
         return ~fails, [
             f"{int(fails.sum())} of the front's {len(fails)} designs removed: they fail "
-            "g13 or g14 on the full duty"
+            "g13, g14 or g15 on the full duty and task"
         ]
     return keep, []
 

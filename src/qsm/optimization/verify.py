@@ -140,6 +140,6 @@ def verify_front(
     for k, side in enumerate(("long", "mid", "short")):
         table[f"needed_volume_{side}_mm"] = needed[:, k]
     if sag is not None:
-        table["tool_sag_mm"] = sag.sag_mm(lengths, None if sized is None else sized.scale)
+        table["tool_sag_mm"] = sag.sag_mm(lengths)  # g15's: the configured section
         table["within_tolerance"] = table["tool_sag_mm"] <= sag.tolerance_mm
     return table

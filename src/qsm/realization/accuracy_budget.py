@@ -45,6 +45,8 @@ from qsm.physics.dynamics import loop_state
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.realization.payload import PayloadSettings, reference_trajectory
 
+#: A drive without a stiffness beside one with: this many times the other's (as good as rigid).
+RIGID_FACTOR = 1e6
 #: Time step (s) of the task motion along which the joints' torques are checked for reversals.
 MOTION_STEP_S = 0.01
 #: The terms of the budget, per task point, in mm (and the first mode in Hz).
@@ -100,7 +102,15 @@ def drive_terms(drives: dict[str, Any]) -> tuple[NDArray, NDArray, NDArray, NDAr
         } | {key: d.get(key) for key in ("backlash_from", "stiffness_from")}
     if len(k) != 2:  # no drive report (an undefined design): rigid drives without play
         return np.full(2, math.inf), np.zeros(2), np.zeros(2), np.zeros(2), {}
-    return np.array(k), np.array(play), np.array(ref), np.array(mass), notes
+    return _finite_when_any(np.array(k)), np.array(play), np.array(ref), np.array(mass), notes
+
+
+def _finite_when_any(k: NDArray[np.float64]) -> NDArray[np.float64]:
+    """Drive stiffnesses (2,) N m/rad with a missing (infinite) one made :data:`RIGID_FACTOR`
+    times the other, so that one drive's value is not dropped with the other's."""
+    if np.isfinite(k).any() and not np.isfinite(k).all():
+        return np.where(np.isfinite(k), k, RIGID_FACTOR * k[np.isfinite(k)].max())
+    return k
 
 
 def task_motion_torques(
@@ -173,7 +183,8 @@ def _worst(per_point: dict[str, Any]) -> dict[str, float | None]:
 MODEL_NOTE = (
     "planar Timoshenko frame of the links' drawn sections between joint centres (bosses and "
     "bores not modelled), pins and bearings rigid at B, C and D, each gearbox a torsional "
-    "spring at A; the servo holding each rotor is taken as rigid"
+    "spring at A; for the static terms the servo holds each rotor rigidly, for the first mode "
+    "the rotor's reflected inertia sits on its joint, on the arm's side of the gearbox spring"
 )
 
 
@@ -227,6 +238,17 @@ def advice(
     return out or ["none of a section up to 3x, a material up to 100x as stiff, or rigid drives"]
 
 
+def _label(per_point: dict[str, Any], i: int) -> str:
+    """What dominates the placing error at point ``i``: sag, play or tracking."""
+    track = per_point["tracking_error_mm"]
+    terms = {
+        "NOT STIFF ENOUGH": max(per_point["sag_mm"][i], per_point["dynamic_sag_mm"][i]),
+        "TOO MUCH PLAY": per_point["lost_motion_mm"][i],
+        "TRACKS TOO LOOSELY": 0.0 if track is None else track[i],
+    }
+    return max(terms, key=terms.get)
+
+
 def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str, bool]:
     """The budget's sentence, with its numbers, and whether the design meets the tolerance and
     the first-mode requirement."""
@@ -240,12 +262,10 @@ def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str
     ]
     if per_point["tracking_error_mm"] is not None:
         parts.append(f"tracking {per_point['tracking_error_mm'][i]:.2f} mm")
-    detail = f"{budget[i]:.1f} mm at point {i + 1} ({', '.join(parts)}; tolerance {tol:g} mm)"
+    detail = f"{budget[i]:.2f} mm at point {i + 1} ({', '.join(parts)}; tolerance {tol:g} mm)"
     problems = []
     if not budget[i] <= tol:
-        elastic = max(per_point["sag_mm"][i], per_point["dynamic_sag_mm"][i])
-        label = "NOT STIFF ENOUGH" if elastic >= per_point["lost_motion_mm"][i] else "TOO MUCH PLAY"
-        problems.append(f"{label}: the tool's placing error reaches {detail}")
+        problems.append(f"{_label(per_point, i)}: the tool's placing error reaches {detail}")
     if low is not None and not mode >= low:
         problems.append(f"RINGS TOO LOW: first mode {mode:.1f} Hz (required {low:g} Hz)")
     if problems:
@@ -254,6 +274,28 @@ def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str
         f"within tolerance: the placing error is at most {detail}; first mode {mode:.1f} Hz",
         True,
     )
+
+
+def _would_meet(
+    model: ArmModel, angles: NDArray, payload: PayloadSettings, duty: Duty, reverses: NDArray,
+    track: NDArray | None, settings: AccuracySettings,
+) -> list[str]:  # fmt: skip
+    """What would meet each requirement the design misses, with the numbers: the tolerance
+    (:func:`advice`) and the first mode (the stiffness it needs, as the mode grows with its
+    square root)."""
+    terms = point_terms(model, angles, payload.payload_kg, duty, reverses)
+    out = []
+    if not (budget_mm(terms, track) <= settings.tolerance_mm).all():
+        out += advice(
+            model, angles, payload.payload_kg, duty, reverses, track, settings.tolerance_mm
+        )
+    low, mode = settings.min_first_mode_hz, float(np.min(terms["first_mode_hz"]))
+    if low is not None and not mode >= low:
+        out.append(
+            f"for a first mode of {low:g} Hz: an arm {(low / mode) ** 2:.1f}x as stiff for its "
+            f"mass, or a lighter payload and links"
+        )
+    return out
 
 
 def accuracy_record(
@@ -294,11 +336,7 @@ def accuracy_record(
         "stiffness_factor": model.factor.tolist(),
         "meets_requirements": ok,
         "verdict": verdict,
-        "would_meet": []
-        if ok
-        else advice(
-            model, angles, payload.payload_kg, duty, reverses, track, settings.tolerance_mm
-        ),
+        "would_meet": _would_meet(model, angles, payload, duty, reverses, track, settings),
         "serial_arm": serial_record(model, angles, payload.payload_kg, terms),
         "model": MODEL_NOTE,
     }

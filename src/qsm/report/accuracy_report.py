@@ -37,12 +37,15 @@ def plate_factors(topology: Mapping[str, Any]) -> NDArray[np.float64]:
 
 def tracking_per_point(points: ArrayLike, point_error_mm: Sequence[float]) -> NDArray[np.float64]:
     """The payload test's end-effector error at each task point (n,) mm: at the point's hold
-    where the test visits it, else the largest error of any hold."""
+    where the test visits it (the worse of the first hold and the return's for the first point),
+    else the largest error of any hold."""
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
     err = np.asarray(point_error_mm, dtype=float)
     out = np.full(len(pts), float(err.max()) if err.size else 0.0)
     visited = visited_points(pts)
     out[visited] = err[: len(visited)]
+    if len(err) > len(visited) and len(visited):  # the return to the first point: its worse hold
+        out[visited[0]] = max(out[visited[0]], float(err[-1]))
     return out
 
 
@@ -72,6 +75,11 @@ def accuracy_sentence(budget: Mapping[str, Any]) -> str:
     return budget["verdict"] + ". What would meet it: " + "; ".join(budget["would_meet"])
 
 
+def _cell(value: float | None) -> str:
+    """A table cell: the value to 0.01, or - where there is none."""
+    return "-" if value is None or not np.isfinite(value) else f"{value:.2f}"
+
+
 def accuracy_lines(budget: Mapping[str, Any] | None) -> list[str]:
     """``summary.md``'s accuracy section: the budget per task point, its verdict and the
     assumptions on the gearboxes."""
@@ -81,7 +89,7 @@ def accuracy_lines(budget: Mapping[str, Any] | None) -> list[str]:
     head = "| point | " + " | ".join(k.replace("_", " ") for k in per) + " |"
     rows = [head, "|" + " --- |" * (len(per) + 1)]
     for k in range(len(budget["points_m"])):
-        cells = ["-" if v is None else f"{v[k]:.2f}" for v in per.values()]
+        cells = [_cell(None if v is None else v[k]) for v in per.values()]
         rows.append(f"| {k + 1} | " + " | ".join(cells) + " |")
     spared = {
         True: "counted: its torque reverses along the task",

@@ -29,7 +29,9 @@ UNREACHABLE_MM = 1e6
 class SagCheck:
     """The tool's sag at task ``points`` (P, 2) m under ``payload_kg`` for links of the ``cad``
     section (times each link's scale when sized) and ``material``, rigid drives, against
-    ``tolerance_mm``; the motor angles as the payload test solves them, in the operating range."""
+    ``tolerance_mm``; the motor angles of :func:`qsm.physics.batch_ik.batch_joint_angles` (each
+    point alone, the largest transmission margin; the payload test's path may take another
+    branch from its second point on), in the operating range."""
 
     points: tuple[tuple[float, float], ...]
     tolerance_mm: float = default("task.tolerance_mm")
