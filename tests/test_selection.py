@@ -168,3 +168,19 @@ def test_advice_finds_the_boss_radius_that_fits():
     # bosses of radius up to (555 - 510) / 2 = 22.5 mm let it fit (it has 25 mm)
     advice = printing_advice(np.array(SMALL), CAD, (555.0, 350.0, 350.0), Disk((-0.6, 0), 0.1))
     assert advice["max_boss_radius_mm"] == pytest.approx(22.5, abs=0.03)
+
+
+def test_a_printable_design_within_the_tolerance_comes_first():
+    """The front's designs within task.tolerance_mm (verification's within_tolerance) are
+    chosen from when any is: min_tau1 takes the one within, not the lower-torque one outside."""
+    table = front([SMALL, SMALL], True, [40.0, 50.0])
+    table["within_tolerance"] = [False, True]
+    row, _ = choose_design(
+        {"ratios": table}, "ratios", dataset([SMALL], 1.0), "min_tau1", CAD, PRINTER
+    )
+    assert row["tau1_true_Nm"] == 50.0
+    table["within_tolerance"] = [False, False]  # none within: the rule picks among all
+    row, _ = choose_design(
+        {"ratios": table}, "ratios", dataset([SMALL], 1.0), "min_tau1", CAD, PRINTER
+    )
+    assert row["tau1_true_Nm"] == 40.0

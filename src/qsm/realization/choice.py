@@ -7,7 +7,8 @@ first from the primary front (``optimization.formulation``), then the other fron
 then the dataset (every design of which truly holds the task, with true dynamics):
 
 1. the truly feasible designs whose links hold their loads, whose motors each have a drive in the
-   catalogue (:mod:`qsm.embodiment.drives.drive_checks`) and that fit the printer;
+   catalogue (:mod:`qsm.embodiment.drives.drive_checks`) and that fit the printer; among them,
+   those whose tool sag stays within the tolerance (a front's ``within_tolerance``) when any does;
 2. without one: those that hold their loads and have drives, marked *not printable*, with what
    it would take to print them (:func:`printing_advice`);
 3. without one: steps 1 and 2 among the designs that hold their loads without drives for both
@@ -137,6 +138,15 @@ def _printable_count(
     return f" ({n} of the {len(strong)} that hold their loads printable on {volume} mm)"
 
 
+def within_tolerance_first(table: pd.DataFrame) -> pd.DataFrame:
+    """The designs whose tool sag is within the tolerance (the verification's
+    ``within_tolerance``, g15 on the full task), when there are any; ``table`` otherwise."""
+    if "within_tolerance" not in table:
+        return table
+    within = table["within_tolerance"].astype("boolean").fillna(False).astype(bool)
+    return table[within] if within.any() else table
+
+
 def choose_design(
     fronts: Mapping[str, pd.DataFrame],
     primary: str,
@@ -162,7 +172,7 @@ def choose_design(
             fits = _printable(table, cad, volume_mm)
             what = "front" if name != "dataset" else "designs"
             if fits.any():
-                row = select_design(table[fits], rule, cad, volume_mm)
+                row = select_design(within_tolerance_first(table[fits]), rule, cad, volume_mm)
                 how = {"source": name, "printable": True, "holds_loads": True}
                 how |= {"has_drives": has_drives, "fallback": skipped}
                 return _tag(row, name, True), how
