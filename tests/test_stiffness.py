@@ -215,7 +215,7 @@ def test_the_serial_arm_is_the_virtual_work_of_its_cantilever_chain(pose):
     from qsm.embodiment.stiffness.serial_arm import serial_matrices
 
     t1, t2 = POSES[pose]
-    k, _ = serial_matrices(DESIGN, t1, t2, SECTIONS, DRIVES, (1.0, 1.0, 1.0, 1.0, 0.0))
+    k, _ = serial_matrices(DESIGN, t1, t2, SECTIONS, DRIVES, (1.0, 1.0, 1.0, 1.0, 0.0, 0.0))
     c = np.linalg.inv(k)[np.ix_([8, 9], [8, 9])]
     at = nodes(DESIGN, t1, t2)
     units = [np.array([1.0, 0.0]), np.array([0.0, 1.0])]
@@ -231,3 +231,14 @@ def test_the_serial_arm_is_the_virtual_work_of_its_cantilever_chain(pose):
             work += _cross(arm, real) * _cross(arm, virt) / DRIVES[1]
             ref[i, j] = work
     np.testing.assert_allclose(c, ref, rtol=1e-8)
+
+
+def test_the_serial_arms_elbow_rotor_lowers_its_first_mode():
+    """Motor 2's reflected inertia rides on link 2's turning at B, as the quasi-serial model
+    puts each rotor on its joint's driven side."""
+    from qsm.embodiment.stiffness.serial_arm import serial_comparison
+
+    base = (0.5, 0.5, 1.0, 4.0, 0.2, 0.0)
+    without = serial_comparison(DESIGN, POSES, SECTIONS, DRIVES, base)["first_mode_hz"]
+    rotor = serial_comparison(DESIGN, POSES, SECTIONS, DRIVES, (*base[:5], 0.5))["first_mode_hz"]
+    assert (rotor < without).all()

@@ -350,8 +350,10 @@ def serial_record(
     payload, first mode and holding torques, and the verdict (None without drives)."""
     if not np.isfinite(model.drive_stiffness).all():
         return None
-    m = model.inertials.mass_kg
-    masses = (m[0], m[3], float(model.drive_mass_kg[1]), payload_kg, float(model.reflected_kgm2[0]))
+    m, (l4, ee_x, ee_y) = model.inertials.mass_kg, model.design[3:6]
+    link2 = m[3] * (ee_x + ee_y) / (l4 + ee_x + ee_y)  # the upper arm's L, without its D-B leg
+    ref = model.reflected_kgm2
+    masses = (m[0], link2, float(model.drive_mass_kg[1]), payload_kg, float(ref[0]), float(ref[1]))
     printed = model.sections._replace(factor=model.factor)
     serial = serial_comparison(model.design, angles, printed, model.drive_stiffness, masses)
     state = loop_state(model.design, angles, np.zeros_like(angles), np.zeros_like(angles))

@@ -54,24 +54,26 @@ def serial_matrices(
     theta2: ArrayLike,
     sections: FrameSections,
     drive_stiffness: ArrayLike,
-    masses: tuple[float, float, float, float, float],
+    masses: tuple[float, float, float, float, float, float],
 ) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
     """Stiffness and mass matrices (..., 11, 11) of the serial arm at the quasi-serial design's
     poses; ``drive_stiffness`` (2,) N m/rad, ``masses`` (kg): link 1, link 2, the elbow drive
-    at B, the payload at E, and motor 1's reflected inertia (kg m^2) on its joint."""
+    at B, the payload at E, and each motor's reflected inertia (kg m^2) on its joint's driven
+    side (link 1 at A, link 2 at B), as the quasi-serial first mode has them."""
     at = nodes(design, theta1, theta2)
     k = _assemble(at, sections, None)
     k1, k2 = np.asarray(drive_stiffness, dtype=float)
     k[..., 0, 0] += k1
     for i, j, s in ((3, 3, 1), (4, 4, 1), (3, 4, -1), (4, 3, -1)):
         k[..., i, j] += s * k2
-    link1, link2, elbow, payload, reflected = masses
+    link1, link2, elbow, payload, reflected1, reflected2 = masses
     m = _assemble(at, sections, np.array([link1, link2]))
     m[..., 1, 1] += elbow
     m[..., 2, 2] += elbow
     m[..., 8, 8] += payload
     m[..., 9, 9] += payload
-    m[..., 0, 0] += reflected
+    m[..., 0, 0] += reflected1
+    m[..., 4, 4] += reflected2
     return k, m
 
 
@@ -80,7 +82,7 @@ def serial_comparison(
     angles: NDArray[np.float64],
     sections: FrameSections,
     drive_stiffness: ArrayLike,
-    masses: tuple[float, float, float, float, float],
+    masses: tuple[float, float, float, float, float, float],
 ) -> dict[str, NDArray[np.float64]]:
     """The serial arm at the task points' motor ``angles`` (n, 2): its tool sag under the
     payload's weight (mm), first mode (Hz) and holding torques of motor 1 and 2 (N m), each
@@ -93,7 +95,7 @@ def serial_comparison(
     u = np.linalg.solve(k, load[..., None])[..., 0]
     at = nodes(d, t1, t2)
     g = GRAVITY_M_S2
-    link1, link2, elbow, payload, _ = masses
+    link1, link2, elbow, payload, _, _ = masses
     a = np.linalg.norm(at["E'"] - at["B"], axis=-1)[:, None]
     b = np.linalg.norm(at["E"] - at["E'"], axis=-1)[:, None]
     mid2 = (a * (at["B"] + at["E'"]) + b * (at["E'"] + at["E"])) / (2 * (a + b))  # the L's centroid
