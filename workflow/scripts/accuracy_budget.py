@@ -5,6 +5,7 @@ from pathlib import Path
 
 from qsm.config.settings import links, realization
 from qsm.realization.outputs import props_from_json
+from qsm.realization.pipeline import realize
 from qsm.report.accuracy_report import accuracy_figure, final_record
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
@@ -18,9 +19,10 @@ with logged(snakemake.log[0]) as log:
     props = props_from_json(optimized)
     case = links.load_case(p.load_case)
     settings = realization.realization(case, p.strength, p.drives, p.task, p.payload_test)
-    record = final_record(choice, topology, props, payload, settings, p.task_points)
+    done = realize(choice["design_m"], settings)
+    record = final_record(choice, done, topology, props, payload, settings, p.task_points)
     write_json(out.selected, record)
-    accuracy_figure(record, topology, props, settings, p.task_points, out.figure)
+    accuracy_figure(record, done, topology, props, settings, p.task_points, out.figure)
     budget = record["stiffness"]
     log.info("accuracy: %s", budget["verdict"])
     for line in budget["would_meet"]:

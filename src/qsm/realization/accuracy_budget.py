@@ -278,12 +278,11 @@ def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str
 
 def _would_meet(
     model: ArmModel, angles: NDArray, payload: PayloadSettings, duty: Duty, reverses: NDArray,
-    track: NDArray | None, settings: AccuracySettings,
+    track: NDArray | None, settings: AccuracySettings, terms: dict[str, NDArray],
 ) -> list[str]:  # fmt: skip
     """What would meet each requirement the design misses, with the numbers: the tolerance
     (:func:`advice`) and the first mode (the stiffness it needs, as the mode grows with its
-    square root)."""
-    terms = point_terms(model, angles, payload.payload_kg, duty, reverses)
+    square root); ``terms`` the design's own (:func:`point_terms`)."""
     out = []
     if not (budget_mm(terms, track) <= settings.tolerance_mm).all():
         out += advice(
@@ -336,7 +335,7 @@ def accuracy_record(
         "stiffness_factor": model.factor.tolist(),
         "meets_requirements": ok,
         "verdict": verdict,
-        "would_meet": _would_meet(model, angles, payload, duty, reverses, track, settings),
+        "would_meet": _would_meet(model, angles, payload, duty, reverses, track, settings, terms),
         "serial_arm": serial_record(model, angles, payload.payload_kg, terms),
         "model": MODEL_NOTE,
     }

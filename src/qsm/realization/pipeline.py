@@ -54,9 +54,7 @@ class RealizationSettings:
 class Realization:
     """A design as realised: ``scale`` is each link's section factor on the configured one (None
     for the fixed section), ``part_settings`` the bored parts' settings at that scale, ``parts``
-    the solid bored links with ``bearing_rows`` (rows of the bearing table, joints A, B, C, D),
-    ``accuracy`` the accuracy budget at the task points of the solid parts (None without
-    points)."""
+    the solid bored links with ``bearing_rows`` (rows of the bearing table, joints A, B, C, D)."""
 
     design: NDArray[np.float64]
     scale: tuple[float, ...] | None
@@ -65,7 +63,6 @@ class Realization:
     bearing_rows: list[int]
     part_settings: PartSettings
     parts: dict[str, LinkPart]
-    accuracy: dict[str, Any] | None = None
 
     @property
     def has_drives(self) -> bool:
@@ -73,12 +70,10 @@ class Realization:
         return bool(self.drives["has_drives"])
 
 
-def realize(
-    design: ArrayLike, settings: RealizationSettings, points_m: ArrayLike | None = None
-) -> Realization:
+def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
     """Check and embody ``design`` (6 lengths, m): the sections its links need (sized, or the
-    configured one), their strength and bearings, the drives, the solid bored parts, and the
-    accuracy budget at task ``points_m`` (n, 2) m when given."""
+    configured one), their strength and bearings, the drives, and the solid bored parts (the
+    accuracy budget at task points: :func:`budget_of`)."""
     d = np.asarray(as_design(design), dtype=float)
     sized = settings.strength.section_scales(d)
     scale = None if sized is None else tuple(float(f) for f in sized.scale[0])
@@ -87,7 +82,7 @@ def realize(
     part_settings = replace(settings.parts, scale=scale)
     names = {joint: b["designation"] for joint, b in strength["bearings"].items()}
     rows = bearing_rows(names, part_settings.table)
-    done = Realization(
+    return Realization(
         design=d,
         scale=scale,
         strength=strength,
@@ -96,9 +91,6 @@ def realize(
         part_settings=part_settings,
         parts=link_parts(d, rows, part_settings),
     )
-    if points_m is None:
-        return done
-    return replace(done, accuracy=budget_of(done, settings, points_m))
 
 
 def arm_model(

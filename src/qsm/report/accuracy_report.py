@@ -20,7 +20,7 @@ from qsm.physics.cad import MassProperties
 from qsm.physics.kinematics import LINK_NAMES
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.task_points import visited_points
-from qsm.realization.pipeline import RealizationSettings, arm_model, budget_of, realize
+from qsm.realization.pipeline import Realization, RealizationSettings, arm_model, budget_of
 
 
 def plate_factors(topology: Mapping[str, Any]) -> NDArray[np.float64]:
@@ -51,15 +51,16 @@ def tracking_per_point(points: ArrayLike, point_error_mm: Sequence[float]) -> ND
 
 def final_record(
     choice: Mapping[str, Any],
+    done: Realization,
     topology: Mapping[str, Any],
     props: dict[str, MassProperties],
     payload: Mapping[str, Any],
     settings: RealizationSettings,
     points: ArrayLike,
 ) -> dict[str, Any]:
-    """``choice`` with its ``stiffness`` the final budget (the optimised plates' stiffness and
-    masses, the payload test's tracking error) and the verdict sentence that adds it."""
-    done = realize(choice["design_m"], settings)
+    """``choice`` (realised as ``done``) with its ``stiffness`` the final budget (the optimised
+    plates' stiffness and masses, the payload test's tracking error) and the verdict sentence
+    that adds it."""
     tracking = tracking_per_point(points, payload.get("point_error_mm", []))
     budget = budget_of(done, settings, points, props, plate_factors(topology), tracking)
     record = dict(choice)
@@ -145,6 +146,7 @@ def _sag_grid(
 
 def accuracy_figure(
     record: Mapping[str, Any],
+    done: Realization,
     topology: Mapping[str, Any],
     props: dict[str, MassProperties],
     settings: RealizationSettings,
@@ -155,7 +157,6 @@ def accuracy_figure(
     links and the drives' stiffness); right, the budget's terms at each task point against the
     tolerance."""
     pts = np.asarray(points, dtype=float).reshape(-1, 2)
-    done = realize(record["design_m"], settings)
     xs, ys, sag = _sag_grid(done, settings, props, plate_factors(topology), pts)
     budget = record["stiffness"]
     per = budget["per_point"]

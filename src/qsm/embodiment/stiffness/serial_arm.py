@@ -20,7 +20,6 @@ from qsm.physics.kinematics import as_design
 #: Degrees of freedom: link 1's turning at A, B's position, each link's turning at B, E', E.
 SERIAL_DOFS = ("qA", "xB", "yB", "qB_1", "qB_2", "xE'", "yE'", "qE'", "xE", "yE", "qE")
 _BEAMS = ((0, (None, None, 0), (1, 2, 3)), (3, (1, 2, 4), (5, 6, 7)), (3, (5, 6, 7), (8, 9, 10)))
-_ENDS = ("A", "B", "E'", "E")
 
 
 def _assemble(
