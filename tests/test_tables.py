@@ -1,9 +1,12 @@
 """Damaged or foreign intermediate tables: an error naming the file and saying to delete it."""
 
+import json
+
 import pandas as pd
+import pyarrow.parquet as pq
 import pytest
 
-from qsm.workflow.tables import TableError, read_meta, read_table, write_table
+from qsm.workflow.tables import META_KEY, TableError, read_meta, read_table, write_table
 
 
 @pytest.fixture
@@ -43,3 +46,17 @@ def test_foreign_table_names_the_missing_columns(table, tmp_path):
         read_table(foreign, ["a", "b"])
     assert read_meta(foreign) == {}
     assert read_table(table, ["a"])["b"].tolist() == [3, 4]
+
+
+def test_the_metadata_is_strict_json(tmp_path):
+    """A non-finite number in a table's metadata (a share of an empty front) is stored as null,
+    so that strict JSON parsers read it."""
+
+    def refuse(constant):
+        raise ValueError(f"non-strict JSON constant {constant}")
+
+    path = tmp_path / "t.parquet"
+    write_table(pd.DataFrame({"a": [1.0]}), path, {"share": float("nan"), "n": 3})
+    assert read_meta(path)["share"] is None and read_meta(path)["n"] == 3
+    text = pq.read_schema(path).metadata[META_KEY]
+    json.loads(text, parse_constant=refuse)

@@ -13,6 +13,8 @@ import pandas as pd
 import pyarrow as pa
 import pyarrow.parquet as pq
 
+from qsm.workflow.json_files import plain
+
 META_KEY = b"qsm"
 PACKAGES = ("qsm-design", "numpy", "scipy", "pandas", "pyarrow")
 
@@ -42,10 +44,12 @@ def package_versions(names: Iterable[str] = PACKAGES) -> dict[str, str]:
 def write_table(
     table: pd.DataFrame, path: str | Path, meta: Mapping[str, Any] | None = None
 ) -> None:
-    """Write ``table`` to Parquet with ``meta`` (JSON) and the package versions in its metadata."""
+    """Write ``table`` to Parquet with ``meta`` (strict JSON, :func:`qsm.workflow.json_files.plain`)
+    and the package versions in its metadata."""
     arrow = pa.Table.from_pandas(table, preserve_index=False)
     info = {"package_versions": package_versions(), **(meta or {})}
-    merged = {**(arrow.schema.metadata or {}), META_KEY: json.dumps(info, default=str).encode()}
+    text = json.dumps(plain(info), default=str, allow_nan=False)  # strict: NaN as null
+    merged = {**(arrow.schema.metadata or {}), META_KEY: text.encode()}
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     pq.write_table(arrow.replace_schema_metadata(merged), path)
 
