@@ -21,9 +21,9 @@ from concurrent.futures import ProcessPoolExecutor
 import numpy as np
 import pandas as pd
 
+from qsm.dataset.evaluation import evaluate_table
 from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.embodiment.strength.link_checks import StrengthCheck
-from qsm.mechanisms.evaluation import evaluate_table
 from qsm.physics import cad, duty, dynamics, kinematics, mjcf
 from qsm.physics.kinematics import DESIGN_COLUMNS
 

@@ -11,14 +11,8 @@ import pytest
 
 from qsm.config.reading import load_config
 from qsm.config.settings import physics
-from qsm.mechanisms.dataset import (
-    DRIVE_COLUMNS,
-    DYNAMICS_COLUMNS,
-    STIFFNESS_COLUMNS,
-    STRENGTH_COLUMNS,
-    DatasetError,
-    gather,
-)
+from qsm.dataset.columns import DRIVE_COLUMNS, DYNAMICS_COLUMNS, STIFFNESS_COLUMNS, STRENGTH_COLUMNS
+from qsm.dataset.gathering import DatasetError, gather
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import joint_torques, loop_state

@@ -7,11 +7,11 @@ import numpy as np
 import pytest
 from test_drives import write_catalogue
 
+from qsm.dataset.columns import DRIVE_COLUMNS
 from qsm.embodiment.drives.catalogue import read_catalogue
 from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.embodiment.drives.selection import select_drives
 from qsm.embodiment.strength.loads import Inertials, joint_loads
-from qsm.mechanisms.dataset import DRIVE_COLUMNS
 from qsm.physics.cad import mass_properties
 from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.dynamics import inverse_dynamics, loop_state, tree_inverse_dynamics

@@ -9,7 +9,7 @@ import numpy as np
 import pandas as pd
 import pytest
 
-from qsm.mechanisms.evaluation import evaluate_table
+from qsm.dataset.evaluation import evaluate_table
 from qsm.physics import duty, dynamics, kinematics, mjcf
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.results import DYNAMICS_COLUMNS

@@ -5,8 +5,8 @@ import numpy as np
 import pandas as pd
 import pytest
 
+from qsm.dataset.columns import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.embodiment.parts.printing import box_excess_mm
-from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task import Disk

@@ -16,8 +16,8 @@ from workflow_helpers import ROOT, copy_run, copy_workflow, planned_jobs, snakem
 from qsm.app.evaluate import evaluate_ratios
 from qsm.config.reading import validate_config
 from qsm.config.settings import links, physics
+from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.embodiment.parts.printing import all_links_fit
-from qsm.mechanisms.dataset import DATASET_COLUMNS
 from qsm.mechanisms.filters import kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube
 from qsm.mechanisms.scale import MECHANISM_COLUMNS

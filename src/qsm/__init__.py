@@ -24,8 +24,11 @@ __version__ = "0.1.0"
 LAYERS: tuple[tuple[str, ...], ...] = (
     ("config.defaults",),  # every setting's default, from the config schema
     ("physics",),  # kinematics, workspace, solids, MuJoCo dynamics, clearance
-    ("mechanisms", "surrogate"),  # Stage 1 designs and the dataset's columns; the MLP
-    ("embodiment",),  # parts and printability, strength, drives
+    ("mechanisms", "surrogate"),  # Stage 1 designs; the MLP
+    ("dataset.columns",),  # Stage 2's columns with their units
+    ("dataset.gathering",),  # Stage 2's gathered table and its healthy rows
+    ("embodiment",),  # parts and printability, strength, drives, stiffness
+    ("dataset",),  # Stage 2: one shard's dynamics, strength, drives and sag
     ("optimization",),  # NSGA-II, constraints, verification, ranking
     ("realization",),  # the realisation pipeline: selection, topology, assembly, payload test
     ("report",),  # figures, drawings, headline, interactive pages

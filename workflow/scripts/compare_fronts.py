@@ -1,6 +1,7 @@
 """Rule compare_fronts: the formulations' fronts compared on their true values."""
 
-from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.dataset.columns import DATASET_COLUMNS
+from qsm.dataset.gathering import ok_rows
 from qsm.optimization.comparison import compare, comparison_markdown
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged

@@ -2,11 +2,12 @@
 
 import json
 
+from qsm.dataset.columns import DATASET_COLUMNS
+from qsm.dataset.gathering import ok_rows
 from qsm.design_rules.claims import Evidence, Study
 from qsm.design_rules.correlations import FEATURES_MM, OBJECTIVES, correlations
 from qsm.design_rules.findings import findings, summary_markdown
 from qsm.design_rules.study import distinct_rows, elasticities
-from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table, write_table
 

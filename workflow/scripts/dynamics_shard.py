@@ -1,14 +1,10 @@
-"""Rule dynamics: closed-chain inverse dynamics, link strength and drives of one shard of the
-mechanisms."""
-
-import numpy as np
+"""Rule dynamics: Stage 2 (closed-chain dynamics, link strength, drives, tool sag) of one shard of
+the mechanisms."""
 
 from qsm.config.settings import actuation, links
-from qsm.embodiment.drives.drive_checks import with_embodiment
-from qsm.mechanisms.dataset import status_counts
-from qsm.mechanisms.evaluation import evaluate_table
+from qsm.dataset.evaluation import evaluate_shard
+from qsm.dataset.gathering import status_counts
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
-from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.workflow.logs import logged
 from qsm.workflow.sharding import shard_slice
 from qsm.workflow.tables import read_table, write_table
@@ -19,17 +15,13 @@ with logged(snakemake.log[0]) as log:
     mechanisms = read_table(snakemake.input[0], MECHANISM_COLUMNS)
     case = links.load_case(p.load_case)
     rows = mechanisms.iloc[shard_slice(len(mechanisms), p.shards, shard)]
-    designs = rows[list(DESIGN_COLUMNS)].to_numpy(float)
-    check = links.strength_check(case, p.strength)
-    sized = check.section_scales(designs)  # None: the fixed section
-    scales = None if sized is None else sized.scale
-    result = evaluate_table(rows, check.duty, case.cad, case.payload_kg, scales=scales)
-    result = result.reset_index(drop=True)
-    drives = actuation.drive_check(p.drives, case)
-    result = with_embodiment(result, designs, check, drives, sized)
-    sag = links.sag_check(case, p.task_points)
-    ok = result["status"].eq("ok").to_numpy()
-    result["tool_sag_mm"] = np.where(ok, sag.sag_mm(designs), np.nan)  # the configured section
+    result = evaluate_shard(
+        rows,
+        case,
+        links.strength_check(case, p.strength),
+        actuation.drive_check(p.drives, case),
+        links.sag_check(case, p.task_points),
+    )
     log.info(
         "shard %d of %d: %d mechanisms, status %s, %d hold their loads, %d have drives",
         shard,

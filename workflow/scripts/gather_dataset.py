@@ -1,15 +1,7 @@
 """Rule gather_dataset: join the mechanisms with the dynamics of every shard; check coverage."""
 
-from qsm.mechanisms.dataset import (
-    DATASET_COLUMNS,
-    DRIVE_COLUMNS,
-    DYNAMICS_COLUMNS,
-    STRENGTH_COLUMNS,
-    drive_counts,
-    gather,
-    status_counts,
-    strength_counts,
-)
+from qsm.dataset.columns import DATASET_COLUMNS, DRIVE_COLUMNS, DYNAMICS_COLUMNS, STRENGTH_COLUMNS
+from qsm.dataset.gathering import drive_counts, gather, status_counts, strength_counts
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged

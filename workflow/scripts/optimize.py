@@ -1,7 +1,8 @@
 """Rule optimize: NSGA-II on the surrogate in one formulation; tables and figures."""
 
 from qsm.config.settings import optimization, physics
-from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.dataset.columns import DATASET_COLUMNS
+from qsm.dataset.gathering import ok_rows
 from qsm.optimization.nsga import optimize
 from qsm.report.figures import pareto_figures, representatives_figure
 from qsm.surrogate.model import load

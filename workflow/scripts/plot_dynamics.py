@@ -1,6 +1,7 @@
 """Rule plot_dynamics: eta against the motor torques, coloured by scale (paper Fig. 11)."""
 
-from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.dataset.columns import DATASET_COLUMNS
+from qsm.dataset.gathering import ok_rows
 from qsm.report.figures import performance_figure
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table

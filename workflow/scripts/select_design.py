@@ -2,7 +2,8 @@
 always."""
 
 from qsm.config.settings import links, physics, realization
-from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.dataset.columns import DATASET_COLUMNS
+from qsm.dataset.gathering import ok_rows
 from qsm.report.selection_record import selected_figure, selected_record
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged

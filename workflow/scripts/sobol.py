@@ -1,8 +1,9 @@
 """Rule sobol: Sobol indices of the surrogate's eta, tau1, tau2 over the optimisation bounds."""
 
+from qsm.dataset.columns import DATASET_COLUMNS
+from qsm.dataset.gathering import ok_rows
 from qsm.design_rules.plots import sobol_figure
 from qsm.design_rules.sensitivity import sobol_indices
-from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.optimization.nsga import bounds_from
 from qsm.physics.kinematics import DESIGN_NAMES
 from qsm.surrogate.model import INPUTS, load

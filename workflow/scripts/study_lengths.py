@@ -1,10 +1,11 @@
 """Rule study_lengths: the dataset's designs with the scale drawn apart from their ratios."""
 
 from qsm.config.settings import physics
+from qsm.dataset.columns import DATASET_COLUMNS
+from qsm.dataset.gathering import ok_rows
 from qsm.design_rules.experiments import INDEPENDENT_COLUMNS, independent_lengths
 from qsm.design_rules.plots import study_lengths_figure
 from qsm.design_rules.study import lengths_outcome
-from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
 from qsm.physics.duty import duty_cycle
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged

@@ -1,7 +1,8 @@
 """Rule train_surrogate: fit the MLP, write the model (JSON), metrics and parity plots."""
 
 from qsm.config.settings import surrogate
-from qsm.mechanisms.dataset import DATASET_COLUMNS, ok_rows
+from qsm.dataset.columns import DATASET_COLUMNS
+from qsm.dataset.gathering import ok_rows
 from qsm.report.figures import parity_figure
 from qsm.surrogate.model import INPUTS, OUTPUTS, metrics_markdown, train
 from qsm.workflow.json_files import write_json

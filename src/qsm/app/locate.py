@@ -13,7 +13,7 @@ import numpy as np
 import pandas as pd
 
 from qsm.app.evaluate import checked_ratios, evaluate_ratios
-from qsm.mechanisms.dataset import DATASET_COLUMNS
+from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.optimization.ranking import front_ranks
 from qsm.physics.kinematics import DESIGN_COLUMNS, RATIO_NAMES
 from qsm.physics.task_points import design_task

@@ -10,7 +10,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from qsm.mechanisms.evaluation import evaluate_table
+from qsm.dataset.evaluation import evaluate_table
 from qsm.physics.cad import CadSettings, MassProperties, mass_properties
 from qsm.physics.duty import Duty
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES, design_from_ratios

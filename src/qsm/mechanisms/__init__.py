@@ -1,2 +1,1 @@
-"""Stage 1 and the dataset: Latin-hypercube sampling, kinematic filters, the scale-up to the task,
-and the gathered dynamics."""
+"""Stage 1: Latin-hypercube sampling, kinematic filters and the scale-up to the task."""

@@ -8,11 +8,12 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.embodiment.drives.drive_checks import DriveCheck, with_embodiment
+from qsm.dataset.columns import DRIVE_COLUMNS, STIFFNESS_COLUMNS, STRENGTH_COLUMNS
+from qsm.dataset.evaluation import with_embodiment
+from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.embodiment.parts.printing import all_links_fit, needed_volume_mm, printability_violation_mm
 from qsm.embodiment.stiffness.sag_check import SagCheck
 from qsm.embodiment.strength.link_checks import StrengthCheck
-from qsm.mechanisms.dataset import DRIVE_COLUMNS, STIFFNESS_COLUMNS, STRENGTH_COLUMNS
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import FitSettings
 from qsm.optimization.constraints import containment_margin_m

@@ -1,7 +1,7 @@
 """The columns the dynamics gives each mechanism (Stage 2's first columns), with their units.
 
 Light on purpose (no MuJoCo): :mod:`qsm.physics.dynamics` fills these keys and
-:mod:`qsm.mechanisms.dataset` documents the dataset with them.
+:mod:`qsm.dataset.columns` documents the dataset with them.
 """
 
 from __future__ import annotations

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from qsm.dataset.columns import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.embodiment.parts.printing import (
     BUILD_VOLUME_MM,
     all_links_fit,
@@ -40,7 +41,6 @@ from qsm.embodiment.parts.printing import (
     needed_volume_mm,
     printability_violation_mm,
 )
-from qsm.mechanisms.dataset import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.optimization.ranking import OBJECTIVES, RULES, rule_scores, true_columns
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS

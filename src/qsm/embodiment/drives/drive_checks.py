@@ -28,13 +28,13 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.dataset.columns import DRIVE_COLUMNS, MOTORS
 from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
+from qsm.embodiment.drives.drive_table import drive_columns
 from qsm.embodiment.drives.selection import Selection, select_drives
-from qsm.embodiment.drives.utilization import CHECKS, DriveArrays
+from qsm.embodiment.drives.utilization import DriveArrays
 from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.embodiment.strength.loads import Inertials, joint_loads
-from qsm.embodiment.strength.sizing import SizedSections
-from qsm.mechanisms.dataset import DRIVE_COLUMNS, MOTORS
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.duty import Duty, duty_cycle
@@ -124,29 +124,7 @@ class DriveCheck:
     ) -> dict[str, NDArray]:
         tau, good = self.torques(d) if torques is None else (torques[0].copy(), torques[1])
         tau[~good] = np.nan  # no drive, infinite violation
-        out: dict[str, NDArray] = {}
-        for j, sel in zip(MOTORS, self.select(tau), strict=True):
-            b = sel.best
-            out[f"drive{j}_peak_torque_Nm"] = sel.peak_torque
-            out[f"drive{j}_rms_torque_Nm"] = sel.rms_torque
-            out[f"drive{j}_peak_speed_rad_s"] = sel.peak_speed
-            out[f"drive{j}_peak_power_W"] = sel.peak_power
-            for key, values in self._columns.items():
-                out[f"drive{j}_{key}"] = values[b]
-            for k, check in enumerate(CHECKS):
-                out[f"drive{j}_margin_{check}"] = 1.0 - sel.utilization[:, k]
-            out[f"drive{j}_violation"] = sel.violation
-        for j in MOTORS:
-            for key in (f"drive{j}_motor", f"drive{j}_gearbox"):
-                out[key] = np.where(good, out[key], "")
-            for key in DRIVE_COLUMNS:
-                if key.startswith(f"drive{j}_") and out[key].dtype.kind == "f":
-                    out[key] = np.where(good, out[key], np.nan)
-        out["drive_mass_kg"] = out["drive1_mass_kg"] + out["drive2_mass_kg"]
-        viol = np.maximum(out["drive1_violation"], out["drive2_violation"])
-        out["drive_violation"] = np.where(good, viol, np.nan)
-        out["has_drives"] = good & (viol <= 0)
-        return out
+        return drive_columns(self.select(tau), good, self._columns)
 
     def evaluate(
         self, designs: ArrayLike, torques: tuple[NDArray, NDArray] | None = None
@@ -234,38 +212,3 @@ def same_loads(strength: StrengthCheck, drives: DriveCheck) -> bool:
             for a, b in zip(strength.duty, drives.duty, strict=True)
         )
     )
-
-
-def with_embodiment(
-    table: pd.DataFrame,
-    designs: ArrayLike,
-    strength: StrengthCheck,
-    drives: DriveCheck,
-    sized: SizedSections | None = None,
-) -> pd.DataFrame:
-    """``table`` (dynamics results, one row per design of ``designs`` (N, 6) m) with
-    :data:`STRENGTH_COLUMNS` and :data:`DRIVE_COLUMNS` appended for its rows whose ``status`` is
-    'ok' (NaN elsewhere); the joint loads are computed once for both checks when they share
-    section, payload and duty. ``sized``: the sized sections
-    (:meth:`StrengthCheck.section_scales`) when computed already."""
-    ok = table["status"].eq("ok").to_numpy()
-    d = np.asarray(designs, dtype=float)[ok]
-    links, tau, good = strength.evaluate_with_torques(d, None if sized is None else sized.rows(ok))
-    motors = drives.evaluate(d, (tau, good) if same_loads(strength, drives) else None)
-    out = append_columns(table, ok, links, "holds_loads")
-    return append_columns(out, ok, motors, "has_drives")
-
-
-def append_columns(
-    table: pd.DataFrame, ok: NDArray[np.bool_], values: pd.DataFrame, flag: str
-) -> pd.DataFrame:
-    """``table`` with the columns of ``values`` (one row per True of ``ok``) appended, NaN on the
-    other rows, whose boolean ``flag`` column is False there."""
-    out = pd.DataFrame(index=table.index, columns=list(values.columns), dtype=float)
-    for key in values.columns:
-        column: Any = values[key].to_numpy()
-        if column.dtype.kind in "OUb":
-            out[key] = out[key].astype(object)
-        out.loc[ok, key] = column
-    out[flag] = out[flag].eq(True)
-    return pd.concat([table, out], axis=1)

@@ -21,20 +21,19 @@ difference).
 from __future__ import annotations
 
 from dataclasses import dataclass, field
-from typing import NamedTuple
 
 import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.dataset.columns import STRENGTH_COLUMNS
 from qsm.embodiment.parts.bearings import (
-    BearingChoice,
     BearingTable,
     astuple_shallow,
     load_catalogue,
 )
 from qsm.embodiment.strength.beam import Section
-from qsm.embodiment.strength.loads import Inertials, JointLoads, joint_loads, link_motion
+from qsm.embodiment.strength.loads import Inertials, joint_loads, link_motion
 from qsm.embodiment.strength.material import (
     DEFAULT_MATERIAL,
     DEFAULT_STRENGTH,
@@ -49,8 +48,8 @@ from qsm.embodiment.strength.sizing import (
     seat_limit,
     size_sections,
 )
-from qsm.embodiment.strength.stresses import JOINTS, LinkStrength, link_strength
-from qsm.mechanisms.dataset import JOINT_COLUMNS, STRENGTH_COLUMNS
+from qsm.embodiment.strength.strength_table import StrengthCore, strength_columns
+from qsm.embodiment.strength.stresses import link_strength
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.duty import Duty, duty_cycle
@@ -61,27 +60,6 @@ from qsm.physics.kinematics import LINK_NAMES, as_design
 UNDEFINED_VIOLATION = 10.0
 #: Designs evaluated together (memory: about 0.4 MB per design on the default duty).
 CHUNK = 128
-
-
-class _Core(NamedTuple):
-    """What the full table and g13 share for a chunk of designs: the sized sections (None with
-    the fixed section) and each link's need for its bearing seats, the joint loads, where the
-    check is undefined, each link's peaks and its stress and buckling utilisations, the bearing
-    choice (its rows in ``table``) and utilisation, each link's utilisation and the largest."""
-
-    sized: SizedSections | None
-    seat: NDArray[np.float64]
-    loads: JointLoads
-    bad: NDArray[np.bool_]
-    per_link: dict[str, LinkStrength]
-    stress_u: dict[str, NDArray[np.float64]]
-    buckle_u: dict[str, NDArray[np.float64]]
-    choice: BearingChoice
-    row: NDArray[np.intp]
-    table: BearingTable
-    bearing_util: NDArray[np.float64]
-    link_util: NDArray[np.float64]
-    util: NDArray[np.float64]
 
 
 @dataclass(frozen=True)
@@ -135,7 +113,7 @@ class StrengthCheck:
             return SizedSections(np.ones((0, 4)), np.zeros(0, dtype=np.intp))
         return SizedSections(*(np.concatenate(x) for x in zip(*parts, strict=True)))
 
-    def _core(self, d: NDArray[np.float64], sized: SizedSections | None = None) -> _Core:
+    def core(self, d: NDArray[np.float64], sized: SizedSections | None = None) -> StrengthCore:
         """Sections, loads, bearings and link peaks of the designs ``d`` (n, 6) m, and their
         utilisations; ``sized``: their sections when sized already."""
         table = self.usable_bearings()
@@ -184,71 +162,10 @@ class StrengthCheck:
             np.maximum(choice.required_C0_N / table.C0_N[row], choice.min_bore_m / table.d_m[row]),
         )
         util = np.concatenate([link_util, bearing_util], axis=-1).max(-1)
-        return _Core(
+        return StrengthCore(
             sized, seat, loads, bad, per_link, stress_u, buckle_u, choice, row, table,
             bearing_util, link_util, util,
         )  # fmt: skip
-
-    def _chunk(
-        self, d: NDArray[np.float64], sized: SizedSections | None = None
-    ) -> dict[str, NDArray]:
-        """The :data:`STRENGTH_COLUMNS` of the designs ``d`` (n, 6) m, and their motor torques;
-        ``sized``: their sections when sized already."""
-        core = self._core(d, sized)
-        choice, row, table, bad, seat = core.choice, core.row, core.table, core.bad, core.seat
-        forces, bearing_util = core.loads._asdict(), core.bearing_util
-        yield_pa = self.material.yield_strength_pa
-        out: dict[str, NDArray] = {}
-        for k, (link, res) in enumerate(core.per_link.items()):
-            with np.errstate(divide="ignore"):
-                out[f"buckling_factor_{link}"] = res.euler_N / res.compression_N
-            out[f"stress_peak_{link}_MPa"] = res.stress_pa / 1e6
-            out[f"safety_factor_{link}"] = yield_pa / res.stress_pa
-            stress_u, buckle_u = core.stress_u[link], core.buckle_u[link]
-            labels = np.array([*res.labels, "buckling"], dtype=object)
-            check = np.where(buckle_u > stress_u, labels[-1], labels[res.where])
-            seated = ~(seat[:, k] > 1.0)  # the seat's sliver of boss is what fails
-            out[f"_check_{link}"] = np.where(seated, check, "bearing seat")
-        for k, joint in enumerate(JOINTS):
-            out[f"bearing_{joint}"] = np.where(
-                choice.index[..., k] < 0, "", table.designation[row[..., k]]
-            ).astype(object)
-        out["bearing_violation"] = choice.violation.max(-1)
-        out["bearing_utilisation"] = bearing_util.max(-1)
-        out["strength_utilisation"] = core.util
-        # the chosen bearing sits near its rating by design: name it only when it fails
-        weakest = np.concatenate(
-            [core.link_util, np.where(bearing_util > 1.0, bearing_util, 0.0)], axis=-1
-        ).argmax(-1)
-        names = [*LINK_NAMES, *(f"bearing {j}" for j in JOINTS)]
-        out["weakest_link"] = np.asarray(names, dtype=object)[weakest]
-        checks = np.stack(
-            [out.pop(f"_check_{k}") for k in LINK_NAMES]
-            + [np.full(len(d), "static load rating", dtype=object)] * len(JOINTS),
-            -1,
-        )
-        out["weakest_check"] = np.take_along_axis(checks, weakest[:, None], -1)[:, 0]
-        theta = np.degrees(self.duty.theta)
-        for suffix, name in JOINT_COLUMNS.items():
-            x, y = forces[name][..., 0], forces[name][..., 1]
-            square = np.nan_to_num(x * x + y * y, nan=-1.0)  # the magnitude's order, cheaply
-            k = square.argmax(-1)
-            peak = np.take_along_axis(square, k[:, None], -1)[:, 0]
-            out[f"joint_force_peak_{suffix}_N"] = np.where(peak < 0, -1.0, np.sqrt(np.abs(peak)))
-            out[f"joint_force_peak_{suffix}_theta1_deg"] = theta[k, 0]
-            out[f"joint_force_peak_{suffix}_theta2_deg"] = theta[k, 1]
-        for col in out.values():
-            col[bad] = np.nan if col.dtype.kind == "f" else ""
-        out["holds_loads"] = out["strength_utilisation"] <= 1.0
-        factor = np.ones((len(d), 4)) if core.sized is None else core.sized.scale
-        for i, link in enumerate(LINK_NAMES):
-            out[f"section_width_{link}_mm"] = 1e3 * self.cad.width_m * factor[:, i]
-            out[f"section_thickness_{link}_mm"] = 1e3 * self.cad.thickness_m * factor[:, i]
-        out["section_iterations"] = (
-            np.zeros(len(d), dtype=np.intp) if core.sized is None else core.sized.iterations
-        )
-        out["_tau"], out["_good"] = core.loads.tau, ~bad
-        return out
 
     def evaluate(self, designs: ArrayLike) -> pd.DataFrame:
         """:data:`STRENGTH_COLUMNS` of designs (N, 6) m; NaN (and not holding) where the loop
@@ -263,8 +180,13 @@ class StrengthCheck:
         :meth:`section_scales` when computed already."""
         d = np.atleast_2d(as_design(designs))
         parts = [
-            self._chunk(
-                d[k : k + CHUNK], None if sized is None else sized.rows(slice(k, k + CHUNK))
+            strength_columns(
+                self.core(
+                    d[k : k + CHUNK], None if sized is None else sized.rows(slice(k, k + CHUNK))
+                ),
+                self.cad,
+                self.material.yield_strength_pa,
+                np.degrees(self.duty.theta),
             )
             for k in range(0, len(d), CHUNK)
         ]
@@ -292,7 +214,7 @@ class StrengthCheck:
         chosen when the force grows; a joint's utilisation exceeds 1 only where no bearing fits.
         """
         d = np.atleast_2d(as_design(designs))
-        cores = [self._core(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
+        cores = [self.core(d[k : k + CHUNK]) for k in range(0, len(d), CHUNK)]
         if not cores:
             return np.zeros(0), np.zeros((0, len(self.duty.theta), 2)), np.zeros(0, bool)
         util = np.concatenate(

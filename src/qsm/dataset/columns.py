@@ -1,16 +1,9 @@
-"""Stage 2's table: its columns with units, the gathered dataset and its healthy rows.
+"""Stage 2's columns with their units: dynamics, strength, drives and stiffness.
 
-Light on purpose (no MuJoCo, no trimesh): most later rules read the dataset through it. One shard's
-dynamics is :func:`qsm.mechanisms.evaluation.evaluate_table` of its rows, then
-:func:`qsm.embodiment.drives.drive_checks.with_embodiment` (strength and drives)."""
+Light on purpose (no MuJoCo, no trimesh): most later rules read the dataset through it and
+:mod:`qsm.dataset.gathering`."""
 
 from __future__ import annotations
-
-from collections.abc import Sequence
-from typing import Any
-
-import numpy as np
-import pandas as pd
 
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.kinematics import LINK_NAMES
@@ -126,71 +119,3 @@ DATASET_COLUMNS: dict[str, str] = {
     **DRIVE_COLUMNS,
     **STIFFNESS_COLUMNS,
 }
-
-
-class DatasetError(ValueError):
-    """The dynamics shards do not cover the mechanisms exactly once."""
-
-
-def gather(mechanisms: pd.DataFrame, shards: Sequence[pd.DataFrame]) -> pd.DataFrame:
-    """Join the mechanism table with the dynamics of all shards, in the mechanism table's order.
-
-    Raises :class:`DatasetError` unless every mechanism id appears exactly once in the shards.
-    """
-    dyn = pd.concat(shards, ignore_index=True)
-    counts = dyn["mechanism_id"].value_counts()
-    expected = pd.Index(mechanisms["mechanism_id"])
-    missing = expected.difference(counts.index)
-    extra = counts.index.difference(expected)
-    repeated = counts[counts > 1].index
-    if len(missing) or len(extra) or len(repeated):
-        raise DatasetError(
-            "dynamics shards do not cover the mechanisms exactly once: "
-            f"missing {_ids(missing)}, unknown {_ids(extra)}, repeated {_ids(repeated)}"
-        )
-    table = mechanisms.merge(dyn, on="mechanism_id", how="left", validate="one_to_one")
-    return table[list(DATASET_COLUMNS)]
-
-
-def _ids(ids: pd.Index) -> str:
-    """A count and the first few ids, for error messages."""
-    head = ", ".join(map(str, sorted(ids)[:5]))
-    return f"{len(ids)} ({head}{', ...' if len(ids) > 5 else ''})"
-
-
-def status_counts(dataset: pd.DataFrame) -> dict[str, int]:
-    """How many mechanisms ended in each status."""
-    return {str(k): int(v) for k, v in dataset["status"].value_counts().sort_index().items()}
-
-
-def strength_counts(dataset: pd.DataFrame) -> dict[str, Any]:
-    """How many mechanisms with dynamics hold their loads, and which link is weakest how often."""
-    ok = dataset.loc[dataset["status"].eq("ok")]
-    return {
-        "with_dynamics": len(ok),
-        "hold_loads": int(ok["holds_loads"].astype(bool).sum()),
-        "weakest_link": {
-            str(k): int(v) for k, v in ok["weakest_link"].value_counts().sort_index().items()
-        },
-    }
-
-
-def drive_counts(dataset: pd.DataFrame) -> dict[str, Any]:
-    """How many mechanisms with dynamics have a drive for each motor, and which drives."""
-    ok = dataset.loc[dataset["status"].eq("ok")]
-    out: dict[str, Any] = {
-        "with_dynamics": len(ok),
-        "have_drives": int(ok["has_drives"].astype(bool).sum()),
-    }
-    for j in MOTORS:
-        has = ok[f"drive{j}_violation"].astype(float) <= 0
-        out[f"motor{j}_has_drive"] = int(has.sum())
-        pairs = ok.loc[has, f"drive{j}_motor"] + " + " + ok.loc[has, f"drive{j}_gearbox"]
-        out[f"motor{j}_drives"] = {str(k): int(v) for k, v in pairs.value_counts().items()}
-    return out
-
-
-def ok_rows(dataset: pd.DataFrame) -> pd.DataFrame:
-    """Mechanisms whose dynamics succeeded and whose labels are finite."""
-    ok = dataset["status"].eq("ok") & np.isfinite(dataset[["tau1_Nm", "tau2_Nm", "eta"]]).all(1)
-    return dataset.loc[ok].reset_index(drop=True)
