@@ -7,8 +7,8 @@ from qsm.config.settings import links, plates, realization
 from qsm.realization.build import build_links
 from qsm.realization.outputs import props_to_json, torques_markdown
 from qsm.realization.pipeline import realize
-from qsm.realization.topology_figure import plot_links
 from qsm.report.drawing import draw_links
+from qsm.report.topology_figure import plot_links
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 
