@@ -43,7 +43,9 @@ ANGLES = np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0]])
 
 @pytest.fixture(scope="module")
 def settings():
-    return realization_of(load_config())
+    """The default config's realisation, without growing the design for its task (the budget's
+    own tests; growing: tests/test_accuracy_sizing.py)."""
+    return replace(realization_of(load_config()), accuracy=AccuracySettings())
 
 
 @pytest.fixture(scope="module")

@@ -30,6 +30,8 @@ rule select_design:
         load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),
+        task=config["task"],
+        payload_test=config["payload_test"],
         primary=config["optimization"]["formulation"],
         formulations=FORMULATIONS,
         task_points=TASK_POINTS,
@@ -73,6 +75,9 @@ rule topology_optimize:
         load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),
+        task=config["task"],
+        payload_test=config["payload_test"],
+        task_points=TASK_POINTS,
         build_volume_mm=config["printing"]["build_volume_mm"],
     script:
         "../scripts/topology_optimize.py"

@@ -18,7 +18,9 @@ with logged(snakemake.log[0]) as log:
     choice, optimized, topology, payload = (json.loads(Path(f).read_text()) for f in paths)
     props = props_from_json(optimized)
     case = links.load_case(p.load_case)
-    settings = realization.realization(case, p.strength, p.drives, p.task, p.payload_test)
+    settings = realization.realization(
+        case, p.strength, p.drives, p.task, p.payload_test, p.task_points
+    )
     done = realize(choice["design_m"], settings)
     record = final_record(choice, done, topology, props, payload, settings, p.task_points)
     write_json(out.selected, record)

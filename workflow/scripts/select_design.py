@@ -17,7 +17,10 @@ with logged(snakemake.log[0]) as log:
     dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
     rule = p.printing["selection_rule"]
     op = physics.operating_range(p.load_case["operating_range"])
-    settings = realization.realization(links.load_case(p.load_case), p.strength, p.drives)
+    case = links.load_case(p.load_case)
+    settings = realization.realization(
+        case, p.strength, p.drives, p.task, p.payload_test, p.task_points
+    )
     volume = tuple(p.printing["build_volume_mm"])
     record = selected_record(
         fronts, p.primary, dataset, rule, volume, p.task_points, p.user_points, op, settings

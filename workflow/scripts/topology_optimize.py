@@ -18,7 +18,9 @@ with logged(snakemake.log[0]) as log:
     with open(snakemake.input.selected) as fh:
         selected = json.load(fh)
     case = links.load_case(p.load_case)
-    settings = realization.realization(case, p.strength, p.drives)
+    settings = realization.realization(
+        case, p.strength, p.drives, p.task, p.payload_test, p.task_points
+    )
     done = realize(selected["design_m"], settings)
     folder = out.bom_csv.rsplit("/", 1)[0]
     svg, png = draw_links(done.design, done.parts, f"{folder}/drawing")

@@ -15,13 +15,16 @@ from qsm.physics.duty import Duty, DutySettings, duty_cycle
 class LoadCase:
     """``cad``: the link section and solids; ``sizing``: None for the fixed section, else the
     bounds of the sections sized by strength; ``material``; ``payload_kg`` at E (kg);
-    ``duty``: the motion the arm must serve (its sampling over the operating range)."""
+    ``duty``: the motion the arm must serve (its sampling over the operating range);
+    ``largest_scale``: the largest factor on ``cad``'s section that ``cad.sized`` allows (with
+    either section mode: the realisation may grow a section for the tolerance)."""
 
     cad: CadSettings
     material: Material
     payload_kg: float
     duty: DutySettings
     sizing: SizingSettings | None = None
+    largest_scale: float = 1.0
 
     def cycle(self) -> Duty:
         """The duty's samples (:func:`qsm.physics.duty.duty_cycle`)."""

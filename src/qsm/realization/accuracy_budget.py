@@ -64,10 +64,14 @@ TERMS = (
 @dataclass(frozen=True)
 class AccuracySettings:
     """What the user needs: ``tolerance_mm`` (the largest placing error at a task point, mm) and
-    ``min_first_mode_hz`` (the lowest first natural frequency, Hz; None: no requirement)."""
+    ``min_first_mode_hz`` (the lowest first natural frequency, Hz; None: no requirement); the
+    task ``points_m`` ((x, y) m each) where the realisation meets the tolerance (empty: it does
+    not try) and the largest section scale it may give a link for it (1: none larger)."""
 
     tolerance_mm: float = default("task.tolerance_mm")
     min_first_mode_hz: float | None = default("task.min_first_mode_hz")
+    points_m: tuple[tuple[float, float], ...] = ()
+    max_section_scale: float = 1.0
 
 
 class ArmModel(NamedTuple):
@@ -199,7 +203,7 @@ def _scaled(model: ArmModel, section: float = 1.0, modulus: float = 1.0) -> ArmM
     )
 
 
-def _smallest_factor(meets: Any, high: float) -> float | None:
+def smallest_factor(meets: Any, high: float) -> float | None:
     """The smallest factor in [1, high] for which ``meets(factor)`` holds (bisection, 1 %), or
     None when even ``high`` does not."""
     if not meets(high):
@@ -224,12 +228,12 @@ def advice(
 
     out = []
     s = model.sections
-    f = _smallest_factor(lambda x: meets(_scaled(model, section=x)), 3.0)
+    f = smallest_factor(lambda x: meets(_scaled(model, section=x)), 3.0)
     if f is not None:
         w, t = 1e3 * s.width_m * f, 1e3 * s.thickness_m * f
         sizes = ", ".join(f"{a:.0f} x {b:.0f}" for a, b in zip(w, t, strict=True))
         out.append(f"sections {f:.2f}x as large ({sizes} mm per link)")
-    e = _smallest_factor(lambda x: meets(_scaled(model, modulus=x)), 100.0)
+    e = smallest_factor(lambda x: meets(_scaled(model, modulus=x)), 100.0)
     if e is not None:
         out.append(f"a material of Young's modulus {s.youngs_pa * e / 1e9:.1f} GPa or more")
     ideal = model._replace(drive_stiffness=np.full(2, math.inf), backlash_rad=np.zeros(2))

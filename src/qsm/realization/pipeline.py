@@ -11,6 +11,7 @@ what they write from it, so the command line cannot drift from the workflow.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -20,18 +21,19 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.embodiment.parts.link_parts import LinkPart, PartSettings, link_parts
 from qsm.embodiment.parts.part_mass import part_mass_properties
-from qsm.embodiment.stiffness.frame import FrameSections
 from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.embodiment.strength.loads import Inertials
+from qsm.embodiment.strength.sizing import SizedSections, SizingSettings
 from qsm.embodiment.strength.verdict import strength_record
-from qsm.physics.cad import MassProperties, link_settings
-from qsm.physics.kinematics import LINK_NAMES, as_design
+from qsm.physics.cad import CadSettings, MassProperties
+from qsm.physics.kinematics import as_design
 from qsm.realization.accuracy_budget import (
     AccuracySettings,
     ArmModel,
     accuracy_record,
     drive_terms,
 )
+from qsm.realization.accuracy_sizing import AccuracyChoice, accuracy_choice, frame_sections
 from qsm.realization.assembly import bearing_rows
 from qsm.realization.payload import PayloadSettings
 
@@ -54,7 +56,8 @@ class RealizationSettings:
 class Realization:
     """A design as realised: ``scale`` is each link's section factor on the configured one (None
     for the fixed section), ``part_settings`` the bored parts' settings at that scale, ``parts``
-    the solid bored links with ``bearing_rows`` (rows of the bearing table, joints A, B, C, D)."""
+    the solid bored links with ``bearing_rows`` (rows of the bearing table, joints A, B, C, D),
+    ``accuracy`` what the tolerance asked of its sections and gearboxes."""
 
     design: NDArray[np.float64]
     scale: tuple[float, ...] | None
@@ -63,6 +66,7 @@ class Realization:
     bearing_rows: list[int]
     part_settings: PartSettings
     parts: dict[str, LinkPart]
+    accuracy: AccuracyChoice
 
     @property
     def has_drives(self) -> bool:
@@ -72,13 +76,15 @@ class Realization:
 
 def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
     """Check and embody ``design`` (6 lengths, m): the sections its links need (sized, or the
-    configured one), their strength and bearings, the drives, and the solid bored parts (the
-    accuracy budget at task points: :func:`budget_of`)."""
+    configured one) and the drives, both grown for the tolerance where it asks for more
+    (:mod:`qsm.realization.accuracy_sizing`), their strength and bearings, and the solid bored
+    parts (the accuracy budget at task points: :func:`budget_of`)."""
     d = np.asarray(as_design(design), dtype=float)
-    sized = settings.strength.section_scales(d)
+    check, sized, accuracy = _for_accuracy(d, settings)
     scale = None if sized is None else tuple(float(f) for f in sized.scale[0])
-    strength = strength_record(d, settings.strength)
-    drives = settings.drives.report(d, None if sized is None else sized.scale)
+    strength = strength_record(d, check, sized)
+    drives = replace(settings.drives, min_stiffness_Nm_rad=accuracy.min_stiffness_Nm_rad)
+    report = drives.report(d, None if sized is None else sized.scale)
     part_settings = replace(settings.parts, scale=scale)
     names = {joint: b["designation"] for joint, b in strength["bearings"].items()}
     rows = bearing_rows(names, part_settings.table)
@@ -86,10 +92,43 @@ def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
         design=d,
         scale=scale,
         strength=strength,
-        drives=drives,
+        drives=report,
         bearing_rows=rows,
         part_settings=part_settings,
         parts=link_parts(d, rows, part_settings),
+        accuracy=accuracy,
+    )
+
+
+def _for_accuracy(
+    d: NDArray[np.float64], settings: RealizationSettings
+) -> tuple[StrengthCheck, SizedSections | None, AccuracyChoice]:
+    """The strength check, the sections and the accuracy choice of design ``d``: the strength's
+    sections, grown where the tolerance asks (as a floor of the sizing when the sections are
+    sized, else within the grown sections' bounds)."""
+    check = settings.strength
+    sized = check.section_scales(d)
+    base = np.ones(4) if sized is None else sized.scale[0]
+    acc = settings.accuracy
+    if not acc.points_m:
+        return check, sized, AccuracyChoice(base, (0.0, 0.0), math.nan, math.nan, True)
+    choice = accuracy_choice(d, base, check, settings.drives, acc, settings.motion)
+    if np.array_equal(choice.scale, base):
+        return check, sized, choice
+    floor = tuple(float(f) for f in choice.scale)
+    sizing = check.sizing or _sized_around(check.cad, choice.scale)
+    check = replace(check, sizing=replace(sizing, floor=floor))
+    return check, check.section_scales(d), choice
+
+
+def _sized_around(cad: CadSettings, scale: NDArray[np.float64]) -> SizingSettings:
+    """Sizing bounds from the smallest to the largest of ``scale`` (4,) on ``cad``: a fixed
+    section grown for the tolerance keeps its growth, and the strength check chooses bearings
+    for the grown bosses."""
+    lo, hi = float(scale.min()), float(scale.max())
+    return SizingSettings(
+        width_m=(cad.width_m * lo, cad.width_m * hi),
+        thickness_m=(cad.thickness_m * lo, cad.thickness_m * hi),
     )
 
 
@@ -102,14 +141,8 @@ def arm_model(
     """The realised arm for its accuracy budget: each link's drawn section, the material, the
     masses of ``props`` (the optimised links; default the solid bored parts), each link's
     stiffness ``factor`` (4,) (default 1) and the chosen drives' stiffness and play."""
-    sections = link_settings(settings.strength.cad, done.scale)
-    material = settings.strength.material
-    frame = FrameSections(
-        width_m=np.array([sections[k].width_m for k in LINK_NAMES]),
-        thickness_m=np.array([sections[k].thickness_m for k in LINK_NAMES]),
-        youngs_pa=material.youngs_modulus_pa,
-        poisson=material.poisson_ratio,
-    )
+    scale = None if done.scale is None else np.asarray(done.scale)
+    frame = frame_sections(settings.strength.cad, settings.strength.material, scale)
     stiffness, play, reflected, mass, _ = drive_terms(done.drives)
     return ArmModel(
         design=done.design,

@@ -64,7 +64,7 @@ def final_record(
     tracking = tracking_per_point(points, payload.get("point_error_mm", []))
     budget = budget_of(done, settings, points, props, plate_factors(topology), tracking)
     record = dict(choice)
-    record["stiffness"] = budget
+    record["stiffness"] = budget | {"built_for_tolerance": done.accuracy.record()}
     record["verdict"] = f"{choice['verdict'].rstrip('.')}. {accuracy_sentence(budget)}."
     return record
 
@@ -107,12 +107,30 @@ def accuracy_lines(budget: Mapping[str, Any] | None) -> list[str]:
     return [
         "## Accuracy",
         f"- {accuracy_sentence(budget)}.",
+        *_built_for(budget.get("built_for_tolerance")),
         *([f"- the paper's claim, measured: {serial['verdict']}."] if serial else []),
         f"- model: {budget['model']}.",
         *joints,
         "",
         *rows,
         "",
+    ]
+
+
+def _built_for(built: Mapping[str, Any] | None) -> list[str]:
+    """What the realisation did for the tolerance: its target, the sections and gearboxes."""
+    if not built or built["target_mm"] is None:
+        return []
+    scales = ", ".join(f"{k.replace('_', ' ')} {v:.2f}x" for k, v in built["section_scale"].items())
+    least = " and ".join(f"{k:g}" for k in built["min_gearbox_stiffness_Nm_rad"])
+    error = built["structure_mm"]
+    met = "meets it" if built["meets_target"] else "comes nearest"
+    return [
+        f"- built for the tolerance: the structure (sag, dynamic sag and lost motion, solid links) "
+        f"may take {built['target_mm']:.2f} mm ({100 * built['structure_share']:.0f} %, the rest "
+        f"kept for tracking); the realised arm {met} at "
+        f"{'-' if error is None else f'{error:.2f}'} mm with sections {scales} the configured "
+        f"one and gearboxes of at least {least} N m/rad (motors 1 and 2; 0: any)."
     ]
 
 

@@ -41,7 +41,17 @@ def load_case(section: Section) -> LoadCase:
         payload_kg=float(section["payload_kg"]),
         duty=duty(section["duty"], section["operating_range"]),
         sizing=sizing(section["cad"]),
+        largest_scale=_largest_scale(section["cad"], section["material"]),
     )
+
+
+def _largest_scale(section: Section, material_section: Section) -> float:
+    """The largest factor on the ``cad`` section's that ``cad.sized`` allows (1 where its bounds
+    admit none: a fixed section's config need not keep them consistent)."""
+    try:
+        return _bounds(section).bounds(cad(section, material_section))[1]
+    except ValueError:
+        return 1.0
 
 
 def load_case_of(config: Section) -> LoadCase:
@@ -71,8 +81,11 @@ def strength_check(case: LoadCase, strength_section: Section) -> StrengthCheck:
 
 def sizing(section: Section) -> SizingSettings | None:
     """``cad.section`` and ``cad.sized``: None for the fixed section, else the sizing bounds."""
-    if section.get("section", "fixed") == "fixed":
-        return None
+    return None if section.get("section", "fixed") == "fixed" else _bounds(section)
+
+
+def _bounds(section: Section) -> SizingSettings:
+    """``cad.sized`` as sizing settings."""
     sized = section["sized"]
     return SizingSettings(
         width_m=tuple(sized["width_m"]),

@@ -2,14 +2,14 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from dataclasses import replace
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from qsm.config.settings.actuation import drive_check
 from qsm.config.settings.links import load_case_of, parts, strength_check
 from qsm.config.settings.simulation import payload_test
 from qsm.embodiment.load_case import LoadCase
+from qsm.physics.task_points import design_task
 from qsm.realization.accuracy_budget import AccuracySettings
 from qsm.realization.pipeline import RealizationSettings
 
@@ -20,32 +20,34 @@ def realization(
     case: LoadCase,
     strength: Section,
     drives: Section,
-    task: Section | None = None,
-    payload_test_section: Section | None = None,
+    task: Section,
+    payload_test_section: Section,
+    points: Sequence[Sequence[float]],
 ) -> RealizationSettings:
     """The link check, drive check and bored parts of a design under ``case``, with the
-    ``strength`` and ``drives`` sections; the accuracy ``task``
-    needs and its motion (``payload_test``), for the accuracy budget (None: the schema's
-    defaults, for rules that do not make it)."""
-    done = RealizationSettings(
+    ``strength`` and ``drives`` sections; the accuracy the ``task`` needs at its design
+    ``points`` (m) and the payload test's motion through them, which the realisation meets
+    (``task.grow_for_tolerance``) and the accuracy budget reports."""
+    (lo, hi), theta2_min = case.operating_range_deg
+    op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
+    return RealizationSettings(
         strength=strength_check(case, strength),
         drives=drive_check(drives, case),
         parts=parts(case, strength),
+        accuracy=accuracy(task, case, points),
+        motion=payload_test(payload_test_section, case.payload_kg, op),
     )
-    if task is not None:
-        done = replace(done, accuracy=accuracy(task))
-    if payload_test_section is not None:
-        (lo, hi), theta2_min = case.operating_range_deg
-        op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
-        done = replace(done, motion=payload_test(payload_test_section, case.payload_kg, op))
-    return done
 
 
-def accuracy(task: Section) -> AccuracySettings:
+def accuracy(task: Section, case: LoadCase, points: Sequence[Sequence[float]]) -> AccuracySettings:
     """``task.tolerance_mm`` and ``task.min_first_mode_hz``: what the design's accuracy must
-    meet."""
+    meet at the design ``points`` (m); the largest section the realisation may give a link for
+    it (``task.grow_for_tolerance``: ``cad.sized``'s largest, else the configured one)."""
     return AccuracySettings(
-        tolerance_mm=float(task["tolerance_mm"]), min_first_mode_hz=task["min_first_mode_hz"]
+        tolerance_mm=float(task["tolerance_mm"]),
+        min_first_mode_hz=task["min_first_mode_hz"],
+        points_m=tuple((float(x), float(y)) for x, y in points),
+        max_section_scale=case.largest_scale if task["grow_for_tolerance"] else 1.0,
     )
 
 
@@ -57,4 +59,5 @@ def realization_of(config: Section) -> RealizationSettings:
         config["drives"],
         config["task"],
         config["payload_test"],
+        design_task(config["task"]["points"])[1],
     )

@@ -30,6 +30,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.dataset.columns import DRIVE_COLUMNS, MOTORS
 from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
+from qsm.embodiment.drives.compliance import gear_compliance
 from qsm.embodiment.drives.drive_table import drive_columns
 from qsm.embodiment.drives.selection import Selection, select_drives
 from qsm.embodiment.drives.utilization import DriveArrays
@@ -55,7 +56,8 @@ def _default_catalogue() -> Catalogue:
 class DriveCheck:
     """What the drive check needs: the ``catalogue``, the selection ``rule`` (lightest or
     smallest_inertia), whether the drives' ``reflected_inertia`` loads the joints, the link
-    section ``cad``, the payload (kg) at E and the duty."""
+    section ``cad``, the payload (kg) at E, the duty and each motor's least gearbox torsional
+    stiffness (N m/rad; 0: any)."""
 
     catalogue: Catalogue = field(default_factory=_default_catalogue)
     rule: str = "lightest"
@@ -63,6 +65,7 @@ class DriveCheck:
     cad: CadSettings = DEFAULT_CAD
     payload_kg: float = 5.0
     duty: Duty = field(default_factory=duty_cycle)
+    min_stiffness_Nm_rad: tuple[float, float] = (0.0, 0.0)
 
     def torques(
         self, designs: ArrayLike, scales: ArrayLike | None = None
@@ -84,6 +87,19 @@ class DriveCheck:
     def arrays(self) -> DriveArrays:
         """The catalogue's per-drive values, read once."""
         return DriveArrays.of(self.catalogue)
+
+    @cached_property
+    def stiffness_Nm_rad(self) -> NDArray[np.float64]:
+        """Each drive's gearbox torsional stiffness (C,) N m/rad, given or assumed."""
+        gears = self.catalogue.gearboxes.loc[self.catalogue.drives["gearbox"]]
+        return np.array(
+            [gear_compliance(g)["torsional_stiffness_Nm_rad"] for _, g in gears.iterrows()]
+        )
+
+    def _allowed(self, j: int) -> NDArray[np.bool_] | None:
+        """The drives motor ``j`` (0, 1) may have: stiff enough (None: all)."""
+        least = self.min_stiffness_Nm_rad[j]
+        return None if least <= 0 else self.stiffness_Nm_rad >= least
 
     @cached_property
     def _columns(self) -> dict[str, NDArray]:
@@ -115,6 +131,7 @@ class DriveCheck:
                     self.rule,
                     accel if self.reflected_inertia else None,
                     self.arrays,
+                    self._allowed(j),
                 )
             )
         return out

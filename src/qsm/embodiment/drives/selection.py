@@ -118,6 +118,7 @@ def select_drives(
     rule: str = "lightest",
     accel: np.ndarray | None = None,
     arrays: DriveArrays | None = None,
+    allowed: np.ndarray | None = None,
 ) -> Selection:
     """Choose, for each duty, the drive that meets every sample and is first by ``rule``.
 
@@ -131,6 +132,7 @@ def select_drives(
     the joint with that drive's rotor, MuJoCo's joint armature): exact, with no iteration between
     the choice and the torques; a drive of unknown J_c is never met. The required torques, speed
     and power are then those of ``best``. ``arrays``: ``DriveArrays.of(cat)`` when at hand.
+    ``allowed`` (C,): the drives that may be chosen (None: all); the others never meet a duty.
     """
     if rule not in RULES:
         raise ValueError(f"unknown drive rule {rule!r}; expected one of {sorted(RULES)}")
@@ -154,6 +156,8 @@ def select_drives(
             arr, tau[finite], omega[finite], w[finite], None if acc is None else acc[finite]
         )
     v = u.max(axis=2) - 1
+    if allowed is not None:
+        v = np.where(allowed, v, np.inf)
     rows = np.arange(n_d)
     best = v.argmin(axis=1)
     violation = v[rows, best]

@@ -60,13 +60,15 @@ class SizingSettings:
     """``cad.sized``: bounds (min, max) of the bar ``width_m`` and plate ``thickness_m`` (m), the
     cap on the loads -> sections iterations and their relative ``tolerance``, and the
     utilisation ``target`` a link is sized to (the optimisation's g13 sizes to less, to keep
-    its allowance for the coarser duty)."""
+    its allowance for the coarser duty). ``floor`` (4,): each link's smallest scale, where
+    more than strength asks for a section (the realisation's accuracy; None: none)."""
 
     width_m: tuple[float, float] = default("cad.sized.width_m")
     thickness_m: tuple[float, float] = default("cad.sized.thickness_m")
     max_iterations: int = default("cad.sized.max_iterations")
     tolerance: float = default("cad.sized.tolerance")
     target: float = TARGET
+    floor: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
         for lo, hi in (self.width_m, self.thickness_m):
@@ -252,7 +254,8 @@ def size_sections(
     motion = link_motion(d, state)
     lo, hi = sizing.bounds(cad)
     upper = np.minimum(hi, fit_limit(d, cad) * (1 - 1e-9))
-    s = np.minimum(np.maximum(1.0, lo), upper)
+    floor = lo if sizing.floor is None else np.maximum(lo, np.asarray(sizing.floor, dtype=float))
+    s = np.minimum(np.maximum(1.0, floor), upper)
     bad = ~state.closes.all(-1) | (
         np.nan_to_num(state.sin_transmission).min(-1) < MIN_SIN_TRANSMISSION
     )
@@ -264,7 +267,8 @@ def size_sections(
         loads = joint_loads(d, inertials, payload_kg, state, motion)
         tau = np.nan_to_num(np.abs(loads.tau)).max(-2)
         _, row, bores = joint_bearings(loads, table, strength)
-        lower = np.minimum(np.maximum(lo, seat_limit(row, table, cad, strength.boss_wall_m)), upper)
+        seat = seat_limit(row, table, cad, strength.boss_wall_m)
+        lower = np.minimum(np.maximum(floor, seat), upper)
         bores = fitting_bores(bores, lower, cad)
 
         links = {

@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from qsm.embodiment.strength.link_checks import StrengthCheck
+from qsm.embodiment.strength.sizing import SizedSections
 from qsm.physics.kinematics import LINK_NAMES
 
 
@@ -21,11 +22,15 @@ def _finite(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
 
 
-def strength_record(design: ArrayLike, check: StrengthCheck) -> dict[str, Any]:
+def strength_record(
+    design: ArrayLike, check: StrengthCheck, sized: SizedSections | None = None
+) -> dict[str, Any]:
     """Per link: peak stress and allowable (MPa), safety factor and the required one, buckling
     factor (None: never compressed) and the required one, whether it holds; then the largest
-    utilisation, the weakest link and check, and whether every link holds."""
-    row = check.evaluate(np.asarray(design, dtype=float)).iloc[0]
+    utilisation, the weakest link and check, and whether every link holds. ``sized``: the
+    design's sections when not the check's own."""
+    d = np.atleast_2d(np.asarray(design, dtype=float))
+    row = check.evaluate_with_torques(d, sized)[0].iloc[0]
     allow = check.allowable_stress_pa / 1e6
     links = {}
     for link in LINK_NAMES:

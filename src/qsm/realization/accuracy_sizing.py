@@ -1,0 +1,175 @@
+"""Sections and gearboxes for the tolerance: the lightest realised arm whose structure places the
+payload within its share of ``task.tolerance_mm``.
+
+The strength check gives each link's section (sized, or the configured one) and the drive check
+the lightest drives for the duty. Where the tool's structural error at the task points (the
+accuracy budget without the tracking error: max(sag, dynamic sag) + lost motion, solid links)
+exceeds :data:`STRUCTURE_SHARE` of the tolerance, :func:`accuracy_choice` tries every least
+gearbox stiffness per motor that the catalogue offers and, for each, the smallest common factor on
+the sections that meets it, each link's capped at ``cad.sized``'s largest section and at what its
+length takes (none when ``task.grow_for_tolerance`` is off); it keeps the lightest arm (links and
+drives).
+The rest of the tolerance is kept for the payload test's tracking error, which is measured after
+the realisation; the final budget counts it.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, replace
+from itertools import product
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from qsm.embodiment.drives.drive_checks import DriveCheck
+from qsm.embodiment.stiffness.error_terms import torque_reverses
+from qsm.embodiment.stiffness.frame import FrameSections
+from qsm.embodiment.strength.link_checks import StrengthCheck
+from qsm.embodiment.strength.loads import Inertials
+from qsm.embodiment.strength.material import Material
+from qsm.embodiment.strength.sizing import fit_limit
+from qsm.physics.batch_mass import batch_mass_properties
+from qsm.physics.cad import CadSettings, link_settings
+from qsm.physics.inverse_kinematics import joint_path
+from qsm.physics.kinematics import LINK_NAMES
+from qsm.realization.accuracy_budget import (
+    AccuracySettings,
+    ArmModel,
+    budget_mm,
+    drive_terms,
+    point_terms,
+    smallest_factor,
+    task_motion_torques,
+)
+from qsm.realization.payload import PayloadSettings
+
+#: The share of the tolerance the structure may take; the rest is kept for the tracking error.
+STRUCTURE_SHARE = 0.7
+
+
+@dataclass(frozen=True)
+class AccuracyChoice:
+    """What the tolerance asks of a design: each link's section ``scale`` (4,) on the configured
+    one, each motor's least gearbox stiffness (N m/rad; 0: any), the structural error (mm) it
+    gives, the ``target_mm`` it had to meet, and whether it meets it."""
+
+    scale: NDArray[np.float64]
+    min_stiffness_Nm_rad: tuple[float, float]
+    structure_mm: float
+    target_mm: float
+    meets: bool
+
+    def record(self) -> dict[str, Any]:
+        """JSON-ready account: the share and target, the structural error (None: not computed),
+        each link's section scale and each motor's least gearbox stiffness."""
+        finite = math.isfinite(self.structure_mm)
+        return {
+            "structure_share": STRUCTURE_SHARE,
+            "target_mm": self.target_mm if math.isfinite(self.target_mm) else None,
+            "structure_mm": self.structure_mm if finite else None,
+            "meets_target": self.meets,
+            "section_scale": dict(zip(LINK_NAMES, self.scale.tolist(), strict=True)),
+            "min_gearbox_stiffness_Nm_rad": list(self.min_stiffness_Nm_rad),
+        }
+
+
+def frame_sections(
+    cad: CadSettings, material: Material, scale: NDArray[np.float64] | None
+) -> FrameSections:
+    """Each link's solid section at ``scale`` (4,) of ``cad`` (None: ``cad``) in ``material``."""
+    sections = link_settings(cad, scale)
+    return FrameSections(
+        width_m=np.array([sections[k].width_m for k in LINK_NAMES]),
+        thickness_m=np.array([sections[k].thickness_m for k in LINK_NAMES]),
+        youngs_pa=material.youngs_modulus_pa,
+        poisson=material.poisson_ratio,
+    )
+
+
+def structure_mm(
+    design: NDArray[np.float64],
+    scale: NDArray[np.float64],
+    drives: dict[str, Any],
+    strength: StrengthCheck,
+    motion: PayloadSettings,
+    angles: NDArray[np.float64],
+    reflected: bool = True,
+) -> float:
+    """The worst structural error (mm) over the task points' motor ``angles`` (n, 2) rad of the
+    solid links at ``scale`` (4,) with the ``drives`` of a drive report."""
+    stiffness, play, inertia, mass, _ = drive_terms(drives)
+    model = ArmModel(
+        design=design,
+        sections=frame_sections(strength.cad, strength.material, scale),
+        factor=np.ones(4),
+        inertials=Inertials(*batch_mass_properties(design, strength.cad, scale)),
+        drive_stiffness=stiffness,
+        backlash_rad=play,
+        reflected_kgm2=inertia if reflected else np.zeros(2),
+        drive_mass_kg=mass,
+    )
+    reverses = torque_reverses(task_motion_torques(model, angles, motion))
+    terms = point_terms(model, angles, motion.payload_kg, strength.duty, reverses)
+    return float(budget_mm(terms, None).max())
+
+
+def growth_limit(
+    design: NDArray[np.float64], base: NDArray[np.float64], cad: CadSettings, largest: float
+) -> NDArray[np.float64]:
+    """Each link's largest section scale (4,) of ``cad``: within the ``largest`` scale and the
+    link's length, and at least its ``base`` (4,)."""
+    return np.maximum(base, np.minimum(largest, fit_limit(design, cad) * (1 - 1e-9)))
+
+
+def accuracy_choice(
+    design: NDArray[np.float64],
+    base: NDArray[np.float64],
+    strength: StrengthCheck,
+    drives: DriveCheck,
+    accuracy: AccuracySettings,
+    motion: PayloadSettings,
+) -> AccuracyChoice:
+    """The lightest sections (a common factor on ``base`` (4,), each link's capped) and least
+    gearbox stiffnesses whose structural error at ``accuracy.points_m`` meets
+    :data:`STRUCTURE_SHARE` of the tolerance; when none does, the nearest (the largest sections
+    with the stiffness that errs least), and ``base`` when no stiffer drives meet the duty or the
+    design does not reach every point (``qsm export`` of any lengths; its budget says why)."""
+    target = STRUCTURE_SHARE * accuracy.tolerance_mm
+    points = np.asarray(accuracy.points_m, dtype=float).reshape(-1, 2)
+    try:
+        angles = joint_path(design, points, motion.theta1_range_deg, motion.theta2_min_deg)
+    except ValueError:  # a point out of reach
+        return AccuracyChoice(base, (0.0, 0.0), math.inf, target, False)
+    upper = growth_limit(design, base, strength.cad, accuracy.max_section_scale)
+    high = float(np.max(upper / base))
+    levels = [0.0, *sorted(set(drives.stiffness_Nm_rad.tolist()))[1:]]
+    lightest: tuple[float, AccuracyChoice] | None = None
+    nearest = AccuracyChoice(base, (0.0, 0.0), math.inf, target, False)
+    for least in product(levels, levels):
+        report = replace(drives, min_stiffness_Nm_rad=least).report(design, base[None])
+        if not report["has_drives"]:
+            continue
+
+        def error(f: float, report: dict = report) -> float:
+            scale = np.minimum(f * base, upper)
+            return structure_mm(
+                design, scale, report, strength, motion, angles, drives.reflected_inertia
+            )
+
+        f = 1.0 if error(1.0) <= target else smallest_factor(lambda x: error(x) <= target, high)
+        if f is None:
+            if error(high) < nearest.structure_mm:
+                nearest = AccuracyChoice(
+                    np.minimum(high * base, upper), least, error(high), target, False
+                )
+            continue
+        if f == 1.0 and least == (0.0, 0.0):  # the lightest arm of all meets it
+            return AccuracyChoice(base, least, error(f), target, True)
+        choice = AccuracyChoice(np.minimum(f * base, upper), least, error(f), target, True)
+        mass = batch_mass_properties(design, strength.cad, choice.scale)[0].sum()
+        mass += sum(m["drive"]["mass_kg"] for m in report["motors"].values())
+        if lightest is None or mass < lightest[0]:
+            lightest = (mass, choice)
+    return nearest if lightest is None else lightest[1]
