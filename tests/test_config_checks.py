@@ -151,6 +151,10 @@ ERRORS = [
         "operating_range.theta1_deg",
         "-365 deg is past a full turn",
     ),
+    ({"task": {"cycle": {"order": [1, 9]}}}, "task.cycle.order", "[9] are not among the 5"),
+    ({"task": {"cycle": {"order": [1, 2, 2]}}}, "task.cycle.order", "point 2 follows itself"),
+    ({"task": {"cycle": {"order": [0, 2]}}}, "task.cycle.order.0", "less than the minimum of 1"),
+    ({"task": {"cycle": {"dwell_s": -1}}}, "task.cycle.dwell_s", "less than the minimum of 0"),
 ]
 
 

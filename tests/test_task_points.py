@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from qsm.physics.task import min_enclosing_circle
-from qsm.physics.task_points import MAX_VISITED_POINTS, visited_points
+from qsm.physics.task_points import MAX_VISITED_POINTS, task_cycle, visited_points
 
 DEFAULT = [[-0.53, 0.17], [-0.70, 0.02], [-0.60, 0.02], [-0.70, 0.12], [-0.60, 0.12]]
 
@@ -59,3 +59,26 @@ def test_the_points_on_the_disk_edge_come_before_interior_ones():
     """Farthest-point order alone would take the interior point (0.5, 0.85) before (-1, 0)."""
     points = np.array([[-0.9, 0.0], [0.5, 0.85], [1.0, 0.0], [-1.0, 0.0], [0.0, 0.1]])
     assert sorted(visited_points(points, cap=3).tolist()) == [0, 2, 3]
+
+
+def test_the_default_cycle_is_the_payload_tests_visits_and_returns():
+    points = [[-0.53, 0.17], [-0.7, 0.02], [-0.6, 0.02]]
+    cycle = task_cycle(points, None, 0.5, True)
+    assert cycle.visits == [1, 2, 3, 1]
+    assert cycle.points == [points[0], points[1], points[2], points[0]]
+    assert cycle.dwell_s == 0.5
+
+
+def test_a_given_cycle_keeps_its_order_dwell_and_mirrors_with_the_task():
+    points = [[0.53, 0.17], [0.7, 0.02], [0.6, 0.02]]  # at x > 0: designed mirrored
+    cycle = task_cycle(
+        points, {"order": [3, 1], "dwell_s": 1.0, "return_to_start": False}, 0.5, True
+    )
+    assert cycle.visits == [3, 1]
+    assert cycle.points == [[-0.6, 0.02], [-0.53, 0.17]]
+    assert cycle.dwell_s == 1.0
+
+
+def test_a_cycle_of_an_unknown_point_is_refused():
+    with pytest.raises(ValueError, match=r"\[4\] are not among the 3"):
+        task_cycle([[0, 0], [1, 0], [0, 1]], {"order": [1, 4]}, 0.5, True)

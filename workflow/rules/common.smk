@@ -1,7 +1,8 @@
 # Shared definitions: the conda environment, code provenance and the settings rules depend on.
 import functools
 
-from qsm.physics.task_points import design_task
+from qsm.config.settings.simulation import MOTION_KEYS
+from qsm.physics.task_points import design_task, task_cycle
 from qsm.workflow.provenance import source_hash
 
 ENV = "../envs/qsm.yaml"
@@ -15,6 +16,14 @@ FORMULATIONS = config["optimization"]["formulations"]
 # payload test visits, whose enclosing disk is the task's, so that rule parameters stay short
 # (qsm.physics.task_points.design_task). The outputs say so and keep the user's points.
 MIRRORED, TASK_POINTS = design_task(config["task"]["points"])
+# The task as a pick-and-place cycle: the visited point numbers, their design points and the dwell
+# (qsm.physics.task_points.task_cycle; task.cycle, else the payload test's visits).
+CYCLE = task_cycle(
+    config["task"]["points"],
+    config["task"]["cycle"],
+    config["payload_test"]["dwell_s"],
+    config["payload_test"]["return_to_start"],
+)._asdict()
 # The rule scripts, found from this file (workflow/rules) whether the workflow runs from the
 # checkout or as a module of another workflow.
 SCRIPTS = Path(str(workflow.current_basedir)).parent / "scripts"
@@ -77,6 +86,12 @@ def load_case():
         "duty": config["dynamics"]["duty"],
         "operating_range": config["operating_range"],
     }
+
+
+def motion_settings():
+    """The payload test's keys that shape the task's motion, which the realisation reads
+    (qsm.config.settings.simulation.MOTION_KEYS): gains and limits rerun only the simulations."""
+    return {k: config["payload_test"][k] for k in MOTION_KEYS}
 
 
 def constraint_settings(formulation):

@@ -31,7 +31,7 @@ rule select_design:
         strength=config["strength"],
         drives=drive_settings(),
         task=config["task"],
-        payload_test=config["payload_test"],
+        motion=motion_settings(),
         primary=config["optimization"]["formulation"],
         formulations=FORMULATIONS,
         task_points=TASK_POINTS,
@@ -76,7 +76,7 @@ rule topology_optimize:
         strength=config["strength"],
         drives=drive_settings(),
         task=config["task"],
-        payload_test=config["payload_test"],
+        motion=motion_settings(),
         task_points=TASK_POINTS,
         build_volume_mm=config["printing"]["build_volume_mm"],
     script:
@@ -115,12 +115,47 @@ rule payload_test:
         "../scripts/payload_test.py"
 
 
+rule cycle_time:
+    input:
+        choice=rules.select_design.output.choice,
+        links=rules.topology_optimize.output.links,
+    output:
+        cycle=f"{REAL}/cycle.json",
+        trajectory=f"{REAL}/cycle_trajectory.csv",
+        figure=report(
+            f"{RESULTS}/figures/cycle_torques.png",
+            caption="../report/cycle_torques.rst",
+            category="6. Realisation",
+        ),
+    log:
+        f"{RESULTS}/logs/cycle_time.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/cycle_time.tsv"
+    priority: 10  # the critical path: ahead of the design-rule shards
+    conda:
+        ENV
+    params:
+        code=code("cycle_time.py"),
+        load_case=load_case(),
+        strength=config["strength"],
+        drives=drive_settings(),
+        task=config["task"],
+        motion=motion_settings(),
+        payload_test=config["payload_test"],
+        task_points=TASK_POINTS,
+        build_volume_mm=config["printing"]["build_volume_mm"],
+        cycle=CYCLE,
+    script:
+        "../scripts/cycle_time.py"
+
+
 rule accuracy_budget:
     input:
         choice=rules.select_design.output.choice,
         links=rules.topology_optimize.output.links,
         topology=rules.topology_optimize.output.topology,
         payload=rules.payload_test.output.result,
+        cycle=rules.cycle_time.output.cycle,
     output:
         selected=f"{REAL}/selected.json",
         figure=report(
@@ -139,7 +174,8 @@ rule accuracy_budget:
         strength=config["strength"],
         drives=drive_settings(),
         task=config["task"],
-        payload_test=config["payload_test"],
+        motion=motion_settings(),
         task_points=TASK_POINTS,
+        build_volume_mm=config["printing"]["build_volume_mm"],
     script:
         "../scripts/accuracy_budget.py"

@@ -14,15 +14,16 @@ with logged(snakemake.log[0]) as log:
     p = snakemake.params
     inp = snakemake.input
     out = snakemake.output
-    paths = (inp.choice, inp.links, inp.topology, inp.payload)
-    choice, optimized, topology, payload = (json.loads(Path(f).read_text()) for f in paths)
+    paths = (inp.choice, inp.links, inp.topology, inp.payload, inp.cycle)
+    choice, optimized, topology, payload, cycle = (json.loads(Path(f).read_text()) for f in paths)
     props = props_from_json(optimized)
     case = links.load_case(p.load_case)
     settings = realization.realization(
-        case, p.strength, p.drives, p.task, p.payload_test, p.task_points
+        case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
     )
     done = realize(choice["design_m"], settings)
     record = final_record(choice, done, topology, props, payload, settings, p.task_points)
+    record["cycle"] = cycle
     write_json(out.selected, record)
     accuracy_figure(record, done, topology, props, settings, p.task_points, out.figure)
     budget = record["stiffness"]

@@ -19,7 +19,7 @@ with logged(snakemake.log[0]) as log:
     op = physics.operating_range(p.load_case["operating_range"])
     case = links.load_case(p.load_case)
     settings = realization.realization(
-        case, p.strength, p.drives, p.task, p.payload_test, p.task_points
+        case, p.strength, p.drives, p.task, p.motion, p.task_points, p.printing["build_volume_mm"]
     )
     volume = tuple(p.printing["build_volume_mm"])
     record = selected_record(

@@ -19,7 +19,7 @@ with logged(snakemake.log[0]) as log:
         selected = json.load(fh)
     case = links.load_case(p.load_case)
     settings = realization.realization(
-        case, p.strength, p.drives, p.task, p.payload_test, p.task_points
+        case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
     )
     done = realize(selected["design_m"], settings)
     folder = out.bom_csv.rsplit("/", 1)[0]

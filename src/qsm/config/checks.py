@@ -8,6 +8,7 @@ which is which and why. Lengths in metres, angles in degrees, masses in kg.
 
 from __future__ import annotations
 
+import itertools
 import math
 from typing import Any
 
@@ -48,6 +49,7 @@ def check_config(config: dict[str, Any]) -> None:
     _check_sampling(config["sampling"], config["surrogate"]["test_fraction"])
     _check_operating_range(config["operating_range"])
     _check_task(config)
+    _check_cycle(config["task"])
     _check_cad(config)
     _check_materials(config)
     check_drives(config)
@@ -240,6 +242,22 @@ def _check_task(config: dict[str, Any]) -> None:
         f"config key 'scale.max_m': {scale} m is too small for the task: {basis}; scale.max_m must "
         f"be at least {need / reach:.3g} m, or task.points nearer the base"
     )
+
+
+def _check_cycle(task: dict[str, Any]) -> None:
+    """``task.cycle.order``: point numbers of ``task.points``, consecutive visits distinct."""
+    order = (task.get("cycle") or {}).get("order") or []
+    n = len(task["points"])
+    if bad := [k for k in order if k > n]:
+        raise ConfigError(
+            f"config key 'task.cycle.order': point numbers {bad} are not among the {n} task "
+            f"points (1 to {n})"
+        )
+    if repeats := [a for a, b in itertools.pairwise(order) if a == b]:
+        raise ConfigError(
+            f"config key 'task.cycle.order': point {repeats[0]} follows itself; give each "
+            f"point once per visit (task.cycle.dwell_s is the stop there)"
+        )
 
 
 def _check_task_near_base(points: np.ndarray, margin: float, bounds: dict[str, Any]) -> None:

@@ -15,6 +15,9 @@ spread around it), so the rules' parameters stay a few pairs long.
 
 from __future__ import annotations
 
+from collections.abc import Mapping, Sequence
+from typing import Any, NamedTuple
+
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
@@ -77,3 +80,35 @@ def design_task(points: ArrayLike, cap: int = MAX_VISITED_POINTS) -> tuple[bool,
     if len(pts) > cap:
         pts = pts[visited_points(pts, cap)]
     return mirrored, pts.tolist()
+
+
+class TaskCycle(NamedTuple):
+    """A task as a cycle: the ``visits`` (point numbers of task.points, 1-based, in order, the
+    first again at the end when it returns), their design ``points`` ((x, y) m each, mirrored as
+    the task is) and the ``dwell_s`` at each."""
+
+    visits: list[int]
+    points: list[list[float]]
+    dwell_s: float
+
+
+def task_cycle(
+    points: ArrayLike,
+    cycle: Mapping[str, Any] | None,
+    dwell_s: float,
+    return_to_start: bool,
+) -> TaskCycle:
+    """The cycle of ``task.cycle`` over the task ``points`` (n, 2) m, each key it leaves out
+    (or all, None) the payload test's: its visited points in order, ``dwell_s`` and
+    ``return_to_start``. ValueError for a point number outside 1..n."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    cycle = cycle or {}
+    order: Sequence[int] = cycle.get("order") or (visited_points(pts) + 1).tolist()
+    if bad := [k for k in order if not 1 <= k <= len(pts)]:
+        raise ValueError(f"point numbers {bad} are not among the {len(pts)} task points")
+    visits = list(order)
+    if cycle.get("return_to_start", return_to_start) and visits[-1] != visits[0]:
+        visits.append(visits[0])
+    mirrored = min_enclosing_circle(pts).centre[0] > 0.0
+    design = mirror_points(pts) if mirrored else pts
+    return TaskCycle(visits, design[np.array(visits) - 1].tolist(), cycle.get("dwell_s", dwell_s))

@@ -16,6 +16,7 @@ the realisation; the final budget counts it.
 from __future__ import annotations
 
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from itertools import product
 from typing import Any
@@ -24,6 +25,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from qsm.embodiment.drives.drive_checks import DriveCheck
+from qsm.embodiment.parts.printing import box_fits, link_boxes_mm
 from qsm.embodiment.stiffness.error_terms import torque_reverses
 from qsm.embodiment.stiffness.frame import FrameSections
 from qsm.embodiment.strength.link_checks import StrengthCheck
@@ -116,11 +118,29 @@ def structure_mm(
 
 
 def growth_limit(
-    design: NDArray[np.float64], base: NDArray[np.float64], cad: CadSettings, largest: float
+    design: NDArray[np.float64],
+    base: NDArray[np.float64],
+    cad: CadSettings,
+    largest: float,
+    volume_mm: Sequence[float],
 ) -> NDArray[np.float64]:
-    """Each link's largest section scale (4,) of ``cad``: within the ``largest`` scale and the
-    link's length, and at least its ``base`` (4,)."""
-    return np.maximum(base, np.minimum(largest, fit_limit(design, cad) * (1 - 1e-9)))
+    """Each link's largest section scale (4,) of ``cad``: within the ``largest`` scale, the
+    link's length and the printer's ``volume_mm`` (its box still fits where it fits at
+    ``base``), and at least its ``base`` (4,)."""
+    upper = np.maximum(base, np.minimum(largest, fit_limit(design, cad) * (1 - 1e-9)))
+    for k in range(4):
+
+        def fits(f: float, k: int = k) -> bool:
+            box = link_boxes_mm(design[None], None, cad.scaled(f * base[k]))[0, k]
+            return box_fits(box, volume_mm)
+
+        if fits(1.0) and not fits(upper[k] / base[k]):
+            low, high = 1.0, upper[k] / base[k]
+            while high / low > 1.001:
+                mid = math.sqrt(low * high)
+                low, high = (mid, high) if fits(mid) else (low, mid)
+            upper[k] = low * base[k]
+    return upper
 
 
 def accuracy_choice(
@@ -142,7 +162,9 @@ def accuracy_choice(
         angles = joint_path(design, points, motion.theta1_range_deg, motion.theta2_min_deg)
     except ValueError:  # a point out of reach
         return AccuracyChoice(base, (0.0, 0.0), math.inf, target, False)
-    upper = growth_limit(design, base, strength.cad, accuracy.max_section_scale)
+    upper = growth_limit(
+        design, base, strength.cad, accuracy.max_section_scale, accuracy.build_volume_mm
+    )
     high = float(np.max(upper / base))
     levels = [0.0, *sorted(set(drives.stiffness_Nm_rad.tolist()))[1:]]
     lightest: tuple[float, AccuracyChoice] | None = None

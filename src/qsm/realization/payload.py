@@ -37,7 +37,7 @@ import itertools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
+from typing import Any, NamedTuple
 
 import mujoco
 import numpy as np
@@ -186,18 +186,35 @@ def _visited(points: ArrayLike, return_to_start: bool) -> NDArray[np.float64]:
     return pts
 
 
+class Reference(NamedTuple):
+    """A reference motion: times (N,) s, motor angles (N, 2) rad, speeds rad/s, accelerations
+    rad/s^2, and the sample index at which each visited point's hold ends."""
+
+    t: NDArray[np.float64]
+    theta: NDArray[np.float64]
+    dtheta: NDArray[np.float64]
+    ddtheta: NDArray[np.float64]
+    hold_ends: NDArray[np.intp]
+
+
+def raster_reference(way: NDArray[np.float64], s: PayloadSettings, dt: float) -> Reference:
+    """The payload test's own reference through ``way`` (n, 2) rad: minimum-jerk moves of
+    ``segment_duration_s``, a hold of ``dwell_s`` before the first and after each."""
+    t, th, dth, ddth = reference_trajectory(way, s.segment_duration_s, s.dwell_s, dt)
+    n_hold, n_move = round(s.dwell_s / dt), max(1, round(s.segment_duration_s / dt))
+    ends = np.array([n_hold + i * (n_move + n_hold) for i in range(len(way))])
+    return Reference(t, th, dth, ddth, ends)
+
+
 def _point_errors_mm(
     d: NDArray[np.float64],
     q_act: NDArray[np.float64],
     pts: NDArray[np.float64],
-    s: PayloadSettings,
-    dt: float,
+    hold_ends: NDArray[np.intp],
 ) -> NDArray[np.float64]:
     """The end effector's distance (mm) from each visited point at the end of its hold
-    (waypoint reached and held), from the simulated motor angles ``q_act`` (rad) at step dt."""
-    n_hold, n_move = round(s.dwell_s / dt), max(1, round(s.segment_duration_s / dt))
-    ends = [n_hold + i * (n_move + n_hold) for i in range(len(pts))]
-    ee = pose(d, q_act[ends, 0], q_act[ends, 1]).E
+    (waypoint reached and held), from the simulated motor angles ``q_act`` (rad)."""
+    ee = pose(d, q_act[hold_ends, 0], q_act[hold_ends, 1]).E
     return np.linalg.norm(ee - pts, axis=1) * 1e3
 
 
@@ -326,6 +343,19 @@ def _failure_reasons(
     return reasons
 
 
+def _drive_limits(
+    s: PayloadSettings, drives: Sequence[OutputEnvelope] | None
+) -> tuple[NDArray[np.float64] | None, list[OutputEnvelope] | None, tuple[float, float]]:
+    """The fixed torque limits (N m) or else the drives' envelopes, and each joint's armature
+    (kg m^2: the drives' reflected inertia, 0 with fixed limits and no drives)."""
+    if s.torque_limits_Nm is None and drives is None:
+        raise ValueError("payload test needs drives or payload_test.torque_limits_Nm")
+    fixed = None if s.torque_limits_Nm is None else np.asarray(s.torque_limits_Nm, float)
+    envelopes = None if drives is None else list(drives)
+    armature = (0.0, 0.0) if envelopes is None else tuple(e.reflected_inertia for e in envelopes)
+    return fixed, envelopes, armature
+
+
 def payload_test(
     design: ArrayLike,
     points: ArrayLike,
@@ -333,12 +363,15 @@ def payload_test(
     props: dict[str, MassProperties] | None = None,
     settings: PayloadSettings = DEFAULT_PAYLOAD_TEST,
     drives: Sequence[OutputEnvelope] | None = None,
+    reference: Reference | None = None,
 ) -> dict[str, Any]:
     """Forward-simulate the payload test of ``design`` (6 lengths, m) through task ``points``
     (n, 2) m with link mass properties ``props`` (default: the CAD links), each motor being
     ``drives[j]`` (its envelope and reflected inertia) unless ``settings.torque_limits_Nm``
     overrides the limits (one of the two is needed). With drives the result adds ``drives``
-    (their names) and ``limit_Nm`` is each drive's standstill torque at the joint.
+    (their names) and ``limit_Nm`` is each drive's standstill torque at the joint. ``reference``:
+    the motion through the visited points (default :func:`raster_reference`; a time-optimal
+    cycle, :mod:`qsm.realization.cycle`), whose ``points`` are then the visited ones in order.
 
     Returns scalars: ``passed``, ``saturated``, ``max_tracking_error_deg``,
     ``tracking_tolerance_deg``, ``peak_torque_Nm`` (peak |requested| per motor),
@@ -352,19 +385,16 @@ def payload_test(
     leaves the region where the loop closes.
     """
     s = settings
-    if s.torque_limits_Nm is None and drives is None:
-        raise ValueError("payload test needs drives or payload_test.torque_limits_Nm")
-    fixed = None if s.torque_limits_Nm is None else np.asarray(s.torque_limits_Nm, float)
-    envelopes = None if drives is None else list(drives)
-    armature = (0.0, 0.0) if envelopes is None else tuple(e.reflected_inertia for e in envelopes)
+    fixed, envelopes, armature = _drive_limits(s, drives)
     limits = _limit_function(fixed, envelopes)
 
     d = as_design(design)
-    pts = _visited(points, s.return_to_start)
+    pts = _visited(points, s.return_to_start) if reference is None else np.reshape(points, (-1, 2))
     way = joint_path(d, pts, s.theta1_range_deg, s.theta2_min_deg)
     model = model_spec(d, cad, s.payload_kg, props, armature).compile()
     dt = float(model.opt.timestep)
-    t, th, dth, ddth = reference_trajectory(way, s.segment_duration_s, s.dwell_s, dt)
+    ref = raster_reference(way, s, dt) if reference is None else reference
+    t, th, dth, ddth = ref.t, ref.theta, ref.dtheta, ref.ddtheta
     state = _reference_state(d, t, th, dth, ddth)
     tau_ff = inverse_dynamics(model, d, state).tau
     plant = _plant(d, cad, props, s, armature)
@@ -376,7 +406,7 @@ def payload_test(
     limit = fixed if fixed is not None else limits(np.ones(2), np.zeros(2))
     saturated = bool(over.any())
     max_err = float(np.degrees(np.abs(q_act - th)).max())
-    point_err = _point_errors_mm(d, q_act, pts, s, dt)
+    point_err = _point_errors_mm(d, q_act, pts, ref.hold_ends)
     use, past_top = torque_use(req, available)
     what = "fixed limits" if fixed is not None else "drives' torque-speed envelopes"
     reasons = _failure_reasons(saturated, what, use, req, limit, max_err, s.tracking_tolerance_deg)

@@ -57,7 +57,8 @@ class Realization:
     """A design as realised: ``scale`` is each link's section factor on the configured one (None
     for the fixed section), ``part_settings`` the bored parts' settings at that scale, ``parts``
     the solid bored links with ``bearing_rows`` (rows of the bearing table, joints A, B, C, D),
-    ``accuracy`` what the tolerance asked of its sections and gearboxes."""
+    ``accuracy`` what the tolerance asked of its sections and gearboxes, ``strength_check`` and
+    ``sections`` the check and sections it was realised with (None: the fixed section)."""
 
     design: NDArray[np.float64]
     scale: tuple[float, ...] | None
@@ -67,6 +68,8 @@ class Realization:
     part_settings: PartSettings
     parts: dict[str, LinkPart]
     accuracy: AccuracyChoice
+    strength_check: StrengthCheck
+    sections: SizedSections | None
 
     @property
     def has_drives(self) -> bool:
@@ -97,6 +100,8 @@ def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
         part_settings=part_settings,
         parts=link_parts(d, rows, part_settings),
         accuracy=accuracy,
+        strength_check=check,
+        sections=sized,
     )
 
 

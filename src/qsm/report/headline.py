@@ -10,6 +10,7 @@ import numpy as np
 import pandas as pd
 
 from qsm.report.accuracy_report import accuracy_lines
+from qsm.report.cycle_report import cycle_lines, cycle_problems
 from qsm.report.drive_text import use_text
 from qsm.report.headline_tables import (
     drive_failures,
@@ -40,7 +41,8 @@ def build_verdict(
     run's numbers): not printable, a solid link, a joint bearing or a printed plate that does not
     hold its loads, a part drawn at another section (width x thickness) than the one its
     strength was checked with, a printed part (as drawn) too large for the printer, a motor
-    without a drive, a failed payload test."""
+    without a drive, a failed payload test, an accuracy budget past the tolerance, a cycle that
+    fails its checks."""
     problems = []
     if not selected["printable"]:
         problems.append("not printable on the configured printer (see the verdict below)")
@@ -102,6 +104,7 @@ def build_verdict(
     budget = selected.get("stiffness")
     if budget is not None and not budget["meets_requirements"]:
         problems.append(budget["verdict"])
+    problems += cycle_problems(selected.get("cycle"))
     return not problems, problems
 
 
@@ -194,6 +197,7 @@ def headline_markdown(
         *_mirror_lines(selected.get("task", {})),
         *_build_section(selected, topology, bom),
         *accuracy_lines(selected.get("stiffness")),
+        *cycle_lines(selected.get("cycle")),
         *_dataset_lines(filters, status, metrics),
         *_front_lines(comparison),
         "",

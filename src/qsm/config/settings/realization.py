@@ -7,7 +7,7 @@ from typing import Any
 
 from qsm.config.settings.actuation import drive_check
 from qsm.config.settings.links import load_case_of, parts, strength_check
-from qsm.config.settings.simulation import payload_test
+from qsm.config.settings.simulation import task_motion
 from qsm.embodiment.load_case import LoadCase
 from qsm.physics.task_points import design_task
 from qsm.realization.accuracy_budget import AccuracySettings
@@ -21,25 +21,33 @@ def realization(
     strength: Section,
     drives: Section,
     task: Section,
-    payload_test_section: Section,
+    motion: Section,
     points: Sequence[Sequence[float]],
+    build_volume_mm: Sequence[float],
 ) -> RealizationSettings:
     """The link check, drive check and bored parts of a design under ``case``, with the
     ``strength`` and ``drives`` sections; the accuracy the ``task`` needs at its design
-    ``points`` (m) and the payload test's motion through them, which the realisation meets
-    (``task.grow_for_tolerance``) and the accuracy budget reports."""
+    ``points`` (m) and the task's ``motion`` through them (``payload_test``'s
+    :data:`~qsm.config.settings.simulation.MOTION_KEYS`), which the realisation meets
+    (``task.grow_for_tolerance``, within the printer's ``build_volume_mm``) and the accuracy
+    budget reports."""
     (lo, hi), theta2_min = case.operating_range_deg
     op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
     return RealizationSettings(
         strength=strength_check(case, strength),
         drives=drive_check(drives, case),
         parts=parts(case, strength),
-        accuracy=accuracy(task, case, points),
-        motion=payload_test(payload_test_section, case.payload_kg, op),
+        accuracy=accuracy(task, case, points, build_volume_mm),
+        motion=task_motion(motion, case.payload_kg, op),
     )
 
 
-def accuracy(task: Section, case: LoadCase, points: Sequence[Sequence[float]]) -> AccuracySettings:
+def accuracy(
+    task: Section,
+    case: LoadCase,
+    points: Sequence[Sequence[float]],
+    build_volume_mm: Sequence[float],
+) -> AccuracySettings:
     """``task.tolerance_mm`` and ``task.min_first_mode_hz``: what the design's accuracy must
     meet at the design ``points`` (m); the largest section the realisation may give a link for
     it (``task.grow_for_tolerance``: ``cad.sized``'s largest, else the configured one)."""
@@ -48,6 +56,7 @@ def accuracy(task: Section, case: LoadCase, points: Sequence[Sequence[float]]) -
         min_first_mode_hz=task["min_first_mode_hz"],
         points_m=tuple((float(x), float(y)) for x, y in points),
         max_section_scale=case.largest_scale if task["grow_for_tolerance"] else 1.0,
+        build_volume_mm=tuple(float(v) for v in build_volume_mm),
     )
 
 
@@ -60,4 +69,5 @@ def realization_of(config: Section) -> RealizationSettings:
         config["task"],
         config["payload_test"],
         design_task(config["task"]["points"])[1],
+        config["printing"]["build_volume_mm"],
     )

@@ -29,3 +29,23 @@ def payload_test(
         theta1_range_deg=tuple(operating_range_section["theta1_deg"]),
         theta2_min_deg=operating_range_section["theta2_min_deg"],
     )
+
+
+#: The payload test's keys that shape the task's motion (its path and timing), which the
+#: realisation's accuracy reads; the rest (gains, limits, tolerance) only the simulations read.
+MOTION_KEYS: tuple[str, ...] = ("segment_duration_s", "dwell_s", "return_to_start")
+
+
+def task_motion(
+    section: Section, payload_kg: float, operating_range_section: Section
+) -> PayloadSettings:
+    """The task's motion: the :data:`MOTION_KEYS` of ``payload_test`` (the others' defaults, which
+    it does not read), with ``task.payload_kg`` and ``operating_range``."""
+    return PayloadSettings(
+        payload_kg=payload_kg,
+        segment_duration_s=section["segment_duration_s"],
+        dwell_s=section["dwell_s"],
+        return_to_start=section["return_to_start"],
+        theta1_range_deg=tuple(operating_range_section["theta1_deg"]),
+        theta2_min_deg=operating_range_section["theta2_min_deg"],
+    )

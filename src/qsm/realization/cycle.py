@@ -1,0 +1,282 @@
+"""The time-optimal pick-and-place cycle of a design with its chosen drives (TOPP-RA).
+
+The cycle visits task points in order and dwells at each. Each move between two points is a
+straight line in joint space between the motor angles of the inverse kinematics at its ends
+(linear interpolation), from rest to rest. TOPP-RA (``toppra``) finds the fastest timing along
+it under:
+
+* each motor's torque, the closed chain's inverse dynamics by Newton-Euler
+  (:mod:`qsm.embodiment.strength.loads`, MuJoCo's to 1e-6) plus the drive's reflected inertia
+  times the joint's acceleration (MuJoCo's joint armature), within the drive's torque-speed
+  envelope at the joint (:class:`qsm.embodiment.drives.envelope.OutputEnvelope`, the gearbox's
+  peak torque included);
+* each joint's speed.
+
+The envelope is not linear in TOPP-RA's variables. Each move is planned with a speed bound ``v``
+per joint and the envelope's torque at ``v`` in the driving direction, which the drive gives at
+every speed up to ``v`` (the envelope falls with speed, and back-driving gives more). ``v`` is tried
+at :data:`SPEED_FRACTIONS` of the drive's top speed, and the fastest plan is kept. This is the
+conservative linearisation; no jerk limit is applied.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from collections.abc import Callable, Sequence
+from typing import NamedTuple
+
+import numpy as np
+import toppra
+import toppra.algorithm
+import toppra.constraint
+from numpy.typing import ArrayLike, NDArray
+from toppra.constraint.linear_constraint import canlinear_colloc_to_interpolate
+
+from qsm.embodiment.drives.envelope import OutputEnvelope
+from qsm.embodiment.strength.loads import Inertials, joint_loads
+from qsm.physics.dynamics import loop_state
+from qsm.realization.payload import Reference
+
+#: Speed bounds tried per move, as fractions of each drive's top speed at the joint.
+SPEED_FRACTIONS: tuple[float, ...] = (0.25, 0.4, 0.55, 0.7, 0.85, 0.95)
+#: Grid intervals of TOPP-RA along each move.
+GRID = 80
+#: A plan's peak use of a bound at or above this counts that bound as binding.
+BINDING = 0.97
+
+toppra.setup_logging("WARNING")
+
+
+class Arm(NamedTuple):
+    """What the planner needs of the realised arm: the design (6 lengths, m), its links'
+    inertials, the payload (kg) and each motor's drive envelope at the joint."""
+
+    design: NDArray[np.float64]
+    inertials: Inertials
+    payload_kg: float
+    drives: Sequence[OutputEnvelope]
+
+    @property
+    def reflected(self) -> NDArray[np.float64]:
+        """Each drive's reflected inertia (2,) kg m^2 at the joint."""
+        return np.array([e.reflected_inertia for e in self.drives])
+
+
+class Move(NamedTuple):
+    """One planned move: times (N,) s from its start, motor angles (N, 2) rad, speeds rad/s,
+    accelerations rad/s^2 and torques (N, 2) N m; the speed bound (2,) rad/s and torque bound
+    (2,) N m it was planned with, and what binds (``torque``, ``speed`` or both)."""
+
+    t: NDArray[np.float64]
+    q: NDArray[np.float64]
+    qd: NDArray[np.float64]
+    qdd: NDArray[np.float64]
+    tau: NDArray[np.float64]
+    speed_bound: NDArray[np.float64]
+    torque_bound: NDArray[np.float64]
+    binding: str
+
+    @property
+    def duration_s(self) -> float:
+        """The move's duration (s)."""
+        return float(self.t[-1])
+
+
+def top_speed(envelope: OutputEnvelope) -> float:
+    """The joint speed (rad/s) beyond which the drive gives no torque."""
+    motor = envelope.int_speed
+    if envelope.table is not None:
+        motor = min(motor, float(envelope.table[0][-1]))
+    else:
+        motor = min(motor, envelope.no_load_speed)
+    return motor / envelope.ratio
+
+
+def torque_bound(envelope: OutputEnvelope, speed: float) -> float:
+    """The torque (N m) the drive gives at the joint at every speed up to ``speed`` (rad/s): its
+    envelope at ``speed`` in the driving direction."""
+    return float(envelope.limit(1.0, speed))
+
+
+def motor_torques(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike) -> NDArray[np.float64]:
+    """The motors' torques (N, 2) N m at motor angles, speeds and accelerations (N, 2): the
+    closed chain's inverse dynamics with the payload, plus each drive's reflected inertia."""
+    q, qd, qdd = (np.atleast_2d(np.asarray(x, dtype=float)) for x in (q, qd, qdd))
+    state = loop_state(arm.design, q, qd, qdd)
+    return joint_loads(arm.design, arm.inertials, arm.payload_kg, state).tau + arm.reflected * qdd
+
+
+#: Inverse dynamics of a batch: torques (N, dof) at positions, speeds, accelerations (N, dof).
+InverseDynamics = Callable[[NDArray, NDArray, NDArray], NDArray]
+
+
+class _BatchTorque(toppra.constraint.JointTorqueConstraint):
+    """TOPP-RA's joint torque constraint with the inverse dynamics evaluated at every grid point
+    at once (the parent calls it point by point), in TOPP-RA's interpolation scheme."""
+
+    def __init__(self, inverse: InverseDynamics, torque: NDArray[np.float64]) -> None:
+        super().__init__(
+            None, np.column_stack([-torque, torque]), np.zeros(len(torque)),
+            discretization_scheme=toppra.constraint.DiscretizationType.Interpolation,
+        )  # fmt: skip
+        self.inverse = inverse
+
+    def compute_constraint_params(self, path, gridpoints):
+        """TOPP-RA's a, b, c, F, g of the torque bounds along ``path`` at ``gridpoints``."""
+        p, ps, pss = path(gridpoints), path(gridpoints, 1), path(gridpoints, 2)
+        zero = np.zeros_like(p)
+        c = self.inverse(p, zero, zero)
+        a = self.inverse(p, zero, ps) - c
+        b = self.inverse(p, ps, pss) - c
+        eye = np.eye(p.shape[1])
+        f = np.vstack([eye, -eye])
+        g = np.concatenate([self.tau_lim[:, 1], -self.tau_lim[:, 0]])
+        return canlinear_colloc_to_interpolate(
+            a, b, c, f, g, None, None, gridpoints, identical=True
+        )
+
+
+def time_optimal_move(
+    inverse: InverseDynamics,
+    q0: ArrayLike,
+    q1: ArrayLike,
+    speed: ArrayLike,
+    torque: ArrayLike,
+    dt: float,
+) -> tuple[NDArray, NDArray, NDArray, NDArray] | None:
+    """The fastest rest-to-rest timing (TOPP-RA) along the straight joint-space move q0 -> q1
+    (dof,) rad with every joint's |speed| (rad/s) and |torque| (N m) bounded, ``inverse`` giving
+    the torques: times (N,) s every ``dt`` s (the end held to the next step), positions, speeds
+    and accelerations (N, dof); None where no timing is feasible."""
+    speed, torque = np.asarray(speed, dtype=float), np.asarray(torque, dtype=float)
+    path = toppra.SplineInterpolator([0.0, 1.0], np.vstack([q0, q1]), bc_type="natural")
+    limits = [
+        toppra.constraint.JointVelocityConstraint(np.column_stack([-speed, speed])),
+        _BatchTorque(inverse, torque),
+    ]
+    grid = np.linspace(0.0, 1.0, GRID + 1)
+    algorithm = toppra.algorithm.TOPPRA(
+        limits, path, gridpoints=grid, parametrizer="ParametrizeConstAccel"
+    )
+    traj = algorithm.compute_trajectory(0.0, 0.0)
+    if traj is None:
+        return None
+    t = np.arange(math.ceil(traj.duration / dt) + 1) * dt  # the end held to the next step
+    at = np.minimum(t, traj.duration)
+    return t, traj(at), traj(at, 1), traj(at, 2)
+
+
+def plan_move(arm: Arm, q0: ArrayLike, q1: ArrayLike, dt: float) -> Move:
+    """The fastest of the moves q0 -> q1 (motor angles (2,) rad) planned at each speed bound of
+    :data:`SPEED_FRACTIONS`, sampled every ``dt`` s; ValueError when none is feasible (a drive
+    that cannot hold the arm)."""
+    q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)
+    top = np.array([top_speed(e) for e in arm.drives])
+    best: Move | None = None
+    for fraction in SPEED_FRACTIONS:
+        speed = fraction * top
+        torque = np.array([torque_bound(e, v) for e, v in zip(arm.drives, speed, strict=True)])
+        inverse = lambda q, qd, qdd: motor_torques(arm, q, qd, qdd)  # noqa: E731
+        planned = time_optimal_move(inverse, q0, q1, speed, torque, dt)
+        if planned is None or (best is not None and planned[0][-1] >= best.duration_s):
+            continue
+        t, q, qd, qdd = planned
+        tau = motor_torques(arm, q, qd, qdd)
+        best = Move(t, q, qd, qdd, tau, speed, torque, _binding(qd, tau, speed, torque))
+    if best is None:
+        raise ValueError(
+            f"no timing of the move {np.degrees(q0).round(1).tolist()} -> "
+            f"{np.degrees(q1).round(1).tolist()} deg keeps the torques within the drives'"
+        )
+    return best
+
+
+def _binding(qd: NDArray, tau: NDArray, speed: NDArray, torque: NDArray) -> str:
+    """Which bounds the move reaches (their peak use >= :data:`BINDING`)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        torque_use = float(np.nanmax(np.abs(tau) / torque))
+    speed_use = float(np.max(np.abs(qd) / speed))
+    found = [n for n, u in (("torque", torque_use), ("speed", speed_use)) if u >= BINDING]
+    return " and ".join(found) or "neither (the grid)"
+
+
+def time_scaled(move: Move, arm: Arm, factor: float, dt: float) -> Move:
+    """``move`` run ``factor`` (>= 1) times slower, resampled every ``dt`` s: speeds / factor,
+    accelerations / factor^2 at the same positions, the torques recomputed."""
+    if factor == 1.0:
+        return move
+    t = np.arange(math.ceil(move.t[-1] * factor / dt) + 1) * dt
+    at = np.minimum(t / factor, move.t[-1])
+    q, qd, qdd = (
+        np.column_stack([np.interp(at, move.t, x[:, j]) for j in range(x.shape[1])])
+        for x in (move.q, move.qd / factor, move.qdd / factor**2)
+    )
+    tau = motor_torques(arm, q, qd, qdd)
+    return move._replace(t=t, q=q, qd=qd, qdd=qdd, tau=tau, binding=f"slowed {factor:g}x")
+
+
+class Cycle(NamedTuple):
+    """A cycle: its moves, in order, the dwell (s) at each visited point, the sample step (s)
+    and how many times slower than the time-optimal timing it runs."""
+
+    moves: tuple[Move, ...]
+    dwell_s: float
+    dt: float
+    factor: float = 1.0
+
+    @property
+    def returns(self) -> bool:
+        """Whether the cycle ends where it starts."""
+        return bool(np.allclose(self.moves[0].q[0], self.moves[-1].q[-1], rtol=0, atol=1e-12))
+
+    @property
+    def time_s(self) -> float:
+        """The cycle's time (s): every move and a dwell at each point it visits (the start and
+        the end once when it returns there)."""
+        stops = len(self.moves) + (0 if self.returns else 1)
+        return float(sum(m.duration_s for m in self.moves) + self.dwell_s * stops)
+
+    def samples(self) -> Reference:
+        """The cycle as a reference motion from rest at its first point: a dwell, then each move
+        and a dwell at its end, every ``dt`` s, with the sample at which each dwell ends."""
+        hold = round(self.dwell_s / self.dt)
+        first = self.moves[0]
+        q = [np.repeat(first.q[:1], hold + 1, axis=0)]
+        qd = [np.zeros((hold + 1, 2))]
+        qdd = [np.zeros((hold + 1, 2))]
+        ends = [hold]
+        for m in self.moves:
+            q += [m.q[1:], np.repeat(m.q[-1:], hold, axis=0)]
+            qd += [m.qd[1:], np.zeros((hold, 2))]
+            qdd += [m.qdd[1:], np.zeros((hold, 2))]
+            ends.append(ends[-1] + len(m.t) - 1 + hold)
+        theta = np.concatenate(q)
+        t = np.arange(len(theta)) * self.dt
+        return Reference(t, theta, np.concatenate(qd), np.concatenate(qdd), np.array(ends))
+
+
+def plan_cycle(arm: Arm, angles: ArrayLike, dwell_s: float, dt: float) -> Cycle:
+    """The time-optimal cycle through the visited points' motor ``angles`` (n, 2) rad, in order
+    (the start again at the end when it returns), with ``dwell_s`` at each, sampled every ``dt``
+    s."""
+    way = np.asarray(angles, dtype=float)
+    moves = tuple(plan_move(arm, a, b, dt) for a, b in itertools.pairwise(way))
+    return Cycle(moves, dwell_s, dt)
+
+
+def slowed(cycle: Cycle, arm: Arm, factor: float) -> Cycle:
+    """``cycle`` (as planned) run ``factor`` times slower; its dwells unchanged."""
+    moves = tuple(time_scaled(m, arm, factor, cycle.dt) for m in cycle.moves)
+    return cycle._replace(moves=moves, factor=factor)
+
+
+#: A minimum-jerk move's duration over (its change / its peak speed).
+MIN_JERK_DURATION = 1.875
+
+
+def raster_time_s(angles: NDArray[np.float64], peak_speed_rad_s: float) -> float:
+    """The moves' time (s) at the duty's raster speed: minimum-jerk moves whose faster joint
+    peaks at ``peak_speed_rad_s``."""
+    change = np.abs(np.diff(angles, axis=0)).max(axis=1)
+    return float(MIN_JERK_DURATION * change.sum() / peak_speed_rad_s)

@@ -1,0 +1,252 @@
+"""The time-optimal cycle's outputs (:mod:`qsm.realization.cycle_check`): its record for JSON
+(``selected.json``'s ``cycle``), its trajectory as a table, its torques against each drive's
+envelope as a figure, and its lines of ``summary.md``."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from qsm.embodiment.drives.catalogue import Catalogue
+from qsm.embodiment.drives.envelope import OutputEnvelope
+from qsm.embodiment.drives.selection import offer
+from qsm.embodiment.strength.loads import Inertials
+from qsm.physics.cad import MassProperties
+from qsm.physics.inverse_kinematics import joint_path
+from qsm.physics.task_points import TaskCycle
+from qsm.realization.cycle import Arm, Cycle, motor_torques, raster_time_s, top_speed
+from qsm.realization.cycle_check import CheckedCycle, checked_cycle
+from qsm.realization.payload import PayloadSettings
+from qsm.realization.pipeline import Realization, RealizationSettings
+
+#: Columns of :func:`trajectory_table`, one row per sample of the cycle as run.
+TRAJECTORY_COLUMNS: dict[str, str] = {
+    "t_s": "time from the cycle's start (s)",
+    **{f"theta{j}_deg": f"motor {j} angle (deg)" for j in (1, 2)},
+    **{f"omega{j}_deg_s": f"motor {j} speed (deg/s)" for j in (1, 2)},
+    **{
+        f"tau{j}_Nm": f"motor {j} torque at the joint, reflected inertia included (N m)"
+        for j in (1, 2)
+    },
+}
+
+
+def _series(cycle: Cycle, arm: Arm) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Times (N,) s, angles (N, 2) rad, speeds rad/s and torques N m of the cycle as run."""
+    ref = cycle.samples()
+    tau = motor_torques(arm, ref.theta, ref.dtheta, ref.ddtheta)
+    return ref.t, ref.theta, ref.dtheta, tau
+
+
+def trajectory_table(cycle: Cycle, arm: Arm) -> pd.DataFrame:
+    """The cycle as run, one row per sample (:data:`TRAJECTORY_COLUMNS`)."""
+    t, q, qd, tau = _series(cycle, arm)
+    out = {"t_s": t}
+    for j in (0, 1):
+        out[f"theta{j + 1}_deg"] = np.degrees(q[:, j])
+        out[f"omega{j + 1}_deg_s"] = np.degrees(qd[:, j])
+        out[f"tau{j + 1}_Nm"] = tau[:, j]
+    return pd.DataFrame(out)[list(TRAJECTORY_COLUMNS)]
+
+
+def _power(cycle: Cycle, arm: Arm) -> dict[str, Any]:
+    """Each motor's peak and RMS mechanical power (W) at the joint, its RMS torque (N m), and
+    the energy per cycle (J): the motors' positive work, braking not recovered."""
+    t, _, qd, tau = _series(cycle, arm)
+    power = tau * qd
+    dt = cycle.dt
+    return {
+        "peak_power_W": np.abs(power).max(axis=0).tolist(),
+        "rms_power_W": np.sqrt((power**2).mean(axis=0)).tolist(),
+        "rms_torque_Nm": np.sqrt((tau**2).mean(axis=0)).tolist(),
+        "peak_torque_Nm": np.abs(tau).max(axis=0).tolist(),
+        "energy_per_cycle_J": float(np.clip(power, 0.0, None).sum() * dt),
+        "samples": len(t),
+    }
+
+
+def cycle_record(
+    checked: CheckedCycle,
+    arm: Arm,
+    visits: Sequence[int],
+    angles: NDArray[np.float64],
+    raster_s: float,
+    continuous_Nm: Sequence[float],
+) -> dict[str, Any]:
+    """JSON-ready ``cycle``: its time and rate, each move's time and what binds it, the power,
+    torque and energy figures, the thermal check against each drive's ``continuous_Nm`` at the
+    joint, the links' utilisation, MuJoCo's run, the motor ``angles`` (n, 2) rad at the visited
+    points, and how much faster than the raster's speed (``raster_s``: the same moves at the
+    duty's raster speed, the same dwells)."""
+    c, sim = checked.cycle, checked.simulation
+    moves = [
+        {"from": a, "to": b, "time_s": m.duration_s, "binding": m.binding,
+         "optimal_binding": o.binding}
+        for a, b, m, o in zip(visits[:-1], visits[1:], c.moves, checked.optimal.moves, strict=True)
+    ]  # fmt: skip
+    power = _power(c, arm)
+    raster = raster_s + c.time_s - sum(m.duration_s for m in c.moves)  # the same dwells
+    thermal = [r / k for r, k in zip(power["rms_torque_Nm"], continuous_Nm, strict=True)]
+    return {
+        "cycle_time_s": c.time_s,
+        "cycles_per_hour": 3600.0 / c.time_s,
+        "time_optimal_s": checked.optimal.time_s,
+        "slowed_by": c.factor,
+        "slowed_for": checked.slowed_for,
+        "dwell_s": c.dwell_s,
+        "visits": list(visits),
+        "waypoints_deg": np.degrees(angles).tolist(),
+        "moves": moves,
+        **power,
+        "continuous_torque_Nm": list(continuous_Nm),
+        "rms_over_continuous": thermal,
+        "thermal_ok": bool(max(thermal) <= 1.0),
+        "strength_utilisation": checked.utilisation,
+        "links_hold": bool(checked.utilisation <= 1.0),
+        "simulation": {k: sim[k] for k in _SIMULATION_KEYS},
+        "raster_cycle_s": raster,
+        "faster_than_raster": raster / c.time_s,
+        "ok": bool(sim["passed"] and checked.utilisation <= 1.0 and max(thermal) <= 1.0),
+        "interpolation": "straight lines in joint space between the points, rest to rest",
+        "linearisation": "each move's torque bound is the envelope's at its speed bound, the "
+        "fastest of several speed bounds kept",
+    }
+
+
+_SIMULATION_KEYS = (
+    "passed",
+    "reason",
+    "max_tracking_error_deg",
+    "tracking_tolerance_deg",
+    "point_error_mm",
+    "peak_torque_over_available",
+    "saturated_fraction",
+)
+
+
+def cycle_lines(cycle: dict[str, Any] | None) -> list[str]:
+    """``summary.md``'s cycle section."""
+    if not cycle:
+        return []
+    moves = ", ".join(
+        f"{m['from']}->{m['to']} {m['time_s']:.2f} s ({m['optimal_binding']})"
+        for m in cycle["moves"]
+    )
+    slowed = (
+        f"slowed {cycle['slowed_by']:g}x from {cycle['time_optimal_s']:.2f} s: "
+        + "; ".join(cycle["slowed_for"])
+        if cycle["slowed_by"] > 1.0
+        else "as planned"
+    )
+    sim = cycle["simulation"]
+    return [
+        "## Cycle",
+        f"- {cycle['cycle_time_s']:.2f} s per cycle, {cycle['cycles_per_hour']:.0f} cycles per "
+        f"hour ({slowed}); {cycle['faster_than_raster']:.1f}x as fast as the raster's speed "
+        f"({cycle['raster_cycle_s']:.2f} s); dwell {cycle['dwell_s']:g} s at each point.",
+        f"- moves (what binds the time-optimal timing): {moves}.",
+        f"- peak power {_pair(cycle['peak_power_W'], 0)} W, RMS {_pair(cycle['rms_power_W'], 0)} "
+        f"W, energy {cycle['energy_per_cycle_J']:.0f} J per cycle; RMS torque "
+        f"{_pair(cycle['rms_torque_Nm'], 1)} N m against {_pair(cycle['continuous_torque_Nm'], 1)}"
+        f" N m continuous; links at {cycle['strength_utilisation']:.2f} of their strength.",
+        f"- MuJoCo: {'passed' if sim['passed'] else 'FAILED'} ({sim['reason']}), tracking "
+        f"{sim['max_tracking_error_deg']:.3f} deg, at the points "
+        f"{max(sim['point_error_mm']):.2f} mm at most.",
+        "",
+    ]
+
+
+def cycle_problems(cycle: dict[str, Any] | None) -> list[str]:
+    """What keeps the task's cycle from running as a machine would, with the numbers: a drive
+    whose RMS torque exceeds its continuous torque, links past their strength, or MuJoCo's run
+    failing even at the slowest tried."""
+    if not cycle:
+        return []
+    out = []
+    if not cycle["thermal_ok"]:
+        pairs = zip(cycle["rms_torque_Nm"], cycle["continuous_torque_Nm"], strict=True)
+        over = [
+            f"motor {j + 1} {r:.1f} N m RMS over {c:.1f} N m continuous"
+            for j, (r, c) in enumerate(pairs)
+            if r > c
+        ]
+        out.append(
+            f"DRIVES OVERHEAT on the cycle ({cycle['cycle_time_s']:.2f} s): {', '.join(over)}"
+        )
+    if not cycle["links_hold"]:
+        out.append(
+            f"the links reach {cycle['strength_utilisation']:.2f} of their strength on the cycle"
+        )
+    if not cycle["simulation"]["passed"]:
+        out.append(f"MuJoCo's run of the cycle fails: {cycle['simulation']['reason']}")
+    return out
+
+
+def _pair(values: Sequence[float], digits: int) -> str:
+    return " / ".join(f"{v:.{digits}f}" for v in values)
+
+
+def cycle_figure(cycle: Cycle, arm: Arm, path: str | Path) -> Path:
+    """Each motor's |torque| against its |speed| over the cycle, over its drive's envelope at
+    the joint (driving direction)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    _, _, qd, tau = _series(cycle, arm)
+    fig, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    for j, (ax, env) in enumerate(zip(axes, arm.drives, strict=True)):
+        _envelope(ax, env)
+        ax.plot(np.abs(qd[:, j]), np.abs(tau[:, j]), ".", ms=2, label="cycle")
+        ax.set(xlabel="|speed| at the joint (rad/s)", ylabel="|torque| at the joint (N m)",
+               title=f"motor {j + 1}: {env.name}")  # fmt: skip
+        ax.legend()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
+    return Path(path)
+
+
+def _envelope(ax: Any, env: OutputEnvelope) -> None:
+    speed = np.linspace(0.0, top_speed(env), 200)
+    ax.plot(speed, env.limit(np.ones_like(speed), speed), "k-", label="drive envelope")
+
+
+def run_cycle(
+    done: Realization,
+    props: dict[str, MassProperties],
+    settings: RealizationSettings,
+    test: PayloadSettings,
+    task: TaskCycle,
+    raster_speed_deg_s: float,
+) -> tuple[dict[str, Any], CheckedCycle, Arm]:
+    """The realised design's time-optimal ``task`` cycle with its drives (the chosen ones, or
+    the nearest), checked (:func:`qsm.realization.cycle_check.checked_cycle`, MuJoCo's run with
+    the payload ``test``'s plant and controller): its record, the checked cycle and the arm it
+    was planned for."""
+    catalogue = settings.drives.catalogue
+    keys = [(m.get("drive") or m["best_drive"]) for m in done.drives["motors"].values()]
+    drives = [OutputEnvelope.of(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys]
+    continuous = [_continuous_Nm(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys]
+    s = test
+    points = np.asarray(task.points, dtype=float)
+    angles = joint_path(done.design, points, s.theta1_range_deg, s.theta2_min_deg)
+    arm = Arm(done.design, Inertials.of(props), s.payload_kg, drives)
+    checked = checked_cycle(done, props, arm, angles, points, s, task.dwell_s, np.array(continuous))
+    raster = raster_time_s(angles, np.radians(raster_speed_deg_s))
+    return cycle_record(checked, arm, task.visits, angles, raster, continuous), checked, arm
+
+
+def _continuous_Nm(catalogue: Catalogue, motor_key: str, gearbox_key: str) -> float:
+    """The continuous torque (N m) the catalogue's drive (motor_key, gearbox_key) gives at the
+    joint (:func:`qsm.embodiment.drives.selection.offer`)."""
+    drives = catalogue.drives
+    match = (drives["motor"] == motor_key).to_numpy() & (
+        drives["gearbox"] == gearbox_key
+    ).to_numpy()
+    return offer(catalogue)[int(np.flatnonzero(np.asarray(match))[0])]["cont_torque_Nm"]

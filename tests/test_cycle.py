@@ -1,0 +1,118 @@
+"""The time-optimal moves (qsm.realization.cycle) against hand cases: a single link's bang-bang
+motion in closed form, with a speed bound, and under gravity against a phase-plane reference."""
+
+import numpy as np
+import pytest
+from scipy.integrate import quad
+from scipy.optimize import brentq
+
+from qsm.embodiment.drives.drive_checks import DriveCheck
+from qsm.embodiment.drives.envelope import OutputEnvelope
+from qsm.embodiment.strength.loads import Inertials
+from qsm.physics.batch_mass import batch_mass_properties
+from qsm.physics.cad import DEFAULT_CAD
+from qsm.realization.cycle import Arm, plan_cycle, slowed, time_optimal_move, top_speed
+
+INERTIA = 0.5  # kg m^2 about the joint
+DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
+DT = 1e-4  # s; a move ends at the next step
+
+
+def _link(gravity_Nm: float = 0.0):
+    """One link turning about a horizontal (gravity_Nm > 0) or vertical axis: tau = I qdd +
+    G cos q."""
+    return lambda q, qd, qdd: INERTIA * qdd + gravity_Nm * np.cos(q)
+
+
+@pytest.mark.parametrize(("angle", "torque"), [(1.0, 2.0), (0.4, 5.0), (2.0, 1.0)])
+def test_a_torque_bound_gives_the_bang_bang_time(angle, torque):
+    t, q, qd, _ = time_optimal_move(_link(), [0.0], [angle], [1e3], [torque], DT)
+    expected = 2.0 * np.sqrt(angle * INERTIA / torque)  # half accelerating, half braking
+    assert t[-1] == pytest.approx(expected, rel=2e-3)
+    assert q[-1, 0] == pytest.approx(angle, abs=1e-9)
+    assert abs(qd[-1, 0]) < 1e-6 and abs(qd[0, 0]) < 1e-6
+
+
+def test_a_speed_bound_gives_the_trapezoid_time():
+    angle, torque, speed = 1.0, 2.0, 1.5  # bang-bang would peak at 2 rad/s
+    t, _, qd, _ = time_optimal_move(_link(), [0.0], [angle], [speed], [torque], DT)
+    accel = torque / INERTIA
+    assert t[-1] == pytest.approx(angle / speed + speed / accel, rel=2e-3)
+    assert np.abs(qd).max() <= speed * (1 + 1e-9)
+
+
+def test_a_lower_torque_bound_takes_longer():
+    times = [time_optimal_move(_link(), [0.0], [1.0], [1e3], [t], DT)[0][-1] for t in (4, 2, 1)]
+    assert times[0] < times[1] < times[2]
+
+
+def _phase_plane_time(q0: float, q1: float, torque: float, gravity: float) -> float:
+    """Rest-to-rest time under |tau| <= torque with tau = I qdd + G cos q: full torque forward
+    from q0, full braking into q1, switching where the two speed curves meet."""
+
+    def forward(q: float) -> float:  # v^2 accelerating from rest at q0
+        return 2 * (torque * (q - q0) - gravity * (np.sin(q) - np.sin(q0))) / INERTIA
+
+    def backward(q: float) -> float:  # v^2 braking to rest at q1
+        return 2 * (torque * (q1 - q) + gravity * (np.sin(q1) - np.sin(q))) / INERTIA
+
+    switch = brentq(lambda q: forward(q) - backward(q), q0, q1)
+    t1 = quad(lambda q: 1 / np.sqrt(forward(q)), q0, switch, limit=200)[0]
+    t2 = quad(lambda q: 1 / np.sqrt(backward(q)), switch, q1, limit=200)[0]
+    return t1 + t2
+
+
+def test_under_gravity_the_time_is_the_phase_plane_references():
+    q0, q1, torque, gravity = -0.3, 1.2, 6.0, 3.0
+    t, q, _, qdd = time_optimal_move(_link(gravity), [q0], [q1], [1e3], [torque], DT)
+    assert t[-1] == pytest.approx(_phase_plane_time(q0, q1, torque, gravity), rel=5e-3)
+    tau = INERTIA * qdd[:, 0] + gravity * np.cos(q[:, 0])
+    assert np.abs(tau).max() <= torque * 1.02  # TOPP-RA's grid: within 2 %
+
+
+def test_an_infeasible_bound_gives_no_timing():
+    """A torque below gravity's cannot hold the link: no timing."""
+    assert time_optimal_move(_link(5.0), [0.0], [0.5], [1e3], [1.0], DT) is None
+
+
+@pytest.fixture(scope="module")
+def arm():
+    """The test design with the lightest drives for its duty, its solid links, 5 kg."""
+    check = DriveCheck()
+    report = check.report(DESIGN)
+    drives = [
+        OutputEnvelope.of(check.catalogue, m["drive"]["motor_key"], m["drive"]["gearbox_key"])
+        for m in report["motors"].values()
+    ]
+    inertials = Inertials(*batch_mass_properties(DESIGN, DEFAULT_CAD))
+    return Arm(DESIGN, inertials, 5.0, drives)
+
+
+def test_a_cycle_holds_at_its_points_and_its_time_adds_up(arm):
+    angles = np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0], [95.0, 20.0]])
+    cycle = plan_cycle(arm, angles, 0.5, 1e-3)
+    ref = cycle.samples()
+    np.testing.assert_allclose(ref.theta[ref.hold_ends], angles, atol=1e-9)
+    assert np.abs(ref.dtheta[ref.hold_ends]).max() < 1e-9
+    assert cycle.returns
+    # the samples start with the dwell at the first point, which a repeated cycle shares with
+    # its last: one dwell per point
+    assert ref.t[-1] == pytest.approx(cycle.time_s + cycle.dwell_s, abs=1e-9)
+    for move in cycle.moves:
+        top = np.array([top_speed(e) for e in arm.drives])
+        assert (np.abs(move.qd) <= top).all()
+        limit = np.array([e.limit(t, w) for e, t, w in zip(arm.drives, move.tau.T, move.qd.T,
+                                                          strict=True)]).T  # fmt: skip
+        assert (np.abs(move.tau) <= limit * 1.02).all()  # TOPP-RA's grid: within 2 %
+
+
+def test_a_slowed_cycle_takes_the_same_path_longer_and_gentler(arm):
+    angles = np.radians([[95.0, 20.0], [140.0, 60.0]])
+    cycle = plan_cycle(arm, angles, 0.0, 1e-3)
+    twice = slowed(cycle, arm, 2.0)
+    (move,), (slow,) = cycle.moves, twice.moves
+    assert slow.duration_s == pytest.approx(2 * move.duration_s, abs=2e-3)
+    assert np.abs(slow.qd).max() == pytest.approx(np.abs(move.qd).max() / 2, rel=1e-2)
+    path = np.interp(np.linspace(0, 1, 50), slow.t / slow.t[-1], slow.q[:, 0])
+    np.testing.assert_allclose(path, np.interp(np.linspace(0, 1, 50), move.t / move.t[-1],
+                                               move.q[:, 0]), atol=1e-3)  # fmt: skip

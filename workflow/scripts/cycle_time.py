@@ -1,0 +1,40 @@
+"""Rule cycle_time: the selected design's time-optimal cycle on the task, checked in MuJoCo."""
+
+import json
+from pathlib import Path
+
+from qsm.config.settings import links, realization, simulation
+from qsm.physics.task_points import TaskCycle
+from qsm.realization.outputs import props_from_json
+from qsm.realization.pipeline import realize
+from qsm.report.cycle_report import cycle_figure, run_cycle, trajectory_table
+from qsm.workflow.json_files import write_json
+from qsm.workflow.logs import logged
+
+with logged(snakemake.log[0]) as log:
+    p = snakemake.params
+    inp = snakemake.input
+    out = snakemake.output
+    choice = json.loads(Path(inp.choice).read_text())
+    props = props_from_json(json.loads(Path(inp.links).read_text()))
+    case = links.load_case(p.load_case)
+    settings = realization.realization(
+        case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
+    )
+    done = realize(choice["design_m"], settings)
+    (lo, hi), theta2_min = case.operating_range_deg
+    op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
+    test = simulation.payload_test(p.payload_test, case.payload_kg, op)
+    task = TaskCycle(**p.cycle)
+    record, checked, arm = run_cycle(done, props, settings, test, task, case.duty.peak_speed_deg_s)
+    write_json(out.cycle, record)
+    trajectory_table(checked.cycle, arm).to_csv(out.trajectory, index=False)
+    cycle_figure(checked.cycle, arm, out.figure)
+    log.info(
+        "cycle: %.2f s, %.0f per hour (time-optimal %.2f s, slowed %gx), MuJoCo %s",
+        record["cycle_time_s"],
+        record["cycles_per_hour"],
+        record["time_optimal_s"],
+        record["slowed_by"],
+        record["simulation"]["reason"],
+    )
