@@ -267,6 +267,23 @@ def test_the_cycle_is_within_the_drives_and_no_faster_than_their_top_speeds(run)
     assert cycle["time_optimal_s"] <= cycle["cycle_time_s"]
 
 
+def test_the_datasheet_states_this_runs_figures(run):
+    sheet = (run / "results/datasheet.md").read_text()
+    summary = (run / "results/summary.md").read_text()
+    real = run / "results/realization"
+    selected = json.loads((real / "selected.json").read_text())
+    cycle = selected["cycle"]
+    assert sheet.splitlines()[2] == summary.splitlines()[2]  # the run's verdict, word for word
+    assert f"| cycles per hour | {cycle['cycles_per_hour']:.0f} on the task" in sheet
+    assert f"{selected['stiffness']['worst']['error_budget_mm']:.2f} mm worst" in sheet
+    bom = pd.read_csv(real / "bom.csv")
+    for part in bom.loc[bom["category"] == "printed part"].itertuples():
+        volume_cm3 = part.mass_kg / effective_config(run)["material"]["density_kg_m3"] * 1e6
+        hours = (volume_cm3 * 1e3 / 10.0 + 600) / 3600  # the page's stated rule
+        row = f"| {part.item} | {part.mass_kg * 1e3:.0f} | {volume_cm3:.0f} | {hours:.1f} |"
+        assert row in sheet
+
+
 def _no_constant(name):
     raise ValueError(f"not strict JSON: {name}")
 

@@ -13,14 +13,17 @@ rule summary:
         payload=rules.payload_test.output.result,
         topology=rules.topology_optimize.output.topology,
         bom=rules.topology_optimize.output.bom_md,
+        bom_csv=rules.topology_optimize.output.bom_csv,
     output:
-        f"{RESULTS}/summary.md",  # in the report as a page (rule markdown_pages)
+        summary=f"{RESULTS}/summary.md",  # in the report as a page (rule markdown_pages)
+        datasheet=f"{RESULTS}/datasheet.md",  # the same
     log:
         f"{RESULTS}/logs/summary.log",
     conda:
         ENV
     params:
         code=code("summary.py"),
+        density_kg_m3=config["material"]["density_kg_m3"],
     script:
         "../scripts/summary.py"
 
@@ -29,6 +32,7 @@ rule summary:
 # ones only as download links. Each page: (Markdown file, caption, title).
 MARKDOWN_PAGES = {
     "summary": (f"{RESULTS}/summary.md", "summary.rst", "Summary of the run"),
+    "datasheet": (f"{RESULTS}/datasheet.md", "datasheet.rst", "Datasheet of the design"),
     "comparison": (f"{OPT}/comparison.md", "comparison.rst", "The fronts side by side"),
     "design_rules": (
         f"{RULES_DIR}/summary.md",

@@ -1,13 +1,18 @@
-"""Rule summary: results/summary.md with the headline numbers of every stage."""
+"""Rule summary: results/summary.md with the headline numbers of every stage, and
+results/datasheet.md, the realised design's datasheet."""
 
 import json
 
-from qsm.report.headline import headline_markdown
+import pandas as pd
+
+from qsm.report.datasheet import datasheet_markdown
+from qsm.report.headline import headline_markdown, verdict_sentence
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
 with logged(snakemake.log[0]) as log:
     inp = snakemake.input
+    out = snakemake.output
     loaded = {}
     keys = ("filters", "status", "metrics", "comparison", "selected", "torques", "payload")
     for key in (*keys, "topology"):
@@ -16,6 +21,12 @@ with logged(snakemake.log[0]) as log:
     with open(inp.bom) as fh:
         bom = fh.read()
     text = headline_markdown(findings=read_table(inp.findings), bom=bom, **loaded)
-    with open(snakemake.output[0], "w") as fh:
+    with open(out.summary, "w") as fh:
         fh.write(text)
-    log.info("wrote the summary")
+    verdict = verdict_sentence(loaded["selected"], loaded["topology"], loaded["payload"])
+    sheet = datasheet_markdown(
+        loaded["selected"], pd.read_csv(inp.bom_csv), snakemake.params.density_kg_m3, verdict
+    )
+    with open(out.datasheet, "w") as fh:
+        fh.write(sheet)
+    log.info("wrote the summary and the datasheet")

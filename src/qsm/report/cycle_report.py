@@ -4,7 +4,7 @@ envelope as a figure, and its lines of ``summary.md``."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -70,6 +70,38 @@ def _power(cycle: Cycle, arm: Arm) -> dict[str, Any]:
     }
 
 
+#: Motor types whose torque constant and resistance give the input power.
+DC_TYPES = ("DC", "BLDC")
+
+
+def electrical_power(
+    cycle: Cycle, arm: Arm, motors: Sequence[Mapping[str, Any]]
+) -> list[dict[str, Any] | str]:
+    """Each motor's electrical power over the cycle where its catalogue row gives its torque
+    constant and resistance (DC and brushless DC motors): peak and RMS input power (W) and the
+    energy drawn per cycle (J, regeneration not recovered), from P = tau_m omega_m + R (tau_m /
+    k_t)^2 with tau_m the joint torque over ratio x efficiency when driving (x efficiency / ratio
+    when back-driven); "unknown" otherwise."""
+    _, _, qd, tau = _series(cycle, arm)
+    out: list[dict[str, Any] | str] = []
+    for j, (env, motor) in enumerate(zip(arm.drives, motors, strict=True)):
+        kt, r = float(motor.get("k_t", np.nan)), float(motor.get("R", np.nan))
+        dc = str(motor.get("type", "")).upper() in DC_TYPES
+        if not (dc and np.isfinite(kt) and np.isfinite(r) and kt > 0):
+            out.append("unknown")
+            continue
+        driving = tau[:, j] * qd[:, j] >= 0
+        n, eta = env.ratio, env.efficiency
+        tau_m = np.where(driving, tau[:, j] / (n * eta), tau[:, j] * eta / n)
+        power = tau_m * qd[:, j] * n + r * (tau_m / kt) ** 2
+        out.append({
+            "peak_W": float(np.abs(power).max()),
+            "rms_W": float(np.sqrt((power**2).mean())),
+            "energy_per_cycle_J": float(np.clip(power, 0.0, None).sum() * cycle.dt),
+        })  # fmt: skip
+    return out
+
+
 def cycle_record(
     checked: CheckedCycle,
     arm: Arm,
@@ -77,12 +109,14 @@ def cycle_record(
     angles: NDArray[np.float64],
     raster_s: float,
     continuous_Nm: Sequence[float],
+    motors: Sequence[Mapping[str, Any]],
 ) -> dict[str, Any]:
     """JSON-ready ``cycle``: its time and rate, each move's time and what binds it, the power,
     torque and energy figures, the thermal check against each drive's ``continuous_Nm`` at the
     joint, the links' utilisation, MuJoCo's run, the motor ``angles`` (n, 2) rad at the visited
-    points, and how much faster than the raster's speed (``raster_s``: the same moves at the
-    duty's raster speed, the same dwells)."""
+    points, how much faster than the raster's speed (``raster_s``: the same moves at the duty's
+    raster speed, the same dwells), and each motor's electrical power where its catalogue row
+    (``motors``) allows (:func:`electrical_power`)."""
     c, sim = checked.cycle, checked.simulation
     moves = [
         {"from": a, "to": b, "time_s": m.duration_s, "binding": m.binding,
@@ -103,6 +137,7 @@ def cycle_record(
         "waypoints_deg": np.degrees(angles).tolist(),
         "moves": moves,
         **power,
+        "electrical": electrical_power(c, arm, motors),
         "continuous_torque_Nm": list(continuous_Nm),
         "rms_over_continuous": thermal,
         "thermal_ok": bool(max(thermal) <= 1.0),
@@ -239,7 +274,9 @@ def run_cycle(
     arm = Arm(done.design, Inertials.of(props), s.payload_kg, drives)
     checked = checked_cycle(done, props, arm, angles, points, s, task.dwell_s, np.array(continuous))
     raster = raster_time_s(angles, np.radians(raster_speed_deg_s))
-    return cycle_record(checked, arm, task.visits, angles, raster, continuous), checked, arm
+    motors = [catalogue.motors.loc[k["motor_key"]].to_dict() for k in keys]
+    record = cycle_record(checked, arm, task.visits, angles, raster, continuous, motors)
+    return record, checked, arm
 
 
 def _continuous_Nm(catalogue: Catalogue, motor_key: str, gearbox_key: str) -> float:

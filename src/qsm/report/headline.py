@@ -108,6 +108,20 @@ def build_verdict(
     return not problems, problems
 
 
+def verdict_sentence(
+    selected: Mapping[str, Any], topology: Mapping[str, Any], payload: Mapping[str, Any]
+) -> str:
+    """The run's overall verdict: ready to build, with its accuracy, or each reason it is not
+    (:func:`build_verdict`)."""
+    ready, problems = build_verdict(selected, topology, payload)
+    if ready:
+        return (
+            "Ready to build: printable, every part holds its loads, each motor has a drive, "
+            "payload test passed, " + _accuracy_clause(selected) + "."
+        )
+    return "NOT READY TO BUILD: " + "; ".join(problems) + "."
+
+
 def _accuracy_clause(selected: Mapping[str, Any]) -> str:
     """The ready verdict's accuracy clause, with the run's numbers."""
     worst = selected["stiffness"]["worst"]
@@ -181,18 +195,10 @@ def headline_markdown(
     bom: str,
 ) -> str:
     """One page of Markdown with the overall verdict and the figures of every stage."""
-    ready, problems = build_verdict(selected, topology, payload)
     lines = [
         "# qsm-design: summary of this run",
         "",
-        "**"
-        + (
-            "Ready to build: printable, every part holds its loads, each motor has a drive, "
-            "payload test passed, " + _accuracy_clause(selected) + "."
-            if ready
-            else "NOT READY TO BUILD: " + "; ".join(problems) + "."
-        )
-        + "**",
+        "**" + verdict_sentence(selected, topology, payload) + "**",
         "",
         *_mirror_lines(selected.get("task", {})),
         *_build_section(selected, topology, bom),
