@@ -102,3 +102,17 @@ def test_without_growth_the_sections_stay_and_the_record_says_it_falls_short():
     assert not done.accuracy.meets
     record = done.accuracy.record()
     assert record["meets_target"] is False and record["structure_mm"] > record["target_mm"]
+
+
+def test_a_task_that_does_not_ask_for_growth_keeps_the_lightest_drives_and_sections():
+    """task.grow_for_tolerance: false realises the strength's sections and the lightest drives
+    for the duty, and the record says the arm was not built for the tolerance."""
+    config = load_config()
+    config["task"]["grow_for_tolerance"] = False
+    settings = realization_of(config)
+    assert settings.accuracy.points_m == ()
+    done = realize(DESIGN, settings)
+    assert done.scale is None and done.accuracy.meets is None
+    assert done.accuracy.min_stiffness_Nm_rad == (0.0, 0.0)
+    assert done.drives == DriveCheck().report(DESIGN)
+    assert done.accuracy.record()["meets_target"] is None

@@ -90,14 +90,19 @@ def arm():
 
 def test_a_cycle_holds_at_its_points_and_its_time_adds_up(arm):
     angles = np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0], [95.0, 20.0]])
-    cycle = plan_cycle(arm, angles, 0.5, 1e-3)
+    cycle = plan_cycle(arm, angles, 0.5, 1e-3, returns=True)
     ref = cycle.samples()
     np.testing.assert_allclose(ref.theta[ref.hold_ends], angles, atol=1e-9)
     assert np.abs(ref.dtheta[ref.hold_ends]).max() < 1e-9
-    assert cycle.returns
-    # the samples start with the dwell at the first point, which a repeated cycle shares with
-    # its last: one dwell per point
+    # the samples start at rest with a dwell at the first point, which a repeated cycle shares
+    # with its last: one period is the rest, one dwell per point
     assert ref.t[-1] == pytest.approx(cycle.time_s + cycle.dwell_s, abs=1e-9)
+    period = ref.t[cycle.period()]
+    assert period[-1] - period[0] + cycle.dt == pytest.approx(cycle.time_s, abs=1e-9)
+    moves = sum(m.duration_s for m in cycle.moves)
+    assert cycle.time_s == pytest.approx(moves + 3 * 0.5)
+    open_cycle = plan_cycle(arm, angles[:3], 0.5, 1e-3, returns=False)  # three stops, two moves
+    assert open_cycle.time_s == pytest.approx(sum(m.duration_s for m in open_cycle.moves) + 1.5)
     for move in cycle.moves:
         top = np.array([top_speed(e) for e in arm.drives])
         assert (np.abs(move.qd) <= top).all()
@@ -108,7 +113,7 @@ def test_a_cycle_holds_at_its_points_and_its_time_adds_up(arm):
 
 def test_a_slowed_cycle_takes_the_same_path_longer_and_gentler(arm):
     angles = np.radians([[95.0, 20.0], [140.0, 60.0]])
-    cycle = plan_cycle(arm, angles, 0.0, 1e-3)
+    cycle = plan_cycle(arm, angles, 0.0, 1e-3, returns=False)
     twice = slowed(cycle, arm, 2.0)
     (move,), (slow,) = cycle.moves, twice.moves
     assert slow.duration_s == pytest.approx(2 * move.duration_s, abs=2e-3)

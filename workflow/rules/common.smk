@@ -88,6 +88,13 @@ def load_case():
     }
 
 
+def accuracy_settings():
+    """The task's keys the realisation's accuracy reads (qsm.config.settings.realization
+    .accuracy): the task's points and cycle arrive by other params."""
+    keys = ("tolerance_mm", "min_first_mode_hz", "grow_for_tolerance")
+    return {k: config["task"][k] for k in keys}
+
+
 def motion_settings():
     """The payload test's keys that shape the task's motion, which the realisation reads
     (qsm.config.settings.simulation.MOTION_KEYS): gains and limits rerun only the simulations."""

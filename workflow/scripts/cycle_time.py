@@ -28,13 +28,17 @@ with logged(snakemake.log[0]) as log:
     task = TaskCycle(**p.cycle)
     record, checked, arm = run_cycle(done, props, settings, test, task, case.duty.peak_speed_deg_s)
     write_json(out.cycle, record)
-    trajectory_table(checked.cycle, arm).to_csv(out.trajectory, index=False)
-    cycle_figure(checked.cycle, arm, out.figure)
-    log.info(
-        "cycle: %.2f s, %.0f per hour (time-optimal %.2f s, slowed %gx), MuJoCo %s",
-        record["cycle_time_s"],
-        record["cycles_per_hour"],
-        record["time_optimal_s"],
-        record["slowed_by"],
-        record["simulation"]["reason"],
-    )
+    cycle = None if checked is None else checked.cycle
+    trajectory_table(cycle, arm).to_csv(out.trajectory, index=False)
+    cycle_figure(cycle, arm, out.figure, record.get("reason", ""))
+    if checked is None:
+        log.warning("no cycle could be planned: %s", record["reason"])
+    else:
+        log.info(
+            "cycle: %.2f s, %.0f per hour (time-optimal %.2f s, slowed %gx), MuJoCo %s",
+            record["cycle_time_s"],
+            record["cycles_per_hour"],
+            record["time_optimal_s"],
+            record["slowed_by"],
+            record["simulation"]["reason"],
+        )

@@ -55,13 +55,14 @@ STRUCTURE_SHARE = 0.7
 class AccuracyChoice:
     """What the tolerance asks of a design: each link's section ``scale`` (4,) on the configured
     one, each motor's least gearbox stiffness (N m/rad; 0: any), the structural error (mm) it
-    gives, the ``target_mm`` it had to meet, and whether it meets it."""
+    gives, the ``target_mm`` it had to meet, and whether it meets it (None: not built for the
+    tolerance)."""
 
     scale: NDArray[np.float64]
     min_stiffness_Nm_rad: tuple[float, float]
     structure_mm: float
     target_mm: float
-    meets: bool
+    meets: bool | None
 
     def record(self) -> dict[str, Any]:
         """JSON-ready account: the share and target, the structural error (None: not computed),
@@ -195,3 +196,24 @@ def accuracy_choice(
         if lightest is None or mass < lightest[0]:
             lightest = (mass, choice)
     return nearest if lightest is None else lightest[1]
+
+
+def as_realised(
+    choice: AccuracyChoice,
+    design: NDArray[np.float64],
+    scale: NDArray[np.float64],
+    drives: dict[str, Any],
+    strength: StrengthCheck,
+    accuracy: AccuracySettings,
+    motion: PayloadSettings,
+    reflected: bool = True,
+) -> AccuracyChoice:
+    """``choice`` with the structural error of the arm as realised: its sections ``scale``
+    (4,) and the ``drives`` of its drive report (chosen at those sections, which may differ from
+    the search's at the strength's)."""
+    if choice.meets is None or not math.isfinite(choice.structure_mm):
+        return choice
+    points = np.asarray(accuracy.points_m, dtype=float).reshape(-1, 2)
+    angles = joint_path(design, points, motion.theta1_range_deg, motion.theta2_min_deg)
+    error = structure_mm(design, scale, drives, strength, motion, angles, reflected)
+    return replace(choice, scale=scale, structure_mm=error, meets=error <= choice.target_mm)

@@ -13,10 +13,11 @@ it under:
 * each joint's speed.
 
 The envelope is not linear in TOPP-RA's variables. Each move is planned with a speed bound ``v``
-per joint and the envelope's torque at ``v`` in the driving direction, which the drive gives at
-every speed up to ``v`` (the envelope falls with speed, and back-driving gives more). ``v`` is tried
-at :data:`SPEED_FRACTIONS` of the drive's top speed, and the fastest plan is kept. This is the
-conservative linearisation; no jerk limit is applied.
+per joint and the least torque of the envelope in the driving direction over [0, ``v``], which
+the drive gives at every speed up to ``v`` (back-driving gives more). ``v`` is tried at
+:data:`SPEED_FRACTIONS` of the drive's top speed, and the fastest plan is kept. This is the
+conservative linearisation, at TOPP-RA's grid points (:data:`GRID` per move; between them the
+torque may pass the bound slightly, which MuJoCo's run checks); no jerk limit is applied.
 """
 
 from __future__ import annotations
@@ -39,7 +40,7 @@ from qsm.physics.dynamics import loop_state
 from qsm.realization.payload import Reference
 
 #: Speed bounds tried per move, as fractions of each drive's top speed at the joint.
-SPEED_FRACTIONS: tuple[float, ...] = (0.25, 0.4, 0.55, 0.7, 0.85, 0.95)
+SPEED_FRACTIONS: tuple[float, ...] = (0.05, 0.15, 0.3, 0.5, 0.7, 0.85, 0.95)
 #: Grid intervals of TOPP-RA along each move.
 GRID = 80
 #: A plan's peak use of a bound at or above this counts that bound as binding.
@@ -94,9 +95,14 @@ def top_speed(envelope: OutputEnvelope) -> float:
 
 
 def torque_bound(envelope: OutputEnvelope, speed: float) -> float:
-    """The torque (N m) the drive gives at the joint at every speed up to ``speed`` (rad/s): its
-    envelope at ``speed`` in the driving direction."""
-    return float(envelope.limit(1.0, speed))
+    """The torque (N m) the drive gives at the joint at every speed up to ``speed`` (rad/s): the
+    least of its envelope in the driving direction (back-driving gives more) over [0, speed],
+    at 64 speeds and its torque-speed table's own."""
+    speeds = np.linspace(0.0, speed, 64)
+    if envelope.table is not None:
+        table = envelope.table[0] / envelope.ratio
+        speeds = np.concatenate([speeds, table[table <= speed]])
+    return float(envelope.limit(np.ones_like(speeds), speeds).min())
 
 
 def motor_torques(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike) -> NDArray[np.float64]:
@@ -217,18 +223,20 @@ def time_scaled(move: Move, arm: Arm, factor: float, dt: float) -> Move:
 
 
 class Cycle(NamedTuple):
-    """A cycle: its moves, in order, the dwell (s) at each visited point, the sample step (s)
-    and how many times slower than the time-optimal timing it runs."""
+    """A cycle: its moves, in order, the dwell (s) at each visited point, the sample step (s),
+    whether it ``returns`` to its first point, and how many times slower than the time-optimal
+    timing it runs."""
 
     moves: tuple[Move, ...]
     dwell_s: float
     dt: float
+    returns: bool
     factor: float = 1.0
 
-    @property
-    def returns(self) -> bool:
-        """Whether the cycle ends where it starts."""
-        return bool(np.allclose(self.moves[0].q[0], self.moves[-1].q[-1], rtol=0, atol=1e-12))
+    def period(self) -> slice:
+        """The samples of :meth:`samples` that make one period of the repeated cycle: all but
+        the first dwell when the cycle returns (its last dwell is at the same point)."""
+        return slice(round(self.dwell_s / self.dt) + 1 if self.returns else 0, None)
 
     @property
     def time_s(self) -> float:
@@ -256,13 +264,13 @@ class Cycle(NamedTuple):
         return Reference(t, theta, np.concatenate(qd), np.concatenate(qdd), np.array(ends))
 
 
-def plan_cycle(arm: Arm, angles: ArrayLike, dwell_s: float, dt: float) -> Cycle:
+def plan_cycle(arm: Arm, angles: ArrayLike, dwell_s: float, dt: float, returns: bool) -> Cycle:
     """The time-optimal cycle through the visited points' motor ``angles`` (n, 2) rad, in order
-    (the start again at the end when it returns), with ``dwell_s`` at each, sampled every ``dt``
-    s."""
+    (the start again at the end when it ``returns``), with ``dwell_s`` at each, sampled every
+    ``dt`` s."""
     way = np.asarray(angles, dtype=float)
     moves = tuple(plan_move(arm, a, b, dt) for a, b in itertools.pairwise(way))
-    return Cycle(moves, dwell_s, dt)
+    return Cycle(moves, dwell_s, dt, returns)
 
 
 def slowed(cycle: Cycle, arm: Arm, factor: float) -> Cycle:
@@ -276,7 +284,7 @@ MIN_JERK_DURATION = 1.875
 
 
 def raster_time_s(angles: NDArray[np.float64], peak_speed_rad_s: float) -> float:
-    """The moves' time (s) at the duty's raster speed: minimum-jerk moves whose faster joint
-    peaks at ``peak_speed_rad_s``."""
+    """The moves' time (s) between consecutive motor ``angles`` (n, 2) rad at the duty's raster
+    speed: minimum-jerk moves whose faster joint peaks at ``peak_speed_rad_s`` (rad/s)."""
     change = np.abs(np.diff(angles, axis=0)).max(axis=1)
     return float(MIN_JERK_DURATION * change.sum() / peak_speed_rad_s)

@@ -343,6 +343,24 @@ def _failure_reasons(
     return reasons
 
 
+def _route(
+    d: NDArray[np.float64],
+    points: ArrayLike,
+    s: PayloadSettings,
+    reference: Reference | None,
+    dt: float,
+) -> tuple[NDArray[np.float64], NDArray[np.float64], Reference]:
+    """The visited points (n, 2) m, their motor angles (n, 2) rad and the reference through
+    them every ``dt`` s: the test's own (the points it visits, :func:`raster_reference`), or
+    ``reference`` through ``points`` as given, which must be sampled every ``dt``."""
+    pts = _visited(points, s.return_to_start) if reference is None else np.reshape(points, (-1, 2))
+    way = joint_path(d, pts, s.theta1_range_deg, s.theta2_min_deg)
+    ref = raster_reference(way, s, dt) if reference is None else reference
+    if not np.allclose(np.diff(ref.t), dt, rtol=1e-9, atol=0):
+        raise ValueError(f"the reference is not sampled at the model's time step {dt} s")
+    return pts, way, ref
+
+
 def _drive_limits(
     s: PayloadSettings, drives: Sequence[OutputEnvelope] | None
 ) -> tuple[NDArray[np.float64] | None, list[OutputEnvelope] | None, tuple[float, float]]:
@@ -389,11 +407,9 @@ def payload_test(
     limits = _limit_function(fixed, envelopes)
 
     d = as_design(design)
-    pts = _visited(points, s.return_to_start) if reference is None else np.reshape(points, (-1, 2))
-    way = joint_path(d, pts, s.theta1_range_deg, s.theta2_min_deg)
     model = model_spec(d, cad, s.payload_kg, props, armature).compile()
     dt = float(model.opt.timestep)
-    ref = raster_reference(way, s, dt) if reference is None else reference
+    pts, way, ref = _route(d, points, s, reference, dt)
     t, th, dth, ddth = ref.t, ref.theta, ref.dtheta, ref.ddtheta
     state = _reference_state(d, t, th, dth, ddth)
     tau_ff = inverse_dynamics(model, d, state).tau

@@ -33,7 +33,12 @@ from qsm.realization.accuracy_budget import (
     accuracy_record,
     drive_terms,
 )
-from qsm.realization.accuracy_sizing import AccuracyChoice, accuracy_choice, frame_sections
+from qsm.realization.accuracy_sizing import (
+    AccuracyChoice,
+    accuracy_choice,
+    as_realised,
+    frame_sections,
+)
 from qsm.realization.assembly import bearing_rows
 from qsm.realization.payload import PayloadSettings
 
@@ -88,6 +93,8 @@ def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
     strength = strength_record(d, check, sized)
     drives = replace(settings.drives, min_stiffness_Nm_rad=accuracy.min_stiffness_Nm_rad)
     report = drives.report(d, None if sized is None else sized.scale)
+    realised = np.ones(4) if scale is None else np.asarray(scale)
+    accuracy = as_realised(accuracy, d, realised, report, check, settings.accuracy, settings.motion)
     part_settings = replace(settings.parts, scale=scale)
     names = {joint: b["designation"] for joint, b in strength["bearings"].items()}
     rows = bearing_rows(names, part_settings.table)
@@ -116,7 +123,7 @@ def _for_accuracy(
     base = np.ones(4) if sized is None else sized.scale[0]
     acc = settings.accuracy
     if not acc.points_m:
-        return check, sized, AccuracyChoice(base, (0.0, 0.0), math.nan, math.nan, True)
+        return check, sized, AccuracyChoice(base, (0.0, 0.0), math.nan, math.nan, None)
     choice = accuracy_choice(d, base, check, settings.drives, acc, settings.motion)
     if np.array_equal(choice.scale, base):
         return check, sized, choice

@@ -20,7 +20,7 @@ from qsm.physics.cad import MassProperties
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.task_points import TaskCycle
 from qsm.realization.cycle import Arm, Cycle, motor_torques, raster_time_s, top_speed
-from qsm.realization.cycle_check import CheckedCycle, checked_cycle
+from qsm.realization.cycle_check import CheckedCycle, checked_cycle, cycle_torques
 from qsm.realization.payload import PayloadSettings
 from qsm.realization.pipeline import Realization, RealizationSettings
 
@@ -43,8 +43,11 @@ def _series(cycle: Cycle, arm: Arm) -> tuple[NDArray, NDArray, NDArray, NDArray]
     return ref.t, ref.theta, ref.dtheta, tau
 
 
-def trajectory_table(cycle: Cycle, arm: Arm) -> pd.DataFrame:
-    """The cycle as run, one row per sample (:data:`TRAJECTORY_COLUMNS`)."""
+def trajectory_table(cycle: Cycle | None, arm: Arm) -> pd.DataFrame:
+    """The cycle as run from rest at its first point, one row per sample
+    (:data:`TRAJECTORY_COLUMNS`; no rows without a cycle)."""
+    if cycle is None:
+        return pd.DataFrame(columns=list(TRAJECTORY_COLUMNS))
     t, q, qd, tau = _series(cycle, arm)
     out = {"t_s": t}
     for j in (0, 1):
@@ -55,9 +58,10 @@ def trajectory_table(cycle: Cycle, arm: Arm) -> pd.DataFrame:
 
 
 def _power(cycle: Cycle, arm: Arm) -> dict[str, Any]:
-    """Each motor's peak and RMS mechanical power (W) at the joint, its RMS torque (N m), and
-    the energy per cycle (J): the motors' positive work, braking not recovered."""
-    t, _, qd, tau = _series(cycle, arm)
+    """Over one period of the repeated cycle: each motor's peak and RMS mechanical power (W) at
+    the joint, its peak and RMS torque (N m), and the energy per cycle (J): the motors' positive
+    work, braking not recovered."""
+    t, _, qd, tau = cycle_torques(cycle, arm)
     power = tau * qd
     dt = cycle.dt
     return {
@@ -81,8 +85,8 @@ def electrical_power(
     constant and resistance (DC and brushless DC motors): peak and RMS input power (W) and the
     energy drawn per cycle (J, regeneration not recovered), from P = tau_m omega_m + R (tau_m /
     k_t)^2 with tau_m the joint torque over ratio x efficiency when driving (x efficiency / ratio
-    when back-driven); "unknown" otherwise."""
-    _, _, qd, tau = _series(cycle, arm)
+    when back-driven); "unknown" otherwise. Over one period of the repeated cycle."""
+    _, _, qd, tau = cycle_torques(cycle, arm)
     out: list[dict[str, Any] | str] = []
     for j, (env, motor) in enumerate(zip(arm.drives, motors, strict=True)):
         kt, r = float(motor.get("k_t", np.nan)), float(motor.get("R", np.nan))
@@ -125,8 +129,13 @@ def cycle_record(
     ]  # fmt: skip
     power = _power(c, arm)
     raster = raster_s + c.time_s - sum(m.duration_s for m in c.moves)  # the same dwells
-    thermal = [r / k for r, k in zip(power["rms_torque_Nm"], continuous_Nm, strict=True)]
+    thermal = [
+        r / k if np.isfinite(k) and k > 0 else None
+        for r, k in zip(power["rms_torque_Nm"], continuous_Nm, strict=True)
+    ]
+    thermal_ok = None if None in thermal else bool(max(thermal) <= 1.0)
     return {
+        "planned": True,
         "cycle_time_s": c.time_s,
         "cycles_per_hour": 3600.0 / c.time_s,
         "time_optimal_s": checked.optimal.time_s,
@@ -138,18 +147,22 @@ def cycle_record(
         "moves": moves,
         **power,
         "electrical": electrical_power(c, arm, motors),
-        "continuous_torque_Nm": list(continuous_Nm),
+        "continuous_torque_Nm": [float(k) if np.isfinite(k) else None for k in continuous_Nm],
         "rms_over_continuous": thermal,
-        "thermal_ok": bool(max(thermal) <= 1.0),
+        "thermal_ok": thermal_ok,
         "strength_utilisation": checked.utilisation,
         "links_hold": bool(checked.utilisation <= 1.0),
         "simulation": {k: sim[k] for k in _SIMULATION_KEYS},
         "raster_cycle_s": raster,
         "faster_than_raster": raster / c.time_s,
-        "ok": bool(sim["passed"] and checked.utilisation <= 1.0 and max(thermal) <= 1.0),
+        "ok": bool(sim["passed"] and checked.utilisation <= 1.0 and thermal_ok is not False),
         "interpolation": "straight lines in joint space between the points, rest to rest",
-        "linearisation": "each move's torque bound is the envelope's at its speed bound, the "
-        "fastest of several speed bounds kept",
+        "linearisation": "each move's torque bound is the least of the envelope up to its speed "
+        "bound, at TOPP-RA's grid points; the fastest of several speed bounds kept",
+        "bounds": [
+            {"speed_rad_s": m.speed_bound.tolist(), "torque_Nm": m.torque_bound.tolist()}
+            for m in checked.optimal.moves
+        ],
     }
 
 
@@ -168,6 +181,8 @@ def cycle_lines(cycle: dict[str, Any] | None) -> list[str]:
     """``summary.md``'s cycle section."""
     if not cycle:
         return []
+    if not cycle["planned"]:
+        return ["## Cycle", f"- no cycle could be planned on the task: {cycle['reason']}.", ""]
     moves = ", ".join(
         f"{m['from']}->{m['to']} {m['time_s']:.2f} s ({m['optimal_binding']})"
         for m in cycle["moves"]
@@ -202,8 +217,10 @@ def cycle_problems(cycle: dict[str, Any] | None) -> list[str]:
     failing even at the slowest tried."""
     if not cycle:
         return []
+    if not cycle["planned"]:
+        return [f"no time-optimal cycle could be planned on the task: {cycle['reason']}"]
     out = []
-    if not cycle["thermal_ok"]:
+    if cycle["thermal_ok"] is False:
         pairs = zip(cycle["rms_torque_Nm"], cycle["continuous_torque_Nm"], strict=True)
         over = [
             f"motor {j + 1} {r:.1f} N m RMS over {c:.1f} N m continuous"
@@ -222,23 +239,27 @@ def cycle_problems(cycle: dict[str, Any] | None) -> list[str]:
     return out
 
 
-def _pair(values: Sequence[float], digits: int) -> str:
-    return " / ".join(f"{v:.{digits}f}" for v in values)
+def _pair(values: Sequence[float | None], digits: int) -> str:
+    """Two values, motor 1 / motor 2, to ``digits`` decimals (- where there is none)."""
+    return " / ".join("-" if v is None else f"{v:.{digits}f}" for v in values)
 
 
-def cycle_figure(cycle: Cycle, arm: Arm, path: str | Path) -> Path:
+def cycle_figure(cycle: Cycle | None, arm: Arm, path: str | Path, reason: str = "") -> Path:
     """Each motor's |torque| against its |speed| over the cycle, over its drive's envelope at
-    the joint (driving direction)."""
+    the joint (driving direction); the envelopes and ``reason`` alone without a cycle."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    _, _, qd, tau = _series(cycle, arm)
     fig, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    if cycle is None:
+        fig.suptitle(f"no cycle: {reason}"[:120], fontsize=9)
     for j, (ax, env) in enumerate(zip(axes, arm.drives, strict=True)):
         _envelope(ax, env)
-        ax.plot(np.abs(qd[:, j]), np.abs(tau[:, j]), ".", ms=2, label="cycle")
+        if cycle is not None:
+            _, _, qd, tau = _series(cycle, arm)
+            ax.plot(np.abs(qd[:, j]), np.abs(tau[:, j]), ".", ms=2, label="cycle")
         ax.set(xlabel="|speed| at the joint (rad/s)", ylabel="|torque| at the joint (N m)",
                title=f"motor {j + 1}: {env.name}")  # fmt: skip
         ax.legend()
@@ -248,6 +269,7 @@ def cycle_figure(cycle: Cycle, arm: Arm, path: str | Path) -> Path:
 
 
 def _envelope(ax: Any, env: OutputEnvelope) -> None:
+    """The drive's torque (N m) at the joint against speed (rad/s), driving, on ``ax``."""
     speed = np.linspace(0.0, top_speed(env), 200)
     ax.plot(speed, env.limit(np.ones_like(speed), speed), "k-", label="drive envelope")
 
@@ -259,24 +281,38 @@ def run_cycle(
     test: PayloadSettings,
     task: TaskCycle,
     raster_speed_deg_s: float,
-) -> tuple[dict[str, Any], CheckedCycle, Arm]:
+) -> tuple[dict[str, Any], CheckedCycle | None, Arm]:
     """The realised design's time-optimal ``task`` cycle with its drives (the chosen ones, or
     the nearest), checked (:func:`qsm.realization.cycle_check.checked_cycle`, MuJoCo's run with
-    the payload ``test``'s plant and controller): its record, the checked cycle and the arm it
-    was planned for."""
+    the payload ``test``'s plant and controller): its record, the checked cycle (None, and the
+    record says why, where no cycle can be planned) and the arm it was planned for."""
     catalogue = settings.drives.catalogue
     keys = [(m.get("drive") or m["best_drive"]) for m in done.drives["motors"].values()]
     drives = [OutputEnvelope.of(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys]
-    continuous = [_continuous_Nm(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys]
-    s = test
+    continuous = np.array(
+        [_continuous_Nm(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys]
+    )
+    continuous = np.where(np.isfinite(continuous) & (continuous > 0), continuous, np.nan)
+    arm = Arm(done.design, Inertials.of(props), test.payload_kg, drives)
     points = np.asarray(task.points, dtype=float)
-    angles = joint_path(done.design, points, s.theta1_range_deg, s.theta2_min_deg)
-    arm = Arm(done.design, Inertials.of(props), s.payload_kg, drives)
-    checked = checked_cycle(done, props, arm, angles, points, s, task.dwell_s, np.array(continuous))
+    returns = len(task.visits) > 1 and task.visits[0] == task.visits[-1]
+    try:
+        angles = joint_path(done.design, points, test.theta1_range_deg, test.theta2_min_deg)
+        checked = checked_cycle(
+            done, props, arm, angles, points, test, task.dwell_s, returns, continuous
+        )
+    except ValueError as exc:  # a point out of reach, or drives that cannot hold the arm
+        return unplanned_record(task, str(exc)), None, arm
     raster = raster_time_s(angles, np.radians(raster_speed_deg_s))
     motors = [catalogue.motors.loc[k["motor_key"]].to_dict() for k in keys]
     record = cycle_record(checked, arm, task.visits, angles, raster, continuous, motors)
     return record, checked, arm
+
+
+def unplanned_record(task: TaskCycle, reason: str) -> dict[str, Any]:
+    """The ``cycle`` record of a cycle that could not be planned, and why."""
+    return {"planned": False, "ok": False, "reason": reason, "visits": list(task.visits),
+            "dwell_s": task.dwell_s}  # fmt: skip
 
 
 def _continuous_Nm(catalogue: Catalogue, motor_key: str, gearbox_key: str) -> float:

@@ -84,7 +84,9 @@ def _performance_rows(selected: Mapping[str, Any]) -> list[str]:
     """Cycles per hour, accuracy, first mode and power."""
     rows = []
     cycle = selected.get("cycle")
-    if cycle:
+    if cycle and not cycle["planned"]:
+        rows.append(_row("cycles per hour", f"none: no cycle could be planned ({cycle['reason']})"))
+    elif cycle:
         rows += [
             _row("cycles per hour", f"{cycle['cycles_per_hour']:.0f} on the task "
                  f"({cycle['cycle_time_s']:.2f} s per cycle, {cycle['dwell_s']:g} s dwell at each "

@@ -49,13 +49,15 @@ def accuracy(
     build_volume_mm: Sequence[float],
 ) -> AccuracySettings:
     """``task.tolerance_mm`` and ``task.min_first_mode_hz``: what the design's accuracy must
-    meet at the design ``points`` (m); the largest section the realisation may give a link for
-    it (``task.grow_for_tolerance``: ``cad.sized``'s largest, else the configured one)."""
+    meet; where the realisation builds the design for it (``task.grow_for_tolerance``), the
+    design ``points`` (m) and the largest section it may give a link (``cad.sized``'s)."""
     return AccuracySettings(
         tolerance_mm=float(task["tolerance_mm"]),
         min_first_mode_hz=task["min_first_mode_hz"],
-        points_m=tuple((float(x), float(y)) for x, y in points),
-        max_section_scale=case.largest_scale if task["grow_for_tolerance"] else 1.0,
+        points_m=tuple((float(x), float(y)) for x, y in points)
+        if task["grow_for_tolerance"]
+        else (),
+        max_section_scale=case.largest_scale,
         build_volume_mm=tuple(float(v) for v in build_volume_mm),
     )
 
