@@ -123,6 +123,7 @@ def row(work: Path, name: str) -> dict[str, Any]:
             for k, v in fronts.items()
         },
         "embodiment": embodiment(selected, topology, payload),
+        "cycle": cycle_of(selected.get("cycle")),
         "accuracy": accuracy(
             selected,
             {
@@ -244,6 +245,44 @@ def accuracy(selected: dict[str, Any], fronts: dict[str, Any]) -> dict[str, Any]
             for k, v in fronts.items()
         },
     }
+
+
+def cycle_of(cycle: dict[str, Any] | None) -> dict[str, Any]:
+    """The selected design's cycle: time, rate, what binds its moves, how much it was slowed and
+    why, how much faster than the raster, and its checks."""
+    if not cycle or not cycle.get("planned"):
+        return {"planned": False, "reason": (cycle or {}).get("reason")}
+    return {
+        "planned": True,
+        **{k: cycle[k] for k in ("cycle_time_s", "cycles_per_hour", "time_optimal_s",
+                                 "slowed_by", "slowed_for", "faster_than_raster", "thermal_ok",
+                                 "links_hold", "ok", "strength_utilisation")},
+        "binding": sorted({m["optimal_binding"] for m in cycle["moves"]}),
+        "mujoco": cycle["simulation"]["reason"],
+    }  # fmt: skip
+
+
+def cycle_markdown(rows: list[dict[str, Any]]) -> str:
+    """One row per task that ran: the selected design's time-optimal cycle."""
+    lines = [
+        "| task | cycle (s) | cycles per hour | time-optimal (s), binding | slowed | x raster "
+        "| links | thermal | MuJoCo |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for r in rows:
+        c = r.get("cycle") or {}
+        if "error" in r or not c.get("planned"):
+            lines.append(f"| {r['task']} | no cycle: {c.get('reason') or r.get('error')} |")
+            continue
+        slowed = f"{c['slowed_by']:g}x" + (f" ({c['slowed_for'][0][:60]})" if c["slowed_for"]
+                                           else "")  # fmt: skip
+        lines.append(
+            f"| {r['task']} | {c['cycle_time_s']:.2f} | {c['cycles_per_hour']:.0f} | "
+            f"{c['time_optimal_s']:.2f}, {' / '.join(c['binding'])} | {slowed} | "
+            f"{c['faster_than_raster']:.1f} | {c['strength_utilisation']:.2f} | "
+            f"{'ok' if c['thermal_ok'] else c['thermal_ok']} | {c['mujoco'][:40]} |"
+        )
+    return "\n".join(lines)
 
 
 def accuracy_markdown(rows: list[dict[str, Any]]) -> str:
@@ -408,6 +447,8 @@ def main() -> None:
     print(embodiment_markdown(rows))
     print()
     print(accuracy_markdown(rows))
+    print()
+    print(cycle_markdown(rows))
     if args.out:
         args.out.write_text(json.dumps(rows, indent=2))
 

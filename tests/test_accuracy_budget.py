@@ -251,3 +251,21 @@ def test_g15_is_a_column_of_the_extra_constraints(settings, points):
     designs = np.stack([DESIGN, DESIGN * 1.1])
     (g15,) = extra.columns("paper", designs)
     np.testing.assert_allclose(g15, check.violation(designs))
+
+
+def test_the_dynamic_sag_takes_the_larger_of_the_dutys_and_the_cycles_load(
+    realized, settings, points
+):
+    plain = budget_of(realized, settings, points)
+    duty_N = plain["dynamic_load_N"]["duty"]
+    gentle = budget_of(realized, settings, points, cycle_load_N=0.5 * duty_N)
+    assert gentle["dynamic_load_from"] == "duty"
+    assert gentle["per_point"]["dynamic_sag_mm"] == plain["per_point"]["dynamic_sag_mm"]
+    hard = budget_of(realized, settings, points, cycle_load_N=2.0 * duty_N)
+    assert hard["dynamic_load_from"] == "cycle"
+    # the sag under a force of the worst direction is linear in its magnitude
+    np.testing.assert_allclose(
+        hard["per_point"]["dynamic_sag_mm"],
+        2.0 * np.array(plain["per_point"]["dynamic_sag_mm"]),
+        rtol=1e-12,
+    )

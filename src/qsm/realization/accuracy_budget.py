@@ -40,7 +40,6 @@ from qsm.embodiment.stiffness.frame import FrameSections, tool_compliance
 from qsm.embodiment.stiffness.modes import loaded_first_mode_hz
 from qsm.embodiment.stiffness.serial_arm import serial_comparison
 from qsm.embodiment.strength.loads import Inertials, joint_loads
-from qsm.physics.duty import Duty
 from qsm.physics.dynamics import loop_state
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.realization.payload import PayloadSettings, reference_trajectory
@@ -136,23 +135,31 @@ def task_motion_torques(
     return joint_loads(model.design, model.inertials, payload.payload_kg, state).tau
 
 
+def peak_payload_force_N(
+    design: ArrayLike, payload_kg: float, theta: ArrayLike, dtheta: ArrayLike, ddtheta: ArrayLike
+) -> float:
+    """The largest force (N) the payload puts on the tool, its weight and inertia, over a motion
+    (motor angles rad, speeds rad/s, accelerations rad/s^2, (N, 2) each)."""
+    accel = tool_acceleration(design, theta, dtheta, ddtheta)
+    return float(np.nanmax(np.linalg.norm(payload_force_N(payload_kg, accel), axis=-1)))
+
+
 def point_terms(
     model: ArmModel,
     angles: NDArray[np.float64],
     payload_kg: float,
-    duty: Duty,
+    peak_N: float,
     reverses: ArrayLike,
 ) -> dict[str, NDArray[np.float64]]:
     """The budget's terms (n,) at the task points' motor ``angles`` (n, 2) rad, but the tracking
-    error: mm, and the first mode in Hz. ``reverses`` (2,): whose torque changes sign."""
+    error: mm, and the first mode in Hz. ``peak_N``: the payload's peak force on the tool over
+    the motion (:func:`peak_payload_force_N`); ``reverses`` (2,): whose torque changes sign."""
     d, t1, t2 = model.design, angles[:, 0], angles[:, 1]
     weight = payload_force_N(payload_kg, np.zeros(2))
     printed = model.sections._replace(factor=model.factor)
     rigid = not np.isfinite(model.drive_stiffness).all()
     k = None if rigid else model.drive_stiffness
     compliance = tool_compliance(d, t1, t2, printed, k)
-    accel = tool_acceleration(d, duty.theta, duty.dtheta, duty.ddtheta)
-    peak_N = float(np.nanmax(np.linalg.norm(payload_force_N(payload_kg, accel), axis=-1)))
     mode = loaded_first_mode_hz(
         d, t1, t2, printed, model.inertials.mass_kg, payload_kg, k,
         None if rigid else model.reflected_kgm2,
@@ -218,14 +225,14 @@ def smallest_factor(meets: Any, high: float) -> float | None:
 
 
 def advice(
-    model: ArmModel, angles: NDArray, payload_kg: float, duty: Duty, reverses: NDArray,
+    model: ArmModel, angles: NDArray, payload_kg: float, peak_N: float, reverses: NDArray,
     tracking_mm: ArrayLike | None, tolerance_mm: float,
 ) -> list[str]:  # fmt: skip
     """What would meet ``tolerance_mm``, each answer checked by the budget: a larger section, a
     stiffer material, or drives without compliance and play."""
 
     def meets(m: ArmModel) -> bool:
-        terms = point_terms(m, angles, payload_kg, duty, reverses)
+        terms = point_terms(m, angles, payload_kg, peak_N, reverses)
         return bool((budget_mm(terms, tracking_mm) <= tolerance_mm).all())
 
     out = []
@@ -283,7 +290,7 @@ def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str
 
 
 def _would_meet(
-    model: ArmModel, angles: NDArray, payload: PayloadSettings, duty: Duty, reverses: NDArray,
+    model: ArmModel, angles: NDArray, payload: PayloadSettings, peak_N: float, reverses: NDArray,
     track: NDArray | None, settings: AccuracySettings, terms: dict[str, NDArray],
 ) -> list[str]:  # fmt: skip
     """What would meet each requirement the design misses, with the numbers: the tolerance
@@ -292,7 +299,7 @@ def _would_meet(
     out = []
     if not (budget_mm(terms, track) <= settings.tolerance_mm).all():
         out += advice(
-            model, angles, payload.payload_kg, duty, reverses, track, settings.tolerance_mm
+            model, angles, payload.payload_kg, peak_N, reverses, track, settings.tolerance_mm
         )
     low, mode = settings.min_first_mode_hz, float(np.min(terms["first_mode_hz"]))
     if low is not None and not mode >= low:
@@ -307,19 +314,22 @@ def accuracy_record(
     model: ArmModel,
     points_m: ArrayLike,
     payload: PayloadSettings,
-    duty: Duty,
+    loads: dict[str, float],
     settings: AccuracySettings,
     tracking_mm: ArrayLike | None = None,
     drive_notes: dict[str, Any] | None = None,
 ) -> dict[str, Any]:
     """JSON-ready accuracy budget of ``model`` at task ``points_m`` (n, 2) m: per point and worst
     (:data:`TERMS`), each drive's play and whether its torque reverses along the task's motion,
-    the verdict against ``settings`` and, when it fails, what would meet it. ``tracking_mm``:
-    the payload test's error per point (None before the test has run)."""
+    the verdict against ``settings`` and, when it fails, what would meet it. ``loads``: the
+    payload's peak force (N) on the tool over each motion it makes (the duty, the cycle), the
+    largest of which gives the dynamic sag. ``tracking_mm``: the payload test's error per point
+    (None before the test has run)."""
+    peak_N = max(loads.values())
     points = np.asarray(points_m, dtype=float).reshape(-1, 2)
     angles = joint_path(model.design, points, payload.theta1_range_deg, payload.theta2_min_deg)
     reverses = torque_reverses(task_motion_torques(model, angles, payload))
-    terms = point_terms(model, angles, payload.payload_kg, duty, reverses)
+    terms = point_terms(model, angles, payload.payload_kg, peak_N, reverses)
     track = None if tracking_mm is None else np.asarray(tracking_mm, dtype=float)[: len(points)]
     per_point: dict[str, Any] = {k: v.tolist() for k, v in terms.items()}
     per_point["tracking_error_mm"] = None if track is None else track.tolist()
@@ -341,7 +351,9 @@ def accuracy_record(
         "stiffness_factor": model.factor.tolist(),
         "meets_requirements": ok,
         "verdict": verdict,
-        "would_meet": _would_meet(model, angles, payload, duty, reverses, track, settings, terms),
+        "would_meet": _would_meet(model, angles, payload, peak_N, reverses, track, settings, terms),
+        "dynamic_load_N": dict(loads),
+        "dynamic_load_from": max(loads, key=loads.get),
         "serial_arm": serial_record(model, angles, payload.payload_kg, terms),
         "model": MODEL_NOTE,
     }

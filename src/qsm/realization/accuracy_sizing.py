@@ -41,6 +41,7 @@ from qsm.realization.accuracy_budget import (
     ArmModel,
     budget_mm,
     drive_terms,
+    peak_payload_force_N,
     point_terms,
     smallest_factor,
     task_motion_torques,
@@ -114,7 +115,9 @@ def structure_mm(
         drive_mass_kg=mass,
     )
     reverses = torque_reverses(task_motion_torques(model, angles, motion))
-    terms = point_terms(model, angles, motion.payload_kg, strength.duty, reverses)
+    du = strength.duty
+    peak_N = peak_payload_force_N(design, motion.payload_kg, du.theta, du.dtheta, du.ddtheta)
+    terms = point_terms(model, angles, motion.payload_kg, peak_N, reverses)
     return float(budget_mm(terms, None).max())
 
 

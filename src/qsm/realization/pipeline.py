@@ -32,6 +32,7 @@ from qsm.realization.accuracy_budget import (
     ArmModel,
     accuracy_record,
     drive_terms,
+    peak_payload_force_N,
 )
 from qsm.realization.accuracy_sizing import (
     AccuracyChoice,
@@ -175,18 +176,19 @@ def budget_of(
     props: dict[str, MassProperties] | None = None,
     factor: ArrayLike | None = None,
     tracking_mm: ArrayLike | None = None,
+    cycle_load_N: float | None = None,
 ) -> dict[str, Any]:
     """The accuracy budget (:func:`qsm.realization.accuracy_budget.accuracy_record`) of a
     realised design at task ``points_m``; ``props`` and ``factor`` for the optimised plates,
-    ``tracking_mm`` the payload test's error per point."""
+    ``tracking_mm`` the payload test's error per point, ``cycle_load_N`` the payload's peak
+    force (N) over the task's cycle (the duty's is always counted)."""
     model = arm_model(done, settings, props, factor)
     notes = drive_terms(done.drives)[-1]
+    du = settings.strength.duty
+    loads = {"duty": peak_payload_force_N(done.design, settings.motion.payload_kg, du.theta,
+                                          du.dtheta, du.ddtheta)}  # fmt: skip
+    if cycle_load_N is not None:
+        loads["cycle"] = float(cycle_load_N)
     return accuracy_record(
-        model,
-        points_m,
-        settings.motion,
-        settings.strength.duty,
-        settings.accuracy,
-        tracking_mm,
-        notes,
+        model, points_m, settings.motion, loads, settings.accuracy, tracking_mm, notes
     )

@@ -57,13 +57,18 @@ def final_record(
     payload: Mapping[str, Any],
     settings: RealizationSettings,
     points: ArrayLike,
+    cycle: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
     """``choice`` (realised as ``done``) with its ``stiffness`` the final budget (the optimised
-    plates' stiffness and masses, the payload test's tracking error) and the verdict sentence
-    that adds it."""
+    plates' stiffness and masses, the payload test's tracking error, the payload's peak force
+    over the duty and the task's ``cycle``), its ``cycle`` and the verdict sentence that adds
+    the budget."""
     tracking = tracking_per_point(points, payload.get("point_error_mm", []))
-    budget = budget_of(done, settings, points, props, plate_factors(topology), tracking)
+    load = None if not cycle or not cycle.get("planned") else cycle["peak_payload_force_N"]
+    budget = budget_of(done, settings, points, props, plate_factors(topology), tracking, load)
     record = dict(choice)
+    if cycle is not None:
+        record["cycle"] = dict(cycle)
     record["stiffness"] = budget | {"built_for_tolerance": done.accuracy.record()}
     record["verdict"] = f"{choice['verdict'].rstrip('.')}. {accuracy_sentence(budget)}."
     return record

@@ -19,6 +19,7 @@ from qsm.embodiment.strength.loads import Inertials
 from qsm.physics.cad import MassProperties
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.task_points import TaskCycle
+from qsm.realization.accuracy_budget import peak_payload_force_N
 from qsm.realization.cycle import Arm, Cycle, motor_torques, raster_time_s, top_speed
 from qsm.realization.cycle_check import CheckedCycle, checked_cycle, cycle_torques
 from qsm.realization.payload import PayloadSettings
@@ -72,6 +73,12 @@ def _power(cycle: Cycle, arm: Arm) -> dict[str, Any]:
         "energy_per_cycle_J": float(np.clip(power, 0.0, None).sum() * dt),
         "samples": len(t),
     }
+
+
+def _peak_load_N(cycle: Cycle, arm: Arm) -> float:
+    """The payload's peak force (N) on the tool over the cycle, its weight and inertia."""
+    ref = cycle.samples()
+    return peak_payload_force_N(arm.design, arm.payload_kg, ref.theta, ref.dtheta, ref.ddtheta)
 
 
 #: Motor types whose torque constant and resistance give the input power.
@@ -146,6 +153,7 @@ def cycle_record(
         "waypoints_deg": np.degrees(angles).tolist(),
         "moves": moves,
         **power,
+        "peak_payload_force_N": _peak_load_N(c, arm),
         "electrical": electrical_power(c, arm, motors),
         "continuous_torque_Nm": [float(k) if np.isfinite(k) else None for k in continuous_Nm],
         "rms_over_continuous": thermal,
