@@ -1,8 +1,7 @@
 # Shared definitions: the conda environment, code provenance and the settings rules depend on.
 import functools
 
-from qsm.config.settings.simulation import MOTION_KEYS
-from qsm.physics.task_points import design_task, task_cycle
+from qsm.physics.task_points import MOTION_KEYS, design_task, task_cycle
 from qsm.workflow.provenance import source_hash
 
 ENV = "../envs/qsm.yaml"
@@ -97,7 +96,7 @@ def accuracy_settings():
 
 def motion_settings():
     """The payload test's keys that shape the task's motion, which the realisation reads
-    (qsm.config.settings.simulation.MOTION_KEYS): gains and limits rerun only the simulations."""
+    (qsm.physics.task_points.MOTION_KEYS): gains and limits rerun only the simulations."""
     return {k: config["payload_test"][k] for k in MOTION_KEYS}
 
 

@@ -27,6 +27,11 @@ from qsm.physics.task import min_enclosing_circle
 #: Most task points the payload test visits (the five-point default task visits all five).
 MAX_VISITED_POINTS = 8
 
+#: The payload test's keys that shape the task's motion through its points (path and timing),
+#: which the realisation's accuracy reads; its gains, limits and tolerance only the simulations
+#: read (light here: the workflow's rule files read it when they are parsed).
+MOTION_KEYS: tuple[str, ...] = ("segment_duration_s", "dwell_s", "return_to_start")
+
 #: Relative distance from the disk's edge (of its radius) within which a point lies on it.
 EDGE_TOLERANCE = 1e-9
 

@@ -28,7 +28,7 @@ def realization(
     """The link check, drive check and bored parts of a design under ``case``, with the
     ``strength`` and ``drives`` sections; the accuracy the ``task`` needs at its design
     ``points`` (m) and the task's ``motion`` through them (``payload_test``'s
-    :data:`~qsm.config.settings.simulation.MOTION_KEYS`), which the realisation meets
+    :data:`~qsm.physics.task_points.MOTION_KEYS`), which the realisation meets
     (``task.grow_for_tolerance``, within the printer's ``build_volume_mm``) and the accuracy
     budget reports."""
     (lo, hi), theta2_min = case.operating_range_deg

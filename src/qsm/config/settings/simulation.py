@@ -31,16 +31,12 @@ def payload_test(
     )
 
 
-#: The payload test's keys that shape the task's motion (its path and timing), which the
-#: realisation's accuracy reads; the rest (gains, limits, tolerance) only the simulations read.
-MOTION_KEYS: tuple[str, ...] = ("segment_duration_s", "dwell_s", "return_to_start")
-
-
 def task_motion(
     section: Section, payload_kg: float, operating_range_section: Section
 ) -> PayloadSettings:
-    """The task's motion: the :data:`MOTION_KEYS` of ``payload_test`` (the others' defaults, which
-    it does not read), with ``task.payload_kg`` and ``operating_range``."""
+    """The task's motion: the :data:`qsm.physics.task_points.MOTION_KEYS` of ``payload_test``
+    (the others' defaults, which it does not read), with ``task.payload_kg`` and
+    ``operating_range``."""
     return PayloadSettings(
         payload_kg=payload_kg,
         segment_duration_s=section["segment_duration_s"],
