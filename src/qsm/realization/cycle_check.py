@@ -1,10 +1,12 @@
 """The time-optimal cycle of a realised design, checked: its links' strength at the cycle's loads,
-and MuJoCo's run of it with the chosen drives' limits (the payload test's plant and controller).
+its drives' RMS (thermal) torque over the repeated cycle, and MuJoCo's run of it with the chosen
+drives' envelopes (the payload test's plant and controller).
 
-:func:`checked_cycle` plans the cycle (:mod:`qsm.realization.cycle`), slows it by the least of
-:data:`SLOWER` at which the links hold (g13's check on the cycle's samples), then by the least at
-which MuJoCo's run stays within the drives' envelopes and the tracking tolerance, and says by how
-much and why. :func:`cycle_record` gives its figures.
+:func:`checked_cycle` plans the cycle (:mod:`qsm.realization.cycle`) and runs it :data:`SLOWER`
+times slower in turn until the links hold (g13's check on one period of its samples), each
+motor's RMS torque is within its drive's continuous torque at the joint, and MuJoCo's run passes;
+what even the slowest cannot meet does not slow it, and the result says by how much it was
+slowed and why (:func:`qsm.report.cycle_report.cycle_record` gives its figures).
 """
 
 from __future__ import annotations
