@@ -63,11 +63,14 @@ def link_utilisation(cycle: Cycle, done: Realization, payload_kg: float) -> floa
     return float(table["strength_utilisation"].iloc[0])
 
 
-def cycle_torques(cycle: Cycle, arm: Arm) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """One period of the repeated cycle: times (N,) s, motor angles (N, 2) rad, speeds rad/s and
-    torques N m (the drives' reflected inertia included)."""
+def cycle_torques(
+    cycle: Cycle, arm: Arm, one_period: bool = True
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Times (N,) s, motor angles (N, 2) rad, speeds rad/s and torques N m (the drives'
+    reflected inertia included) over one period of the repeated cycle, or (``one_period``
+    False) over all its samples from rest at its first point."""
     ref = cycle.samples()
-    k = cycle.period()
+    k = cycle.period() if one_period else slice(None)
     tau = motor_torques(arm, ref.theta[k], ref.dtheta[k], ref.ddtheta[k])
     return ref.t[k], ref.theta[k], ref.dtheta[k], tau
 
@@ -124,8 +127,8 @@ def checked_cycle(
             break
         last = f"MuJoCo's run at {factor:g}x: {sim['reason']}"
     util = link_utilisation(cycle, done, arm.payload_kg)
-    standing = _problems(cycle, arm, done, continuous_Nm)  # at the speed kept
-    unfixable = [f"{p} (not met at {SLOWER[-1]:g}x either)" for p in standing.values()]
+    # what stands at the speed kept: the kinds that even the slowest does not meet
+    unfixable = [f"{p} (not met at {SLOWER[-1]:g}x either)" for p in problems.values()]
     reasons = ([last] if cycle.factor > 1.0 and last else []) + unfixable
     return CheckedCycle(cycle, optimal, util, sim, reasons)
 

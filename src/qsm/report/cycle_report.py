@@ -20,7 +20,7 @@ from qsm.physics.cad import MassProperties
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.task_points import TaskCycle
 from qsm.realization.accuracy_budget import peak_payload_force_N
-from qsm.realization.cycle import Arm, Cycle, motor_torques, raster_time_s, top_speed
+from qsm.realization.cycle import Arm, Cycle, raster_time_s, top_speed
 from qsm.realization.cycle_check import CheckedCycle, checked_cycle, cycle_torques
 from qsm.realization.payload import PayloadSettings
 from qsm.realization.pipeline import Realization, RealizationSettings
@@ -37,19 +37,12 @@ TRAJECTORY_COLUMNS: dict[str, str] = {
 }
 
 
-def _series(cycle: Cycle, arm: Arm) -> tuple[NDArray, NDArray, NDArray, NDArray]:
-    """Times (N,) s, angles (N, 2) rad, speeds rad/s and torques N m of the cycle as run."""
-    ref = cycle.samples()
-    tau = motor_torques(arm, ref.theta, ref.dtheta, ref.ddtheta)
-    return ref.t, ref.theta, ref.dtheta, tau
-
-
 def trajectory_table(cycle: Cycle | None, arm: Arm) -> pd.DataFrame:
     """The cycle as run from rest at its first point, one row per sample
     (:data:`TRAJECTORY_COLUMNS`; no rows without a cycle)."""
     if cycle is None:
         return pd.DataFrame(columns=list(TRAJECTORY_COLUMNS))
-    t, q, qd, tau = _series(cycle, arm)
+    t, q, qd, tau = cycle_torques(cycle, arm, one_period=False)
     out = {"t_s": t}
     for j in (0, 1):
         out[f"theta{j + 1}_deg"] = np.degrees(q[:, j])
@@ -263,10 +256,11 @@ def cycle_figure(cycle: Cycle | None, arm: Arm, path: str | Path, reason: str = 
     fig, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
     if cycle is None:
         fig.suptitle(f"no cycle: {reason}"[:120], fontsize=9)
+    if cycle is not None:
+        _, _, qd, tau = cycle_torques(cycle, arm, one_period=False)
     for j, (ax, env) in enumerate(zip(axes, arm.drives, strict=True)):
         _envelope(ax, env)
         if cycle is not None:
-            _, _, qd, tau = _series(cycle, arm)
             ax.plot(np.abs(qd[:, j]), np.abs(tau[:, j]), ".", ms=2, label="cycle")
         ax.set(xlabel="|speed| at the joint (rad/s)", ylabel="|torque| at the joint (N m)",
                title=f"motor {j + 1}: {env.name}")  # fmt: skip
