@@ -31,6 +31,7 @@ from qsm.realization.accuracy_budget import (
     MOTION_STEP_S,
     AccuracySettings,
     budget_mm,
+    largest_load_N,
     task_motion_torques,
 )
 from qsm.realization.payload import reference_trajectory
@@ -269,3 +270,25 @@ def test_the_dynamic_sag_takes_the_larger_of_the_dutys_and_the_cycles_load(
         2.0 * np.array(plain["per_point"]["dynamic_sag_mm"]),
         rtol=1e-12,
     )
+
+
+def test_the_largest_load_keeps_every_point_within_the_tolerance():
+    """By hand: at each point the dynamic sag grows with the force, so the largest force is the
+    least of (tolerance - lost motion - tracking) / (dynamic sag per newton)."""
+    budget = {
+        "tolerance_mm": 5.0,
+        "dynamic_load_N": {"duty": 60.0, "cycle": 50.0},
+        "per_point": {
+            "sag_mm": [2.0, 3.0],
+            "dynamic_sag_mm": [3.0, 4.0],  # at 60 N: 0.05 and 0.0667 mm/N
+            "lost_motion_mm": [0.5, 0.0],
+            "tracking_error_mm": [0.1, 0.2],
+        },
+    }
+    expected = min(4.4 / (3.0 / 60.0), 4.8 / (4.0 / 60.0))  # 88 and 72 N
+    assert largest_load_N(budget) == pytest.approx(expected)
+    assert largest_load_N(budget) == pytest.approx(72.0)
+    budget["per_point"]["tracking_error_mm"] = None  # before the payload test
+    assert largest_load_N(budget) == pytest.approx(75.0)
+    budget["per_point"]["sag_mm"] = [2.0, 5.5]  # the weight alone is past it: nothing helps
+    assert largest_load_N(budget) is None

@@ -114,5 +114,8 @@ def test_a_task_that_does_not_ask_for_growth_keeps_the_lightest_drives_and_secti
     done = realize(DESIGN, settings)
     assert done.scale is None and done.accuracy.meets is None
     assert done.accuracy.min_stiffness_Nm_rad == (0.0, 0.0)
-    assert done.drives == DriveCheck().report(DESIGN)
+    plain = DriveCheck().report(DESIGN)
+    for motor, chosen in done.drives["motors"].items():  # the same drives; the task met as well
+        assert chosen["drive"] == plain["motors"][motor]["drive"]
+    assert done.drives["task_motion"]["defined"] and "task_motion" not in plain
     assert done.accuracy.record()["meets_target"] is None

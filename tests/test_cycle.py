@@ -1,6 +1,8 @@
 """The time-optimal moves (qsm.realization.cycle) against hand cases: a single link's bang-bang
 motion in closed form, with a speed bound, and under gravity against a phase-plane reference."""
 
+import itertools
+
 import numpy as np
 import pytest
 from scipy.integrate import quad
@@ -12,6 +14,12 @@ from qsm.embodiment.strength.loads import Inertials
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import DEFAULT_CAD
 from qsm.realization.cycle import Arm, plan_cycle, slowed, time_optimal_move, top_speed
+from qsm.realization.cycle_check import (
+    cycle_torques,
+    peak_load_N,
+    thermal_use,
+    tolerance_factor,
+)
 
 INERTIA = 0.5  # kg m^2 about the joint
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
@@ -121,3 +129,46 @@ def test_a_slowed_cycle_takes_the_same_path_longer_and_gentler(arm):
     path = np.interp(np.linspace(0, 1, 50), slow.t / slow.t[-1], slow.q[:, 0])
     np.testing.assert_allclose(path, np.interp(np.linspace(0, 1, 50), move.t / move.t[-1],
                                                move.q[:, 0]), atol=1e-3)  # fmt: skip
+
+
+def test_the_tolerance_slows_the_cycle_to_the_least_factor_within_the_load(arm):
+    """The payload's peak force never grows as the cycle slows (weight plus inertia / k^2);
+    the factor found is the least, to 0.01, that brings it within the limit."""
+    angles = np.radians([[95.0, 20.0], [140.0, 60.0], [95.0, 20.0]])
+    optimal = plan_cycle(arm, angles, 0.2, 1e-3, returns=True)
+    peaks = [peak_load_N(slowed(optimal, arm, k), arm) for k in (1.0, 1.5, 2.0, 3.0, 8.0)]
+    assert all(a >= b - 1e-9 for a, b in itertools.pairwise(peaks))
+    weight = 5.0 * 9.81
+    assert peaks[-1] >= weight and peaks[0] > 1.2 * weight
+    limit = 0.5 * (peaks[0] + peaks[-1])
+    k = tolerance_factor(optimal, arm, limit)
+    assert 1.0 < k < 8.0
+    assert peak_load_N(slowed(optimal, arm, k), arm) <= limit
+    assert peak_load_N(slowed(optimal, arm, k - 0.02), arm) > limit
+    assert tolerance_factor(optimal, arm, None) == 1.0
+    assert tolerance_factor(optimal, arm, 2 * peaks[0]) == 1.0
+    assert tolerance_factor(optimal, arm, 0.99 * weight) is None  # the weight alone is past it
+
+
+def test_the_thermal_use_counts_gear_losses_by_direction(arm):
+    """A cycle's thermal use equals the drive check's motor RMS rating by hand: the motor's
+    torque is tau / (N eta) where the drive drives and tau eta / N where it is back-driven."""
+    angles = np.radians([[95.0, 20.0], [140.0, 60.0], [95.0, 20.0]])
+    cycle = slowed(plan_cycle(arm, angles, 0.3, 1e-3, returns=True), arm, 2.0)
+    check = DriveCheck()
+    drives = check.catalogue.drives
+    rows = [  # the fixture's drives
+        int(np.flatnonzero((drives["motor"] == m["drive"]["motor_key"]).to_numpy()
+                           & (drives["gearbox"] == m["drive"]["gearbox_key"]).to_numpy())[0])
+        for m in check.report(DESIGN)["motors"].values()
+    ]  # fmt: skip
+    arrays = check.arrays.take(np.array(rows))
+    use = thermal_use(cycle, arm, arrays)
+    _, _, dq, tau = cycle_torques(cycle, arm)
+    for j in range(2):
+        n, eta, cont = arrays.ratio[j], arrays.efficiency[j], arrays.cont_torque[j]
+        driving = tau[:, j] * dq[:, j] >= 0
+        motor = np.where(driving, tau[:, j] / (n * eta), tau[:, j] * eta / n)
+        motor_use = np.sqrt((motor**2).mean()) / cont
+        gear_use = np.sqrt((tau[:, j] ** 2).mean()) / arrays.gear_cont_torque[j]
+        assert use[j] == pytest.approx(max(motor_use, gear_use), rel=1e-6)

@@ -3,6 +3,8 @@ armature, the per-candidate choice, g14 and the dataset columns."""
 
 from __future__ import annotations
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from test_drives import write_catalogue
@@ -10,7 +12,7 @@ from test_drives import write_catalogue
 from qsm.dataset.columns import DRIVE_COLUMNS
 from qsm.embodiment.drives.catalogue import read_catalogue
 from qsm.embodiment.drives.drive_checks import DriveCheck
-from qsm.embodiment.drives.selection import select_drives
+from qsm.embodiment.drives.selection import offer, select_drives
 from qsm.embodiment.strength.loads import Inertials, joint_loads
 from qsm.physics.cad import mass_properties
 from qsm.physics.duty import Duty, duty_cycle
@@ -144,3 +146,30 @@ def test_g14_from_the_strength_checks_torques_equals_its_own():
     np.testing.assert_array_equal(
         drives.violation_from_torques(designs, tau, good), drives.violation(designs)
     )
+
+
+def test_a_realised_design_s_drives_hold_the_task_as_well_as_the_duty():
+    """A task that holds the arm stretched out (170, -30 deg) asks motor 1 for more continuous
+    torque than the duty's raster: the drive chosen meets both, the duty's own choice would
+    overheat on the task, and the hold's torque is within the chosen drive's continuous rating
+    at the joint (a hold drives the gear, so the rating is k_t I_nom N eta)."""
+    plain = DriveCheck()
+    theta = np.radians([[170.0, -30.0]] * 3)
+    still = np.zeros_like(theta)
+    hold = Duty(theta, still, still, np.ones(3, bool), np.zeros(3), np.ones(3))
+    check = replace(plain, task_duty=hold)
+    report = check.report(DESIGN)
+    also, need = check.task_violations(DESIGN[None])
+    drives = plain.catalogue.drives
+    chosen, before = (r["motors"]["motor1"]["drive"] for r in (report, plain.report(DESIGN)))
+
+    def row(drive: dict) -> int:
+        match = (drives["motor"] == drive["motor_key"]) & (
+            drives["gearbox"] == drive["gearbox_key"]
+        )
+        return int(np.flatnonzero(match.to_numpy())[0])
+
+    assert also[0][row(chosen)] <= 0 < also[0][row(before)]
+    assert chosen["mass_kg"] > before["mass_kg"]  # the lightest that meets both is heavier
+    assert need["rms_torque_Nm"][0] <= offer(plain.catalogue)[row(chosen)]["cont_torque_Nm"]
+    assert need["rms_torque_Nm"][0] > offer(plain.catalogue)[row(before)]["cont_torque_Nm"]

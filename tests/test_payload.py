@@ -38,11 +38,31 @@ def test_model_error_shows_in_tracking_and_soft_gains_fail() -> None:
     ]
     assert errors[0] < errors[1] < errors[2]  # a heavier plant sags further below the reference
     soft = payload.PayloadSettings(
-        plant_mass_error=0.3, kp_Nm_rad=(100.0, 50.0), kd_Nms_rad=(5.0, 2.5), **FAST, **PAPER
+        plant_mass_error=0.3,
+        kp_Nm_rad=(100.0, 50.0),
+        ki_Nm_rad_s=(0.0, 0.0),
+        kd_Nms_rad=(5.0, 2.5),
+        **FAST,
+        **PAPER,
     )
     res = payload.payload_test(DESIGN, POINTS, settings=soft)
     assert not res["passed"] and not res["saturated"]
     assert "tracking error" in res["reason"]
+
+
+def test_integral_action_removes_the_steady_error_at_the_points() -> None:
+    """Under PD alone a 15 % heavier plant holds each point short by about 0.15 tau_g / kp (the
+    gravity torque the model misses over the stiffness); the integral action removes that
+    steady error within the dwell, and 0 gains give PD back."""
+    kwargs = {**FAST, "plant_mass_error": 0.15, "dwell_s": 1.0, **PAPER}
+    pd = payload.PayloadSettings(ki_Nm_rad_s=(0.0, 0.0), **kwargs)
+    pid = payload.PayloadSettings(**kwargs)
+    errors = [
+        np.asarray(payload.payload_test(DESIGN, POINTS, settings=s)["point_error_mm"])
+        for s in (pd, pid)
+    ]
+    assert errors[0].max() > 0.5  # the PD's steady error, about a millimetre at the tool
+    assert errors[1].max() < 0.1 * errors[0].max()
 
 
 def test_fails_when_the_limit_is_below_the_required_torque() -> None:

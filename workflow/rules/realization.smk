@@ -119,6 +119,8 @@ rule cycle_time:
     input:
         choice=rules.select_design.output.choice,
         links=rules.topology_optimize.output.links,
+        topology=rules.topology_optimize.output.topology,
+        payload=rules.payload_test.output.result,
     output:
         cycle=f"{REAL}/cycle.json",
         trajectory=f"{REAL}/cycle_trajectory.csv",

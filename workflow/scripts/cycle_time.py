@@ -5,8 +5,10 @@ from pathlib import Path
 
 from qsm.config.settings import links, realization, simulation
 from qsm.physics.task_points import TaskCycle
+from qsm.realization.accuracy_budget import largest_load_N
 from qsm.realization.outputs import props_from_json
 from qsm.realization.pipeline import realize
+from qsm.report.accuracy_report import measured_budget
 from qsm.report.cycle_report import cycle_figure, run_cycle, trajectory_table
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
@@ -15,8 +17,9 @@ with logged(snakemake.log[0]) as log:
     p = snakemake.params
     inp = snakemake.input
     out = snakemake.output
-    choice = json.loads(Path(inp.choice).read_text())
-    props = props_from_json(json.loads(Path(inp.links).read_text()))
+    paths = (inp.choice, inp.links, inp.topology, inp.payload)
+    choice, optimized, topology, payload = (json.loads(Path(f).read_text()) for f in paths)
+    props = props_from_json(optimized)
     case = links.load_case(p.load_case)
     settings = realization.realization(
         case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
@@ -26,7 +29,11 @@ with logged(snakemake.log[0]) as log:
     op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
     test = simulation.payload_test(p.payload_test, case.payload_kg, op)
     task = TaskCycle(**p.cycle)
-    record, checked, arm = run_cycle(done, props, settings, test, task, case.duty.peak_speed_deg_s)
+    budget = measured_budget(done, (topology, props), payload, settings, p.task_points)
+    limit = largest_load_N(budget)  # the payload's peak force that keeps the tolerance
+    log.info("the payload's peak force that keeps the tool within the tolerance: %s N", limit)
+    speed = case.duty.peak_speed_deg_s
+    record, checked, arm = run_cycle(done, props, settings, test, task, speed, limit)
     write_json(out.cycle, record)
     cycle = None if checked is None else checked.cycle
     trajectory_table(cycle, arm).to_csv(out.trajectory, index=False)

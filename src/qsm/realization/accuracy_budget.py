@@ -40,6 +40,7 @@ from qsm.embodiment.stiffness.frame import FrameSections, tool_compliance
 from qsm.embodiment.stiffness.modes import loaded_first_mode_hz
 from qsm.embodiment.stiffness.serial_arm import serial_comparison
 from qsm.embodiment.strength.loads import Inertials, joint_loads
+from qsm.physics.duty import Duty
 from qsm.physics.dynamics import loop_state
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.realization.payload import PayloadSettings, reference_trajectory
@@ -118,20 +119,29 @@ def _finite_when_any(k: NDArray[np.float64]) -> NDArray[np.float64]:
     return k
 
 
-def task_motion_torques(
-    model: ArmModel, angles: NDArray[np.float64], payload: PayloadSettings
-) -> NDArray[np.float64]:
-    """The joints' torques (N, 2) N m along the payload test's reference motion through the
-    task points' motor ``angles`` (n, 2) rad, by Newton-Euler (without the drives' inertia)."""
+def task_motion_duty(angles: NDArray[np.float64], payload: PayloadSettings) -> Duty:
+    """The payload test's reference motion through the task points' motor ``angles`` (n, 2)
+    rad (its moves and holds, back to the first point when it returns) as a duty, each sample
+    weighted by its time step."""
     way = (
         angles
         if not payload.return_to_start or len(angles) < 2
         else angles[[*range(len(angles)), 0]]
     )
-    _, th, dth, ddth = reference_trajectory(
+    t, th, dth, ddth = reference_trajectory(
         way, payload.segment_duration_s, payload.dwell_s, MOTION_STEP_S
     )
-    state = loop_state(model.design, th, dth, ddth)
+    moving = (np.abs(dth) + np.abs(ddth)).max(axis=1) > 0
+    return Duty(th, dth, ddth, ~moving, t, np.full(len(t), MOTION_STEP_S))
+
+
+def task_motion_torques(
+    model: ArmModel, angles: NDArray[np.float64], payload: PayloadSettings
+) -> NDArray[np.float64]:
+    """The joints' torques (N, 2) N m along the payload test's reference motion through the
+    task points' motor ``angles`` (n, 2) rad, by Newton-Euler (without the drives' inertia)."""
+    du = task_motion_duty(angles, payload)
+    state = loop_state(model.design, du.theta, du.dtheta, du.ddtheta)
     return joint_loads(model.design, model.inertials, payload.payload_kg, state).tau
 
 
@@ -357,6 +367,25 @@ def accuracy_record(
         "serial_arm": serial_record(model, angles, payload.payload_kg, terms),
         "model": MODEL_NOTE,
     }
+
+
+def largest_load_N(budget: dict[str, Any]) -> float | None:
+    """The largest peak force (N) of the payload on the tool that keeps ``budget`` (an
+    :func:`accuracy_record`) within its tolerance at every point, each point's dynamic sag
+    growing in proportion to the force; None where its static terms alone miss the tolerance
+    (no motion can then meet it) or no force sags the tool."""
+    per = {
+        k: np.asarray(v if v is not None else 0.0, dtype=float)
+        for k, v in budget["per_point"].items()
+    }
+    room = budget["tolerance_mm"] - per["lost_motion_mm"] - per["tracking_error_mm"]
+    if (per["sag_mm"] > room).any():
+        return None
+    per_N = per["dynamic_sag_mm"] / max(budget["dynamic_load_N"].values())
+    if not (per_N > 0).any():
+        return None
+    with np.errstate(divide="ignore"):
+        return float(np.min(np.where(per_N > 0, room / per_N, np.inf)))
 
 
 def serial_record(

@@ -1,31 +1,42 @@
-"""The time-optimal cycle of a realised design, checked: its links' strength at the cycle's loads,
-its drives' RMS (thermal) torque over the repeated cycle, and MuJoCo's run of it with the chosen
-drives' envelopes (the payload test's plant and controller).
+"""The time-optimal cycle of a realised design, checked: the tool's placing error under the
+payload's peak force, its links' strength at the cycle's loads, its drives' RMS (thermal) use
+over the repeated cycle, and MuJoCo's run of it with the chosen drives' envelopes (the payload
+test's plant and controller).
 
-:func:`checked_cycle` plans the cycle (:mod:`qsm.realization.cycle`) and runs it :data:`SLOWER`
-times slower in turn until the links hold (g13's check on one period of its samples), each
-motor's RMS torque is within its drive's continuous torque at the joint, and MuJoCo's run passes;
-what even the slowest cannot meet does not slow it, and the result says by how much it was
-slowed and why (:func:`qsm.report.cycle_report.cycle_record` gives its figures).
+:func:`checked_cycle` plans the cycle (:mod:`qsm.realization.cycle`), slows it first until the
+payload's peak force keeps the accuracy budget within the tolerance (the least such factor, by
+bisection: the peak force never grows as the cycle slows), then runs it :data:`SLOWER` times
+slower in turn until the links hold (g13's check on one period of its samples), each drive's
+RMS use is within its continuous ratings (the drive check's own model,
+:mod:`qsm.embodiment.drives.utilization`) and MuJoCo's run passes; what even the slowest cannot
+meet does not slow it, and the result says by how much it was slowed and why
+(:func:`qsm.report.cycle_report.cycle_record` gives its figures).
 """
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 from typing import Any, NamedTuple
 
 import numpy as np
 from numpy.typing import NDArray
 
+from qsm.embodiment.drives.utilization import CHECKS, DriveArrays, utilization
 from qsm.physics.cad import MassProperties
 from qsm.physics.duty import Duty
 from qsm.physics.mjcf import TIMESTEP_S
+from qsm.realization.accuracy_budget import peak_payload_force_N
 from qsm.realization.cycle import Arm, Cycle, motor_torques, plan_cycle, slowed
 from qsm.realization.payload import PayloadSettings, payload_test
 from qsm.realization.pipeline import Realization
 
 #: How many times slower than time-optimal a cycle is tried, in turn, until it passes.
 SLOWER: tuple[float, ...] = (1.0, 1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0)
+#: The slowest a cycle is run to keep the tool within the tolerance.
+SLOWEST_FOR_TOLERANCE = 8.0
+#: The drive ratings the thermal check reads.
+THERMAL = (CHECKS.index("motor_rms"), CHECKS.index("gear_rms"))
 
 
 class CheckedCycle(NamedTuple):
@@ -80,18 +91,57 @@ def rms_torque_Nm(cycle: Cycle, arm: Arm) -> NDArray[np.float64]:
     return np.sqrt((cycle_torques(cycle, arm)[3] ** 2).mean(axis=0))
 
 
-def _problems(cycle: Cycle, arm: Arm, done: Realization, continuous_Nm: NDArray) -> dict[str, str]:
+def thermal_use(cycle: Cycle, arm: Arm, drives: DriveArrays) -> NDArray[np.float64]:
+    """Each motor's thermal use (2,) over one period of the repeated cycle: the larger of its
+    motor's and its gearbox's RMS torque over their continuous ratings, gear losses by the
+    torque's direction, as the drive check counts them (<= 1 holds; NaN where the catalogue
+    lacks a rating). ``drives``: the two motors' drives, in order."""
+    _, _, dq, tau = cycle_torques(cycle, arm)
+    w = np.full((1, len(tau)), cycle.dt)
+    use = [
+        utilization(drives.take(np.array([j])), tau[None, :, j], dq[None, :, j], w)[0, 0]
+        for j in range(2)
+    ]
+    out = np.array([u[list(THERMAL)].max() for u in use])
+    return np.where(np.isfinite(out), out, np.nan)
+
+
+def peak_load_N(cycle: Cycle, arm: Arm) -> float:
+    """The payload's peak force (N) on the tool over the cycle, its weight and inertia."""
+    ref = cycle.samples()
+    return peak_payload_force_N(arm.design, arm.payload_kg, ref.theta, ref.dtheta, ref.ddtheta)
+
+
+def tolerance_factor(optimal: Cycle, arm: Arm, max_load_N: float | None) -> float | None:
+    """The least slow-down (>= 1) of the ``optimal`` cycle whose payload's peak force is at most
+    ``max_load_N`` (N; None: no limit), to 0.01; None where even
+    :data:`SLOWEST_FOR_TOLERANCE` does not bring it there."""
+    if max_load_N is None or peak_load_N(optimal, arm) <= max_load_N:
+        return 1.0
+    hi = SLOWEST_FOR_TOLERANCE
+    if peak_load_N(slowed(optimal, arm, hi), arm) > max_load_N:
+        return None
+    lo = 1.0
+    while hi - lo > 0.01:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (
+            (mid, hi) if peak_load_N(slowed(optimal, arm, mid), arm) > max_load_N else (lo, mid)
+        )
+    return math.ceil(hi * 100.0) / 100.0  # rounded up: still within the load
+
+
+def _problems(cycle: Cycle, arm: Arm, done: Realization, drives: DriveArrays) -> dict[str, str]:
     """Why ``cycle`` cannot run as it is, before MuJoCo, by kind: the links' ``strength``, the
-    drives' RMS (``thermal``) torque over repeated cycles."""
+    drives' RMS (``thermal``) use over repeated cycles."""
     out = {}
     util = link_utilisation(cycle, done, arm.payload_kg)
     if util > 1.0:
         out["strength"] = f"the links reach {util:.2f} of their strength at {cycle.factor:g}x"
-    rms = rms_torque_Nm(cycle, arm)
-    if (rms > continuous_Nm).any():  # NaN: a continuous torque the catalogue does not give
+    use = thermal_use(cycle, arm, drives)
+    if (use > 1.0).any():  # NaN: a rating the catalogue does not give
         out["thermal"] = (
-            f"RMS torque {np.round(rms, 1).tolist()} N m over the drives' continuous "
-            f"{np.round(continuous_Nm, 1).tolist()} N m at {cycle.factor:g}x"
+            f"RMS torque {np.round(rms_torque_Nm(cycle, arm), 1).tolist()} N m uses "
+            f"{np.round(use, 2).tolist()} of the drives' continuous ratings at {cycle.factor:g}x"
         )
     return out
 
@@ -100,25 +150,29 @@ def checked_cycle(
     done: Realization,
     props: dict[str, MassProperties],
     arm: Arm,
-    angles: NDArray[np.float64],
-    points: NDArray[np.float64],
+    route: tuple[NDArray[np.float64], NDArray[np.float64]],
     test: PayloadSettings,
-    dwell_s: float,
-    returns: bool,
-    continuous_Nm: NDArray[np.float64],
+    task: tuple[float, bool],
+    drives: DriveArrays,
+    max_load_N: float | None = None,
 ) -> CheckedCycle:
-    """The fastest of the time-optimal cycle through the visited ``points`` (n, 2) m (motor
-    ``angles``), run :data:`SLOWER` times slower in turn, that the links hold, whose RMS torques
-    stay within the drives' ``continuous_Nm`` (2,) at the joint, and that MuJoCo runs within the
-    drives' envelopes and the tracking tolerance. What even the slowest cannot meet (a holding
-    torque past a drive's continuous torque, say) does not slow it, and ``slowed_for`` says so;
-    when MuJoCo's run never passes, the slowest is kept."""
-    optimal = plan_cycle(arm, angles, dwell_s, TIMESTEP_S, returns)
-    slowest = _problems(slowed(optimal, arm, SLOWER[-1]), arm, done, continuous_Nm)
+    """The fastest of the time-optimal cycle through the visited points (``route``: the points
+    (n, 2) m and their motor angles rad; ``task``: the dwell s and whether it returns), slowed
+    until the payload's peak force is at most ``max_load_N`` (N, what keeps the tool within the
+    tolerance; None: no limit) and then :data:`SLOWER` times slower in turn, that the links
+    hold, whose RMS use of the ``drives`` (the two motors', :func:`thermal_use`) stays within 1,
+    and that MuJoCo runs within the drives' envelopes and the tracking tolerance. What even the
+    slowest cannot meet (a holding torque past a drive's rating, say) does not slow it, and
+    ``slowed_for`` says so; when MuJoCo's run never passes, the slowest is kept."""
+    points, angles = route
+    optimal = plan_cycle(arm, angles, task[0], TIMESTEP_S, task[1])
+    start, first = _for_tolerance(optimal, arm, max_load_N)
+    factors = (start, *(f for f in SLOWER if f > start))
+    slowest = _problems(slowed(optimal, arm, factors[-1]), arm, done, drives)
     last = ""
-    for factor in SLOWER:
+    for factor in factors:
         cycle = slowed(optimal, arm, factor)
-        problems = _problems(cycle, arm, done, continuous_Nm)
+        problems = _problems(cycle, arm, done, drives)
         if fixable := [p for kind, p in problems.items() if kind not in slowest]:
             last = fixable[0]
             continue
@@ -128,9 +182,27 @@ def checked_cycle(
         last = f"MuJoCo's run at {factor:g}x: {sim['reason']}"
     util = link_utilisation(cycle, done, arm.payload_kg)
     # what stands at the speed kept: the kinds that even the slowest does not meet
-    unfixable = [f"{p} (not met at {SLOWER[-1]:g}x either)" for p in problems.values()]
-    reasons = ([last] if cycle.factor > 1.0 and last else []) + unfixable
-    return CheckedCycle(cycle, optimal, util, sim, reasons)
+    unfixable = [f"{p} (not met at {factors[-1]:g}x either)" for p in problems.values()]
+    slower = [last] if cycle.factor > start and last else []
+    return CheckedCycle(cycle, optimal, util, sim, first + slower + unfixable)
+
+
+def _for_tolerance(optimal: Cycle, arm: Arm, max_load_N: float | None) -> tuple[float, list[str]]:
+    """The slow-down the tolerance asks of the ``optimal`` cycle (:func:`tolerance_factor`; 1
+    where slowing cannot meet it) and why, with the forces."""
+    factor = tolerance_factor(optimal, arm, max_load_N)
+    peak = peak_load_N(optimal, arm)
+    if factor is None:
+        return 1.0, [
+            f"the tolerance: the payload's peak force would have to stay within "
+            f"{max_load_N:.1f} N, which even {SLOWEST_FOR_TOLERANCE:g}x slower does not give"
+        ]
+    if factor == 1.0:
+        return 1.0, []
+    return factor, [
+        f"the tolerance: the payload's peak force {peak:.1f} N at 1x, at most "
+        f"{max_load_N:.1f} N to keep the tool within it, at {factor:g}x"
+    ]
 
 
 def _simulated(

@@ -65,8 +65,11 @@ class PayloadSettings:
     segment_duration_s: duration of each point-to-point move, default 1.5 s.
     dwell_s: hold at each task point (and before the first move), default 0.5 s.
     return_to_start: move back to the first point at the end, default True.
-    kp_Nm_rad, kd_Nms_rad: PD gains per motor, default (2000, 1000) N m/rad and (60, 30) N m s/rad
-        (stiff, as geared stepper drives are).
+    kp_Nm_rad, kd_Nms_rad: proportional and damping gains per motor, default (2000, 1000) N m/rad
+        and (60, 30) N m s/rad (stiff, as geared stepper drives are).
+    ki_Nm_rad_s: integral gains per motor, default (20000, 10000) N m/(rad s): the servo's
+        integral action, which removes the steady error the plant's model error leaves under PD
+        (0: PD). Integration stops while a motor saturates (anti-windup).
     tracking_tolerance_deg: largest allowed motor tracking error, default 0.5 deg.
     plant_mass_error: the simulated links and payload are this fraction heavier than the model
         that gives the feed-forward torques (mass and inertia), default 0.15, so the test checks
@@ -81,6 +84,7 @@ class PayloadSettings:
     return_to_start: bool = default("payload_test.return_to_start")
     kp_Nm_rad: tuple[float, float] = default("payload_test.kp_Nm_rad")
     kd_Nms_rad: tuple[float, float] = default("payload_test.kd_Nms_rad")
+    ki_Nm_rad_s: tuple[float, float] = default("payload_test.ki_Nm_rad_s")
     tracking_tolerance_deg: float = default("payload_test.tracking_tolerance_deg")
     plant_mass_error: float = default("payload_test.plant_mass_error")
     theta1_range_deg: tuple[float, float] = default("operating_range.theta1_deg")
@@ -286,15 +290,18 @@ def _track(
     tau_ff: NDArray[np.float64],
     th: NDArray[np.float64],
     dth: NDArray[np.float64],
-    gains: tuple[NDArray[np.float64], NDArray[np.float64]],
+    gains: tuple[NDArray[np.float64], NDArray[np.float64], NDArray[np.float64]],
     substeps: int,
     limits: Callable[[NDArray[np.float64], NDArray[np.float64]], NDArray[np.float64]],
 ) -> tuple[NDArray[np.float64], ...]:
-    """Forward-simulate the plant under feedforward ``tau_ff`` (N m) plus PD on the reference
-    (``gains`` kp N m/rad, kd N m s/rad), each motor's torque clipped to ``limits(torque,
-    speed)``. Returns per sample the motor angles (rad), requested, applied and available
-    torques (N m) and whether the request exceeded the limit."""
-    kp, kd = gains
+    """Forward-simulate the plant under feedforward ``tau_ff`` (N m) plus PID on the reference
+    (``gains`` kp N m/rad, ki N m/(rad s), kd N m s/rad; the error's integral held while a motor
+    saturates), each motor's torque clipped to ``limits(torque, speed)``. Returns per sample the
+    motor angles (rad), requested, applied and available torques (N m) and whether the request
+    exceeded the limit."""
+    kp, ki, kd = gains
+    h = plant.opt.timestep
+    integral = np.zeros(2)
     n = len(th)
     q_act = np.empty((n, 2))
     req, applied, available = (np.zeros((n, 2)) for _ in range(3))
@@ -303,16 +310,17 @@ def _track(
     for k in range(n - 1):
         for j in range(substeps):  # the PD loop runs at the (sub)step; the reference is held
             q, dq = data.qpos[[0, 2]], data.qvel[[0, 2]]
-            torque = tau_ff[k] + kp * (th[k] - q) + kd * (dth[k] - dq)
+            torque = tau_ff[k] + kp * (th[k] - q) + ki * integral + kd * (dth[k] - dq)
             lim = limits(torque, dq)
             data.ctrl[:] = np.clip(torque, -lim, lim)
             over[k] |= np.abs(torque) > lim
+            integral += np.where(np.abs(torque) > lim, 0.0, (th[k] - q) * h)
             if j == 0:
                 req[k], applied[k], available[k] = torque, data.ctrl, lim
             mujoco.mj_step(plant, data)
         q_act[k + 1] = data.qpos[[0, 2]]
     dq = data.qvel[[0, 2]]
-    req[-1] = tau_ff[-1] + kp * (th[-1] - q_act[-1]) + kd * (dth[-1] - dq)
+    req[-1] = tau_ff[-1] + kp * (th[-1] - q_act[-1]) + ki * integral + kd * (dth[-1] - dq)
     available[-1] = limits(req[-1], dq)
     applied[-1] = np.clip(req[-1], -available[-1], available[-1])
     over[-1] = np.abs(req[-1]) > available[-1]
@@ -414,10 +422,10 @@ def payload_test(
     state = _reference_state(d, t, th, dth, ddth)
     tau_ff = inverse_dynamics(model, d, state).tau
     plant = _plant(d, cad, props, s, armature)
-    kp, kd = np.asarray(s.kp_Nm_rad, float), np.asarray(s.kd_Nms_rad, float)
+    kp, ki, kd = (np.asarray(g, float) for g in (s.kp_Nm_rad, s.ki_Nm_rad_s, s.kd_Nms_rad))
     data, inertia, substeps = _start(model, plant, d, state, way, kd, dt)
     q_act, req, applied, available, over = _track(
-        plant, data, tau_ff, th, dth, (kp, kd), substeps, limits
+        plant, data, tau_ff, th, dth, (kp, ki, kd), substeps, limits
     )
     limit = fixed if fixed is not None else limits(np.ones(2), np.zeros(2))
     saturated = bool(over.any())

@@ -26,6 +26,8 @@ from qsm.embodiment.strength.loads import Inertials
 from qsm.embodiment.strength.sizing import SizedSections, SizingSettings
 from qsm.embodiment.strength.verdict import strength_record
 from qsm.physics.cad import CadSettings, MassProperties
+from qsm.physics.duty import Duty
+from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import as_design
 from qsm.realization.accuracy_budget import (
     AccuracySettings,
@@ -33,6 +35,7 @@ from qsm.realization.accuracy_budget import (
     accuracy_record,
     drive_terms,
     peak_payload_force_N,
+    task_motion_duty,
 )
 from qsm.realization.accuracy_sizing import (
     AccuracyChoice,
@@ -49,13 +52,15 @@ class RealizationSettings:
     """What realising a design takes: the link check (section, material, strength, payload and
     duty), the drive check (catalogue, rule, payload and duty) and the bored parts (section and
     the wall around each bearing seat), the accuracy the task needs and the task's motion (the
-    payload test's path through the points, along which the joints' torques are checked)."""
+    payload test's path through the design's ``task_points_m``, (x, y) m each, along which the
+    joints' torques are checked and which the drives meet as well as the duty)."""
 
     strength: StrengthCheck
     drives: DriveCheck
     parts: PartSettings
     accuracy: AccuracySettings = field(default_factory=AccuracySettings)
     motion: PayloadSettings = field(default_factory=PayloadSettings)
+    task_points_m: tuple[tuple[float, float], ...] = ()
 
 
 @dataclass(frozen=True)
@@ -89,6 +94,7 @@ def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
     (:mod:`qsm.realization.accuracy_sizing`), their strength and bearings, and the solid bored
     parts (the accuracy budget at task points: :func:`budget_of`)."""
     d = np.asarray(as_design(design), dtype=float)
+    settings = replace(settings, drives=replace(settings.drives, task_duty=_task_duty(d, settings)))
     check, sized, accuracy = _for_accuracy(d, settings)
     scale = None if sized is None else tuple(float(f) for f in sized.scale[0])
     strength = strength_record(d, check, sized)
@@ -111,6 +117,19 @@ def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
         strength_check=check,
         sections=sized,
     )
+
+
+def _task_duty(d: NDArray[np.float64], settings: RealizationSettings) -> Duty | None:
+    """The task's motion through its points as a duty the drives must meet as well as the
+    duty's (None: no task points, or one out of the design's reach)."""
+    m = settings.motion
+    if not settings.task_points_m:
+        return None
+    try:
+        angles = joint_path(d, settings.task_points_m, m.theta1_range_deg, m.theta2_min_deg)
+    except ValueError:
+        return None
+    return task_motion_duty(angles, m)
 
 
 def _for_accuracy(

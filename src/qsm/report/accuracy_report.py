@@ -49,23 +49,37 @@ def tracking_per_point(points: ArrayLike, point_error_mm: Sequence[float]) -> ND
     return out
 
 
+def measured_budget(
+    done: Realization,
+    parts: tuple[Mapping[str, Any], dict[str, MassProperties]],
+    payload: Mapping[str, Any],
+    settings: RealizationSettings,
+    points: ArrayLike,
+    cycle_load_N: float | None = None,
+) -> dict[str, Any]:
+    """The accuracy budget of the realised design as measured: its optimised plates (``parts``:
+    the topology record and their mass properties), the payload test's tracking error and the
+    payload's peak force over the duty and (``cycle_load_N``, N) the task's cycle."""
+    topology, props = parts
+    tracking = tracking_per_point(points, payload.get("point_error_mm", []))
+    factors = plate_factors(topology)
+    return budget_of(done, settings, points, props, factors, tracking, cycle_load_N)
+
+
 def final_record(
     choice: Mapping[str, Any],
     done: Realization,
-    topology: Mapping[str, Any],
-    props: dict[str, MassProperties],
+    parts: tuple[Mapping[str, Any], dict[str, MassProperties]],
     payload: Mapping[str, Any],
     settings: RealizationSettings,
     points: ArrayLike,
     cycle: Mapping[str, Any] | None = None,
 ) -> dict[str, Any]:
-    """``choice`` (realised as ``done``) with its ``stiffness`` the final budget (the optimised
-    plates' stiffness and masses, the payload test's tracking error, the payload's peak force
-    over the duty and the task's ``cycle``), its ``cycle`` and the verdict sentence that adds
-    the budget."""
-    tracking = tracking_per_point(points, payload.get("point_error_mm", []))
+    """``choice`` (realised as ``done``) with its ``stiffness`` the final budget
+    (:func:`measured_budget` with the ``cycle``'s load), its ``cycle`` and the verdict sentence
+    that adds the budget."""
     load = None if not cycle or not cycle.get("planned") else cycle["peak_payload_force_N"]
-    budget = budget_of(done, settings, points, props, plate_factors(topology), tracking, load)
+    budget = measured_budget(done, parts, payload, settings, points, load)
     record = dict(choice)
     if cycle is not None:
         record["cycle"] = dict(cycle)

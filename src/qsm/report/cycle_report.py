@@ -15,13 +15,19 @@ from numpy.typing import NDArray
 from qsm.embodiment.drives.catalogue import Catalogue
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.embodiment.drives.selection import offer
+from qsm.embodiment.drives.utilization import DriveArrays
 from qsm.embodiment.strength.loads import Inertials
 from qsm.physics.cad import MassProperties
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.task_points import TaskCycle
-from qsm.realization.accuracy_budget import peak_payload_force_N
 from qsm.realization.cycle import Arm, Cycle, raster_time_s, top_speed
-from qsm.realization.cycle_check import CheckedCycle, checked_cycle, cycle_torques
+from qsm.realization.cycle_check import (
+    CheckedCycle,
+    checked_cycle,
+    cycle_torques,
+    peak_load_N,
+    thermal_use,
+)
 from qsm.realization.payload import PayloadSettings
 from qsm.realization.pipeline import Realization, RealizationSettings
 
@@ -68,12 +74,6 @@ def _power(cycle: Cycle, arm: Arm) -> dict[str, Any]:
     }
 
 
-def _peak_load_N(cycle: Cycle, arm: Arm) -> float:
-    """The payload's peak force (N) on the tool over the cycle, its weight and inertia."""
-    ref = cycle.samples()
-    return peak_payload_force_N(arm.design, arm.payload_kg, ref.theta, ref.dtheta, ref.ddtheta)
-
-
 #: Motor types whose torque constant and resistance give the input power.
 DC_TYPES = ("DC", "BLDC")
 
@@ -112,12 +112,13 @@ def cycle_record(
     visits: Sequence[int],
     angles: NDArray[np.float64],
     raster_s: float,
-    continuous_Nm: Sequence[float],
+    ratings: tuple[Sequence[float], DriveArrays],
     motors: Sequence[Mapping[str, Any]],
 ) -> dict[str, Any]:
     """JSON-ready ``cycle``: its time and rate, each move's time and what binds it, the power,
-    torque and energy figures, the thermal check against each drive's ``continuous_Nm`` at the
-    joint, the links' utilisation, MuJoCo's run, the motor ``angles`` (n, 2) rad at the visited
+    torque and energy figures, the thermal check (``ratings``: each drive's continuous torque N m
+    at the joint, and the two drives, :func:`~qsm.realization.cycle_check.thermal_use`), the
+    links' utilisation, MuJoCo's run, the motor ``angles`` (n, 2) rad at the visited
     points, how much faster than the raster's speed (``raster_s``: the same moves at the duty's
     raster speed, the same dwells), and each motor's electrical power where its catalogue row
     (``motors``) allows (:func:`electrical_power`)."""
@@ -129,10 +130,9 @@ def cycle_record(
     ]  # fmt: skip
     power = _power(c, arm)
     raster = raster_s + c.time_s - sum(m.duration_s for m in c.moves)  # the same dwells
-    thermal = [
-        r / k if np.isfinite(k) and k > 0 else None
-        for r, k in zip(power["rms_torque_Nm"], continuous_Nm, strict=True)
-    ]
+    continuous_Nm, drives = ratings
+    use = thermal_use(c, arm, drives)
+    thermal = [float(u) if np.isfinite(u) else None for u in use]
     thermal_ok = None if None in thermal else bool(max(thermal) <= 1.0)
     return {
         "planned": True,
@@ -146,10 +146,10 @@ def cycle_record(
         "waypoints_deg": np.degrees(angles).tolist(),
         "moves": moves,
         **power,
-        "peak_payload_force_N": _peak_load_N(c, arm),
+        "peak_payload_force_N": peak_load_N(c, arm),
         "electrical": electrical_power(c, arm, motors),
         "continuous_torque_Nm": [float(k) if np.isfinite(k) else None for k in continuous_Nm],
-        "rms_over_continuous": thermal,
+        "thermal_use": thermal,
         "thermal_ok": thermal_ok,
         "strength_utilisation": checked.utilisation,
         "links_hold": bool(checked.utilisation <= 1.0),
@@ -204,7 +204,8 @@ def cycle_lines(cycle: dict[str, Any] | None) -> list[str]:
         f"- peak power {_pair(cycle['peak_power_W'], 0)} W, RMS {_pair(cycle['rms_power_W'], 0)} "
         f"W, energy {cycle['energy_per_cycle_J']:.0f} J per cycle; RMS torque "
         f"{_pair(cycle['rms_torque_Nm'], 1)} N m against {_pair(cycle['continuous_torque_Nm'], 1)}"
-        f" N m continuous; links at {cycle['strength_utilisation']:.2f} of their strength.",
+        f" N m continuous (thermal use {_pair(cycle['thermal_use'], 2)}, gear losses by the "
+        f"torque's direction); links at {cycle['strength_utilisation']:.2f} of their strength.",
         f"- MuJoCo: {'passed' if sim['passed'] else 'FAILED'} ({sim['reason']}), tracking "
         f"{sim['max_tracking_error_deg']:.3f} deg, at the points "
         f"{max(sim['point_error_mm']):.2f} mm at most.",
@@ -222,11 +223,13 @@ def cycle_problems(cycle: dict[str, Any] | None) -> list[str]:
         return [f"no time-optimal cycle could be planned on the task: {cycle['reason']}"]
     out = []
     if cycle["thermal_ok"] is False:
-        pairs = zip(cycle["rms_torque_Nm"], cycle["continuous_torque_Nm"], strict=True)
+        rows = zip(
+            cycle["rms_torque_Nm"], cycle["continuous_torque_Nm"], cycle["thermal_use"], strict=True
+        )
         over = [
-            f"motor {j + 1} {r:.1f} N m RMS over {c:.1f} N m continuous"
-            for j, (r, c) in enumerate(pairs)
-            if r > c
+            f"motor {j + 1} {r:.1f} N m RMS, {u:.2f} of its continuous rating ({c:.1f} N m)"
+            for j, (r, c, u) in enumerate(rows)
+            if u > 1.0
         ]
         out.append(
             f"DRIVES OVERHEAT on the cycle ({cycle['cycle_time_s']:.2f} s): {', '.join(over)}"
@@ -283,31 +286,33 @@ def run_cycle(
     test: PayloadSettings,
     task: TaskCycle,
     raster_speed_deg_s: float,
+    max_load_N: float | None = None,
 ) -> tuple[dict[str, Any], CheckedCycle | None, Arm]:
     """The realised design's time-optimal ``task`` cycle with its drives (the chosen ones, or
     the nearest), checked (:func:`qsm.realization.cycle_check.checked_cycle`, MuJoCo's run with
-    the payload ``test``'s plant and controller): its record, the checked cycle (None, and the
+    the payload ``test``'s plant and controller; ``max_load_N`` the payload's largest peak force
+    that keeps the tool within the tolerance): its record, the checked cycle (None, and the
     record says why, where no cycle can be planned) and the arm it was planned for."""
     catalogue = settings.drives.catalogue
     keys = [(m.get("drive") or m["best_drive"]) for m in done.drives["motors"].values()]
     drives = [OutputEnvelope.of(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys]
-    continuous = np.array(
-        [_continuous_Nm(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys]
-    )
-    continuous = np.where(np.isfinite(continuous) & (continuous > 0), continuous, np.nan)
+    rows = np.array([_drive_row(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys])
+    continuous = np.array([offer(catalogue)[i]["cont_torque_Nm"] for i in rows])
+    ratings = (continuous, settings.drives.arrays.take(rows))
     arm = Arm(done.design, Inertials.of(props), test.payload_kg, drives)
     points = np.asarray(task.points, dtype=float)
     returns = len(task.visits) > 1 and task.visits[0] == task.visits[-1]
     try:
         angles = joint_path(done.design, points, test.theta1_range_deg, test.theta2_min_deg)
         checked = checked_cycle(
-            done, props, arm, angles, points, test, task.dwell_s, returns, continuous
-        )
+            done, props, arm, (points, angles), test, (task.dwell_s, returns), ratings[1],
+            max_load_N,
+        )  # fmt: skip
     except ValueError as exc:  # a point out of reach, or drives that cannot hold the arm
         return unplanned_record(task, str(exc)), None, arm
     raster = raster_time_s(angles, np.radians(raster_speed_deg_s))
     motors = [catalogue.motors.loc[k["motor_key"]].to_dict() for k in keys]
-    record = cycle_record(checked, arm, task.visits, angles, raster, continuous, motors)
+    record = cycle_record(checked, arm, task.visits, angles, raster, ratings, motors)
     return record, checked, arm
 
 
@@ -317,11 +322,10 @@ def unplanned_record(task: TaskCycle, reason: str) -> dict[str, Any]:
             "dwell_s": task.dwell_s}  # fmt: skip
 
 
-def _continuous_Nm(catalogue: Catalogue, motor_key: str, gearbox_key: str) -> float:
-    """The continuous torque (N m) the catalogue's drive (motor_key, gearbox_key) gives at the
-    joint (:func:`qsm.embodiment.drives.selection.offer`)."""
+def _drive_row(catalogue: Catalogue, motor_key: str, gearbox_key: str) -> int:
+    """The row of the catalogue's drive (motor_key, gearbox_key)."""
     drives = catalogue.drives
     match = (drives["motor"] == motor_key).to_numpy() & (
         drives["gearbox"] == gearbox_key
     ).to_numpy()
-    return offer(catalogue)[int(np.flatnonzero(np.asarray(match))[0])]["cont_torque_Nm"]
+    return int(np.flatnonzero(np.asarray(match))[0])

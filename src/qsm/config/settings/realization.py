@@ -39,6 +39,7 @@ def realization(
         parts=parts(case, strength),
         accuracy=accuracy(task, case, points, build_volume_mm),
         motion=task_motion(motion, case.payload_kg, op),
+        task_points_m=tuple((float(x), float(y)) for x, y in points),
     )
 
 

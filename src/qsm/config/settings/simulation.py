@@ -24,6 +24,7 @@ def payload_test(
         return_to_start=section["return_to_start"],
         kp_Nm_rad=tuple(section["kp_Nm_rad"]),
         kd_Nms_rad=tuple(section["kd_Nms_rad"]),
+        ki_Nm_rad_s=tuple(section["ki_Nm_rad_s"]),
         tracking_tolerance_deg=section["tracking_tolerance_deg"],
         plant_mass_error=section["plant_mass_error"],
         theta1_range_deg=tuple(operating_range_section["theta1_deg"]),

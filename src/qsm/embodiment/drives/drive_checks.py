@@ -20,7 +20,7 @@ drive-mass objective.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any
 
@@ -32,7 +32,7 @@ from qsm.dataset.columns import DRIVE_COLUMNS, MOTORS
 from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
 from qsm.embodiment.drives.compliance import gear_compliance
 from qsm.embodiment.drives.drive_table import drive_columns
-from qsm.embodiment.drives.selection import Selection, select_drives
+from qsm.embodiment.drives.selection import Selection, drive_violations, select_drives
 from qsm.embodiment.drives.utilization import DriveArrays
 from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.embodiment.strength.loads import Inertials, joint_loads
@@ -56,8 +56,9 @@ def _default_catalogue() -> Catalogue:
 class DriveCheck:
     """What the drive check needs: the ``catalogue``, the selection ``rule`` (lightest or
     smallest_inertia), whether the drives' ``reflected_inertia`` loads the joints, the link
-    section ``cad``, the payload (kg) at E, the duty and each motor's least gearbox torsional
-    stiffness (N m/rad; 0: any)."""
+    section ``cad``, the payload (kg) at E, the duty, each motor's least gearbox torsional
+    stiffness (N m/rad; 0: any) and the ``task_duty`` a realised design's drives must meet as
+    well (the task's motion through its points; None: the duty alone)."""
 
     catalogue: Catalogue = field(default_factory=_default_catalogue)
     rule: str = "lightest"
@@ -66,6 +67,7 @@ class DriveCheck:
     payload_kg: float = 5.0
     duty: Duty = field(default_factory=duty_cycle)
     min_stiffness_Nm_rad: tuple[float, float] = (0.0, 0.0)
+    task_duty: Duty | None = None
 
     def torques(
         self, designs: ArrayLike, scales: ArrayLike | None = None
@@ -113,8 +115,10 @@ class DriveCheck:
             "reflected_inertia_kgm2": self.arrays.reflected_inertia,
         }
 
-    def select(self, tau: ArrayLike) -> list[Selection]:
-        """One :class:`Selection` per motor for motor torques (D, N, 2) N m over the duty."""
+    def select(self, tau: ArrayLike, also: list[NDArray] | None = None) -> list[Selection]:
+        """One :class:`Selection` per motor for motor torques (D, N, 2) N m over the duty;
+        ``also``: per motor, each drive's violation (C,) of the task duty
+        (:meth:`task_violations`)."""
         tau = np.asarray(tau, dtype=float)
         du = self.duty
         n_d = tau.shape[0]
@@ -132,6 +136,7 @@ class DriveCheck:
                     accel if self.reflected_inertia else None,
                     self.arrays,
                     self._allowed(j),
+                    None if also is None else also[j],
                 )
             )
         return out
@@ -190,17 +195,46 @@ class DriveCheck:
             table["has_drives"].to_numpy(bool), mass, self.penalty_kg + violation_of(table)
         )
 
+    def task_violations(
+        self, design: ArrayLike, scales: ArrayLike | None = None
+    ) -> tuple[list[NDArray] | None, dict[str, Any]]:
+        """Per motor, each drive's violation (C,) of :attr:`task_duty` by one design (None: no
+        task duty, or the design's loop does not close along it), and the task motion's
+        required peak and RMS torques (N m, without the drives' inertia) for the report."""
+        du = self.task_duty
+        if du is None:
+            return None, {}
+        tau, good = replace(self, duty=du, task_duty=None).torques(design, scales)
+        if not good[0]:
+            return None, {"defined": False}
+        also = [
+            drive_violations(self.arrays, tau[0, :, j], du.dtheta[:, j], du.weight_s,
+                             du.ddtheta[:, j] if self.reflected_inertia else None)
+            for j in range(2)
+        ]  # fmt: skip
+        w = du.weight_s / du.weight_s.sum()
+        need = {
+            "defined": True,
+            "peak_torque_Nm": np.abs(tau[0]).max(axis=0).tolist(),
+            "rms_torque_Nm": np.sqrt((w[:, None] * tau[0] ** 2).sum(axis=0)).tolist(),
+            "duration_s": float(du.weight_s.sum()),
+        }
+        return also, need
+
     def report(self, design: ArrayLike, scales: ArrayLike | None = None) -> dict[str, Any]:
         """JSON-ready account of one design's drives: per motor, the drive (or the nearest and
         what fails, and the strongest drive's offer), margins and requirements
-        (:meth:`Selection.report`), and whether each motor has a drive; ``scales`` (1, 4) as
+        (:meth:`Selection.report`), whether each motor has a drive, and what the task's motion
+        asks (:meth:`task_violations`, which the drives meet as well); ``scales`` (1, 4) as
         :meth:`torques`."""
-        tau, good = self.torques(np.atleast_2d(as_design(design)), scales)
+        d = np.atleast_2d(as_design(design))
+        tau, good = self.torques(d, scales)
         if not good[0]:
             return {"has_drives": False, "defined": False, "rule": self.rule, "motors": {}}
+        also, task = self.task_violations(d, scales)
         motors = {
             f"motor{j}": {"drives": MOTORS[j], **sel.report(0)}
-            for j, sel in zip(MOTORS, self.select(tau), strict=True)
+            for j, sel in zip(MOTORS, self.select(tau, also), strict=True)
         }
         return {
             "has_drives": all(m["has_drive"] for m in motors.values()),
@@ -208,6 +242,7 @@ class DriveCheck:
             "rule": self.rule,
             "reflected_inertia": self.reflected_inertia,
             "motors": motors,
+            **({"task_motion": task} if task else {}),
         }
 
 

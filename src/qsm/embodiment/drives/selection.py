@@ -119,6 +119,7 @@ def select_drives(
     accel: np.ndarray | None = None,
     arrays: DriveArrays | None = None,
     allowed: np.ndarray | None = None,
+    also: np.ndarray | None = None,
 ) -> Selection:
     """Choose, for each duty, the drive that meets every sample and is first by ``rule``.
 
@@ -133,6 +134,8 @@ def select_drives(
     the choice and the torques; a drive of unknown J_c is never met. The required torques, speed
     and power are then those of ``best``. ``arrays``: ``DriveArrays.of(cat)`` when at hand.
     ``allowed`` (C,): the drives that may be chosen (None: all); the others never meet a duty.
+    ``also`` (C,): each drive's violation of a second duty it must meet as well (the task's
+    motion, :func:`drive_violations`); a drive's violation is then the larger of the two.
     """
     if rule not in RULES:
         raise ValueError(f"unknown drive rule {rule!r}; expected one of {sorted(RULES)}")
@@ -145,17 +148,10 @@ def select_drives(
     rank = np.empty(order.size, int)
     rank[order] = np.arange(order.size)
     n_d, n_c = tau.shape[0], arr.ratio.size
-    finite = np.isfinite(tau).all(axis=1) & np.isfinite(omega).all(axis=1)
-    if acc is not None:
-        finite &= np.isfinite(acc).all(axis=1)
-    if finite.all():
-        u = utilization(arr, tau, omega, w, acc)
-    else:
-        u = np.full((n_d, n_c, len(CHECKS)), np.inf)
-        u[finite] = utilization(
-            arr, tau[finite], omega[finite], w[finite], None if acc is None else acc[finite]
-        )
+    u = _utilisations(arr, tau, omega, w, acc)
     v = u.max(axis=2) - 1
+    if also is not None:
+        v = np.maximum(v, also)
     if allowed is not None:
         v = np.where(allowed, v, np.inf)
     rows = np.arange(n_d)
@@ -182,3 +178,39 @@ def select_drives(
         peak_power=np.abs(tau * omega).max(axis=1),
         strongest=int(np.nanargmax(_offer(arr)[0])),
     )
+
+
+def _utilisations(
+    arr: DriveArrays,
+    tau: np.ndarray,
+    omega: np.ndarray,
+    w: np.ndarray,
+    acc: np.ndarray | None,
+) -> np.ndarray:
+    """Each drive's utilisations (D, C, len(CHECKS)) on duties (D, N); infinite for a duty with a
+    non-finite sample."""
+    finite = np.isfinite(tau).all(axis=1) & np.isfinite(omega).all(axis=1)
+    if acc is not None:
+        finite &= np.isfinite(acc).all(axis=1)
+    if finite.all():
+        return utilization(arr, tau, omega, w, acc)
+    u = np.full((tau.shape[0], arr.ratio.size, len(CHECKS)), np.inf)
+    u[finite] = utilization(
+        arr, tau[finite], omega[finite], w[finite], None if acc is None else acc[finite]
+    )
+    return u
+
+
+def drive_violations(
+    arr: DriveArrays,
+    tau: np.ndarray,
+    omega: np.ndarray,
+    weights: np.ndarray,
+    accel: np.ndarray | None = None,
+) -> np.ndarray:
+    """Each drive's violation (C,) of one duty (tau N m, omega rad/s, weights s: (N,) each;
+    ``accel`` rad/s^2 as in :func:`select_drives`): its largest utilisation of
+    :mod:`~qsm.embodiment.drives.utilization` less 1 (<= 0: it meets the duty)."""
+    tau, omega, w = duty_arrays(tau, omega, weights)
+    acc = None if accel is None else np.broadcast_to(np.asarray(accel, float), tau.shape)
+    return _utilisations(arr, tau, omega, w, acc).max(axis=2)[0] - 1
