@@ -7,6 +7,7 @@ import pytest
 
 from qsm.dataset.columns import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.embodiment.parts.printing import box_excess_mm
+from qsm.optimization.ranking import rule_scores
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task import Disk
@@ -184,3 +185,19 @@ def test_a_printable_design_within_the_tolerance_comes_first():
         {"ratios": table}, "ratios", dataset([SMALL], 1.0), "min_tau1", CAD, PRINTER
     )
     assert row["tau1_true_Nm"] == 40.0
+
+
+def test_fastest_takes_the_shortest_cycle_and_the_knee_without_cycles():
+    """printing.selection_rule: fastest ranks by the time-optimal cycle (NaN: never); a table
+    without cycles (the dataset's designs) is ranked by the knee."""
+    table = pd.DataFrame(
+        {
+            "eta_true": [0.2, 0.1, 0.3],
+            "tau1_true_Nm": [40.0, 60.0, 30.0],
+            "tau2_true_Nm": [10.0, 12.0, 9.0],
+            "time_optimal_cycle_s": [3.0, np.nan, 2.5],
+        }
+    )
+    np.testing.assert_array_equal(rule_scores(table, "fastest"), [3.0, np.inf, 2.5])
+    bare = table.drop(columns="time_optimal_cycle_s")
+    np.testing.assert_array_equal(rule_scores(bare, "fastest"), rule_scores(bare, "knee"))

@@ -27,6 +27,9 @@ from qsm.optimization.comparison import summary
 from qsm.optimization.verify import verify_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import evaluate_mechanism
+from qsm.physics.inverse_kinematics import joint_path
+from qsm.physics.kinematics import DESIGN_COLUMNS
+from qsm.physics.task_points import task_cycle
 from qsm.physics.workspace import OperatingRange
 from qsm.realization.cycle import top_speed
 from qsm.report.headline import headline_markdown
@@ -265,6 +268,37 @@ def test_the_cycle_is_within_the_drives_and_no_faster_than_their_top_speeds(run)
         assert max(u for u in sim["peak_torque_over_available"] if u is not None) <= 1.0
     assert cycle["cycles_per_hour"] == pytest.approx(3600 / cycle["cycle_time_s"])
     assert cycle["time_optimal_s"] <= cycle["cycle_time_s"]
+
+
+@pytest.mark.parametrize("formulation", ["paper", "ratios"])
+def test_each_front_design_s_cycle_is_no_faster_than_its_drives_top_speeds(run, formulation):
+    """An independent check of the fronts' time-optimal cycles: each no shorter than the dwells
+    plus, per move, its largest joint change over that drive's top speed; a design without a
+    cycle says why, and only such a design."""
+    opt = run / "results/optimization" / formulation
+    verified = read_table(opt / "verification.parquet")
+    cycles = read_table(opt / "cycles.parquet")
+    config = effective_config(run)
+    op = config["operating_range"]
+    test = config["payload_test"]
+    task = task_cycle(
+        config["task"]["points"], config["task"]["cycle"], test["dwell_s"], test["return_to_start"]
+    )
+    catalogue = load_catalogue()
+    planned = np.isfinite(cycles["time_optimal_cycle_s"].to_numpy())
+    assert planned.any()
+    assert (cycles.loc[~planned, "cycle_note"].str.len() > 0).all()
+    assert (cycles.loc[planned, "cycle_note"] == "").all()
+    for k in np.flatnonzero(planned):
+        row = verified.iloc[k]
+        d = row[list(DESIGN_COLUMNS)].to_numpy(float)
+        drives = [OutputEnvelope.of(catalogue, row[f"drive{j}_motor"], row[f"drive{j}_gearbox"])
+                  for j in (1, 2)]  # fmt: skip
+        top = np.array([top_speed(e) for e in drives])
+        angles = joint_path(d, np.asarray(task.points), op["theta1_deg"], op["theta2_min_deg"])
+        least = (np.abs(np.diff(angles, axis=0)) / top).max(axis=1).sum()
+        dwells = task.dwell_s * (len(task.visits) - 1)
+        assert cycles["time_optimal_cycle_s"].iloc[k] >= least + dwells - 1e-9
 
 
 def test_the_datasheet_states_this_runs_figures(run):

@@ -6,9 +6,32 @@ EXPLORATION_OUTPUTS = [
 ]
 
 
+rule front_cycles:
+    input:
+        verification=f"{OPT}/{{formulation}}/verification.parquet",
+    output:
+        cycles=f"{OPT}/{{formulation}}/cycles.parquet",
+    log:
+        f"{RESULTS}/logs/front_cycles/{{formulation}}.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/front_cycles/{{formulation}}.tsv"
+    conda:
+        ENV
+    params:
+        code=code("front_cycles.py"),
+        load_case=load_case(),
+        strength=config["strength"],
+        drives=drive_settings(),
+        payload_test=config["payload_test"],
+        cycle=CYCLE,
+    script:
+        "../scripts/front_cycles.py"
+
+
 rule pareto_html:
     input:
         verification=f"{OPT}/{{formulation}}/verification.parquet",
+        cycles=rules.front_cycles.output.cycles,
         selected=rules.select_design.output.choice,
     output:
         html=report(

@@ -12,6 +12,12 @@ rule select_design:
     input:
         fronts=expand(f"{OPT}/{{formulation}}/verification.parquet", formulation=FORMULATIONS),
         dataset=rules.gather_dataset.output.dataset,
+        # the fronts' cycles only when the selection ranks by them
+        cycles=(
+            expand(f"{OPT}/{{formulation}}/cycles.parquet", formulation=FORMULATIONS)
+            if config["printing"]["selection_rule"] == "fastest"
+            else []
+        ),
     output:
         choice=f"{REAL}/choice.json",
         figure=report(

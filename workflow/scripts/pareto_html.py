@@ -2,6 +2,7 @@
 
 import json
 
+from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.report.interactive import selected_row, write_front_html
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table
@@ -9,7 +10,9 @@ from qsm.workflow.tables import read_meta, read_table
 with logged(snakemake.log[0]) as log:
     p = snakemake.params
     path = snakemake.input.verification
-    table = read_table(path)
+    table = read_table(path).join(
+        read_table(snakemake.input.cycles).drop(columns=list(DESIGN_COLUMNS))
+    )
     constraints = read_meta(path).get("constraints") or ""
     with open(snakemake.input.selected) as fh:
         selected = json.load(fh)

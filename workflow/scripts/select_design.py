@@ -4,6 +4,7 @@ always."""
 from qsm.config.settings import links, physics, realization
 from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import ok_rows
+from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.report.selection_record import selected_figure, selected_record
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
@@ -14,6 +15,8 @@ with logged(snakemake.log[0]) as log:
     inp = snakemake.input
     out = snakemake.output
     fronts = {name: read_table(path) for name, path in zip(p.formulations, inp.fronts, strict=True)}
+    for name, path in zip(p.formulations, inp.cycles, strict=False):  # selection_rule: fastest
+        fronts[name] = fronts[name].join(read_table(path).drop(columns=list(DESIGN_COLUMNS)))
     dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
     rule = p.printing["selection_rule"]
     op = physics.operating_range(p.load_case["operating_range"])

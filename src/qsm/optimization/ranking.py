@@ -23,7 +23,7 @@ import pandas as pd
 from numpy.typing import NDArray
 
 #: Selection rules of :func:`rule_scores` (and ``printing.selection_rule``).
-RULES: tuple[str, ...] = ("min_tau1", "min_tau2", "min_torque_sum", "min_eta", "knee")
+RULES: tuple[str, ...] = ("min_tau1", "min_tau2", "min_torque_sum", "min_eta", "knee", "fastest")
 
 
 @dataclass(frozen=True)
@@ -81,7 +81,9 @@ def rule_scores(df: pd.DataFrame, rule: str) -> np.ndarray:
     """Score of every row of a verified table under selection ``rule`` (smaller is better):
     ``min_tau1``, ``min_tau2``, ``min_torque_sum`` (their sum), ``min_eta`` (the true values), or
     ``knee``, the distance to the ideal point of the true values of the objectives the table was
-    optimised on (:func:`objectives_of`), each min-max normalised over the rows."""
+    optimised on (:func:`objectives_of`), each min-max normalised over the rows, or ``fastest``,
+    the task's time-optimal cycle (s, ``time_optimal_cycle_s``,
+    :mod:`qsm.realization.front_cycles`; the knee on a table without it)."""
     if rule == "min_tau1":
         return df["tau1_true_Nm"].to_numpy(float)
     if rule == "min_tau2":
@@ -90,7 +92,9 @@ def rule_scores(df: pd.DataFrame, rule: str) -> np.ndarray:
         return (df["tau1_true_Nm"] + df["tau2_true_Nm"]).to_numpy(float)
     if rule == "min_eta":
         return df["eta_true"].to_numpy(float)
-    if rule == "knee":
+    if rule == "fastest" and "time_optimal_cycle_s" in df:
+        return np.nan_to_num(df["time_optimal_cycle_s"].to_numpy(float), nan=np.inf)
+    if rule in ("knee", "fastest"):  # fastest without cycles (the dataset's designs): the knee
         obj = df.loc[:, [o.true for o in objectives_of(df)]].to_numpy(float)
         lo, hi = obj.min(axis=0), obj.max(axis=0)
         span = np.where(hi > lo, hi - lo, 1.0)

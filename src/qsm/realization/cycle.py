@@ -173,14 +173,20 @@ def time_optimal_move(
     return t, traj(at), traj(at, 1), traj(at, 2)
 
 
-def plan_move(arm: Arm, q0: ArrayLike, q1: ArrayLike, dt: float) -> Move:
+def plan_move(
+    arm: Arm,
+    q0: ArrayLike,
+    q1: ArrayLike,
+    dt: float,
+    fractions: Sequence[float] = SPEED_FRACTIONS,
+) -> Move:
     """The fastest of the moves q0 -> q1 (motor angles (2,) rad) planned at each speed bound of
-    :data:`SPEED_FRACTIONS`, sampled every ``dt`` s; ValueError when none is feasible (a drive
-    that cannot hold the arm)."""
+    ``fractions`` (of each drive's top speed), sampled every ``dt`` s; ValueError when none is
+    feasible (a drive that cannot hold the arm)."""
     q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)
     top = np.array([top_speed(e) for e in arm.drives])
     best: Move | None = None
-    for fraction in SPEED_FRACTIONS:
+    for fraction in fractions:
         speed = fraction * top
         torque = np.array([torque_bound(e, v) for e, v in zip(arm.drives, speed, strict=True)])
         inverse = lambda q, qd, qdd: motor_torques(arm, q, qd, qdd)  # noqa: E731
@@ -264,12 +270,19 @@ class Cycle(NamedTuple):
         return Reference(t, theta, np.concatenate(qd), np.concatenate(qdd), np.array(ends))
 
 
-def plan_cycle(arm: Arm, angles: ArrayLike, dwell_s: float, dt: float, returns: bool) -> Cycle:
+def plan_cycle(
+    arm: Arm,
+    angles: ArrayLike,
+    dwell_s: float,
+    dt: float,
+    returns: bool,
+    fractions: Sequence[float] = SPEED_FRACTIONS,
+) -> Cycle:
     """The time-optimal cycle through the visited points' motor ``angles`` (n, 2) rad, in order
     (the start again at the end when it ``returns``), with ``dwell_s`` at each, sampled every
-    ``dt`` s."""
+    ``dt`` s, each move planned at the speed bounds ``fractions`` (:func:`plan_move`)."""
     way = np.asarray(angles, dtype=float)
-    moves = tuple(plan_move(arm, a, b, dt) for a, b in itertools.pairwise(way))
+    moves = tuple(plan_move(arm, a, b, dt, fractions) for a, b in itertools.pairwise(way))
     return Cycle(moves, dwell_s, dt, returns)
 
 

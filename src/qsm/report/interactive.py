@@ -75,6 +75,7 @@ def hover_texts(verified: pd.DataFrame, ranks: Sequence[int], front: str) -> lis
             _number(row[f"needed_volume_{k}_mm"], 0) for k in ("long", "mid", "short")
         )
         lines.append(f"printable: {_yes_no(row['printable'])} (needs {needed} mm)")
+        lines += _stiffness_and_cycle(row)
         for j, motor in ((1, "lower arm"), (2, "crank")):
             if f"drive{j}_motor" not in row or not row[f"drive{j}_motor"]:
                 continue
@@ -88,6 +89,27 @@ def hover_texts(verified: pd.DataFrame, ranks: Sequence[int], front: str) -> lis
             )
         texts.append("<br>".join(lines))
     return texts
+
+
+def _stiffness_and_cycle(row: pd.Series) -> list[str]:
+    """The hover lines of the tool's sag (g15's, the configured section) and the task's
+    time-optimal cycle, where the table has them."""
+    lines = []
+    if "tool_sag_mm" in row:
+        within = _yes_no(row["within_tolerance"]) if "within_tolerance" in row else "n/a"
+        lines.append(
+            f"tool sag under the payload: {_number(row['tool_sag_mm'], 2)} mm, within the "
+            f"tolerance: {within}"
+        )
+    if "time_optimal_cycle_s" in row:
+        time_s = row["time_optimal_cycle_s"]
+        lines.append(
+            f"time-optimal cycle: {_number(time_s, 2)} s, "
+            f"{_number(3600.0 / time_s, 0)} per hour (not slowed for the tolerance or MuJoCo)"
+            if np.isfinite(time_s)
+            else f"time-optimal cycle: none ({row.get('cycle_note', '')})"
+        )
+    return lines
 
 
 def _flag(verified: pd.DataFrame, column: str) -> pd.Series:
