@@ -123,6 +123,10 @@ def row(work: Path, name: str) -> dict[str, Any]:
             for k, v in fronts.items()
         },
         "embodiment": embodiment(selected, topology, payload),
+        "infill": {
+            k: json.loads((res / f"optimization/{k}/infill.json").read_text())["rounds"]
+            for k in fronts
+        },
         "cycle": cycle_of(selected.get("cycle")),
         "accuracy": accuracy(
             selected,
@@ -314,13 +318,19 @@ def accuracy_markdown(rows: list[dict[str, Any]]) -> str:
 
 
 def run_task(
-    name: str, samples: int, mechanisms: int, cores: int, extra: dict[str, Any] | None = None
+    name: str,
+    samples: int,
+    mechanisms: int,
+    cores: int,
+    extra: dict[str, Any] | None = None,
+    keep: Path | None = None,
 ) -> dict[str, Any]:
-    """Run the default target for one task in a fresh directory (config keys ``extra`` overridden);
-    its row or its error."""
+    """Run the default target for one task in a fresh directory (config keys ``extra`` overridden;
+    kept as ``keep``/NAME when given); its row or its error."""
     _, points, payload = TASKS[name]
     with tempfile.TemporaryDirectory(prefix=f"qsm-task-{name}-") as tmp:
-        work = Path(tmp)
+        work = Path(tmp) if keep is None else keep / name
+        work.mkdir(parents=True, exist_ok=True)
         copy_workflow(work)
         overlay = {
             "sampling": {"n_samples": samples, "n_mechanisms": mechanisms},
@@ -426,6 +436,33 @@ def embodiment_markdown(rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
+def _errors(r: dict[str, Any]) -> str:
+    """A round's median / 90th-percentile errors (%) of eta, tau1, tau2."""
+    med, p90 = r["median_rel_error"], r["p90_rel_error"]
+    return " / ".join(f"{100 * med[k]:.1f}, {100 * p90[k]:.1f}" for k in med)
+
+
+def infill_markdown(rows: list[dict[str, Any]]) -> str:
+    """One table row per task and front: the surrogate's errors on the front before and after
+    the adaptive infill, its rounds and true evaluations, and the true hypervolumes."""
+    lines = [
+        "| task | front | errors before, % (median, p90: eta / tau1 / tau2) | after | rounds "
+        "| true evaluations | true HV before / after |",
+        "| --- | --- | --- | --- | --- | --- | --- |",
+    ]
+    for r in rows:
+        for front, rounds in r.get("infill", {}).items():
+            if not rounds:
+                continue
+            first, last = rounds[0], rounds[-1]
+            lines.append(
+                f"| {r['task']} | {front} | {_errors(first)} | {_errors(last)} | "
+                f"{len(rounds) - 1} | {last['true_evaluations']} | "
+                f"{first['hypervolume']:.4f} / {last['hypervolume']:.4f} |"
+            )
+    return "\n".join(lines)
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--tasks", nargs="+", default=list(TASKS), choices=list(TASKS))
@@ -433,6 +470,7 @@ def main() -> None:
     parser.add_argument("--mechanisms", type=int, default=2_000)
     parser.add_argument("--cores", type=int, default=2)
     parser.add_argument("--out", type=Path, help="also write the rows as JSON here")
+    parser.add_argument("--keep", type=Path, help="keep each task's run in this folder")
     parser.add_argument(
         "--set", nargs="+", default=[], metavar="KEY=VALUE", help="config overrides, every task"
     )
@@ -440,7 +478,7 @@ def main() -> None:
     extra = overrides(args.set)
     rows = []
     for name in args.tasks:
-        rows.append(run_task(name, args.samples, args.mechanisms, args.cores, extra))
+        rows.append(run_task(name, args.samples, args.mechanisms, args.cores, extra, args.keep))
         print(f"{name}: {json.dumps(rows[-1])}", flush=True)
     print(markdown(rows))
     print()
@@ -449,6 +487,8 @@ def main() -> None:
     print(accuracy_markdown(rows))
     print()
     print(cycle_markdown(rows))
+    print()
+    print(infill_markdown(rows))
     if args.out:
         args.out.write_text(json.dumps(rows, indent=2))
 

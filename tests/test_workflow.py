@@ -171,6 +171,7 @@ def test_verification_matches_a_direct_reevaluation(run, formulation):
     pd.testing.assert_frame_equal(table[list(pareto.columns)], pareto)
     stored = json.loads((folder / "verification.json").read_text())
     assert stored.pop("formulation") == formulation and "g1..g10" in stored.pop("constraints")
+    assert stored.pop("infill")["rounds"]  # the infill's rounds: checked beside
     assert json.dumps(stored, sort_keys=True) == json.dumps(summary(table), sort_keys=True)
     fit = physics.fit(
         config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
@@ -270,12 +271,11 @@ def test_the_cycle_is_within_the_drives_and_no_faster_than_their_top_speeds(run)
     assert cycle["time_optimal_s"] <= cycle["cycle_time_s"]
 
 
-@pytest.mark.parametrize("formulation", ["paper", "ratios"])
-def test_each_front_design_s_cycle_is_no_faster_than_its_drives_top_speeds(run, formulation):
-    """An independent check of the fronts' time-optimal cycles: each no shorter than the dwells
-    plus, per move, its largest joint change over that drive's top speed; a design without a
-    cycle says why, and only such a design."""
-    opt = run / "results/optimization" / formulation
+def test_each_front_design_s_cycle_is_no_faster_than_its_drives_top_speeds(run):
+    """An independent check of the primary front's time-optimal cycles: each no shorter than
+    the dwells plus, per move, its largest joint change over that drive's top speed; a design
+    without a cycle says why, and only such a design."""
+    opt = run / "results/optimization" / effective_config(run)["optimization"]["formulation"]
     verified = read_table(opt / "verification.parquet")
     cycles = read_table(opt / "cycles.parquet")
     config = effective_config(run)
@@ -299,6 +299,30 @@ def test_each_front_design_s_cycle_is_no_faster_than_its_drives_top_speeds(run, 
         least = (np.abs(np.diff(angles, axis=0)) / top).max(axis=1).sum()
         dwells = task.dwell_s * (len(task.visits) - 1)
         assert cycles["time_optimal_cycle_s"].iloc[k] >= least + dwells - 1e-9
+
+
+@pytest.mark.parametrize("formulation", ["paper", "ratios"])
+def test_the_infill_stays_within_its_budget_and_its_last_round_is_the_verification(
+    run, formulation
+):
+    """surrogate.infill on the test config: at most rounds + 1 checks of the front, at most
+    ``offspring`` more designs a round, every true evaluation in infill.parquet, and the last
+    round's errors those verify_pareto measures on the same front afresh."""
+    budget = effective_config(run)["surrogate"]["infill"]
+    opt = run / "results/optimization" / formulation
+    rounds = json.loads((opt / "infill.json").read_text(), parse_constant=_no_constant)["rounds"]
+    assert 1 <= len(rounds) <= budget["rounds"] + 1
+    table = read_table(opt / "infill.parquet")
+    assert rounds[-1]["true_evaluations"] == len(table)
+    sizes = table.groupby(["round", "source"]).size()
+    for r in rounds:
+        assert sizes[(r["round"], "front")] == r["n_front"]
+        assert sizes.get((r["round"], "offspring"), 0) <= budget["offspring"]
+    verification = json.loads((opt / "verification.json").read_text())
+    assert verification["infill"]["rounds"] == rounds
+    for kind in ("median_rel_error", "p90_rel_error"):
+        for name, value in rounds[-1][kind].items():
+            assert verification[kind][name] == pytest.approx(value, rel=1e-9, abs=1e-12)
 
 
 def test_the_datasheet_states_this_runs_figures(run):

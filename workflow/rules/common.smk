@@ -69,6 +69,11 @@ def drive_settings():
     return {**config["drives"], "catalogue_sha256": digest.hexdigest()}
 
 
+def surrogate_settings():
+    """The network and its training: not the infill, which only the optimisation runs."""
+    return {k: v for k, v in config["surrogate"].items() if k != "infill"}
+
+
 def optimization_settings():
     """What every NSGA-II run uses: not the choice or list of fronts, nor g11 / g12 / g13."""
     skip = ("formulation", "formulations", "constraints")

@@ -2,6 +2,7 @@
 
 EXPLORATION_OUTPUTS = [
     *expand(f"{OPT}/{{formulation}}/pareto.html", formulation=FORMULATIONS),
+    f"{OPT}/{config['optimization']['formulation']}/cycles.parquet",
     f"{REAL}/task_motion.gif",
 ]
 
@@ -31,7 +32,12 @@ rule front_cycles:
 rule pareto_html:
     input:
         verification=f"{OPT}/{{formulation}}/verification.parquet",
-        cycles=rules.front_cycles.output.cycles,
+        # the time-optimal cycles of the front the later stages use
+        cycles=lambda w: (
+            f"{OPT}/{w.formulation}/cycles.parquet"
+            if w.formulation == config["optimization"]["formulation"]
+            else []
+        ),
         selected=rules.select_design.output.choice,
     output:
         html=report(

@@ -37,6 +37,14 @@ rule optimize:
             category="4. Optimisation",
             subcategory="{formulation} formulation",
         ),
+        infill=f"{OPT}/{{formulation}}/infill.parquet",
+        rounds=f"{OPT}/{{formulation}}/infill.json",
+        infill_figure=report(
+            f"{RESULTS}/figures/{{formulation}}/infill.png",
+            caption="../report/infill.rst",
+            category="4. Optimisation",
+            subcategory="{formulation} formulation",
+        ),
     log:
         f"{RESULTS}/logs/optimize/{{formulation}}.log",
     benchmark:
@@ -55,6 +63,12 @@ rule optimize:
         scale=config["scale"],
         workspace=fit_workspace(),
         filters=config["filters"],
+        surrogate=config["surrogate"],
+        load_case=load_case(),
+        strength=config["strength"],
+        drives=drive_settings(),
+        tolerance_mm=config["task"]["tolerance_mm"],
+        build_volume_mm=config["printing"]["build_volume_mm"],
     script:
         "../scripts/optimize.py"
 
@@ -62,6 +76,7 @@ rule optimize:
 rule verify_pareto:
     input:
         pareto=rules.optimize.output.pareto,
+        rounds=rules.optimize.output.rounds,
     output:
         table=f"{OPT}/{{formulation}}/verification.parquet",
         summary=f"{OPT}/{{formulation}}/verification.json",

@@ -14,7 +14,7 @@ rule select_design:
         dataset=rules.gather_dataset.output.dataset,
         # the fronts' cycles only when the selection ranks by them
         cycles=(
-            expand(f"{OPT}/{{formulation}}/cycles.parquet", formulation=FORMULATIONS)
+            f"{OPT}/{config['optimization']['formulation']}/cycles.parquet"
             if config["printing"]["selection_rule"] == "fastest"
             else []
         ),

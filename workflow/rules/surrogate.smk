@@ -29,6 +29,6 @@ rule train_surrogate:
         ENV
     params:
         code=code("train_surrogate.py"),
-        surrogate=config["surrogate"],
+        surrogate=surrogate_settings(),
     script:
         "../scripts/train_surrogate.py"

@@ -1,11 +1,19 @@
-"""Rule optimize: NSGA-II on the surrogate in one formulation; tables and figures."""
+"""Rule optimize: NSGA-II on the surrogate in one formulation, with adaptive infill; tables and
+figures."""
 
-from qsm.config.settings import optimization, physics
+import numpy as np
+
+from qsm.config.settings import actuation, links, optimization, physics, surrogate
 from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import ok_rows
+from qsm.optimization.comparison import true_hypervolume
+from qsm.optimization.infill import Steps, infill
 from qsm.optimization.nsga import optimize
-from qsm.report.figures import pareto_figures, representatives_figure
-from qsm.surrogate.model import load
+from qsm.optimization.ranking import OBJECTIVE_SETS
+from qsm.optimization.verify import verify_front
+from qsm.report.figures import infill_figure, pareto_figures, representatives_figure
+from qsm.surrogate.model import INPUTS, OUTPUTS, load, train
+from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 
@@ -23,17 +31,44 @@ with logged(snakemake.log[0]) as log:
 
     extra = optimization.constraints(p.constraints, fit)
     log.info("%s formulation, constraints: %s", p.formulation, extra.label(p.formulation))
-    tables = optimize(
-        p.formulation, model, dataset, p.optimization, fit, p.ratio_bounds, extra, progress
+    case = links.load_case(p.load_case)
+    check = links.strength_check(case, p.strength)
+    drives = actuation.drive_check(p.drives, case)
+    sag = links.sag_check(case, p.task_points, p.tolerance_mm)
+    training = surrogate.surrogate(p.surrogate)
+    x0, y0 = dataset[list(INPUTS)].to_numpy(), dataset[list(OUTPUTS)].to_numpy()
+    objectives = OBJECTIVE_SETS[p.optimization.get("objectives", "torques")]
+    steps = Steps(
+        optimize=lambda m, start: optimize(
+            p.formulation, m, dataset, p.optimization, fit, p.ratio_bounds, extra, progress, start
+        ),
+        truth=lambda designs: verify_front(
+            designs, fit, check, p.ratio_bounds, p.build_volume_mm, drives, sag
+        ),
+        refit=lambda x, y: train(np.vstack([x0, x]), np.vstack([y0, y]), training).model,
     )
+    settings = surrogate.infill(p.surrogate)
+    result = infill(
+        model,
+        steps,
+        settings,
+        lambda table: true_hypervolume(table, dataset, objectives),
+        log.info,
+    )
+    tables = result.tables
     meta = {
         "formulation": p.formulation,
         "constraints": tables.constraints,
         "settings": dict(p.optimization),
+        "infill_rounds": len(result.rounds),
     }
     write_table(tables.pareto, out.pareto, meta)
     write_table(tables.last_generations, out.generations, meta)
     write_table(tables.hypervolume, out.hypervolume, meta)
+    write_table(result.evaluations, out.infill, meta)
+    write_json(out.rounds, {"formulation": p.formulation, "rounds": result.rounds})
+    goals = (settings.median_goal, settings.p90_goal)
+    infill_figure(result.rounds, goals, p.formulation, out.infill_figure)
     pareto_figures(tables.pareto, tables.hypervolume, out.front_3d, out.front_pairs)
     representatives_figure(
         tables.pareto, fit.op, fit.disk, p.optimization["n_representatives"], out.designs

@@ -10,9 +10,9 @@ from qsm.workflow.tables import read_meta, read_table
 with logged(snakemake.log[0]) as log:
     p = snakemake.params
     path = snakemake.input.verification
-    table = read_table(path).join(
-        read_table(snakemake.input.cycles).drop(columns=list(DESIGN_COLUMNS))
-    )
+    table = read_table(path)
+    if snakemake.input.cycles:  # the primary front's time-optimal cycles
+        table = table.join(read_table(snakemake.input.cycles).drop(columns=list(DESIGN_COLUMNS)))
     constraints = read_meta(path).get("constraints") or ""
     with open(snakemake.input.selected) as fh:
         selected = json.load(fh)

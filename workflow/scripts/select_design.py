@@ -15,8 +15,9 @@ with logged(snakemake.log[0]) as log:
     inp = snakemake.input
     out = snakemake.output
     fronts = {name: read_table(path) for name, path in zip(p.formulations, inp.fronts, strict=True)}
-    for name, path in zip(p.formulations, inp.cycles, strict=False):  # selection_rule: fastest
-        fronts[name] = fronts[name].join(read_table(path).drop(columns=list(DESIGN_COLUMNS)))
+    if inp.cycles:  # selection_rule: fastest, on the primary front's cycles
+        cycles = read_table(inp.cycles).drop(columns=list(DESIGN_COLUMNS))
+        fronts[p.primary] = fronts[p.primary].join(cycles)
     dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
     rule = p.printing["selection_rule"]
     op = physics.operating_range(p.load_case["operating_range"])

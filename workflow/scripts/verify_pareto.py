@@ -1,5 +1,8 @@
 """Rule verify_pareto: one formulation's Pareto designs under the true physics."""
 
+import json
+from pathlib import Path
+
 from qsm.config.settings import actuation, links, physics
 from qsm.optimization.comparison import summary
 from qsm.optimization.nsga import PREDICTION_COLUMNS
@@ -23,6 +26,11 @@ with logged(snakemake.log[0]) as log:
     table = verify_front(pareto, fit, check, p.ratio_bounds, p.build_volume_mm, drives, sag)
     result = {"formulation": meta.get("formulation"), "constraints": meta.get("constraints")}
     result.update(summary(table))
+    rounds = json.loads(Path(snakemake.input.rounds).read_text())["rounds"]
+    result["infill"] = {
+        "rounds": rounds,
+        "true_evaluations": rounds[-1]["true_evaluations"] if rounds else 0,
+    }
     write_table(table, out.table, {"columns": TRUE_COLUMNS, **result})
     write_json(out.summary, result)
     log.info(

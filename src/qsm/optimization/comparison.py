@@ -58,11 +58,13 @@ def summary(table: pd.DataFrame) -> dict[str, Any]:
             "task_not_contained": int((table["loop_closes"] & ~table["task_contained"]).sum()),
         },
         "median_rel_error": {},
+        "p90_rel_error": {},
         "max_rel_error": {},
     }
     for key, pred, true in ((o.name, o.predicted, o.true) for o in OBJECTIVE_SETS["torques"]):
         rel = (table.loc[ok, pred] - table.loc[ok, true]).abs() / table.loc[ok, true].abs()
         out["median_rel_error"][key] = float(rel.median()) if len(rel) else float("nan")
+        out["p90_rel_error"][key] = float(rel.quantile(0.9)) if len(rel) else float("nan")
         out["max_rel_error"][key] = float(rel.max()) if len(rel) else float("nan")
     return out
 

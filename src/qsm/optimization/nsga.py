@@ -106,12 +106,15 @@ def run_nsga2(
     seed: int,
     objective_range: tuple[NDArray, NDArray],
     progress: Callable[[int, float], None] | None = None,
+    initial: NDArray | None = None,
 ) -> OptimizationResult:
-    """Run NSGA-II for ``generations`` with a recorder; ``objective_range`` normalises the HV."""
+    """Run NSGA-II for ``generations`` with a recorder; ``objective_range`` normalises the HV;
+    ``initial`` (pop_size, n_var): the first population (None: pymoo's random sampling)."""
     recorder = Recorder(*objective_range, progress=progress)
+    algorithm = NSGA2(pop_size=pop_size) if initial is None else NSGA2(pop_size, sampling=initial)
     result = minimize(
         problem,
-        NSGA2(pop_size=pop_size),
+        algorithm,
         ("n_gen", generations),
         seed=seed,
         callback=recorder,
@@ -153,6 +156,7 @@ class FrontTables:
     last_generations: pd.DataFrame
     hypervolume: pd.DataFrame
     constraints: str = ""
+    population: NDArray | None = None  # the last population's variables, to start again from
 
 
 def _design_table(
@@ -283,6 +287,7 @@ def optimize(
     ratio_bounds: Mapping[str, Any],
     extra: ExtraConstraints | None = None,
     progress: Callable[[int, float], None] | None = None,
+    start: tuple[NDArray, int] | None = None,
 ) -> FrontTables:
     """Run NSGA-II in the given formulation (``paper`` or ``ratios``) and tabulate the results.
 
@@ -291,6 +296,8 @@ def optimize(
     g11..g14 on (None: the paper's g1..g10 only); when no design meets them, g12, g14 and then
     g13 are dropped and the constraint label says so. ``section["objectives"]`` (default
     ``torques``) picks the objectives; ``drive_mass`` takes its drives from ``extra.drives``.
+    ``start``: a first population (a former run's ``population``) and the generations to run
+    from it (None: random, ``section["generations"]``).
     """
     stats = LabelStats.of(model, section["z"])
     objectives = OBJECTIVE_SETS[section.get("objectives", "torques")]
@@ -311,29 +318,17 @@ def optimize(
             return PaperProblem(model, lo, hi, stats, extra)
         return RatiosProblem(model, lo, hi, stats, fit, extra)
 
+    initial, n_gen = (None, section["generations"]) if start is None else start
+
     def run(problem: Problem) -> OptimizationResult:
-        n_gen, seed = section["generations"], section["seed"]
-        return run_nsga2(problem, section["pop_size"], n_gen, seed, objective_range, progress)
+        return run_nsga2(
+            problem, section["pop_size"], n_gen, section["seed"], objective_range, progress,
+            initial,
+        )  # fmt: skip
 
     label = extra.label(formulation) if extra is not None else "g1..g10 (the paper's)"
     extra, dropped = _stiffness_in_reach(extra, dataset)
-    problem = make(extra)
-    while True:
-        try:
-            result = run(problem)
-            break
-        except InfeasibleProblem as exc:
-            # no design met g12 (a far task, a small printer), g14 (a task no drive of the
-            # catalogue serves) or g13 (a heavy task): optimize without it (in that order, the
-            # least important first), and say so
-            names = extra.names(formulation) if extra is not None else ()
-            least = exc.least(names, (G13, G14, G15))
-            unmet = [n for n in (G12, G15, G14, G13) if least.get(n, 0.0) > 0]
-            if extra is None or not unmet:
-                raise InfeasibleProblem(exc.violation, _paper_infeasible(len(dataset))) from None
-            extra, note = _relaxed(extra, unmet[0], least)
-            dropped.append(note)
-            problem = make(extra)
+    result, problem, extra = _relaxing(make, run, extra, formulation, dropped, len(dataset))
 
     def lengths(x: NDArray) -> NDArray:
         return problem.designs(x)[0] if isinstance(problem, RatiosProblem) else x
@@ -344,14 +339,41 @@ def optimize(
     if dropped:
         label = "; ".join([extra.label(formulation), *dropped])
     pareto = _design_table(front[keep], result.pareto_p[keep], result.pareto_f[keep], objectives)
-    generations = _generation_tables(result, section["generations"], lengths, objectives)
+    generations = _generation_tables(result, n_gen, lengths, objectives)
     history = pd.DataFrame(
         {
             "generation": np.arange(1, len(result.hypervolume) + 1),
             "hypervolume": result.hypervolume,
         }
     )
-    return FrontTables(pareto, generations, history, label)
+    return FrontTables(pareto, generations, history, label, result.last_populations[-1]["X"])
+
+
+def _relaxing(
+    make: Callable[[ExtraConstraints | None], Problem],
+    run: Callable[[Problem], OptimizationResult],
+    extra: ExtraConstraints | None,
+    formulation: str,
+    dropped: list[str],
+    n_designs: int,
+) -> tuple[OptimizationResult, Problem, ExtraConstraints | None]:
+    """NSGA-II on ``make(extra)``; where no design met g12 (a far task, a small printer), g15,
+    g14 (a task no drive of the catalogue serves) or g13 (a heavy task), again without it (in
+    that order, the least important first), each note appended to ``dropped``. Returns the
+    result, the problem it solved and the constraints it kept."""
+    problem = make(extra)
+    while True:
+        try:
+            return run(problem), problem, extra
+        except InfeasibleProblem as exc:
+            names = extra.names(formulation) if extra is not None else ()
+            least = exc.least(names, (G13, G14, G15))
+            unmet = [n for n in (G12, G15, G14, G13) if least.get(n, 0.0) > 0]
+            if extra is None or not unmet:
+                raise InfeasibleProblem(exc.violation, _paper_infeasible(n_designs)) from None
+            extra, note = _relaxed(extra, unmet[0], least)
+            dropped.append(note)
+            problem = make(extra)
 
 
 def _generation_tables(

@@ -202,3 +202,39 @@ def representatives_figure(
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
+
+
+def infill_figure(
+    rounds: Sequence[dict], goals: tuple[float, float], formulation: str, path: str | Path
+) -> None:
+    """The adaptive infill's rounds: each objective's median and 90th-percentile relative error
+    of the predictions on the front (log scale, with the ``goals``: median and 90th percentile)
+    and the front's true hypervolume, against the round; a note when no round ran."""
+    fig, (err, hv) = plt.subplots(1, 2, figsize=(10, 4))
+    if not rounds:
+        for ax in (err, hv):
+            ax.text(0.5, 0.5, "no infill rounds (surrogate.infill.rounds: 0)", ha="center")
+            ax.set_axis_off()
+    else:
+        r = [x["round"] for x in rounds]
+        for name in rounds[0]["median_rel_error"]:
+            for kind, style in (("median_rel_error", "-o"), ("p90_rel_error", "--s")):
+                values = [x[kind][name] for x in rounds]
+                err.plot(r, [np.nan if v is None else 100 * v for v in values], style,
+                         label=f"{name} {kind.split('_')[0]}")  # fmt: skip
+        err.axhline(100 * goals[0], color="grey", lw=1, label="median goal")
+        err.axhline(100 * goals[1], color="grey", lw=1, ls="--", label="p90 goal")
+        err.set_yscale("log")
+        err.set_xlabel("round")
+        err.set_ylabel("relative error on the front (%)")
+        err.legend(fontsize=7)
+        hv.plot(r, [x["hypervolume"] for x in rounds], "-o")
+        hv.set_xlabel("round")
+        hv.set_ylabel("true hypervolume of the front (-)")
+        for ax in (err, hv):
+            ax.set_xticks(r)
+            ax.grid(alpha=0.3)
+    fig.suptitle(f"{formulation} formulation: adaptive infill")
+    fig.tight_layout()
+    fig.savefig(path, dpi=120)
+    plt.close(fig)
