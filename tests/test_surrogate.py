@@ -12,6 +12,7 @@ from qsm.surrogate.model import (
     SurrogateSettings,
     load,
     metrics_markdown,
+    refit,
     regression_metrics,
     train,
 )
@@ -103,3 +104,28 @@ def test_unknown_output_transform_is_rejected():
     """'lg' once meant no transform, silently."""
     with pytest.raises(ValueError, match=r"surrogate\.output_transform: 'lg'"):
         SurrogateSettings(output_transform="lg")
+
+
+def test_the_infill_refit_warm_starts_only_where_the_normalisation_holds():
+    """A refit on rows within the last fit's min-max ranges continues from its weights for
+    n_iter_no_change epochs; a row outside them (the inputs would move) refits from scratch."""
+    rng = np.random.default_rng(0)
+    x = rng.uniform(0.0, 1.0, size=(300, 6))
+    y = np.column_stack([1 + x[:, 0], 2 + x[:, 1] * x[:, 2], 3 + x[:, 3] ** 2])
+    settings = SurrogateSettings(hidden_layers=(16,), max_epochs=200, n_iter_no_change=7, seed=0)
+    first = refit(x, y, settings)
+    assert not first.metrics["warm_start"] and first.metrics["n_train"] == 300
+    before = first.model.predict(x)
+    weights = [w.copy() for w in first.model.weights]
+    extra = np.full((1, 6), 0.5)
+    inside = refit(np.vstack([x, extra]), np.vstack([y, y[:1]]), settings, first)
+    assert inside.metrics["warm_start"]
+    np.testing.assert_array_equal(inside.model.x_min, first.model.x_min)
+    for w, kept, now in zip(first.model.weights, weights, inside.model.weights, strict=True):
+        np.testing.assert_array_equal(w, kept)  # the former model is left as it was
+        assert not np.array_equal(now, kept)  # the refit trained on
+    after = inside.model.predict(x)  # from its weights, not afresh: close to where it was
+    assert np.abs(after - before).max() < 0.05 * np.abs(before).max()
+    outside = refit(np.vstack([x, extra + 1.0]), np.vstack([y, y[:1]]), settings, inside)
+    assert not outside.metrics["warm_start"]
+    assert outside.model.x_span[0] > first.model.x_span[0]

@@ -77,6 +77,7 @@ rule verify_pareto:
     input:
         pareto=rules.optimize.output.pareto,
         rounds=rules.optimize.output.rounds,
+        infill=rules.optimize.output.infill,
     output:
         table=f"{OPT}/{{formulation}}/verification.parquet",
         summary=f"{OPT}/{{formulation}}/verification.json",

@@ -12,7 +12,7 @@ from qsm.optimization.nsga import optimize
 from qsm.optimization.ranking import OBJECTIVE_SETS
 from qsm.optimization.verify import verify_front
 from qsm.report.figures import infill_figure, pareto_figures, representatives_figure
-from qsm.surrogate.model import INPUTS, OUTPUTS, load, train
+from qsm.surrogate.model import INPUTS, OUTPUTS, Training, load, refit, training_rows
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
@@ -36,7 +36,17 @@ with logged(snakemake.log[0]) as log:
     drives = actuation.drive_check(p.drives, case)
     sag = links.sag_check(case, p.task_points, p.tolerance_mm)
     training = surrogate.surrogate(p.surrogate)
-    x0, y0 = dataset[list(INPUTS)].to_numpy(), dataset[list(OUTPUTS)].to_numpy()
+    rows = training_rows(len(dataset), training)[0]  # the surrogate's own training rows
+    x0, y0 = dataset[list(INPUTS)].to_numpy()[rows], dataset[list(OUTPUTS)].to_numpy()[rows]
+    fits: list[Training] = []
+
+    def refitted(x: np.ndarray, y: np.ndarray) -> object:
+        """The surrogate on its training rows and every true design so far, warm-started from
+        the last refit where its normalisation holds them."""
+        fits.append(refit(np.vstack([x0, x]), np.vstack([y0, y]), training, (fits or [None])[-1]))
+        log.info("refit on %d designs: %s", len(x0) + len(x), fits[-1].metrics)
+        return fits[-1].model
+
     objectives = OBJECTIVE_SETS[p.optimization.get("objectives", "torques")]
     steps = Steps(
         optimize=lambda m, start: optimize(
@@ -45,7 +55,7 @@ with logged(snakemake.log[0]) as log:
         truth=lambda designs: verify_front(
             designs, fit, check, p.ratio_bounds, p.build_volume_mm, drives, sag
         ),
-        refit=lambda x, y: train(np.vstack([x0, x]), np.vstack([y0, y]), training).model,
+        refit=refitted,
     )
     settings = surrogate.infill(p.surrogate)
     result = infill(

@@ -4,9 +4,9 @@ After NSGA-II on the surrogate, :func:`infill` checks its front with the true ph
 sample: none of those designs is in the training data yet), and while an objective's median
 relative error on the front exceeds ``median_goal`` or its 90th percentile ``p90_goal``, it adds
 the front and up to ``offspring`` further designs of the last population to the training data,
-refits the surrogate from scratch (the inputs' min-max scaling moves with new designs, so a warm
-start would not be the same model) and runs NSGA-II again from the last population, for at most
-``rounds`` rounds. ``rounds: 0`` is the paper's one-shot method, unchanged.
+refits the surrogate (:func:`qsm.surrogate.model.refit`: from scratch, or warm where its
+normalisation holds the new designs) and runs NSGA-II again from the last population, for at
+most ``rounds`` rounds. ``rounds: 0`` is the paper's one-shot method, unchanged.
 
 The loop is given its three steps as functions (:class:`Steps`), so the workflow runs it on the
 MuJoCo physics and the tests on an analytic stand-in with a known front.
@@ -180,3 +180,19 @@ def _round_record(
         "n_front_new": n_new,
         "true_evaluations": int(sum(len(t) for t in evaluated)),
     }
+
+
+def final_front(evaluations: pd.DataFrame, pareto: pd.DataFrame) -> pd.DataFrame | None:
+    """The last round's verified front (the verification's table, made already) when it holds
+    ``pareto``'s designs in order; None otherwise (no round ran)."""
+    if evaluations.empty:
+        return None
+    last = evaluations[
+        evaluations["source"].eq("front") & evaluations["round"].eq(evaluations["round"].max())
+    ]
+    cols = list(INPUTS)
+    if len(last) != len(pareto) or not np.array_equal(
+        last[cols].to_numpy(), pareto[cols].to_numpy()
+    ):
+        return None
+    return last.drop(columns=["round", "source"]).reset_index(drop=True)

@@ -121,6 +121,10 @@ def structure_mm(
     return float(budget_mm(terms, None).max())
 
 
+#: What a grown link keeps clear of the printer's build volume on every side (mm).
+PRINT_MARGIN_MM = 0.5
+
+
 def growth_limit(
     design: NDArray[np.float64],
     base: NDArray[np.float64],
@@ -129,16 +133,22 @@ def growth_limit(
     volume_mm: Sequence[float],
 ) -> NDArray[np.float64]:
     """Each link's largest section scale (4,) of ``cad``: within the ``largest`` scale, the
-    link's length and the printer's ``volume_mm`` (its box still fits where it fits at
-    ``base``), and at least its ``base`` (4,)."""
+    link's length and, where it fits the printer's ``volume_mm`` at ``base``, that volume less
+    :data:`PRINT_MARGIN_MM` (the printed part's mesh, not only its outline, must still fit: a
+    link at the printer's edge does not grow), and at least its ``base`` (4,)."""
     upper = np.maximum(base, np.minimum(largest, fit_limit(design, cad) * (1 - 1e-9)))
+    room = np.asarray(volume_mm, dtype=float) - PRINT_MARGIN_MM
     for k in range(4):
 
-        def fits(f: float, k: int = k) -> bool:
+        def fits(f: float, k: int = k, within: Sequence[float] = room) -> bool:
             box = link_boxes_mm(design[None], None, cad.scaled(f * base[k]))[0, k]
-            return box_fits(box, volume_mm)
+            return box_fits(box, within)
 
-        if fits(1.0) and not fits(upper[k] / base[k]):
+        if not fits(1.0, within=volume_mm):  # it does not fit at all: the printer sets no limit
+            continue
+        if not fits(1.0):
+            upper[k] = base[k]
+        elif not fits(upper[k] / base[k]):
             low, high = 1.0, upper[k] / base[k]
             while high / low > 1.001:
                 mid = math.sqrt(low * high)

@@ -11,6 +11,7 @@ from typing import Any
 import matplotlib.pyplot as plt
 import numpy as np
 import pandas as pd
+from numpy.typing import NDArray
 
 from qsm.embodiment.parts.printing import advice_sentence, smallest_build_volume
 from qsm.embodiment.strength.advice import advice_sentences as strength_sentences
@@ -18,6 +19,7 @@ from qsm.embodiment.strength.advice import strength_advice
 from qsm.embodiment.strength.verdict import strength_verdict
 from qsm.physics.cad import CadSettings
 from qsm.physics.clearance import disk_clearance_m
+from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.mirror import task_record
 from qsm.physics.task import Disk, min_enclosing_circle
 from qsm.physics.workspace import OperatingRange
@@ -28,9 +30,63 @@ from qsm.realization.choice import (
     printing_advice,
 )
 from qsm.realization.outputs import selection_record
-from qsm.realization.pipeline import RealizationSettings, realize
+from qsm.realization.pipeline import Realization, RealizationSettings, realize
 from qsm.report.drive_text import drive_sentences
 from qsm.report.figures import draw_design
+
+#: How many designs, best first, the selection realises before it keeps one it cannot build
+#: for the tolerance.
+TRIES = 5
+
+
+def _without(table: pd.DataFrame, designs: list[NDArray[np.float64]]) -> pd.DataFrame:
+    """``table`` without the rows of ``designs`` (6 lengths, m, each)."""
+    if not designs or table.empty:
+        return table
+    lengths = table[list(DESIGN_COLUMNS)].to_numpy(float)
+    gone = np.zeros(len(table), bool)
+    for d in designs:
+        gone |= np.all(lengths == d, axis=1)
+    return table[~gone]
+
+
+def _buildable(
+    fronts: Mapping[str, pd.DataFrame],
+    primary: str,
+    dataset: pd.DataFrame,
+    rule: str,
+    cad: CadSettings,
+    volume_mm: tuple[float, float, float],
+    settings: RealizationSettings,
+) -> tuple[pd.Series, dict[str, Any], Realization]:
+    """The design ``rule`` chooses (:func:`choose_design`), realised: the best that the
+    realisation can build for the tolerance (its structure within the target,
+    :mod:`qsm.realization.accuracy_sizing`) among the first :data:`TRIES`, each one skipped
+    named in ``fallback`` with its numbers; the best of them when none can."""
+    skipped: list[NDArray[np.float64]] = []
+    notes: list[str] = []
+    tried: list[tuple[pd.Series, dict[str, Any], Realization]] = []
+    for _ in range(TRIES):
+        kept = {name: _without(t, skipped) for name, t in fronts.items()}
+        row, how = choose_design(kept, primary, _without(dataset, skipped), rule, cad, volume_mm)
+        done = realize(selection_record(row)["design_m"], settings)
+        tried.append((row, how, done))
+        if done.accuracy.meets is not False:
+            break
+        skipped.append(done.design)
+        record = done.accuracy.record()
+        structure = record["structure_mm"]
+        notes.append(
+            f"{how['source']} design {np.round(1e3 * done.design, 1).tolist()} mm: the "
+            f"realisation cannot build it for the tolerance (structure "
+            + ("not defined" if structure is None else f"{structure:.2f} mm")
+            + f", target {record['target_mm']:.2f} mm)"
+        )
+    else:
+        row, how, done = tried[0]  # none can: the rule's own choice, which the verdict judges
+        notes = []
+    how["fallback"] = [*notes, *how["fallback"]]
+    return row, how, done
 
 
 def selected_record(
@@ -51,12 +107,11 @@ def selected_record(
     and the verdict."""
     cad = settings.parts.cad
     disk = min_enclosing_circle(task_points)
-    row, how = choose_design(fronts, primary, dataset, rule, cad, volume_mm)
+    row, how, done = _buildable(fronts, primary, dataset, rule, cad, volume_mm, settings)
     record = selection_record(row)
     record.update(how)
     record["task"] = task_record(user_points)
     record["clearance_m"] = disk_clearance_m(record["design_m"], op, disk)
-    done = realize(record["design_m"], settings)
     record["strength"], record["drives"] = done.strength, done.drives
     verdicts = []
     if not how["holds_loads"]:

@@ -164,20 +164,16 @@ class Training:
     estimator: MLPRegressor
 
 
-def train(x: ArrayLike, y: ArrayLike, settings: SurrogateSettings) -> Training:
-    """Fit the MLP on a seeded train/test split of designs ``x`` (N, 6) and labels ``y`` (N, 3)."""
-    x = np.asarray(x, dtype=float)
-    y = np.asarray(y, dtype=float)
-    if settings.output_transform == "log" and np.any(y <= 0):
-        raise ValueError("surrogate.output_transform 'log' needs positive labels")
-    idx = np.arange(len(x))
-    train_idx, test_idx = train_test_split(
-        idx, test_size=settings.test_fraction, random_state=settings.seed
+def training_rows(n: int, settings: SurrogateSettings) -> tuple[NDArray, NDArray]:
+    """The seeded train and test rows of ``n`` designs: the split :func:`train` makes."""
+    return train_test_split(
+        np.arange(n), test_size=settings.test_fraction, random_state=settings.seed
     )
-    target = np.log(y) if settings.output_transform == "log" else y
-    x_min, x_span = _span(x[train_idx])
-    t_min, t_span = _span(target[train_idx])
-    mlp = MLPRegressor(
+
+
+def _network(settings: SurrogateSettings) -> MLPRegressor:
+    """An untrained MLP of ``settings`` (ReLU, Adam, seeded)."""
+    return MLPRegressor(
         hidden_layer_sizes=settings.hidden_layers,
         activation="relu",
         solver="adam",
@@ -190,8 +186,34 @@ def train(x: ArrayLike, y: ArrayLike, settings: SurrogateSettings) -> Training:
         batch_size=settings.batch_size,
         random_state=settings.seed,
     )
+
+
+def _target(y: NDArray[np.float64], settings: SurrogateSettings) -> NDArray[np.float64]:
+    """The labels as the network learns them (log where ``output_transform`` says)."""
+    if settings.output_transform == "log" and np.any(y <= 0):
+        raise ValueError("surrogate.output_transform 'log' needs positive labels")
+    return np.log(y) if settings.output_transform == "log" else y
+
+
+def _fitted(
+    mlp: MLPRegressor,
+    scaling: tuple[NDArray, NDArray, NDArray, NDArray],
+    x: NDArray[np.float64],
+    y: NDArray[np.float64],
+    settings: SurrogateSettings,
+    epochs: int | None = None,
+) -> tuple[Surrogate, float]:
+    """Fit ``mlp`` on designs ``x`` and labels ``y`` normalised by ``scaling`` (x_min, x_span,
+    t_min, t_span): to convergence, or ``epochs`` passes from the weights it has; the model and
+    the fit time (s)."""
+    x_min, x_span, t_min, t_span = scaling
+    inputs, outputs = (x - x_min) / x_span, (_target(y, settings) - t_min) / t_span
     start = time.perf_counter()
-    mlp.fit((x[train_idx] - x_min) / x_span, (target[train_idx] - t_min) / t_span)
+    if epochs is None:
+        mlp.fit(inputs, outputs)
+    else:
+        for _ in range(epochs):  # further epochs from its weights (shuffled by its own seed)
+            mlp.partial_fit(inputs, outputs)
     seconds = time.perf_counter() - start
     model = Surrogate(
         x_min=x_min,
@@ -199,11 +221,23 @@ def train(x: ArrayLike, y: ArrayLike, settings: SurrogateSettings) -> Training:
         y_min=t_min,
         y_span=t_span,
         output_transform=settings.output_transform,
-        weights=tuple(np.asarray(w) for w in mlp.coefs_),
-        biases=tuple(np.asarray(b) for b in mlp.intercepts_),
-        label_mean=y[train_idx].mean(axis=0),
-        label_std=y[train_idx].std(axis=0),
+        weights=tuple(np.array(w, copy=True) for w in mlp.coefs_),  # a later warm start
+        biases=tuple(np.array(b, copy=True) for b in mlp.intercepts_),  # trains mlp in place
+        label_mean=y.mean(axis=0),
+        label_std=y.std(axis=0),
     )
+    return model, seconds
+
+
+def train(x: ArrayLike, y: ArrayLike, settings: SurrogateSettings) -> Training:
+    """Fit the MLP on a seeded train/test split of designs ``x`` (N, 6) and labels ``y`` (N, 3)."""
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    train_idx, test_idx = training_rows(len(x), settings)
+    target = _target(y, settings)
+    scaling = (*_span(x[train_idx]), *_span(target[train_idx]))
+    mlp = _network(settings)
+    model, seconds = _fitted(mlp, scaling, x[train_idx], y[train_idx], settings)
     y_min, y_span = _span(y[train_idx])
     pred_train = model.predict(x[train_idx])
     metrics = {
@@ -216,6 +250,38 @@ def train(x: ArrayLike, y: ArrayLike, settings: SurrogateSettings) -> Training:
     }
     test_idx = np.sort(test_idx)
     return Training(model, metrics, test_idx, model.predict(x[test_idx]), mlp)
+
+
+def refit(
+    x: ArrayLike, y: ArrayLike, settings: SurrogateSettings, previous: Training | None = None
+) -> Training:
+    """The MLP fitted on every row of designs ``x`` (N, 6) and labels ``y`` (N, 3), no split
+    (the adaptive infill's: its designs' errors are measured before they join). Warm-started
+    from ``previous`` where its normalisation holds every row (the network then sees the same
+    inputs): ``n_iter_no_change`` further epochs from its weights; else from scratch, seeded."""
+    x = np.asarray(x, dtype=float)
+    y = np.asarray(y, dtype=float)
+    target = _target(y, settings)
+    warm = previous is not None and _holds(previous.model, x, target)
+    if warm:
+        mlp, m = previous.estimator, previous.model
+        scaling = (m.x_min, m.x_span, m.y_min, m.y_span)
+        model, seconds = _fitted(mlp, scaling, x, y, settings, settings.n_iter_no_change)
+    else:
+        mlp, scaling = _network(settings), (*_span(x), *_span(target))
+        model, seconds = _fitted(mlp, scaling, x, y, settings)
+    metrics = {"fit_seconds": seconds, "epochs": int(mlp.n_iter_), "n_train": len(x),
+               "warm_start": warm}  # fmt: skip
+    return Training(model, metrics, np.zeros(0, np.int64), np.zeros((0, y.shape[1])), mlp)
+
+
+def _holds(model: Surrogate, x: NDArray[np.float64], target: NDArray[np.float64]) -> bool:
+    """Whether ``model``'s min-max normalisation maps every row into [0, 1]."""
+    inside = [
+        ((v - lo) >= -1e-12).all() and ((v - lo) <= span + 1e-12).all()
+        for v, lo, span in ((x, model.x_min, model.x_span), (target, model.y_min, model.y_span))
+    ]
+    return all(inside)
 
 
 def metrics_markdown(metrics: Mapping[str, Any]) -> str:
