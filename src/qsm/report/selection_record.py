@@ -4,7 +4,7 @@ with this run's numbers, and the figure of the design over its workspace.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -51,24 +51,18 @@ def _without(table: pd.DataFrame, designs: list[NDArray[np.float64]]) -> pd.Data
 
 
 def _buildable(
-    fronts: Mapping[str, pd.DataFrame],
-    primary: str,
-    dataset: pd.DataFrame,
-    rule: str,
-    cad: CadSettings,
-    volume_mm: tuple[float, float, float],
+    choose: Callable[[list[NDArray[np.float64]]], tuple[pd.Series, dict[str, Any]]],
     settings: RealizationSettings,
 ) -> tuple[pd.Series, dict[str, Any], Realization]:
-    """The design ``rule`` chooses (:func:`choose_design`), realised: the best that the
-    realisation can build for the tolerance (its structure within the target,
-    :mod:`qsm.realization.accuracy_sizing`) among the first :data:`TRIES`, each one skipped
-    named in ``fallback`` with its numbers; the best of them when none can."""
+    """The design ``choose`` gives (:func:`choose_design` without the designs it is passed),
+    realised: the best that the realisation can build for the tolerance (its structure within
+    the target, :mod:`qsm.realization.accuracy_sizing`) among the first :data:`TRIES`, each one
+    skipped named in ``fallback`` with its numbers; the best of them when none can."""
     skipped: list[NDArray[np.float64]] = []
     notes: list[str] = []
     tried: list[tuple[pd.Series, dict[str, Any], Realization]] = []
     for _ in range(TRIES):
-        kept = {name: _without(t, skipped) for name, t in fronts.items()}
-        row, how = choose_design(kept, primary, _without(dataset, skipped), rule, cad, volume_mm)
+        row, how = choose(skipped)
         done = realize(selection_record(row)["design_m"], settings)
         tried.append((row, how, done))
         if done.accuracy.meets is not False:
@@ -107,7 +101,12 @@ def selected_record(
     and the verdict."""
     cad = settings.parts.cad
     disk = min_enclosing_circle(task_points)
-    row, how, done = _buildable(fronts, primary, dataset, rule, cad, volume_mm, settings)
+
+    def choose(skipped: list[NDArray[np.float64]]) -> tuple[pd.Series, dict[str, Any]]:
+        kept = {name: _without(t, skipped) for name, t in fronts.items()}
+        return choose_design(kept, primary, _without(dataset, skipped), rule, cad, volume_mm)
+
+    row, how, done = _buildable(choose, settings)
     record = selection_record(row)
     record.update(how)
     record["task"] = task_record(user_points)
