@@ -4,6 +4,7 @@ the infill used, each with its true hypervolume (the verification's: the dataset
 reference point 1.1, the same for all three) and its cost.
 
     python benchmarks/bench_infill.py RUN_DIRECTORY [--formulation paper] [--configfile ...]
+        [--factor 3]   # the true-physics run at 3x the evaluations (about the same time)
 
 The one-shot front is the infill's round 0 (what ``surrogate.infill.rounds: 0`` gives); its cost
 is the dataset's, the training's and the optimisation's up to that round (the rule's log
@@ -69,6 +70,28 @@ class TrueModel:
         return np.array([fit.disk.area / area, dyn["tau1_Nm"], dyn["tau2_Nm"]])
 
 
+def constraint_section(config: dict[str, Any], formulation: str) -> dict[str, Any]:
+    """``optimization.constraints`` as the rule ``optimize`` passes it (the workflow's
+    ``constraint_settings``)."""
+    section = config["optimization"]["constraints"]
+    out = {k: section[k] for k in ("printable", "strong", "drives", "stiff")}
+    out["containment"] = formulation == "paper" and section["containment"]
+    out["tolerance_m"] = section["containment_tolerance_m"]
+    out["load_case"] = {
+        "cad": config["cad"],
+        "material": config["material"],
+        "payload_kg": config["task"]["payload_kg"],
+        "duty": config["dynamics"]["duty"],
+        "operating_range": config["operating_range"],
+    }
+    out["build_volume_mm"] = config["printing"]["build_volume_mm"]
+    out["tolerance_mm"] = config["task"]["tolerance_mm"]
+    out["task_points"] = design_task(config["task"]["points"])[1]
+    out["strength"] = config["strength"]
+    out["drives_section"] = config["drives"]
+    return out
+
+
 def _job_seconds(results: Path, names: tuple[str, ...]) -> float:
     """The summed run time (s) of the benchmark files of the named rules."""
     total = 0.0
@@ -91,8 +114,11 @@ def _log_times(log: Path) -> tuple[float, float]:
     return (first - start).total_seconds(), (stamps[-1][0] - start).total_seconds()
 
 
-def measure(run: Path, formulation: str, configfiles: list[Path]) -> dict[str, Any]:
-    """The three fronts' true hypervolumes and costs of a finished run."""
+def measure(
+    run: Path, formulation: str, configfiles: list[Path], factor: float = 1.0
+) -> dict[str, Any]:
+    """The three fronts' true hypervolumes and costs of a finished run; the true-physics run
+    gets ``factor`` times the surrogate's true evaluations."""
     config = load_config(*configfiles)
     res = run / "results"
     dataset = ok_rows(read_table(res / "dataset.parquet", DATASET_COLUMNS))
@@ -106,11 +132,12 @@ def measure(run: Path, formulation: str, configfiles: list[Path]) -> dict[str, A
     sag = links.sag_check(case, task, config["task"]["tolerance_mm"])
     before = _job_seconds(res, STAGES_BEFORE)
     to_round0, whole = _log_times(res / f"logs/optimize/{formulation}.log")
-    budget = len(read_table(res / "dataset.parquet")) + rounds[-1]["true_evaluations"]
+    evaluated = len(read_table(res / "dataset.parquet"))  # every mechanism's dynamics ran
+    budget = factor * (evaluated + rounds[-1]["true_evaluations"])
     section = dict(config["optimization"])
-    section["generations"] = max(1, budget // section["pop_size"] - 1)
+    section["generations"] = max(1, int(budget // section["pop_size"]) - 1)
     truth = TrueModel(model, fit, check)
-    extra = optimization.constraints(config["optimization"]["constraints"], fit)
+    extra = optimization.constraints(constraint_section(config, formulation), fit)
     start = time.perf_counter()
     tables = optimize(
         formulation, truth, dataset, section, fit, config["sampling"]["bounds"], extra
@@ -120,9 +147,9 @@ def measure(run: Path, formulation: str, configfiles: list[Path]) -> dict[str, A
                             config["printing"]["build_volume_mm"], drives, sag)  # fmt: skip
     return {
         "one_shot": {"hypervolume": rounds[0]["hypervolume"], "cost_s": before + to_round0,
-                     "true_evaluations": len(dataset)},
+                     "true_evaluations": evaluated},
         "infilled": {"hypervolume": rounds[-1]["hypervolume"], "cost_s": before + whole,
-                     "true_evaluations": len(dataset) + rounds[-1]["true_evaluations"],
+                     "true_evaluations": evaluated + rounds[-1]["true_evaluations"],
                      "rounds": len(rounds) - 1},
         "true_physics": {"hypervolume": true_hypervolume(verified, dataset),
                          "cost_s": direct_s, "true_evaluations": truth.calls},
@@ -134,9 +161,10 @@ def main() -> None:
     parser.add_argument("run", type=Path)
     parser.add_argument("--formulation", default="paper")
     parser.add_argument("--configfile", type=Path, nargs="+")
+    parser.add_argument("--factor", type=float, default=1.0, help="true-physics budget factor")
     args = parser.parse_args()
     files = args.configfile or [args.run / "config/config.yaml"]
-    row = measure(args.run, args.formulation, files)
+    row = measure(args.run, args.formulation, files, args.factor)
     print(yaml.safe_dump(row, sort_keys=False))
     cells = " | ".join(
         f"{v['hypervolume']:.4f}, {v['true_evaluations']:,} evaluations, {v['cost_s']:.0f} s"
