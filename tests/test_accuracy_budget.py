@@ -291,4 +291,7 @@ def test_the_largest_load_keeps_every_point_within_the_tolerance():
     budget["per_point"]["tracking_error_mm"] = None  # before the payload test
     assert largest_load_N(budget) == pytest.approx(75.0)
     budget["per_point"]["sag_mm"] = [2.0, 5.5]  # the weight alone is past it: nothing helps
+    assert largest_load_N(budget) == 0.0
+    budget["per_point"]["sag_mm"] = [2.0, 3.0]
+    budget["per_point"]["dynamic_sag_mm"] = [0.0, 0.0]  # no force sags the tool: no limit
     assert largest_load_N(budget) is None

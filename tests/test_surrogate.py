@@ -129,3 +129,17 @@ def test_the_infill_refit_warm_starts_only_where_the_normalisation_holds():
     outside = refit(np.vstack([x, extra + 1.0]), np.vstack([y, y[:1]]), settings, inside)
     assert not outside.metrics["warm_start"]
     assert outside.model.x_span[0] > first.model.x_span[0]
+
+
+def test_with_early_stopping_every_refit_starts_afresh():
+    """partial_fit cannot hold out a validation split: with early_stopping on, a refit whose
+    normalisation would hold still fits from scratch, and does not fail."""
+    rng = np.random.default_rng(1)
+    x = rng.uniform(0.0, 1.0, size=(200, 6))
+    y = np.column_stack([1 + x[:, 0], 2 + x[:, 1], 3 + x[:, 2]])
+    settings = SurrogateSettings(
+        hidden_layers=(8,), max_epochs=100, n_iter_no_change=5, early_stopping=True, seed=0
+    )
+    first = refit(x, y, settings)
+    again = refit(x, y, settings, first)
+    assert not first.metrics["warm_start"] and not again.metrics["warm_start"]

@@ -306,8 +306,9 @@ def test_the_infill_stays_within_its_budget_and_its_last_round_is_the_verificati
     run, formulation
 ):
     """surrogate.infill on the test config: at most rounds + 1 checks of the front, at most
-    ``offspring`` more designs a round, every true evaluation in infill.parquet, and the last
-    round's errors those verify_pareto measures on the same front afresh."""
+    ``offspring`` more designs a round, every true evaluation in infill.parquet, the last
+    round's whole-front errors those verify_pareto reports, and the hypervolume history one
+    run of generations numbered on through the reruns."""
     budget = effective_config(run)["surrogate"]["infill"]
     opt = run / "results/optimization" / formulation
     rounds = json.loads((opt / "infill.json").read_text(), parse_constant=_no_constant)["rounds"]
@@ -318,10 +319,12 @@ def test_the_infill_stays_within_its_budget_and_its_last_round_is_the_verificati
     for r in rounds:
         assert sizes[(r["round"], "front")] == r["n_front"]
         assert sizes.get((r["round"], "offspring"), 0) <= budget["offspring"]
+    history = read_table(opt / "hypervolume.parquet")["generation"].to_numpy()
+    np.testing.assert_array_equal(history, np.arange(1, len(history) + 1))
     verification = json.loads((opt / "verification.json").read_text())
     assert verification["infill"]["rounds"] == rounds
     for kind in ("median_rel_error", "p90_rel_error"):
-        for name, value in rounds[-1][kind].items():
+        for name, value in rounds[-1][f"front_{kind}"].items():
             assert verification[kind][name] == pytest.approx(value, rel=1e-9, abs=1e-12)
 
 

@@ -15,7 +15,7 @@ MuJoCo physics and the tests on an analytic stand-in with a known front.
 from __future__ import annotations
 
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -125,8 +125,10 @@ def infill(
 ) -> InfillResult:
     """NSGA-II on ``model``, then infill rounds until the front's errors meet the goals or the
     rounds are spent (:mod:`module docs <qsm.optimization.infill>`). Each round's record gives
-    its errors on the front (out of sample), the true ``hypervolume`` of the front's verified
-    table, the front's size and the true evaluations made so far."""
+    its errors on the front's designs not yet trained on (out of sample: the goals are judged on
+    these) and, as ``front_*``, on the whole front (the verification's figures), the true
+    ``hypervolume`` of the front's verified table, the front's size, how many of its designs
+    are new and the true evaluations made so far."""
     tables = steps.optimize(model, None)
     rounds: list[dict[str, Any]] = []
     evaluated: list[pd.DataFrame] = []
@@ -134,12 +136,14 @@ def infill(
         return InfillResult(tables, rounds, pd.DataFrame())
     for r in range(settings.rounds + 1):
         checked = steps.truth(tables.pareto)
-        errors = front_errors(checked)
-        new = _new_designs(checked, evaluated)
+        new = _unseen(checked, evaluated)
+        whole = front_errors(checked)
+        errors = front_errors(checked[new]) if new.any() else whole  # out of sample
         evaluated.append(checked.assign(round=r, source="front"))
-        rounds.append(
-            _round_record(r, errors, hypervolume(checked), (len(checked), new), evaluated)
+        record = _round_record(
+            r, errors, hypervolume(checked), (len(checked), int(new.sum())), evaluated
         )
+        rounds.append(record | {f"front_{k}": v for k, v in _as_record(whole).items()})
         if log is not None:
             log(f"infill round {r}: errors {errors}, true hypervolume {rounds[-1]['hypervolume']}")
         if r == settings.rounds or meets_goals(errors, settings):
@@ -149,16 +153,38 @@ def infill(
             evaluated.append(steps.truth(offspring).assign(round=r, source="offspring"))
         x, y = _labelled(pd.concat(evaluated, ignore_index=True))
         model = steps.refit(x, y)
-        tables = steps.optimize(model, (tables.population, settings.generations))
+        tables = _continued(
+            tables, steps.optimize(model, (tables.population, settings.generations))
+        )
     return InfillResult(tables, rounds, pd.concat(evaluated, ignore_index=True))
 
 
-def _new_designs(checked: pd.DataFrame, evaluated: list[pd.DataFrame]) -> int:
-    """How many designs of ``checked`` no table of ``evaluated`` holds."""
+def _continued(before: FrontTables, after: FrontTables) -> FrontTables:
+    """``after`` (a rerun from ``before``'s last population) with ``before``'s hypervolume
+    history ahead of its own and its generations numbered on from ``before``'s."""
+    if before.hypervolume.empty:
+        return after
+    offset = int(before.hypervolume["generation"].max())
+    later = after.hypervolume.assign(generation=after.hypervolume["generation"] + offset)
+    gens = after.last_generations
+    return replace(
+        after,
+        hypervolume=pd.concat([before.hypervolume, later], ignore_index=True),
+        last_generations=gens.assign(generation=gens["generation"] + offset),
+    )
+
+
+def _unseen(checked: pd.DataFrame, evaluated: list[pd.DataFrame]) -> NDArray[np.bool_]:
+    """Which designs of ``checked`` no table of ``evaluated`` holds (not trained on yet)."""
     if not evaluated:
-        return len(checked)
+        return np.ones(len(checked), bool)
     seen = pd.concat(evaluated)[list(INPUTS)].apply(tuple, axis=1)
-    return int((~checked[list(INPUTS)].apply(tuple, axis=1).isin(seen)).sum())
+    return ~checked[list(INPUTS)].apply(tuple, axis=1).isin(seen).to_numpy()
+
+
+def _as_record(errors: dict[str, dict[str, float | None]]) -> dict[str, Any]:
+    """``front_errors``' median and 90th percentile under the round record's keys."""
+    return {"median_rel_error": errors["median"], "p90_rel_error": errors["p90"]}
 
 
 def _round_record(
@@ -168,13 +194,13 @@ def _round_record(
     front: tuple[int, int],
     evaluated: list[pd.DataFrame],
 ) -> dict[str, Any]:
-    """One round's JSON-ready record; ``front``: its size and how many of its designs no former
-    round had evaluated (the rest are in the training data already)."""
+    """One round's JSON-ready record: ``errors`` on the front's designs that no former round had
+    evaluated (out of sample; the whole front's when there are none); ``front``: its size and
+    how many of its designs those are."""
     n_front, n_new = front
     return {
         "round": r,
-        "median_rel_error": errors["median"],
-        "p90_rel_error": errors["p90"],
+        **_as_record(errors),
         "hypervolume": hypervolume,
         "n_front": n_front,
         "n_front_new": n_new,

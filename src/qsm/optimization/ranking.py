@@ -92,9 +92,10 @@ def rule_scores(df: pd.DataFrame, rule: str) -> np.ndarray:
         return (df["tau1_true_Nm"] + df["tau2_true_Nm"]).to_numpy(float)
     if rule == "min_eta":
         return df["eta_true"].to_numpy(float)
-    if rule == "fastest" and "time_optimal_cycle_s" in df:
-        return np.nan_to_num(df["time_optimal_cycle_s"].to_numpy(float), nan=np.inf)
-    if rule in ("knee", "fastest"):  # fastest without cycles (the dataset's designs): the knee
+    cycles = df["time_optimal_cycle_s"] if "time_optimal_cycle_s" in df else None
+    if rule == "fastest" and cycles is not None and cycles.notna().any():
+        return np.nan_to_num(cycles.to_numpy(float), nan=np.inf)
+    if rule in ("knee", "fastest"):  # fastest without any cycle (the dataset's): the knee
         obj = df.loc[:, [o.true for o in objectives_of(df)]].to_numpy(float)
         lo, hi = obj.min(axis=0), obj.max(axis=0)
         span = np.where(hi > lo, hi - lo, 1.0)

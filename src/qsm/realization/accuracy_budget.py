@@ -372,15 +372,15 @@ def accuracy_record(
 def largest_load_N(budget: dict[str, Any]) -> float | None:
     """The largest peak force (N) of the payload on the tool that keeps ``budget`` (an
     :func:`accuracy_record`) within its tolerance at every point, each point's dynamic sag
-    growing in proportion to the force; None where its static terms alone miss the tolerance
-    (no motion can then meet it) or no force sags the tool."""
+    growing in proportion to the force; 0 where its static terms alone miss the tolerance (no
+    motion can then meet it), None where no force sags the tool (no limit)."""
     per = {
         k: np.asarray(v if v is not None else 0.0, dtype=float)
         for k, v in budget["per_point"].items()
     }
     room = budget["tolerance_mm"] - per["lost_motion_mm"] - per["tracking_error_mm"]
     if (per["sag_mm"] > room).any():
-        return None
+        return 0.0
     per_N = per["dynamic_sag_mm"] / max(budget["dynamic_load_N"].values())
     if not (per_N > 0).any():
         return None

@@ -121,7 +121,8 @@ def structure_mm(
     return float(budget_mm(terms, None).max())
 
 
-#: What a grown link keeps clear of the printer's build volume on every side (mm).
+#: How much smaller than the printer's build volume, in each dimension, a grown link's box
+#: stays (mm).
 PRINT_MARGIN_MM = 0.5
 
 

@@ -192,6 +192,11 @@ def _for_tolerance(optimal: Cycle, arm: Arm, max_load_N: float | None) -> tuple[
     where slowing cannot meet it) and why, with the forces."""
     factor = tolerance_factor(optimal, arm, max_load_N)
     peak = peak_load_N(optimal, arm)
+    if factor is None and not max_load_N:
+        return 1.0, [
+            "the tolerance: its static terms (the sag under the payload's weight, lost motion "
+            "and tracking) alone exceed it, so no speed meets it"
+        ]
     if factor is None:
         return 1.0, [
             f"the tolerance: the payload's peak force would have to stay within "

@@ -50,19 +50,30 @@ def _without(table: pd.DataFrame, designs: list[NDArray[np.float64]]) -> pd.Data
     return table[~gone]
 
 
+def _tier(how: Mapping[str, Any]) -> tuple[bool, bool, bool]:
+    """What a chosen design met: printable, holds its loads, has drives."""
+    return bool(how["printable"]), bool(how["holds_loads"]), bool(how["has_drives"])
+
+
 def _buildable(
     choose: Callable[[list[NDArray[np.float64]]], tuple[pd.Series, dict[str, Any]]],
     settings: RealizationSettings,
 ) -> tuple[pd.Series, dict[str, Any], Realization]:
     """The design ``choose`` gives (:func:`choose_design` without the designs it is passed),
     realised: the best that the realisation can build for the tolerance (its structure within
-    the target, :mod:`qsm.realization.accuracy_sizing`) among the first :data:`TRIES`, each one
-    skipped named in ``fallback`` with its numbers; the best of them when none can."""
+    the target, :mod:`qsm.realization.accuracy_sizing`) among the first :data:`TRIES` of the
+    first one's tier (printable, holds its loads, has drives), each one skipped named in
+    ``fallback`` with its numbers; the first when none can."""
     skipped: list[NDArray[np.float64]] = []
     notes: list[str] = []
     tried: list[tuple[pd.Series, dict[str, Any], Realization]] = []
     for _ in range(TRIES):
-        row, how = choose(skipped)
+        try:
+            row, how = choose(skipped)
+        except ValueError:  # nothing left once these are skipped
+            break
+        if tried and _tier(how) != _tier(tried[0][1]):  # a worse tier: keep the first's
+            break
         done = realize(selection_record(row)["design_m"], settings)
         tried.append((row, how, done))
         if done.accuracy.meets is not False:
@@ -76,10 +87,11 @@ def _buildable(
             + ("not defined" if structure is None else f"{structure:.2f} mm")
             + f", target {record['target_mm']:.2f} mm)"
         )
-    else:
-        row, how, done = tried[0]  # none can: the rule's own choice, which the verdict judges
+    row, how, done = tried[-1]
+    if done.accuracy.meets is False:  # none can: the rule's own choice, which the verdict judges
+        row, how, done = tried[0]
         notes = []
-    how["fallback"] = [*notes, *how["fallback"]]
+    how["fallback"] = [*notes[: len(tried) - 1], *how["fallback"]]
     return row, how, done
 
 

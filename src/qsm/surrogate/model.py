@@ -258,11 +258,14 @@ def refit(
     """The MLP fitted on every row of designs ``x`` (N, 6) and labels ``y`` (N, 3), no split
     (the adaptive infill's: its designs' errors are measured before they join). Warm-started
     from ``previous`` where its normalisation holds every row (the network then sees the same
-    inputs): ``n_iter_no_change`` further epochs from its weights; else from scratch, seeded."""
+    inputs) and ``early_stopping`` is off: ``n_iter_no_change`` further epochs from its weights;
+    else from scratch, seeded."""
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     target = _target(y, settings)
-    warm = previous is not None and _holds(previous.model, x, target)
+    # partial_fit cannot hold out a validation split: with early_stopping, always afresh
+    warm = previous is not None and not settings.early_stopping
+    warm = warm and _holds(previous.model, x, target)
     if warm:
         mlp, m = previous.estimator, previous.model
         scaling = (m.x_min, m.x_span, m.y_min, m.y_span)

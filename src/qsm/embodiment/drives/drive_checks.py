@@ -199,14 +199,15 @@ class DriveCheck:
         self, design: ArrayLike, scales: ArrayLike | None = None
     ) -> tuple[list[NDArray] | None, dict[str, Any]]:
         """Per motor, each drive's violation (C,) of :attr:`task_duty` by one design (None: no
-        task duty, or the design's loop does not close along it), and the task motion's
-        required peak and RMS torques (N m, without the drives' inertia) for the report."""
+        task duty; infinite for every drive where the design's loop does not close along it, so
+        that no drive meets it), and the task motion's required peak and RMS torques (N m,
+        without the drives' inertia) for the report."""
         du = self.task_duty
         if du is None:
             return None, {}
         tau, good = replace(self, duty=du, task_duty=None).torques(design, scales)
         if not good[0]:
-            return None, {"defined": False}
+            return [np.full(self.arrays.ratio.size, np.inf)] * 2, {"defined": False}
         also = [
             drive_violations(self.arrays, tau[0, :, j], du.dtheta[:, j], du.weight_s,
                              du.ddtheta[:, j] if self.reflected_inertia else None)
