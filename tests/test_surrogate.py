@@ -119,7 +119,7 @@ def test_the_infill_refit_warm_starts_only_where_the_normalisation_holds():
     weights = [w.copy() for w in first.model.weights]
     extra = np.full((1, 6), 0.5)
     inside = refit(np.vstack([x, extra]), np.vstack([y, y[:1]]), settings, first)
-    assert inside.metrics["warm_start"]
+    assert inside.metrics["warm_start"] and inside.metrics["epochs"] == 7
     np.testing.assert_array_equal(inside.model.x_min, first.model.x_min)
     for w, kept, now in zip(first.model.weights, weights, inside.model.weights, strict=True):
         np.testing.assert_array_equal(w, kept)  # the former model is left as it was

@@ -96,6 +96,11 @@ class TaskCycle(NamedTuple):
     points: list[list[float]]
     dwell_s: float
 
+    @property
+    def returns(self) -> bool:
+        """Whether the cycle ends where it began (its first visit again at the end)."""
+        return len(self.visits) > 1 and self.visits[0] == self.visits[-1]
+
 
 def task_cycle(
     points: ArrayLike,

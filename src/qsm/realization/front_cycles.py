@@ -71,10 +71,9 @@ def _cycle_time(
     if note:
         return np.nan, note
     arm = _arm(row, check, catalogue, test.payload_kg)
-    returns = len(task.visits) > 1 and task.visits[0] == task.visits[-1]
     try:
         angles = joint_path(arm.design, task.points, test.theta1_range_deg, test.theta2_min_deg)
-        cycle = plan_cycle(arm, angles, task.dwell_s, TIMESTEP_S, returns, FRONT_FRACTIONS)
+        cycle = plan_cycle(arm, angles, task.dwell_s, TIMESTEP_S, task.returns, FRONT_FRACTIONS)
     except ValueError as exc:  # out of reach, or the drives cannot hold the arm
         return np.nan, str(exc)
     return cycle.time_s, ""

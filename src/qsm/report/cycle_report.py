@@ -301,11 +301,10 @@ def run_cycle(
     ratings = (continuous, settings.drives.arrays.take(rows))
     arm = Arm(done.design, Inertials.of(props), test.payload_kg, drives)
     points = np.asarray(task.points, dtype=float)
-    returns = len(task.visits) > 1 and task.visits[0] == task.visits[-1]
     try:
         angles = joint_path(done.design, points, test.theta1_range_deg, test.theta2_min_deg)
         checked = checked_cycle(
-            done, props, arm, (points, angles), test, (task.dwell_s, returns), ratings[1],
+            done, props, arm, (points, angles), test, (task.dwell_s, task.returns), ratings[1],
             max_load_N,
         )  # fmt: skip
     except ValueError as exc:  # a point out of reach, or drives that cannot hold the arm

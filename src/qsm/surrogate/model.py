@@ -273,8 +273,9 @@ def refit(
     else:
         mlp, scaling = _network(settings), (*_span(x), *_span(target))
         model, seconds = _fitted(mlp, scaling, x, y, settings)
-    metrics = {"fit_seconds": seconds, "epochs": int(mlp.n_iter_), "n_train": len(x),
-               "warm_start": warm}  # fmt: skip
+    # partial_fit restarts sklearn's n_iter_ count: the warm epochs are the ones run here
+    epochs = settings.n_iter_no_change if warm else int(mlp.n_iter_)
+    metrics = {"fit_seconds": seconds, "epochs": epochs, "n_train": len(x), "warm_start": warm}
     return Training(model, metrics, np.zeros(0, np.int64), np.zeros((0, y.shape[1])), mlp)
 
 
