@@ -20,7 +20,11 @@ def test_evaluate_lengths_gives_the_dynamics_strength_and_drives_of_that_design(
     assert main(["evaluate", "--lengths", *map(str, DESIGN)]) == 0
     out = json.loads(capsys.readouterr().out)
     direct = evaluate_mechanism(np.array(DESIGN), duty_cycle(), DEFAULT_CAD, 5.0)
-    assert out["tau1_true_Nm"] == pytest.approx(direct["tau1_Nm"], rel=1e-12)
+    assert out["tau1_Nm"] == pytest.approx(direct["tau1_Nm"], rel=1e-12)
+    # one set of keys with --ratios, and every value filled
+    assert {"eta", "tau1_Nm", "tau2_Nm", "dynamics_status", "printable"} <= set(out)
+    assert not any(k.endswith("_true") or "_true_" in k for k in out)
+    assert isinstance(out["printable"], bool)
     assert set(out["strength"]["links"]) == {"lower_arm", "crank", "coupler", "upper_arm"}
     assert isinstance(out["strength"]["holds_loads"], bool)
     assert set(out["drives"]["motors"]) == {"motor1", "motor2"}

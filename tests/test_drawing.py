@@ -2,11 +2,13 @@
 
 from __future__ import annotations
 
+import matplotlib.pyplot as plt
 import numpy as np
+import shapely
 
 from qsm.embodiment.parts import bearings
 from qsm.embodiment.parts import link_parts as parts
-from qsm.report.drawing import draw_links
+from qsm.report.drawing import draw_links, drawing_figure, text_overlaps
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 
@@ -34,7 +36,7 @@ def test_drawing_files_and_dimension_texts(tmp_path) -> None:
         "overall 880.0",
         # bores: 6000 shaft at A (d 10), 608 seat at B (D 22), 6204 pin at C (d 20),
         # 6206 seat at D (D 62), tool hole 9
-        "Ø10.0 motor shaft",
+        "Ø10.0 hub spigot",
         "Ø22.0 bearing seat 608",
         "Ø20.0 pin",
         "Ø62.0 bearing seat 6206",
@@ -48,3 +50,24 @@ def test_drawing_files_and_dimension_texts(tmp_path) -> None:
     ]
     missing = [t for t in expected if t.replace("'", "&#39;") not in text and t not in text]
     assert not missing, missing
+
+
+def test_no_label_overlaps_another_and_the_openings_are_drawn() -> None:
+    """A short crank (the default design's is 62 mm between its bores) and an optimised plate
+    with openings: no two texts of the drawing overlap, and the openings are drawn and
+    counted."""
+    short = np.array([0.457, 0.0625, 0.495, 0.122, 0.409, 0.0614])
+    table = bearings.load_catalogue()
+    idx = [int(np.flatnonzero(table.designation == n)[0]) for n in ("6003", "626", "626", "626")]
+    built = parts.link_parts(short, idx)
+    lower = built["lower_arm"]
+    opening = shapely.box(0.1, -0.005, 0.2, 0.005)
+    built["lower_arm"] = parts.LinkPart(
+        "lower_arm", lower.polygon.difference(opening), lower.bores, lower.section
+    )
+    fig = drawing_figure(short, built)
+    assert text_overlaps(fig) == []
+    assert "1 optimised openings" in fig.axes[0].get_title(loc="left")
+    patch = fig.axes[0].patches[0]
+    assert len(patch.get_path().to_polygons()) == 1 + 2 + 1  # outline, bores A and B, opening
+    plt.close(fig)

@@ -436,7 +436,8 @@ def test_the_design_to_build(run):
         assert 1e3 * bearing["C0_kN"] >= s0 * bearing["peak_force_N"], joint
     assert (real / "drawing.svg").read_text().count("<text") > 10
     bom = pd.read_csv(real / "bom.csv")
-    assert {"bearing A", "bearing B", "bearing C", "bearing D"} <= set(bom["item"])
+    assert {"bearing B", "bearing C", "bearing D", "cheek 1", "cheek 2"} <= set(bom["item"])
+    assert "bearing A" not in set(bom["item"])  # the drives' output bearings carry A
     summary_md = (run / "results/summary.md").read_text()
     first = summary_md.split("\n\n")[1]
     strength = selected["strength"]
@@ -447,9 +448,10 @@ def test_the_design_to_build(run):
         and all(link["carries_loads"] for link in topo["links"].values())
         and json.loads((real / "payload_test.json").read_text())["passed"]
         and selected["stiffness"]["meets_requirements"]
+        and json.loads((real / "kit/kit.json").read_text())["holds"]
     )
     assert first.startswith("**Ready to build" if ready else "**NOT READY TO BUILD")
-    assert "## The design to build" in summary_md and "| bearing A |" in summary_md
+    assert "## The design to build" in summary_md and "| bearing B |" in summary_md
     for link, r in strength["links"].items():
         assert r["holds"] == (  # with the verdict's slack of 1e-12 at the limits
             r["stress_peak_MPa"] <= r["allowable_MPa"] * (1 + 1e-12)
@@ -459,6 +461,39 @@ def test_the_design_to_build(run):
                 >= config["strength"]["buckling_safety_factor"] * (1 - 1e-12)
             )
         ), link
+
+
+def test_the_builders_kit_reopens_and_adds_up(run):
+    """Every STEP file of the kit reopens in the CAD kernel as one closed solid, the assembly
+    as one solid per part (and drive envelope); every DXF reads back with ezdxf, with one
+    outline and the plate's holes and openings; the BOM lists every fastener of the kit with
+    quantities that add up; the budget counts the base; the summary numbers the steps."""
+    import ezdxf
+    from build123d import import_step
+
+    kit_dir = run / "results/realization/kit"
+    kit = json.loads((kit_dir / "kit.json").read_text())
+    layout = kit["layout"]
+    for path in (kit_dir / "step").glob("*.step"):
+        shape = import_step(path)
+        expected = len(layout["plates"]) + len(layout["turned"]) if path.stem == "assembly" else 1
+        assert len(shape.solids()) == expected and shape.is_valid, path.name
+    assert {p.stem for p in (kit_dir / "step").glob("*.step")} >= set(layout["plates"])
+    for name, plate in layout["plates"].items():
+        doc = ezdxf.readfile(kit_dir / "dxf" / f"{name}.dxf")
+        layers = [e.dxf.layer for e in doc.modelspace().query("LWPOLYLINE")]
+        assert layers.count("OUTLINE") == 1 and layers.count("HOLES") == len(plate["holes"])
+    bom = pd.read_csv(run / "results/realization/bom.csv")
+    fasteners = bom[bom["category"].isin(["fastener", "key"])]
+    pins = [p["screw"] for p in kit["pins"].values()]
+    assert sum(int(bom.loc[bom["item"] == s, "quantity"].iloc[0]) for s in set(pins)) == 3
+    assert fasteners["quantity"].sum() > 40 and (fasteners["quantity"] > 0).all()
+    selected = json.loads((run / "results/realization/selected.json").read_text())
+    base = selected["stiffness"]["per_point"]["base_mm"]
+    assert base == pytest.approx([kit["base"]["tool_error_mm"]] * len(base))
+    summary_md = (run / "results/summary.md").read_text()
+    for k in range(1, len(kit["assembly_steps"]) + 1):
+        assert f"\n{k}. " in summary_md
 
 
 def test_sized_sections_are_drawn_and_built_as_checked(run, tmp_path):

@@ -5,6 +5,7 @@ STAGE6_OUTPUTS = [
     f"{REAL}/torques.json",
     f"{REAL}/payload_test.json",
     f"{REAL}/selected.json",
+    f"{REAL}/kit/exploded.png",
 ]
 
 
@@ -63,6 +64,7 @@ rule topology_optimize:
         drawing_png=f"{REAL}/drawing.png",
         bom_csv=f"{REAL}/bom.csv",
         bom_md=f"{REAL}/bom.md",
+        kit=f"{REAL}/kit/kit.json",
         figure=report(
             f"{RESULTS}/figures/topology_links.png",
             caption="../report/topology_links.rst",
@@ -78,6 +80,8 @@ rule topology_optimize:
     params:
         code=code("topology_optimize.py"),
         topology=config["topology"],
+        kit=config["kit"],
+        operating_range=config["operating_range"],
         load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),
@@ -87,6 +91,29 @@ rule topology_optimize:
         build_volume_mm=config["printing"]["build_volume_mm"],
     script:
         "../scripts/topology_optimize.py"
+
+
+rule kit_files:
+    input:
+        kit=rules.topology_optimize.output.kit,
+    output:
+        step=directory(f"{REAL}/kit/step"),
+        dxf=directory(f"{REAL}/kit/dxf"),
+        exploded=report(
+            f"{REAL}/kit/exploded.png",
+            caption="../report/kit_exploded.rst",
+            category="6. Realisation",
+        ),
+    log:
+        f"{RESULTS}/logs/kit_files.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/kit_files.tsv"
+    conda:
+        ENV
+    params:
+        code=code("kit_files.py"),
+    script:
+        "../scripts/kit_files.py"
 
 
 rule payload_test:
@@ -126,6 +153,7 @@ rule cycle_time:
         choice=rules.select_design.output.choice,
         links=rules.topology_optimize.output.links,
         topology=rules.topology_optimize.output.topology,
+        kit=rules.topology_optimize.output.kit,
         payload=rules.payload_test.output.result,
     output:
         cycle=f"{REAL}/cycle.json",
@@ -162,6 +190,7 @@ rule accuracy_budget:
         choice=rules.select_design.output.choice,
         links=rules.topology_optimize.output.links,
         topology=rules.topology_optimize.output.topology,
+        kit=rules.topology_optimize.output.kit,
         payload=rules.payload_test.output.result,
         cycle=rules.cycle_time.output.cycle,
     output:

@@ -14,6 +14,7 @@ rule summary:
         topology=rules.topology_optimize.output.topology,
         bom=rules.topology_optimize.output.bom_md,
         bom_csv=rules.topology_optimize.output.bom_csv,
+        kit=rules.topology_optimize.output.kit,
     output:
         summary=f"{RESULTS}/summary.md",  # in the report as a page (rule markdown_pages)
         datasheet=f"{RESULTS}/datasheet.md",  # the same

@@ -22,7 +22,9 @@ with logged(snakemake.log[0]) as log:
         case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
     )
     done = realize(choice["design_m"], settings)
-    record = final_record(choice, done, (topology, props), payload, settings, p.task_points, cycle)
+    base = json.loads(Path(inp.kit).read_text())["base"]["tool_error_mm"]  # the kit's cheeks
+    parts = (topology, props)
+    record = final_record(choice, done, parts, payload, settings, p.task_points, cycle, base)
     write_json(out.selected, record)
     accuracy_figure(record, done, topology, props, settings, p.task_points, out.figure)
     budget = record["stiffness"]

@@ -29,7 +29,8 @@ with logged(snakemake.log[0]) as log:
     op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
     test = simulation.payload_test(p.payload_test, case.payload_kg, op)
     task = TaskCycle(**p.cycle)
-    budget = measured_budget(done, (topology, props), payload, settings, p.task_points)
+    base = json.loads(Path(inp.kit).read_text())["base"]["tool_error_mm"]
+    budget = measured_budget(done, (topology, props), payload, settings, p.task_points, None, base)
     limit = largest_load_N(budget)  # the payload's peak force that keeps the tolerance
     log.info("the payload's peak force that keeps the tool within the tolerance: %s N", limit)
     speed = case.duty.peak_speed_deg_s

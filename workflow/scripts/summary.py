@@ -7,6 +7,7 @@ import pandas as pd
 
 from qsm.report.datasheet import datasheet_markdown
 from qsm.report.headline import headline_markdown, verdict_sentence
+from qsm.report.kit_report import kit_markdown
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
@@ -21,6 +22,8 @@ with logged(snakemake.log[0]) as log:
     with open(inp.bom) as fh:
         bom = fh.read()
     text = headline_markdown(findings=read_table(inp.findings), bom=bom, **loaded)
+    with open(inp.kit) as fh:
+        text += "\n" + kit_markdown(json.load(fh))
     with open(out.summary, "w") as fh:
         fh.write(text)
     verdict = verdict_sentence(loaded["selected"], loaded["topology"], loaded["payload"])

@@ -5,6 +5,7 @@ import json
 
 from qsm.config.settings import links, plates, realization
 from qsm.realization.build import build_links
+from qsm.realization.kit import KitSettings
 from qsm.realization.outputs import props_to_json, torques_markdown
 from qsm.realization.pipeline import realize
 from qsm.report.drawing import draw_links
@@ -23,14 +24,23 @@ with logged(snakemake.log[0]) as log:
     )
     done = realize(selected["design_m"], settings)
     folder = out.bom_csv.rsplit("/", 1)[0]
-    svg, png = draw_links(done.design, done.parts, f"{folder}/drawing")
     topo = plates.topology(p.topology, p.load_case["material"], p.strength)
     volume = tuple(p.build_volume_mm)
-    drawing = {"svg": str(svg), "png": str(png)}
+    drawing = {"svg": out.drawing, "png": out.drawing_png}
     material = case.material.name
-    built = build_links(
-        done, case.payload_kg, case.cycle(), topo, material, folder, volume, drawing
+    kit = KitSettings(
+        p.kit["tool_offset_m"],
+        tuple(p.operating_range["theta1_deg"]),
+        p.operating_range["theta2_min_deg"],
+        p.drives["catalogue"],
+        settings.accuracy.tolerance_mm,
     )
+    built = build_links(
+        done, case.payload_kg, case.cycle(), topo, material, folder, volume, drawing, kit
+    )
+    draw_links(done.design, built.parts, f"{folder}/drawing")  # as built, openings included
+    write_json(out.kit, built.kit.record)
+    log.info("builder's kit: checks %s", built.kit.record["checks"])
     write_json(out.torques, built.torques)
     with open(out.table, "w") as fh:
         fh.write(torques_markdown(built.torques))

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from qsm.config.settings import actuation, links, physics
+from qsm.embodiment.parts.printing import all_links_fit
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import fit_design
 from qsm.physics.duty import duty_cycle
@@ -93,11 +94,26 @@ def checked_lengths(lengths: Sequence[float]) -> np.ndarray:
     return _checked(lengths, DESIGN_NAMES, "lengths", " (m)")
 
 
+#: ``--lengths`` answers with ``--ratios``' keys: the verification's true values renamed.
+TRUE_KEYS = {"eta_true": "eta", "tau1_true_Nm": "tau1_Nm", "tau2_true_Nm": "tau2_Nm"}
+#: The verification's columns that one design's evaluation does not fill (the front's own).
+UNSET = (
+    "in_table1",
+    "print_excess_mm",
+    "needed_volume_long_mm",
+    "needed_volume_mid_mm",
+    "needed_volume_short_mm",
+    "tool_sag_mm",
+    "within_tolerance",
+)
+
+
 def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dict[str, Any]:
     """One design given as its 6 lengths (m), at that scale (no refit), under a validated config:
     the true kinematics, task containment and clearance, eta and the MuJoCo torques of the
-    optimisation's verification, each link's strength and each joint's bearing, and each
-    motor's drive. JSON-friendly (NaN as None)."""
+    optimisation's verification (under :func:`evaluate_ratios`' keys ``eta``, ``tau1_Nm``,
+    ``tau2_Nm``), whether its links fit the configured printer, each link's strength and each
+    joint's bearing, and each motor's drive. JSON-friendly (NaN as None)."""
     from qsm.embodiment.strength.verdict import strength_record
     from qsm.optimization.verify import verify_design
 
@@ -116,9 +132,12 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     true = verify_design(
         d, fit_settings, duty_cycle(duty), cad, payload, None if scale is None else scale[0]
     )
+    true = {TRUE_KEYS.get(k, k): v for k, v in true.items() if k not in UNSET}
     out.update(
         {k: (None if isinstance(v, float) and not np.isfinite(v) else v) for k, v in true.items()}
     )
+    volume = tuple(config["printing"]["build_volume_mm"])
+    out["printable"] = bool(all_links_fit(d, cad, volume))
     if out["loop_closes"]:
         out["strength"] = strength_record(d, check)
         out["drives"] = actuation.drive_check(config["drives"], case).report(d, scale)

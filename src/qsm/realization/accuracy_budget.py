@@ -285,6 +285,8 @@ def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str
     ]
     if per_point["tracking_error_mm"] is not None:
         parts.append(f"tracking {per_point['tracking_error_mm'][i]:.2f} mm")
+    if per_point.get("base_mm") is not None:
+        parts.append(f"base {per_point['base_mm'][i]:.2f} mm")
     detail = f"{budget[i]:.2f} mm at point {i + 1} ({', '.join(parts)}; tolerance {tol:g} mm)"
     problems = []
     if not budget[i] <= tol:
@@ -369,6 +371,25 @@ def accuracy_record(
     }
 
 
+def with_base(budget: dict[str, Any], base_mm: float, settings: AccuracySettings) -> dict[str, Any]:
+    """``budget`` (an :func:`accuracy_record`) with the base's compliance as a term of its own:
+    ``base_mm`` (the builder's kit's cheeks, :mod:`qsm.embodiment.kit.base`) added at every
+    point to the placing error, and its verdict again."""
+    per = {k: v for k, v in budget["per_point"].items() if k != "error_budget_mm"}
+    n = len(budget["points_m"])
+    per["base_mm"] = [float(base_mm)] * n
+    per["error_budget_mm"] = [e + base_mm for e in budget["per_point"]["error_budget_mm"]]
+    per["first_mode_hz"] = per.pop("first_mode_hz")
+    verdict, ok = _verdict(per, settings)
+    return budget | {
+        "per_point": per,
+        "worst": _worst(per),
+        "worst_point": int(np.argmax(per["error_budget_mm"])) + 1,
+        "verdict": verdict,
+        "meets_requirements": ok,
+    }
+
+
 def largest_load_N(budget: dict[str, Any]) -> float | None:
     """The largest peak force (N) of the payload on the tool that keeps ``budget`` (an
     :func:`accuracy_record`) within its tolerance at every point, each point's dynamic sag
@@ -379,6 +400,7 @@ def largest_load_N(budget: dict[str, Any]) -> float | None:
         for k, v in budget["per_point"].items()
     }
     room = budget["tolerance_mm"] - per["lost_motion_mm"] - per["tracking_error_mm"]
+    room = room - per.get("base_mm", 0.0)
     if (per["sag_mm"] > room).any():
         return 0.0
     per_N = per["dynamic_sag_mm"] / max(budget["dynamic_load_N"].values())

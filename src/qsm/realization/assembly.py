@@ -3,7 +3,7 @@ plate holds its loads, solid otherwise), their mass properties and a bill of mat
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
@@ -56,7 +56,7 @@ def final_parts(
 def drive_rows(report: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
     """BOM values of the motor and gearbox rows from a drives report
     (:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`); none for a motor without a
-    drive."""
+    drive. A gearbox named after its motor (an actuator's own stage) is built in: quantity 0."""
     rows: dict[str, dict[str, Any]] = {}
     for k, motor in enumerate(report.get("motors", {}).values(), start=1):
         if not motor.get("has_drive"):
@@ -67,10 +67,12 @@ def drive_rows(report: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
             "mass_kg": drive["mass_kg"],
             "notes": f"with {drive['gearbox']}; mass of motor and gearbox together",
         }
+        built_in = drive["gearbox"].startswith(drive["motor"])  # e.g. the AK80-6's own stage
         rows[f"gearbox {k}"] = {
             "designation": drive["gearbox"],
-            "notes": f"ratio {drive['ratio']:.2f}:1",
-        }
+            "notes": f"ratio {drive['ratio']:.2f}:1"
+            + (f"; built into {drive['motor']}: not a part to buy" if built_in else ""),
+        } | ({"quantity": 0} if built_in else {})
     return rows
 
 
@@ -82,10 +84,11 @@ def write_parts(
     optimized: Mapping[str, bool],
     directory: str | Path,
     drives: Mapping[str, Any] | None = None,
+    kit: Sequence[Mapping[str, Any]] | None = None,
 ) -> dict[str, Any]:
     """Write the BOM (``bom.csv`` / ``bom.md``, with the motors and gearboxes of the ``drives``
-    report when given) into ``directory``; return its paths, the parts' hole counts and mass
-    properties."""
+    report and the builder's ``kit`` rows when given) into ``directory``; return its paths, the
+    parts' hole counts and mass properties."""
     out = Path(directory)
     masses: dict[str, MassProperties] = part_mass_properties(parts)
     bom = bill_of_materials(
@@ -96,6 +99,7 @@ def write_parts(
         material,
         optimized,
         drive_rows(drives or {}),
+        kit,
     )
     csv, md = write_bom(bom, out)
     return {

@@ -8,12 +8,14 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from qsm.embodiment.parts.link_parts import part_meshes
+from qsm.embodiment.parts.link_parts import LinkPart, part_meshes
 from qsm.physics.cad import MassProperties
 from qsm.physics.duty import Duty
+from qsm.realization.accuracy_budget import peak_payload_force_N
 from qsm.realization.assembly import final_parts, write_parts
 from qsm.realization.fe import TopologySettings
 from qsm.realization.geometry import extrude
+from qsm.realization.kit import Kit, KitSettings, builders_kit
 from qsm.realization.outputs import export_stls
 from qsm.realization.pipeline import Realization
 from qsm.realization.topology import TopologyResult, optimize_links
@@ -24,13 +26,16 @@ from qsm.realization.torques import torques_before_after
 class BuiltLinks:
     """What :func:`build_links` made: the topology result, the link mass properties (kg, m,
     kg m^2) of the parts to build, the torques before and after (N m), the STL checks
-    (``before`` and ``after``) and the ``topology.json`` record."""
+    (``before`` and ``after``), the ``topology.json`` record, the builder's kit and the final
+    parts (bored, optimised plates with their openings)."""
 
     topology: TopologyResult
     props: dict[str, MassProperties]
     torques: dict[str, Any]
     stl_checks: dict[str, Any]
     record: dict[str, Any]
+    kit: Kit
+    parts: dict[str, LinkPart]
 
 
 def build_links(
@@ -42,12 +47,14 @@ def build_links(
     folder: str | Path,
     volume_mm: tuple[float, ...],
     drawing: dict[str, str],
+    kit: KitSettings,
 ) -> BuiltLinks:
     """Optimise the plates of ``done`` (:func:`qsm.realization.pipeline.realize`) for its loads
     (``payload_kg`` at E over ``duty``), keep an optimised plate only where it holds, bore every
     part, and write the BOM into ``folder`` and the STLs (mm) of the solid and the final parts
     into ``folder/stl/before`` and ``folder/stl/after``, checked against ``volume_mm``.
-    ``drawing`` names the dimensioned drawing's files (``svg``, ``png``) for the record."""
+    ``drawing`` names the dimensioned drawing's files (``svg``, ``png``) for the record; the
+    builder's kit (:func:`qsm.realization.kit.builders_kit`, with ``kit``) joins the BOM."""
     cad = done.part_settings.cad
     result = optimize_links(done.design, cad, payload_kg, duty, topology, scale=done.scale)
     held = {
@@ -56,6 +63,8 @@ def build_links(
         if link.carries_loads and not link.kept_solid
     }
     parts = final_parts(done.design, done.bearing_rows, done.part_settings, held)
+    force = peak_payload_force_N(done.design, payload_kg, duty.theta, duty.dtheta, duty.ddtheta)
+    made = builders_kit(done, parts, force, kit)
     written = write_parts(
         parts,
         done.bearing_rows,
@@ -64,8 +73,10 @@ def build_links(
         {name: name in held for name in parts},
         folder,
         done.drives,
+        made.bom,
     )
     written["drawing"] = dict(drawing)
+    written["kit"] = {k: made.record[k] for k in ("holds", "checks", "problems")}
     written["section_mm"] = {  # each part's section as drawn and built
         name: [1e3 * link.section.width_m, 1e3 * link.section.thickness_m]
         for name, link in parts.items()
@@ -87,4 +98,4 @@ def build_links(
     }
     summary = {name: link.summary() for name, link in result.links.items()}
     record = {"carries_loads": result.carries_loads, "links": summary, "parts": written}
-    return BuiltLinks(result, props, torques, checks, record)
+    return BuiltLinks(result, props, torques, checks, record, made, parts)

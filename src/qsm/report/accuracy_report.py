@@ -20,6 +20,7 @@ from qsm.physics.cad import MassProperties
 from qsm.physics.kinematics import LINK_NAMES
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.task_points import visited_points
+from qsm.realization.accuracy_budget import with_base
 from qsm.realization.pipeline import Realization, RealizationSettings, arm_model, budget_of
 
 
@@ -56,14 +57,17 @@ def measured_budget(
     settings: RealizationSettings,
     points: ArrayLike,
     cycle_load_N: float | None = None,
+    base_mm: float = 0.0,
 ) -> dict[str, Any]:
     """The accuracy budget of the realised design as measured: its optimised plates (``parts``:
-    the topology record and their mass properties), the payload test's tracking error and the
-    payload's peak force over the duty and (``cycle_load_N``, N) the task's cycle."""
+    the topology record and their mass properties), the payload test's tracking error, the
+    payload's peak force over the duty and (``cycle_load_N``, N) the task's cycle, and the
+    base's compliance at the tool (``base_mm``, the builder's kit's; 0: none)."""
     topology, props = parts
     tracking = tracking_per_point(points, payload.get("point_error_mm", []))
     factors = plate_factors(topology)
-    return budget_of(done, settings, points, props, factors, tracking, cycle_load_N)
+    budget = budget_of(done, settings, points, props, factors, tracking, cycle_load_N)
+    return with_base(budget, base_mm, settings.accuracy) if base_mm else budget
 
 
 def final_record(
@@ -74,12 +78,13 @@ def final_record(
     settings: RealizationSettings,
     points: ArrayLike,
     cycle: Mapping[str, Any] | None = None,
+    base_mm: float = 0.0,
 ) -> dict[str, Any]:
     """``choice`` (realised as ``done``) with its ``stiffness`` the final budget
-    (:func:`measured_budget` with the ``cycle``'s load), its ``cycle`` and the verdict sentence
-    that adds the budget."""
+    (:func:`measured_budget` with the ``cycle``'s load and the base's ``base_mm``), its
+    ``cycle`` and the verdict sentence that adds the budget."""
     load = None if not cycle or not cycle.get("planned") else cycle["peak_payload_force_N"]
-    budget = measured_budget(done, parts, payload, settings, points, load)
+    budget = measured_budget(done, parts, payload, settings, points, load, base_mm)
     record = dict(choice)
     if cycle is not None:
         record["cycle"] = dict(cycle)

@@ -16,12 +16,13 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.patches import PathPatch
 from matplotlib.path import Path as MplPath
+from matplotlib.text import Text
 from numpy.typing import ArrayLike
 
-from qsm.embodiment.parts.link_parts import LinkPart
+from qsm.embodiment.parts.link_parts import Bore, LinkPart
 from qsm.physics.kinematics import LINK_NAMES, as_design
 
-KIND_LABEL = {"seat": "bearing seat", "pin": "pin", "shaft": "motor shaft", "tool": "tool mount"}
+KIND_LABEL = {"seat": "bearing seat", "pin": "pin", "shaft": "hub spigot", "tool": "tool mount"}
 
 
 def mm(value_m: float) -> str:
@@ -88,75 +89,99 @@ def draw_links(
     path_stem: str | Path,
     title: str = "",
 ) -> tuple[Path, Path]:
-    """Draw every link with its dimensions; write ``<path_stem>.svg`` and ``<path_stem>.png``.
-
-    ``design`` the 6 scaled lengths (m); ``parts`` from
-    :func:`qsm.embodiment.parts.link_parts.link_parts`. Returns the SVG and PNG paths.
-    """
-    d = as_design(design).astype(float)
+    """Draw every link with its dimensions (:func:`drawing_figure`); write ``<path_stem>.svg``
+    and ``<path_stem>.png``. Returns both paths."""
     stem = Path(path_stem)
     stem.parent.mkdir(parents=True, exist_ok=True)
-    heights = []
-    for name in LINK_NAMES:
-        _, y0, _, y1 = parts[name].polygon.bounds
-        heights.append(max(1e3 * (y1 - y0), 60.0) + 80.0)
     with plt.rc_context({"svg.fonttype": "none", "font.family": "DejaVu Sans"}):
-        fig, axes = plt.subplots(
-            len(LINK_NAMES),
-            1,
-            figsize=(11, 3.2 * len(LINK_NAMES)),
-            gridspec_kw={"height_ratios": heights},
-        )
-        for ax, name in zip(axes, LINK_NAMES, strict=True):
-            part = parts[name]
-            ax.add_patch(_patch(part))
-            x0, y0, x1, y1 = (1e3 * v for v in part.polygon.bounds)
-            span = max(x1 - x0, y1 - y0)
-            # overall length, below the part
-            _dimension(
-                ax, (x0, y0), (x1, y0), -0.06 * span - 15, f"overall {x1 - x0:.1f}", color="tab:red"
-            )
-            for k, (p, q, text) in enumerate(_centre_dims(name, d)):
-                _dimension(ax, p, q, 0.06 * span + 15 + 12 * k * (name == "upper_arm"), text)
-            for bore in part.bores:
-                cx, cy = (1e3 * v for v in bore.centre_m)
-                ax.plot([cx - 4, cx + 4], [cy, cy], color="k", lw=0.4)
-                ax.plot([cx, cx], [cy - 4, cy + 4], color="k", lw=0.4)
-                label = (
-                    f"{bore.joint} ({cx:.1f}, {cy:.1f})\n"
-                    + (
-                        f"Ø{1e3 * bore.diameter_m:.1f} {KIND_LABEL[bore.kind]}"
-                        if bore.diameter_m > 0
-                        else "no hole"
-                    )
-                    + (f" {bore.bearing}" if bore.bearing and bore.kind == "seat" else "")
-                    + f"\nboss R{1e3 * bore.boss_radius_m:.1f}"
-                )
-                ax.annotate(
-                    label,
-                    (cx, cy),
-                    (cx + 0.02 * span, cy - 1e3 * bore.boss_radius_m - 8),
-                    fontsize=6.5,
-                    ha="left",
-                    va="top",
-                    arrowprops={"arrowstyle": "-", "lw": 0.4, "color": "0.3"},
-                )
-            ax.set_title(
-                f"{name}: section width {mm(part.section.width_m)} x thickness "
-                f"{mm(part.section.thickness_m)} mm",
-                fontsize=9,
-                loc="left",
-            )
-            ax.set_aspect("equal")
-            pad = 0.12 * span + 40
-            ax.set_xlim(x0 - pad, x1 + pad)
-            ax.set_ylim(y0 - pad, y1 + pad)
-            ax.tick_params(labelsize=6)
-            ax.grid(True, lw=0.2)
-        fig.suptitle(title or "Links of the design, dimensions in mm (link frames)", fontsize=10)
-        fig.tight_layout()
+        fig = drawing_figure(design, parts, title)
         svg, png = stem.with_suffix(".svg"), stem.with_suffix(".png")
         fig.savefig(svg)
         fig.savefig(png, dpi=150)
         plt.close(fig)
     return svg, png
+
+
+def drawing_figure(design: ArrayLike, parts: Mapping[str, LinkPart], title: str = "") -> plt.Figure:
+    """The drawing: each link (link frame, mm) as built, its openings included, with the
+    centre distances above it, the overall length below it and, in the lower left corner, a
+    note per joint (position, bore, boss); ``parts`` from
+    :func:`qsm.embodiment.parts.link_parts.link_parts` or the final, optimised parts."""
+    d = as_design(design).astype(float)
+    heights = []
+    for name in LINK_NAMES:
+        _, y0, _, y1 = parts[name].polygon.bounds
+        heights.append(max(1e3 * (y1 - y0), 60.0) + 160.0)
+    fig, axes = plt.subplots(
+        len(LINK_NAMES),
+        1,
+        figsize=(11, 3.6 * len(LINK_NAMES)),
+        gridspec_kw={"height_ratios": heights},
+    )
+    for ax, name in zip(axes, LINK_NAMES, strict=True):
+        _draw_link(ax, name, parts[name], d)
+    fig.suptitle(
+        title or "Links of the design as built, dimensions in mm (link frames)", fontsize=10
+    )
+    fig.tight_layout()
+    return fig
+
+
+def _draw_link(ax: plt.Axes, name: str, part: LinkPart, d: np.ndarray) -> None:
+    """One link's outline, dimensions and joint notes on ``ax``."""
+    ax.add_patch(_patch(part))
+    x0, y0, x1, y1 = (1e3 * v for v in part.polygon.bounds)
+    span = max(x1 - x0, y1 - y0)
+    below = -0.06 * span - 15
+    _dimension(ax, (x0, y0), (x1, y0), below, f"overall {x1 - x0:.1f}", color="tab:red")
+    for k, (p, q, text) in enumerate(_centre_dims(name, d)):
+        _dimension(ax, p, q, 0.06 * span + 15 + 14 * k, text)
+    for bore in part.bores:
+        cx, cy = (1e3 * v for v in bore.centre_m)
+        ax.plot([cx - 4, cx + 4], [cy, cy], color="k", lw=0.4)
+        ax.plot([cx, cx], [cy - 4, cy + 4], color="k", lw=0.4)
+        ax.annotate(bore.joint, (cx, cy), (3, 3), textcoords="offset points", fontsize=7)
+    notes = "\n".join(_joint_note(b) for b in sorted(part.bores, key=lambda b: b.centre_m[0]))
+    ax.text(0.01, 0.02, notes, transform=ax.transAxes, fontsize=6.5, va="bottom", ha="left")
+    holes = len(part.polygon.interiors) - sum(b.diameter_m > 0 for b in part.bores)
+    openings = f"; {holes} optimised openings" if holes > 0 else ""
+    ax.set_title(
+        f"{name}: section width {mm(part.section.width_m)} x thickness "
+        f"{mm(part.section.thickness_m)} mm{openings}",
+        fontsize=9,
+        loc="left",
+    )
+    ax.set_aspect("equal")
+    pad = 0.12 * span + 40
+    ax.set_xlim(x0 - pad, x1 + pad)
+    ax.set_ylim(y0 + below - 25 - 14 * len(part.bores), y1 + pad + 14 * len(_centre_dims(name, d)))
+    ax.tick_params(labelsize=6)
+    ax.grid(True, lw=0.2)
+
+
+def _joint_note(bore: Bore) -> str:
+    """A joint's note: position (mm, link frame), bore and what goes in it, boss radius."""
+    cx, cy = (1e3 * v for v in bore.centre_m)
+    hole = (
+        f"Ø{1e3 * bore.diameter_m:.1f} {KIND_LABEL[bore.kind]}"
+        if bore.diameter_m > 0
+        else "no hole"
+    )
+    seat = f" {bore.bearing}" if bore.bearing and bore.kind == "seat" else ""
+    return f"{bore.joint} ({cx:.1f}, {cy:.1f}): {hole}{seat}, boss R{1e3 * bore.boss_radius_m:.1f}"
+
+
+def text_overlaps(fig: plt.Figure) -> list[tuple[str, str]]:
+    """Pairs of texts of ``fig`` (titles, dimensions, notes) whose boxes overlap on the
+    rendered figure."""
+    fig.canvas.draw()
+    renderer = fig.canvas.get_renderer()
+    found = []
+    for ax in fig.axes:
+        texts = [t for t in ax.texts if t.get_text().strip()] + [ax.title]
+        boxes = [Text.get_window_extent(t, renderer) for t in texts]  # the text, not its arrow
+        for i in range(len(texts)):
+            for j in range(i + 1, len(texts)):
+                if boxes[i].overlaps(boxes[j]):
+                    found.append((texts[i].get_text(), texts[j].get_text()))
+    return found

@@ -9,7 +9,7 @@ from typing import Any
 
 
 def _drive_name(d: dict[str, Any]) -> str:
-    return f"{d['motor']} + {d['gearbox']} ({d['ratio']:.4g}:1, {d['mass_kg']:.2f} kg)"
+    return f"{d['motor']} + {d['gearbox']} ({d['ratio']:.4g}:1, {d['mass_kg']:.3f} kg)"
 
 
 def _required(m: dict[str, Any]) -> str:

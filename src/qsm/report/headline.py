@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Mapping
+from pathlib import Path
 from typing import Any
 
 import numpy as np
@@ -42,7 +43,8 @@ def build_verdict(
     hold its loads, a part drawn at another section (width x thickness) than the one its
     strength was checked with, a printed part (as drawn) too large for the printer, a motor
     without a drive, a failed payload test, an accuracy budget past the tolerance, a cycle that
-    fails its checks."""
+    fails its checks, a part of the builder's kit (pins, hubs, base, tool flange) that does not
+    hold."""
     problems = []
     if not selected["printable"]:
         problems.append("not printable on the configured printer (see the verdict below)")
@@ -105,6 +107,9 @@ def build_verdict(
     if budget is not None and not budget["meets_requirements"]:
         problems.append(budget["verdict"])
     problems += cycle_problems(selected.get("cycle"))
+    kit = topology.get("parts", {}).get("kit")
+    if kit is not None and not kit["holds"]:
+        problems += [f"the builder's kit: {p}" for p in kit["problems"]]
     return not problems, problems
 
 
@@ -154,12 +159,18 @@ def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom
         f"- the task disk keeps {1e3 * selected['clearance_m']:.2f} mm from the edge of the "
         "workspace (Euclidean clearance).",
         f"- link sections (width x thickness, mm; {how}): {sections}.",
-        f"- printed link masses (kg, bored): {masses}.",
-        f"- bearings: {bearings}.",
+        f"- printed link masses (kg, as built: the optimised plate with its bores; the topology "
+        f"table's masses are the analysed plates, without bores): {masses}.",
+        f"- bearings: {bearings}. The bearing at A sizes the links' bore there, which takes "
+        "the hub's spigot; the drives' own output bearings carry joint A (the builder's kit).",
         "- through holes per printed link (its joint bores, and the openings the topology "
         f"optimisation left in an optimised plate): {holes}.",
         f"- drawing: {parts['drawing']['svg']} ({parts['drawing']['png']}); parts to print: "
-        "realization/stl/after/*.stl; bill of materials: " + parts["bom"]["csv"] + ".",
+        f"{Path(parts['bom']['csv']).parent}/stl/after/*.stl; bill of materials: "
+        f"{parts['bom']['csv']}; the builder's kit: {Path(parts['bom']['csv']).parent}/kit/.",
+        "- EE_x and EE_y place the end effector along and across the upper arm from B; the "
+        "drawing shows E at (EE_x, -EE_y) in the upper arm's frame, whose y axis points away "
+        "from E.",
         "",
         bom.rstrip(),
         "",
@@ -257,7 +268,11 @@ def _dataset_lines(
         "",
         "## Stage 3: surrogate",
         f"- test R^2 eta {r2['eta']:.4f}, tau1 {r2['tau1']:.4f}, tau2 {r2['tau2']:.4f} "
-        f"(all {r2['all']:.4f}; paper 0.98700); fit {metrics['fit_seconds']:.1f} s.",
+        f"(all {r2['all']:.4f}; paper 0.98700); fit {metrics['fit_seconds']:.1f} s, on "
+        f"{metrics['n_train']:,} training and {metrics['n_test']:,} test designs.",
+        "- The surrogate's figures do not enter the verdict: the optimiser's fronts are verified "
+        "and the realised design is checked against the true physics (MuJoCo, the strength, "
+        "stiffness and drive checks).",
         "",
     ]
 

@@ -61,6 +61,7 @@ def bill_of_materials(
     material: str = "ABS-M30",
     topology_optimized: Mapping[str, bool] | None = None,
     drives: Mapping[str, Mapping[str, Any]] | None = None,
+    kit: Sequence[Mapping[str, Any]] | None = None,
 ) -> pd.DataFrame:
     """The BOM as a DataFrame with :data:`BOM_COLUMNS`.
 
@@ -69,7 +70,9 @@ def bill_of_materials(
     masses); ``bearing_index`` the catalogue rows at A, B, C, D (-1: none fits, the row says so);
     ``topology_optimised`` per link (default all False); ``drives`` optional values per drive
     item (``"motor 1"`` ...) for the columns ``designation``, ``maker``, ``mass_kg``, ``source``,
-    ``notes``.
+    ``notes``; ``kit`` the builder's kit's rows (:func:`qsm.realization.kit.builders_kit`),
+    which bring the pins of B, C and D themselves and carry A on the drives' output bearings
+    (no bearing at A).
     """
     t = table if table is not None else load_catalogue()
     topo = topology_optimized or {}
@@ -78,11 +81,17 @@ def bill_of_materials(
         for name in LINK_NAMES
     ]
     for joint, i in zip(JOINTS, np.asarray(bearing_index, dtype=int), strict=True):
-        rows += _joint_rows(joint, int(i), t, parts)
+        joint_rows = _joint_rows(joint, int(i), t, parts)
+        if kit is not None:  # the kit's hubs and shoulder screws instead
+            joint_rows = [
+                r for r in joint_rows if r["item"] != "bearing A" and r["category"] != "pin"
+            ]
+        rows += joint_rows
     for item, where in DRIVE_ROWS:
         row = {"item": item, "category": item.split()[0], "where": where, "quantity": 1}
         row.update(dict((drives or {}).get(item, {})))
         rows.append(row)
+    rows += [dict(r) for r in kit or ()]
     return pd.DataFrame(rows, columns=list(BOM_COLUMNS))
 
 

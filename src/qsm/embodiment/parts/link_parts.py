@@ -9,10 +9,10 @@ by strength, :mod:`qsm.embodiment.strength.sizing`); what changes is that every 
 ========== ======= ================ ====================================================
 link       joint   bore             what goes in it
 ========== ======= ================ ====================================================
-lower_arm  A       d (shaft)        motor 1's output shaft (clamped); the bearing at A
-                                    sits in the base and carries that shaft
+lower_arm  A       d (shaft)        hub 1's spigot (the builder's kit: the hub is bolted to
+                                    the link, motor 1's drive turns it and carries A)
 lower_arm  B       D (seat)         the bearing of joint B (outer ring pressed in)
-crank      A       d (shaft)        motor 2's output shaft (clamped), like the lower arm
+crank      A       d (shaft)        hub 2's spigot, like the lower arm
 crank      C       D (seat)         the bearing of joint C
 coupler    C       d (pin)          the pin of joint C (held by the coupler, turns in the
                                     crank's bearing)
@@ -25,10 +25,11 @@ upper_arm  E       tool hole        a clearance hole for the tool mount (``tool_
 ========== ======= ================ ====================================================
 
 d and D are the bore and outer diameter of the joint's bearing
-(:mod:`qsm.embodiment.parts.bearings`), so each joint has one bearing and one pin (at A: the two
-motor shafts, each with its support bearing). A link's boss at a joint has the radius
-``max(R, D / 2 + boss_wall_m)`` (at E: ``tool_hole_m / 2 + boss_wall_m``), R the boss radius of
-the link's section: with one section for all links, both links at a joint get the same boss.
+(:mod:`qsm.embodiment.parts.bearings`), so each of B, C and D has one bearing and one pin (at A
+the bearing sized by the strength check sets the bore for the hubs' spigots). A link's boss at a
+joint has the radius ``max(R, D / 2 + boss_wall_m)`` (at E: ``tool_hole_m / 2 +
+boss_wall_m``), R the boss radius of the link's section: with one section for all links, both
+links at a joint get the same boss.
 
 Bores are regular polygons of ``cad.segments_per_circle`` sides that *circumscribe* the nominal
 circle (flats at the nominal radius), so a bearing or pin of the nominal diameter fits the STL; the

@@ -120,9 +120,11 @@ def strength_verdict(record: Mapping[str, Any]) -> str:
             f"({r['required_buckling_factor']:g} required)"
         )
     else:
+        required = r["required_safety_factor"]
         text = (
             f"the {name} reaches {r['stress_peak_MPa']:.1f} MPa, {r['allowable_MPa']:.1f} MPa "
-            f"allowed (at the {record['weakest_check']})"
+            f"allowed (yield {r['allowable_MPa'] * required:.1f} MPa / {required:g}; safety "
+            f"factor against yield {r['safety_factor']:.2f}) (at the {record['weakest_check']})"
         )
     if record["holds_loads"]:
         return f"weakest: {text}"

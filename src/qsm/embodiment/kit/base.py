@@ -1,0 +1,201 @@
+"""The base: two cheeks that hold the drives coaxially at A, on a base plate fixed to a table.
+
+**Arrangement.** Along the joint axis z, from drive 1 to drive 2: drive 1 bolted to the outer
+face of cheek 1 | hub 1 | lower arm | upper arm | coupler | crank | hub 2 | cheek 2 with drive 2
+on its outer face. Each pair of plates that share a joint lies side by side (B: lower and upper
+arm, D: upper arm and coupler, C: coupler and crank), so no pin crosses a third plate and no
+shaft crosses a link; the links swing between the cheeks. The cheeks stand on one base plate, as
+tall as the links' lowest point over the operating range asks (plus :data:`CLEARANCE_MM`); the
+plate has four M8 holes to fix it to a table. The cheeks and the plate are cut from aluminium
+plate (:data:`ALUMINIUM`) from the DXF files.
+
+**Check.** Each cheek is a cantilever from the base plate (height h, section b x t) under its
+drive's share of the duty: the peak joint force F at A in any direction in the plane, the
+drive's peak torque T reacted through its face, the drive's weight m g overhanging by c, and F
+acting at the link's offset e from the cheek's mid-plane. At the root:
+``sigma = 6 (F h + T) / (t b^2) + 6 (F e + m g c) / (b t^2) + (F + m g) / (b t)``, within the
+plate's yield over the links' required safety factor; the thinnest plate of
+:data:`PLATE_STOCK_MM` that holds and takes its three fixing screws (a thread of at most half its
+thickness, tapped into its bottom edge) is taken. Its stiffness: the top's deflection in the
+plane ``F h^3 / (3 E I) + T h^2 / (2 E I)`` and its turn about z ``(F h^2 / 2 + T h) / (E I)``, I =
+t b^3 / 12, which moves the tool by the turn times the reach. Each cheek is made wide enough
+that this stays within :data:`BASE_SHARE` of the tolerance, half of it each; the accuracy budget
+counts the two cheeks' sum as its ``base`` term.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from qsm.embodiment.kit import fasteners as fs
+
+#: Plate of the base: EN AW-6082 T651, EN 485-2:2016 (Rp0.2 >= 240 MPa for 12.5 < t <= 60 mm,
+#: the lowest of its thickness ranges taken throughout); E and density: EN 1999-1-1, table 3.1.
+ALUMINIUM = {
+    "name": "EN AW-6082 T651 plate",
+    "yield_MPa": 240.0,
+    "E_MPa": 70000.0,
+    "density_kg_m3": 2700.0,
+    "source": "EN 485-2:2016 (Rp0.2); EN 1999-1-1:2007 table 3.1 (E, density)",
+}
+#: Plate thicknesses (mm) a cheek is cut from.
+PLATE_STOCK_MM = (6.0, 8.0, 10.0, 12.0, 15.0, 20.0, 25.0, 30.0)
+#: Thickness (mm) of the base plate.
+BASE_PLATE_MM = 15.0
+#: Share of the placing tolerance the base may take at the tool (both cheeks together).
+BASE_SHARE = 0.02
+#: Room (mm) between the links' lowest point and the base plate, and around each drive.
+CLEARANCE_MM = 10.0
+#: ISO 273 medium-series clearance holes (mm) by thread.
+CLEARANCE_HOLE_MM = {
+    "M3": 3.4,
+    "M4": 4.5,
+    "M5": 5.5,
+    "M6": 6.6,
+    "M8": 9.0,
+    "M10": 11.0,
+    "M12": 13.5,
+    "M16": 17.5,
+}
+G = 9.81
+
+
+@dataclass(frozen=True)
+class CheekLoad:
+    """One cheek's loads: peak joint force (N), peak drive torque (N m), drive mass (kg), and
+    from the cheek's faces (mm): the drive's centre of mass outside, the link's mid-plane
+    inside (c and e are these plus half the cheek's thickness)."""
+
+    force_N: float
+    torque_Nm: float
+    drive_kg: float
+    overhang_mm: float
+    offset_mm: float
+
+
+def root_stress_MPa(load: CheekLoad, h: float, b: float, t: float) -> float:
+    """The cheek's largest stress (MPa) at its root (module docs), h, b, t in mm."""
+    w = load.drive_kg * G
+    in_plane = 6 * (load.force_N * h + load.torque_Nm * 1e3) / (t * b**2)
+    out_of_plane = 6 * out_of_plane_Nmm(load, t) / (b * t**2)
+    return in_plane + out_of_plane + (load.force_N + w) / (b * t)
+
+
+def out_of_plane_Nmm(load: CheekLoad, t: float) -> float:
+    """The moment (N mm) about the cheek's root across its thickness ``t`` (mm): ``F e + m g
+    c``."""
+    e, c = load.offset_mm + t / 2, load.overhang_mm + t / 2
+    return load.force_N * e + load.drive_kg * G * c
+
+
+def top_motion(load: CheekLoad, h: float, b: float, t: float) -> tuple[float, float]:
+    """The cheek top's deflection in the plane (mm) and its turn about z (rad)."""
+    ei = ALUMINIUM["E_MPa"] * t * b**3 / 12  # N mm^2
+    f, m = load.force_N, load.torque_Nm * 1e3
+    return f * h**3 / (3 * ei) + m * h**2 / (2 * ei), (f * h**2 / 2 + m * h) / ei
+
+
+def cheek(
+    load: CheekLoad,
+    h: float,
+    b: float,
+    required_sf: float,
+    reach_mm: float,
+    t: float,
+    allow_mm: float,
+) -> dict:
+    """The cheek of thickness ``t`` (mm) at height ``h``: at least ``b`` wide, and as wide as
+    keeps its tool error (deflection plus turn times ``reach_mm``) within ``allow_mm``; its
+    stress under ``load`` against yield over ``required_sf``, and its stiffness."""
+    deflection, turn = top_motion(load, h, b, t)
+    error = deflection + turn * reach_mm
+    if error > allow_mm:  # both terms fall with b^3
+        b = math.ceil(b * (error / allow_mm) ** (1 / 3))
+        deflection, turn = top_motion(load, h, b, t)
+    sigma = root_stress_MPa(load, h, b, t)
+    sf = ALUMINIUM["yield_MPa"] / sigma
+    return {
+        "thickness_mm": t,
+        "width_mm": b,
+        "height_mm": h,
+        "root_stress_MPa": sigma,
+        "yield_MPa": ALUMINIUM["yield_MPa"],
+        "safety_factor": sf,
+        "required_safety_factor": required_sf,
+        "holds": sf >= required_sf,
+        "deflection_at_A_mm": deflection,
+        "turn_at_A_rad": turn,
+        "tool_error_mm": deflection + turn * reach_mm,
+        "allowed_tool_error_mm": allow_mm,
+        "loads": {
+            "force_N": load.force_N,
+            "torque_Nm": load.torque_Nm,
+            "drive_kg": load.drive_kg,
+            "overhang_mm": load.overhang_mm,
+            "offset_mm": load.offset_mm,
+        },
+    }
+
+
+def fixing_screws(load: CheekLoad, part: dict[str, Any], required_sf: float) -> dict:
+    """The three screws of a cheek through the base plate into its tapped bottom edge: the
+    smallest thread whose most loaded screw, ``M_out / (3 t / 2) + 2 M_in / (3 (b - 20))``
+    (moments at the root), stays within yield over ``required_sf``."""
+    h, b, t = part["height_mm"], part["width_mm"], part["thickness_mm"]
+    m_in = load.force_N * h + load.torque_Nm * 1e3
+    force = out_of_plane_Nmm(load, t) / (3 * t / 2) + 2 * m_in / (3 * (b - 20))
+    for thread in ("M5", "M6", "M8", "M10", "M12"):
+        if float(thread[1:]) > t / 2:
+            break
+        sf = fs.screw_yield_N(thread) / force
+        if sf >= required_sf:
+            screw = fs.cap_screw(thread, BASE_PLATE_MM, True, "cheek to base plate")
+            return {
+                "screw": screw.name,
+                "count": 3,
+                "force_N": force,
+                "safety_factor": sf,
+                "holds": True,
+            }
+    return {"screw": None, "count": 3, "force_N": force, "holds": False}
+
+
+def lowest_point_mm(joints: dict[str, NDArray], radii: dict[str, dict[str, float]]) -> float:
+    """How far (mm) below A the links reach: ``joints`` the positions (..., 2) m of A-E over the
+    poses, ``radii`` each link's boss radius (mm) at its joints (a link lies in the hull of its
+    bosses)."""
+    low = 0.0
+    for per_joint in radii.values():
+        for joint, r in per_joint.items():
+            y = np.asarray(joints[joint])[..., 1] * 1e3 - r
+            low = max(low, float(-np.nanmin(y)))
+    return low
+
+
+def clearance_hole_mm(thread: str) -> float:
+    """ISO 273 medium clearance hole (mm) of ``thread``."""
+    return CLEARANCE_HOLE_MM.get(thread, math.ceil(float(thread[1:]) * 1.1))
+
+
+def table_screws(
+    load: CheekLoad, h: float, width: float, length: float, required_sf: float
+) -> dict:
+    """The four M8 screws (ISO 4762) at the base plate's corners (``width`` x ``length`` mm,
+    holes 15 mm in) into the table: the most loaded takes the overturning moments ``F (h + t) +
+    T`` across the width and ``F e + m g c`` along the length, each on two screws."""
+    m_in = load.force_N * (h + BASE_PLATE_MM) + load.torque_Nm * 1e3
+    force = m_in / (2 * (width - 30)) + out_of_plane_Nmm(load, 0.0) / (2 * (length - 30))
+    sf = fs.screw_yield_N("M8") / force
+    screw = fs.cap_screw("M8", BASE_PLATE_MM + fs.washer_mm("M8")[2], True, "base plate to table")
+    return {
+        "screw": screw.name,
+        "count": 4,
+        "force_N": force,
+        "safety_factor": sf,
+        "holds": sf >= required_sf,
+    }

@@ -1,0 +1,141 @@
+"""Standard fasteners of the kit, from the tables in ``data/`` (each file names its standard and
+source): ISO 4762 socket head cap screws, ISO 7379 shoulder screws, ISO 7089 washers and ISO 10511
+thin lock nuts. A screw's length is the shortest preferred length that spans its grip and, where
+it ends in a nut, the washer and the nut; where it ends in a tapped hole, 1.5 d of engagement.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass
+from functools import cache
+from pathlib import Path
+
+DATA = Path(__file__).parent / "data"
+#: Thread engagement of a screw in a tapped metal part, in diameters.
+TAPPED_ENGAGEMENT = 1.5
+
+
+class FastenerError(ValueError):
+    """No standard fastener fits (the message names the size and the grip)."""
+
+
+@cache
+def table(name: str) -> tuple[dict[str, str], ...]:
+    """The rows of ``data/<name>.csv`` (comment lines starting with ``#`` skipped)."""
+    with open(DATA / f"{name}.csv", newline="") as fh:
+        return tuple(csv.DictReader(line for line in fh if not line.startswith("#")))
+
+
+def _row(name: str, key: str, value: str) -> dict[str, str]:
+    for row in table(name):
+        if row[key] == value:
+            return row
+    raise FastenerError(f"{name}: no row with {key} = {value}")
+
+
+@dataclass(frozen=True)
+class Fastener:
+    """One standard part: its ``standard`` (e.g. ``ISO 4762``), ``designation`` (e.g.
+    ``M6 x 30``), thread, nominal diameter and length (mm; 0 for washers and nuts) and what it
+    is for."""
+
+    standard: str
+    designation: str
+    thread: str
+    d_mm: float
+    length_mm: float
+    purpose: str
+
+    @property
+    def name(self) -> str:
+        """The order line: standard, designation."""
+        return f"{self.standard} {self.designation}"
+
+
+def _preferred(lengths: str, needed_mm: float, what: str) -> float:
+    """The shortest preferred length (mm) of the space-separated ``lengths`` >= ``needed_mm``."""
+    for length in (float(x) for x in lengths.split()):
+        if length >= needed_mm - 1e-9:
+            return length
+    raise FastenerError(f"{what}: no preferred length of at least {needed_mm:.1f} mm")
+
+
+def washer_mm(thread: str) -> tuple[float, float, float]:
+    """ISO 7089 washer of ``thread``: inner and outer diameter, thickness (mm)."""
+    row = _row("iso7089", "thread", thread)
+    return float(row["inner_d_mm"]), float(row["outer_d_mm"]), float(row["thickness_mm"])
+
+
+def nut_height_mm(thread: str) -> float:
+    """Height (mm) of the ISO 10511 thin lock nut of ``thread``."""
+    return float(_row("iso10511", "thread", thread)["height_mm"])
+
+
+def cap_screw(thread: str, grip_mm: float, tapped: bool, purpose: str) -> Fastener:
+    """The ISO 4762 screw of ``thread`` through a grip of ``grip_mm`` (washer under the head
+    included by the caller), into a tapped hole (``tapped``) or through into a washer and nut;
+    beyond the screws' preferred lengths, a DIN 976-1 threaded rod (5 mm steps) with a washer
+    and nut at its other end as well."""
+    row = _row("iso4762", "thread", thread)
+    d = float(row["d_mm"])
+    tail = TAPPED_ENGAGEMENT * d if tapped else washer_mm(thread)[2] + nut_height_mm(thread) + 1
+    try:
+        length = _preferred(row["lengths_mm"], grip_mm + tail, f"ISO 4762 {thread}")
+    except FastenerError:  # longer than the series: a threaded rod with a nut at each end
+        tail += washer_mm(thread)[2] + nut_height_mm(thread) + 1
+        length = 5 * math.ceil((grip_mm + tail) / 5)
+        return Fastener("DIN 976-1", f"{thread} x {length:g}", thread, d, length, purpose)
+    return Fastener("ISO 4762", f"{thread} x {length:g}", thread, d, length, purpose)
+
+
+def screw_head_mm(thread: str) -> tuple[float, float]:
+    """Head diameter and height (mm) of the ISO 4762 screw of ``thread``."""
+    row = _row("iso4762", "thread", thread)
+    return float(row["head_d_mm"]), float(row["head_h_mm"])
+
+
+def screw_yield_N(thread: str) -> float:
+    """Tensile force (N) at which the ISO 4762 class 8.8 screw of ``thread`` yields: As Rp0.2."""
+    row = _row("iso4762", "thread", thread)
+    return float(row["stress_area_mm2"]) * float(row["yield_MPa"])
+
+
+def threads() -> list[str]:
+    """The ISO 4762 threads of the table, smallest first."""
+    return [row["thread"] for row in table("iso4762")]
+
+
+def shoulder_screw(shoulder_d_mm: float, grip_mm: float, purpose: str) -> Fastener | None:
+    """The ISO 7379 shoulder screw of shoulder ``shoulder_d_mm`` whose shoulder spans
+    ``grip_mm``; None where the table has no such shoulder or no shoulder that long."""
+    for row in table("iso7379"):
+        if math.isclose(float(row["shoulder_d_mm"]), shoulder_d_mm):
+            try:
+                length = _preferred(row["lengths_mm"], grip_mm, "ISO 7379")
+            except FastenerError:
+                return None
+            return Fastener(
+                "ISO 7379",
+                f"{shoulder_d_mm:g} x {length:g} - {row['thread']}",
+                row["thread"],
+                shoulder_d_mm,
+                length,
+                purpose,
+            )
+    return None
+
+
+def shoulder_yield_MPa(shoulder_d_mm: float) -> float:
+    """Yield strength (MPa) of the ISO 7379 screw's material (class 12.9)."""
+    for row in table("iso7379"):
+        if math.isclose(float(row["shoulder_d_mm"]), shoulder_d_mm):
+            return float(row["yield_MPa"])
+    return float(table("iso7379")[0]["yield_MPa"])
+
+
+def shoulder_head_mm(shoulder_d_mm: float) -> tuple[float, float]:
+    """Head diameter and height (mm) of the ISO 7379 screw of ``shoulder_d_mm``."""
+    row = _row("iso7379", "shoulder_d_mm", f"{shoulder_d_mm:g}")
+    return float(row["head_d_mm"]), float(row["head_h_mm"])

@@ -1,0 +1,220 @@
+"""The drives' mechanical interfaces: how each bolts to the base and how its output turns a hub.
+
+Optional catalogue file ``interfaces.csv`` beside the drive catalogue (one row per gearbox key,
+:data:`COLUMNS`): the output (``shaft``: diameter and DIN 6885 key; ``flange``: pilot, bolt
+circle, bolt count and thread), the mounting face (pilot, bolt circle or square, bolt count and
+thread) and the body (diameter or square side, length). ``status`` says whether a row is the
+maker's (``published``) or assumed, and ``source`` names the document or the basis.
+
+Where a catalogue has no row for a gearbox, or a row lacks values, :func:`interface_of`
+assumes them from the peak torque and the body (:func:`completed`) and says what it assumed.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from dataclasses import dataclass, replace
+from pathlib import Path
+from typing import Any
+
+from qsm.embodiment.drives.catalogue import catalogue_folder
+
+COLUMNS: tuple[str, ...] = (
+    "key",
+    "output",
+    "shaft_d_mm",
+    "shaft_length_mm",
+    "key_w_mm",
+    "key_h_mm",
+    "flange_pilot_mm",
+    "flange_pcd_mm",
+    "flange_bolts",
+    "flange_thread",
+    "mount_pilot_mm",
+    "mount_pcd_mm",
+    "mount_bolts",
+    "mount_thread",
+    "body_d_mm",
+    "body_length_mm",
+    "status",
+    "source",
+)
+#: DIN 748-1 shaft diameters (mm) an assumed output shaft is rounded up to.
+SHAFT_SERIES_MM = (6, 8, 10, 12, 14, 16, 19, 20, 22, 24, 25, 28, 30, 32, 35, 38, 40, 42, 45, 50)
+#: Allowable torsional shear (MPa) of an assumed steel output shaft (keyway included).
+ASSUMED_SHAFT_SHEAR_MPA = 60.0
+#: DIN 6885-1 parallel keys by shaft diameter: (largest shaft d, key width, key height) mm.
+DIN6885 = (
+    (8, 2, 2),
+    (10, 3, 3),
+    (12, 4, 4),
+    (17, 5, 5),
+    (22, 6, 6),
+    (30, 8, 7),
+    (38, 10, 8),
+    (44, 12, 8),
+    (50, 14, 9),
+)
+
+
+@dataclass(frozen=True)
+class DriveInterface:
+    """A drive's output and mounting face (mm), as in :data:`COLUMNS`; ``assumed`` names what
+    was assumed (empty: every value from the catalogue)."""
+
+    key: str
+    output: str
+    shaft_d_mm: float
+    shaft_length_mm: float
+    key_w_mm: float
+    key_h_mm: float
+    flange_pilot_mm: float
+    flange_pcd_mm: float
+    flange_bolts: int
+    flange_thread: str
+    mount_pilot_mm: float
+    mount_pcd_mm: float
+    mount_bolts: int
+    mount_thread: str
+    body_d_mm: float
+    body_length_mm: float
+    status: str
+    source: str
+    assumed: str = ""
+
+
+def din6885_key(shaft_d_mm: float) -> tuple[float, float]:
+    """Width and height (mm) of the DIN 6885-1 parallel key of a shaft of ``shaft_d_mm``."""
+    for d_max, w, h in DIN6885:
+        if shaft_d_mm <= d_max:
+            return float(w), float(h)
+    return float(DIN6885[-1][1]), float(DIN6885[-1][2])
+
+
+def _number(text: str) -> float:
+    return float(text) if text.strip() else 0.0
+
+
+def read_interfaces(folder: str | Path | None = None) -> dict[str, DriveInterface]:
+    """The rows of ``interfaces.csv`` in the drive catalogue ``folder`` (None: the default
+    catalogue), by gearbox key; {} where the file is absent."""
+    path = catalogue_folder(folder) / "interfaces.csv"
+    if not path.exists():
+        return {}
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
+    out = {}
+    for row in rows:
+        missing = [c for c in COLUMNS if c not in row]
+        if missing:
+            raise ValueError(f"{path}: columns {missing} missing")
+        values = {c: row[c] for c in COLUMNS}
+        for c in COLUMNS:
+            if c.endswith("_mm"):
+                values[c] = _number(row[c])
+            elif c.endswith("_bolts"):
+                values[c] = int(_number(row[c]))
+        out[row["key"]] = DriveInterface(**values)
+    return out
+
+
+def _assumed_shaft_mm(peak_torque_Nm: float) -> float:
+    """The smallest :data:`SHAFT_SERIES_MM` diameter with ``16 T / (pi d^3)`` within
+    :data:`ASSUMED_SHAFT_SHEAR_MPA` at ``peak_torque_Nm``."""
+    need = (16 * peak_torque_Nm / (math.pi * ASSUMED_SHAFT_SHEAR_MPA * 1e6)) ** (1 / 3) * 1e3
+    return next((float(s) for s in SHAFT_SERIES_MM if s >= need), float(SHAFT_SERIES_MM[-1]))
+
+
+def _thread_for(size_mm: float) -> str:
+    """An M thread of about a tenth of ``size_mm`` (M3 to M12)."""
+    return f"M{min((3, 4, 5, 6, 8, 10, 12), key=lambda m: abs(m - size_mm / 10))}"
+
+
+def _filled(row: DriveInterface, values: dict[str, Any], notes: list[str], text: str) -> None:
+    """Put each of ``values`` that ``row`` lacks (0 or "") into ``notes``' assumptions."""
+    lacking = {k: v for k, v in values.items() if not getattr(row, k)}
+    if lacking:
+        notes.append(text.format(**{k: getattr(row, k) or v for k, v in values.items()}))
+        values.clear()
+        values.update(lacking)
+    else:
+        values.clear()
+
+
+def completed(row: DriveInterface, peak_torque_Nm: float) -> DriveInterface:
+    """``row`` with every value it lacks assumed, and ``assumed`` saying which and how: a
+    shaft's diameter from the peak torque (:func:`_assumed_shaft_mm`), its length 2 d and its
+    DIN 6885-1 key; a flange's six bolts on 0.4 of the body's diameter around a pilot of 0.3;
+    the mounting face's four bolts (a thread of about d / 12) on 0.8 of it around a pilot of 0.5;
+    a body 4 d x 5 d."""
+    notes: list[str] = []
+    shaft = row.shaft_d_mm or _assumed_shaft_mm(peak_torque_Nm)
+    body = {"body_d_mm": 4 * shaft, "body_length_mm": 5 * shaft}
+    _filled(row, body, notes, "body {body_d_mm:g} x {body_length_mm:g} mm")
+    row = replace(row, **body)
+    if row.output == "shaft":
+        w, h = din6885_key(shaft)
+        out = {"shaft_d_mm": shaft, "shaft_length_mm": 2 * shaft, "key_w_mm": w, "key_h_mm": h}
+        text = "shaft {shaft_d_mm:g} x {shaft_length_mm:g} mm, key {key_w_mm:g} x {key_h_mm:g}"
+    else:
+        d = row.body_d_mm
+        out = {
+            "flange_pilot_mm": round(0.3 * d),
+            "flange_pcd_mm": round(0.4 * d),
+            "flange_bolts": 6,
+            "flange_thread": _thread_for(0.4 * d),
+        }
+        text = (
+            "output flange {flange_bolts} x {flange_thread} on {flange_pcd_mm:g} mm, "
+            "pilot {flange_pilot_mm:g}"
+        )
+    _filled(row, out, notes, text)
+    row = replace(row, **out)
+    d = row.body_d_mm
+    face = {
+        "mount_pilot_mm": round(0.5 * d),
+        "mount_pcd_mm": round(0.8 * d),
+        "mount_bolts": 4,
+        "mount_thread": _thread_for(d / 1.2),
+    }
+    text = "mounting face {mount_bolts} x {mount_thread} on {mount_pcd_mm:g} mm, "
+    text += "pilot {mount_pilot_mm:g}"
+    _filled(row, face, notes, text)
+    row = replace(row, **face)
+    return replace(row, assumed="; ".join(filter(None, [row.assumed, *notes])))
+
+
+def assumed_interface(key: str, peak_torque_Nm: float) -> DriveInterface:
+    """An interface for gearbox ``key`` without a catalogue row: a keyed shaft and a face,
+    every value assumed (:func:`completed`)."""
+    blank = DriveInterface(
+        key,
+        "shaft",
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0.0,
+        0,
+        "",
+        0.0,
+        0.0,
+        0,
+        "",
+        0.0,
+        0.0,
+        "assumed",
+        "no row in interfaces.csv",
+    )
+    return completed(blank, peak_torque_Nm)
+
+
+def interface_of(
+    key: str, peak_torque_Nm: float, folder: str | Path | None = None
+) -> DriveInterface:
+    """The catalogue's interface of gearbox ``key`` completed for ``peak_torque_Nm``
+    (:func:`completed`), or one assumed whole."""
+    row = read_interfaces(folder).get(key)
+    return completed(row, peak_torque_Nm) if row else assumed_interface(key, peak_torque_Nm)

@@ -1,0 +1,202 @@
+"""The joints' hardware and its checks: a shoulder screw at each of B, C and D, a hub at A per
+drive and the tool flange at E.
+
+**Pins (B, C, D).** Each pin is an ISO 7379 shoulder screw whose shoulder is the joint bearing's
+bore (the bearing sits in one plate, the shoulder runs through its inner ring and through the
+other plate's bore) and spans both plates and the ISO 7089 washer between them; an ISO 10511
+nut on its thread holds it. It is checked at the joint's peak force F, as a cantilever from the
+printed bore: the plastic carries F over the length ``F / (sigma_allow d)`` (it must fit in the
+plate), so the bending arm runs from the bearing's centre, across the washer, to the middle of
+that length. Bending ``32 F a / (pi d^3)`` and shear ``4 F / (pi d^2)`` (von Mises with shear
+``sqrt(3)``) must stay within the screw's yield over the required safety factor.
+
+**Hubs (A).** A steel hub (C45, :data:`HUB_YIELD_MPA`) is bolted to its link, which it centres
+with a spigot in the link's bore at A, by six ISO 4762 screws on the largest bolt circle the
+link's boss holds. The screws carry the drive's peak torque in bearing on the printed plate:
+``T / (6 r d t)`` within the link material's allowable. A shaft output drives the hub through a
+DIN 6885 key (pressure ``2 T / (d (h - t1) l)`` with ``h - t1 = 0.4 h`` in the hub, within the
+hub's yield over the safety factor); a flange output is bolted to the hub with its own pattern.
+
+**Tool flange (E).** A steel adapter disc on the boss at E, held by one M8 screw through the
+arm's tool hole, carries the smallest ISO 9409-1 pattern whose bolts carry the payload's peak
+force F at its offset e from the face (config ``kit.tool_offset_m``): the most loaded bolt of n
+on the circle of radius r takes ``2 F e / (n r) + F / n``, within its yield over the safety
+factor (:func:`tool_flange`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+from qsm.embodiment.kit import fasteners as fs
+from qsm.embodiment.kit.interfaces import DriveInterface
+
+#: Yield strength (MPa) of the hubs' and adapters' steel: C45+N, EN 10083-2 (d <= 16 mm).
+HUB_YIELD_MPA = 340.0
+#: Screws joining a hub to its link.
+HUB_SCREWS = 6
+#: Thickness (mm) of a hub's flange.
+FLANGE_MM = 8.0
+#: Thickness (mm) of the tool flange's steel adapter disc (tapped for its M8 centre screw).
+ADAPTER_MM = 12.0
+#: ISO 9409-1 patterns, smallest first: (d1 pitch circle, d2 face, d3 recess, n, thread) mm.
+ISO9409 = (
+    (31.5, 40.0, 20.0, 4, "M5"),
+    (40.0, 50.0, 25.0, 4, "M6"),
+    (50.0, 63.0, 31.5, 4, "M6"),
+    (63.0, 80.0, 40.0, 6, "M6"),
+    (80.0, 100.0, 50.0, 6, "M8"),
+)
+
+
+@dataclass(frozen=True)
+class Plate:
+    """A printed plate at a joint: the link's name, its thickness (mm), the material's
+    allowable stress (MPa) and the boss radius (mm) around the joint."""
+
+    link: str
+    thickness_mm: float
+    allowable_MPa: float
+    boss_mm: float
+
+
+def pin(
+    joint: str, bearing: dict[str, Any], seat: Plate, other: Plate, required_sf: float
+) -> dict[str, Any]:
+    """The shoulder screw of ``joint`` through the ``bearing`` (``d_mm``, ``B_mm``,
+    ``peak_force_N``) in ``seat`` and the bore of ``other``, and its check."""
+    d, force = float(bearing["d_mm"]), float(bearing["peak_force_N"])
+    washer = _spacer(d)
+    grip = seat.thickness_mm + washer[2] + other.thickness_mm
+    screw = fs.shoulder_screw(d, grip, f"pin of joint {joint}")
+    yield_mpa = fs.shoulder_yield_MPa(d)
+    bore_mm = force / (other.allowable_MPa * d)  # printed length that carries F
+    arm = float(bearing["B_mm"]) / 2 + washer[2] + bore_mm / 2
+    bending = 32 * force * arm / (math.pi * d**3)
+    shear = 4 * force / (math.pi * d**2)
+    von_mises = math.hypot(bending, math.sqrt(3) * shear)
+    sf = yield_mpa / von_mises if von_mises > 0 else math.inf
+    return {
+        "joint": joint,
+        "screw": screw.name if screw else None,
+        "made": None if screw else f"pin {d:g} h8 x {math.ceil(grip):g} mm, M{d - 1:g} end",
+        "shoulder_d_mm": d,
+        "grip_mm": grip,
+        "spacer": f"ISO 7089 {washer[3]}",
+        "nut": f"ISO 10511 {screw.thread if screw else f'M{d - 1:g}'}",
+        "peak_force_N": force,
+        "bending_arm_mm": arm,
+        "printed_bearing_length_mm": bore_mm,
+        "bending_MPa": bending,
+        "shear_MPa": shear,
+        "safety_factor": sf,
+        "required_safety_factor": required_sf,
+        "holds": sf >= required_sf and bore_mm <= other.thickness_mm,
+        "plates": [seat.link, other.link],
+    }
+
+
+def _spacer(shoulder_d_mm: float) -> tuple[float, float, float, str]:
+    """The smallest ISO 7089 washer that slides over a shoulder of ``shoulder_d_mm``."""
+    for row in fs.table("iso7089"):
+        if float(row["inner_d_mm"]) >= shoulder_d_mm:
+            return (*fs.washer_mm(row["thread"]), row["thread"])
+    raise fs.FastenerError(f"no ISO 7089 washer over a {shoulder_d_mm:g} mm shoulder")
+
+
+def hub_screws(plate: Plate, spigot_mm: float, torque_Nm: float) -> dict[str, Any]:
+    """The smallest thread of six screws on the largest bolt circle inside ``plate``'s boss
+    (around a spigot of ``spigot_mm``) whose bearing on the printed plate carries
+    ``torque_Nm``; the last tried when none does (``holds`` False)."""
+    for thread in fs.threads()[1:]:
+        d = float(thread[1:])
+        washer_d = fs.washer_mm(thread)[1]
+        r = plate.boss_mm - washer_d / 2 - 1.0
+        if r - d / 2 < spigot_mm / 2 + 2.0:
+            break
+        bearing = torque_Nm * 1e3 / (HUB_SCREWS * r * d * plate.thickness_mm)
+        screw = fs.cap_screw(thread, plate.thickness_mm + FLANGE_MM, False, "hub to link")
+        result = {"thread": thread, "pcd_mm": 2 * r, "bearing_MPa": bearing, "screw": screw}
+        if bearing <= plate.allowable_MPa:
+            return result | {"holds": True}
+    if "result" not in locals():
+        return {"thread": "", "pcd_mm": 0.0, "bearing_MPa": math.inf, "screw": None, "holds": False}
+    return result | {"holds": False}
+
+
+def hub(
+    motor: int,
+    drive: DriveInterface,
+    plate: Plate,
+    spigot_mm: float,
+    torque_Nm: float,
+    required_sf: float,
+) -> dict[str, Any]:
+    """The hub of ``motor`` (1: lower arm, 2: crank) on ``drive``'s output, bolted to
+    ``plate`` around a spigot of ``spigot_mm`` in its bore, for the peak ``torque_Nm``."""
+    screws = hub_screws(plate, spigot_mm, torque_Nm)
+    out: dict[str, Any] = {
+        "motor": motor,
+        "link": plate.link,
+        "output": drive.output,
+        "spigot_d_mm": spigot_mm,
+        "peak_torque_Nm": torque_Nm,
+        "link_screws": {
+            k: (v.name if isinstance(v, fs.Fastener) else v) for k, v in screws.items()
+        },
+        "required_safety_factor": required_sf,
+    }
+    if drive.output == "shaft":
+        w, h = drive.key_w_mm, drive.key_h_mm
+        length = max(drive.shaft_length_mm - 2.0, w)
+        pressure = 2 * torque_Nm * 1e3 / (drive.shaft_d_mm * 0.4 * h * length)
+        out["key"] = {"w_mm": w, "h_mm": h, "length_mm": length, "pressure_MPa": pressure}
+        out["key_safety_factor"] = HUB_YIELD_MPA / pressure
+        out["holds"] = bool(screws["holds"]) and out["key_safety_factor"] >= required_sf
+    else:
+        out["flange"] = f"{drive.flange_bolts} x {drive.flange_thread} on {drive.flange_pcd_mm:g}"
+        out["holds"] = bool(screws["holds"])
+    return out
+
+
+def tool_flange(
+    force_N: float, offset_m: float, boss_mm: float, plate_mm: float, required_sf: float
+) -> dict[str, Any]:
+    """The tool flange at E: a steel adapter disc (:data:`ADAPTER_MM` thick) held to the upper
+    arm (``plate_mm`` thick) by one ISO 4762 M8 screw through the arm's tool hole into the disc,
+    with the smallest ISO 9409-1 pattern (tapped) whose bolts carry ``force_N`` at ``offset_m``
+    from the face and whose face fits the boss at E (radius ``boss_mm``). The centre screw takes
+    the moment with the disc's edge as the pivot: ``F e / (d2 / 2) + F``."""
+    moment = force_N * offset_m * 1e3  # N mm
+    tried = []
+    for d1, d2, d3, n, thread in ISO9409:
+        bolt = 2 * moment / (n * d1 / 2) + force_N / n
+        centre = moment / (d2 / 2) + force_N
+        sf = min(fs.screw_yield_N(thread) / bolt, fs.screw_yield_N("M8") / centre)
+        tried.append(f"ISO 9409-1-{d1:g}-{n}-{thread}")
+        if sf >= required_sf and d2 / 2 <= boss_mm:
+            screw = fs.cap_screw("M8", plate_mm + fs.washer_mm("M8")[2], True, "tool flange")
+            return {
+                "pattern": tried[-1],
+                "pitch_circle_mm": d1,
+                "face_d_mm": d2,
+                "recess_d_mm": d3,
+                "bolts": n,
+                "thread": thread,
+                "adapter_mm": ADAPTER_MM,
+                "centre_screw": screw.name,
+                "payload_force_N": force_N,
+                "offset_m": offset_m,
+                "bolt_force_N": bolt,
+                "centre_screw_force_N": centre,
+                "safety_factor": sf,
+                "required_safety_factor": required_sf,
+                "holds": True,
+                "rule": "the smallest ISO 9409-1 pattern whose most loaded bolt, "
+                "2 F e / (n r) + F / n, and whose centre screw, F e / (d2 / 2) + F, "
+                "stay within yield / the safety factor, and whose face fits the boss "
+                "at E",
+            }
+    return {"pattern": None, "tried": tried, "payload_force_N": force_N, "holds": False}

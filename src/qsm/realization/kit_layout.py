@@ -1,0 +1,140 @@
+"""Where every part of the kit sits, in mm, for the STEP assembly, the DXF outlines and the
+exploded view: plates as outlines with holes in their own plane (``outline``, ``holes``,
+``thickness_mm``) placed by a frame (``origin``, ``x_dir``, ``normal``: the plate extrudes
+along its normal), turned parts and drive envelopes as cylinders along the joint axis z.
+
+Global frame: A at the origin, x and y the arm's plane (y up), z along the joint axis from drive
+1 to drive 2; cheek 1's inner face at z = 0. The links stand at the pose ``pose_deg``.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import Any
+
+import numpy as np
+import shapely
+
+from qsm.embodiment.parts.link_parts import LinkPart
+from qsm.physics.kinematics import pose
+
+
+def _rings(polygon: shapely.Polygon, scale: float = 1e3) -> dict[str, Any]:
+    """A polygon's exterior and holes as lists of [x, y] (mm)."""
+    return {
+        "outline": (np.asarray(polygon.exterior.coords)[:-1] * scale).round(4).tolist(),
+        "holes": [(np.asarray(r.coords)[:-1] * scale).round(4).tolist() for r in polygon.interiors],
+    }
+
+
+def _link_frames(design: np.ndarray, t1: float, t2: float) -> dict[str, tuple]:
+    """Each link frame's origin (m) and x-axis angle (rad) at motor angles ``t1``, ``t2``."""
+    p = pose(design, t1, t2)
+    c, d = np.asarray(p.C), np.asarray(p.D)
+    return {
+        "lower_arm": ((0.0, 0.0), t1),
+        "crank": ((0.0, 0.0), t2),
+        "coupler": (tuple(c), math.atan2(*(d - c)[::-1])),
+        "upper_arm": (tuple(np.asarray(p.B)), float(p.phi)),
+    }
+
+
+def working_pose(design: np.ndarray, theta1_deg: tuple[float, float], theta2_min: float) -> tuple:
+    """A pose (theta1, theta2) rad in the middle of the operating range where the loop
+    closes, scanning outwards from the middle."""
+    mid1 = np.radians(np.mean(theta1_deg))
+    for frac in (0.5, 0.4, 0.6, 0.3, 0.7, 0.2, 0.8, 0.1, 0.9):
+        t2 = np.radians(theta2_min) + frac * (mid1 - np.radians(theta2_min))
+        if bool(pose(design, mid1, t2).closes):
+            return float(mid1), float(t2)
+    raise ValueError("the loop closes nowhere along the middle of the operating range")
+
+
+def link_plates(
+    design: np.ndarray, parts: dict[str, LinkPart], z: dict[str, float], angles: tuple
+) -> dict[str, dict[str, Any]]:
+    """The four links as placed plates at the motor ``angles`` (rad)."""
+    frames = _link_frames(design, *angles)
+    out = {}
+    for name, part in parts.items():
+        (x0, y0), a = frames[name]
+        out[name] = _rings(part.polygon) | {
+            "thickness_mm": 1e3 * part.section.thickness_m,
+            "origin": [1e3 * x0, 1e3 * y0, z[name]],
+            "x_dir": [math.cos(a), math.sin(a), 0.0],
+            "normal": [0.0, 0.0, 1.0],
+            "kind": "printed",
+        }
+    return out
+
+
+def circle(x: float, y: float, d: float, n: int = 48) -> list[list[float]]:
+    """A circle of diameter ``d`` about (x, y) as a polygon of ``n`` corners (mm)."""
+    a = np.linspace(0, 2 * np.pi, n, endpoint=False)
+    return np.column_stack([x + d / 2 * np.cos(a), y + d / 2 * np.sin(a)]).round(4).tolist()
+
+
+def bolt_circle(pcd: float, n: int, hole: float, start_deg: float = 0.0) -> list[list]:
+    """``n`` holes of ``hole`` mm on a circle of ``pcd`` mm about the origin."""
+    a = np.radians(start_deg) + 2 * np.pi * np.arange(n) / max(n, 1)
+    return [circle(pcd / 2 * math.cos(t), pcd / 2 * math.sin(t), hole, 24) for t in a]
+
+
+def cheek_plate(part: dict[str, Any], iface: Any, hole: float, fix_hole: float, z0: float) -> dict:
+    """Cheek ``part`` (its sizes, mm) as a placed plate: a bar of the cheek's width from the
+    base plate up to A, rounded about A, with the central bore, the drive's mounting holes
+    (``hole`` mm, a square pattern of 4 turned by 45 degrees) and the fixing holes' centres."""
+    b, h, t = part["width_mm"], part["height_mm"], part["thickness_mm"]
+    body = shapely.union(shapely.box(-b / 2, -h, b / 2, 0.0), shapely.Point(0, 0).buffer(b / 2, 32))
+    start = 45.0 if iface.mount_bolts == 4 else 0.0
+    holes = [circle(0.0, 0.0, part["bore_mm"])]
+    holes += bolt_circle(iface.mount_pcd_mm, iface.mount_bolts, hole, start)
+    return {
+        "outline": np.asarray(body.exterior.coords)[:-1].round(4).tolist(),
+        "holes": holes,
+        "thickness_mm": t,
+        "origin": [0.0, 0.0, z0],
+        "x_dir": [1.0, 0.0, 0.0],
+        "normal": [0.0, 0.0, 1.0],
+        "kind": "cut",
+        "tapped_bottom": {"count": 3, "hole_mm": fix_hole},
+    }
+
+
+def base_plate(
+    cheeks: list[dict[str, Any]], z: tuple[float, float], h: float, t: float, fix: float
+) -> dict:
+    """The base plate under both cheeks (``z``: cheek 1's outer face and cheek 2's, mm): 40 mm
+    beyond each cheek, 4 x 9 mm table holes 15 mm in from its corners, three ``fix`` mm holes
+    under each cheek. Its plane: x and z (the plate's local y is the global z)."""
+    w = max(c["width_mm"] for c in cheeks) + 80.0
+    z0, z1 = z[0] - 40.0, z[1] + 40.0
+    holes = [circle(x, zz, 9.0) for x in (-w / 2 + 15, w / 2 - 15) for zz in (z0 + 15, z1 - 15)]
+    for c, zc in zip(
+        cheeks,
+        (z[0] + cheeks[0]["thickness_mm"] / 2, z[1] - cheeks[1]["thickness_mm"] / 2),
+        strict=True,
+    ):
+        span = c["width_mm"] / 2 - 10
+        holes += [circle(x, zc, fix) for x in (-span, 0.0, span)]
+    return {
+        "outline": [[-w / 2, z0], [w / 2, z0], [w / 2, z1], [-w / 2, z1]],
+        "holes": holes,
+        "thickness_mm": t,
+        "origin": [0.0, -h, 0.0],
+        "x_dir": [1.0, 0.0, 0.0],
+        "normal": [0.0, -1.0, 0.0],
+        "kind": "cut",
+        "size_mm": [w, z1 - z0],
+    }
+
+
+def cylinder(d: float, length: float, z0: float, bore: float = 0.0, at=(0.0, 0.0)) -> dict:
+    """A turned part or envelope along z: outer ``d``, ``length`` from ``z0`` (mm)."""
+    return {
+        "d_mm": d,
+        "length_mm": length,
+        "z0_mm": z0,
+        "bore_mm": bore,
+        "at_mm": [float(at[0]), float(at[1])],
+    }

@@ -1,0 +1,157 @@
+"""The builder's kit (qsm.embodiment.kit, qsm.realization.kit, qsm.realization.kit_files):
+fasteners from the standards' tables, the pins, hubs and tool flange against hand calculations,
+the base's cheek against a cantilever of the frame model, the drives' interfaces and their
+assumptions, the BOM's quantities, and STEP and DXF files read back by their kernels."""
+
+from __future__ import annotations
+
+import math
+
+import ezdxf
+import numpy as np
+import pytest
+from build123d import import_step
+
+from qsm.embodiment.kit import base as bs
+from qsm.embodiment.kit import fasteners as fs
+from qsm.embodiment.kit import joints as jt
+from qsm.embodiment.kit.interfaces import interface_of, read_interfaces
+from qsm.embodiment.stiffness.frame import beam_stiffness
+from qsm.realization import kit_layout as kl
+from qsm.realization.kit import fastener_rows
+from qsm.realization.kit_files import write_dxf, write_step
+
+
+def test_screw_lengths_are_the_shortest_preferred_that_span_grip_and_tail():
+    # tapped: 20 mm grip + 1.5 x 6 mm engagement = 29 -> the next preferred length, 30
+    assert fs.cap_screw("M6", 20.0, True, "").length_mm == 30
+    # through: 20 + washer 1.6 + nut 6.0 + 1 mm of thread beyond = 28.6 -> 30
+    assert fs.cap_screw("M6", 20.0, False, "").length_mm == 30
+    # 25.1 + 9 = 34.1 -> 35
+    assert fs.cap_screw("M6", 25.1, True, "").length_mm == 35
+    # beyond the series: a threaded rod with a nut at each end, in 5 mm steps
+    rod = fs.cap_screw("M4", 60.0, False, "")
+    assert rod.standard == "DIN 976-1" and rod.length_mm % 5 == 0
+    assert rod.length_mm >= 60.0 + 2 * (fs.washer_mm("M4")[2] + fs.nut_height_mm("M4") + 1)
+
+
+def test_a_pin_is_checked_as_a_cantilever_from_its_printed_bore():
+    bearing = {"d_mm": 6.0, "B_mm": 6.0, "peak_force_N": 400.0}
+    seat = jt.Plate("lower_arm", 20.0, 15.5, 20.0)
+    other = jt.Plate("upper_arm", 20.0, 15.5, 20.0)
+    pin = jt.pin("B", bearing, seat, other, 2.0)
+    # by hand: the printed bore carries 400 N over 400 / (15.5 x 6) = 4.30 mm; the arm is
+    # 3 mm (half the bearing) + 1.6 mm (the M6 washer) + 2.15 mm = 6.75 mm
+    arm = 3.0 + 1.6 + 400 / (15.5 * 6) / 2
+    assert pin["bending_arm_mm"] == pytest.approx(arm)
+    bending = 32 * 400 * arm / (math.pi * 6**3)  # 127 MPa
+    shear = 4 * 400 / (math.pi * 6**2)  # 14 MPa
+    assert pin["safety_factor"] == pytest.approx(1100 / math.hypot(bending, math.sqrt(3) * shear))
+    assert pin["screw"] == "ISO 7379 6 x 45 - M5"  # 20 + 1.6 + 20 = 41.6 -> 45
+    assert pin["holds"]
+    weak = jt.pin("B", bearing | {"peak_force_N": 4000.0}, seat, other, 2.0)
+    assert not weak["holds"]  # 43 mm of printed bore needed, and 10x the moment
+
+
+def test_the_tool_flange_is_the_smallest_pattern_that_carries_the_load():
+    light = jt.tool_flange(50.0, 0.05, 40.0, 20.0, 2.0)
+    assert light["pattern"] == "ISO 9409-1-31.5-4-M5"
+    # the most loaded of 4 bolts on r = 15.75 mm: 2 F e / (n r) + F / n
+    assert light["bolt_force_N"] == pytest.approx(2 * 50 * 50 / (4 * 15.75) + 50 / 4)
+    # 60 kN at 0.2 m is too much for the 31.5 pattern's M5 bolts (14.2 mm^2 x 640 MPa / 2)
+    heavy = jt.tool_flange(2000.0, 0.2, 60.0, 20.0, 2.0)
+    assert heavy["pattern"] != light["pattern"] and heavy["holds"]
+    assert not jt.tool_flange(2000.0, 0.2, 15.0, 20.0, 2.0)["holds"]  # no face fits the boss
+
+
+def _cantilever_top(load: bs.CheekLoad, h: float, b: float, t: float) -> tuple[float, float]:
+    """The cheek's top under the force F (along x) and the torque T turning it the same way
+    (clockwise, the worst case the check takes), by the frame model's Timoshenko beam without
+    shear: solve the 3 free dofs of the tip."""
+    e = bs.ALUMINIUM["E_MPa"]
+    k = beam_stiffness(np.array([0.0, 0.0]), np.array([0.0, h]), e * b * t, e * t * b**3 / 12, 0.0)
+    tip = np.linalg.solve(k[3:, 3:], np.array([load.force_N, 0.0, -load.torque_Nm * 1e3]))
+    return tip[0], -tip[2]
+
+
+def test_the_cheek_s_deflection_and_turn_agree_with_the_frame_model():
+    load = bs.CheekLoad(400.0, 30.0, 3.0, 40.0, 30.0)
+    deflection, turn = bs.top_motion(load, 300.0, 150.0, 10.0)
+    frame = _cantilever_top(load, 300.0, 150.0, 10.0)
+    assert deflection == pytest.approx(frame[0], rel=1e-9)
+    assert turn == pytest.approx(frame[1], rel=1e-9)
+
+
+def test_the_cheek_s_root_stress_by_hand_and_its_width_for_the_tolerance():
+    load = bs.CheekLoad(400.0, 30.0, 3.0, 40.0, 30.0)
+    h, b, t = 300.0, 150.0, 10.0
+    by_hand = (
+        6 * (400 * 300 + 30e3) / (t * b**2)
+        + 6 * (400 * (30 + t / 2) + 3 * 9.81 * (40 + t / 2)) / (b * t**2)
+        + (400 + 3 * 9.81) / (b * t)
+    )
+    assert bs.root_stress_MPa(load, h, b, t) == pytest.approx(by_hand)
+    part = bs.cheek(load, h, b, 2.0, 800.0, t, allow_mm=0.05)
+    assert part["tool_error_mm"] <= 0.05 + 1e-9 and part["width_mm"] > b
+    narrower = bs.cheek(load, h, part["width_mm"] - 5, 2.0, 800.0, t, allow_mm=1e3)
+    assert narrower["tool_error_mm"] > 0.05
+
+
+def test_interfaces_from_the_catalogue_and_what_is_assumed_named(tmp_path):
+    rows = read_interfaces()
+    assert rows["TM_AK80-6_GB"].output == "flange" and rows["TM_AK80-6_GB"].flange_bolts == 6
+    ak = interface_of("TM_AK80-6_GB", 10.0)
+    assert ak.assumed == ""  # every value in the row
+    hd = interface_of("HD_CSF-32-100-2UH", 60.0)
+    assert "output flange" in hd.assumed and hd.body_d_mm == 138.0
+    none = interface_of("no such gearbox", 60.0)
+    assert none.status == "assumed" and "shaft" in none.assumed
+    # the shaft grows with the torque: 16 T / (pi d^3) <= 60 MPa
+    assert interface_of("x", 600.0).shaft_d_mm > none.shaft_d_mm
+    d = interface_of("x", 600.0).shaft_d_mm
+    assert 16 * 600e3 / (math.pi * d**3) <= 60.0
+
+
+def test_fastener_quantities_add_up_across_the_assembly():
+    lines = [("ISO 4762 M6 x 30", 4, "a"), ("ISO 7089 M6", 4, "a"), ("ISO 4762 M6 x 30", 3, "b")]
+    rows = {r["item"]: r for r in fastener_rows(lines)}
+    assert rows["ISO 4762 M6 x 30"]["quantity"] == 7
+    assert rows["ISO 4762 M6 x 30"]["where"] == "a (4); b (3)"
+    assert sum(r["quantity"] for r in rows.values()) == sum(q for _, q, _ in lines)
+
+
+def _layout() -> dict:
+    plate = {
+        "outline": [[0, 0], [100, 0], [100, 40], [0, 40]],
+        "holes": [kl.circle(20, 20, 8), kl.circle(80, 20, 8)],
+        "thickness_mm": 6.0,
+        "origin": [0, 0, 0],
+        "x_dir": [1, 0, 0],
+        "normal": [0, 0, 1],
+        "kind": "cut",
+    }
+    other = plate | {"origin": [0, 0, 10], "x_dir": [0, 1, 0]}
+    turned = {"hub_1": kl.cylinder(30, 8, -8, 10)}
+    return {"plates": {"one": plate, "two": other}, "turned": turned, "pose_deg": [90, 0]}
+
+
+def test_step_files_reopen_as_closed_solids_and_dxf_reads_back(tmp_path):
+    layout = _layout()
+    paths = write_step(layout, tmp_path / "step")
+    for name in ("one", "two", "hub_1"):
+        shape = import_step(paths[name])
+        assert len(shape.solids()) == 1 and shape.is_valid, name
+    plate = import_step(paths["one"])
+    hole = _area(kl.circle(0, 0, 8))
+    assert plate.volume == pytest.approx(100 * 40 * 6 - 2 * 6 * hole, rel=1e-6)
+    assembly = import_step(paths["assembly"])
+    assert len(assembly.solids()) == 3
+    dxf = write_dxf(layout, tmp_path / "dxf")
+    doc = ezdxf.readfile(dxf["one"])
+    layers = [e.dxf.layer for e in doc.modelspace().query("LWPOLYLINE")]
+    assert layers.count("OUTLINE") == 1 and layers.count("HOLES") == 2
+
+
+def _area(ring: list) -> float:
+    x, y = np.asarray(ring).T
+    return 0.5 * abs(np.dot(x, np.roll(y, 1)) - np.dot(y, np.roll(x, 1)))
