@@ -405,8 +405,10 @@ def test_quickstart_notebook_runs_on_a_finished_run(run, tmp_path, monkeypatch):
         "PYTHONPATH", os.pathsep.join([str(ROOT / "src"), os.environ.get("PYTHONPATH", "")])
     )
     nb = nbformat.read(ROOT / "docs" / "quickstart.ipynb", as_version=4)
+    start = work / "docs"  # where Jupyter starts a kernel for docs/quickstart.ipynb
+    start.mkdir(exist_ok=True)
     NotebookClient(
-        nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(work)}}
+        nb, timeout=600, kernel_name="python3", resources={"metadata": {"path": str(start)}}
     ).execute()
     errors = [o for c in nb.cells for o in c.get("outputs", []) if o.output_type == "error"]
     assert not errors

@@ -5,7 +5,6 @@ import json
 
 from qsm.config.settings import links, plates, realization
 from qsm.realization.build import build_links
-from qsm.realization.kit import KitSettings
 from qsm.realization.outputs import props_to_json, torques_markdown
 from qsm.realization.pipeline import realize
 from qsm.report.drawing import draw_links
@@ -28,13 +27,7 @@ with logged(snakemake.log[0]) as log:
     volume = tuple(p.build_volume_mm)
     drawing = {"svg": out.drawing, "png": out.drawing_png}
     material = case.material.name
-    kit = KitSettings(
-        p.kit["tool_offset_m"],
-        tuple(p.operating_range["theta1_deg"]),
-        p.operating_range["theta2_min_deg"],
-        p.drives["catalogue"],
-        settings.accuracy.tolerance_mm,
-    )
+    kit = realization.kit(p.kit, p.operating_range, p.drives, settings.accuracy.tolerance_mm)
     built = build_links(
         done, case.payload_kg, case.cycle(), topo, material, folder, volume, drawing, kit
     )

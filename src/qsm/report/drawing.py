@@ -102,22 +102,20 @@ def draw_links(
     return svg, png
 
 
+#: The drawing's size (in): 864 x 612 pt, shown at about 1150 x 820 px.
+DRAWING_SIZE_IN = (12.0, 8.5)
+
+
 def drawing_figure(design: ArrayLike, parts: Mapping[str, LinkPart], title: str = "") -> plt.Figure:
     """The drawing: each link (link frame, mm) as built, its openings included, with the
     centre distances above it, the overall length below it and, in the lower left corner, a
     note per joint (position, bore, boss); ``parts`` from
     :func:`qsm.embodiment.parts.link_parts.link_parts` or the final, optimised parts."""
     d = as_design(design).astype(float)
-    heights = []
-    for name in LINK_NAMES:
-        _, y0, _, y1 = parts[name].polygon.bounds
-        heights.append(max(1e3 * (y1 - y0), 60.0) + 160.0)
-    fig, axes = plt.subplots(
-        len(LINK_NAMES),
-        1,
-        figsize=(11, 3.6 * len(LINK_NAMES)),
-        gridspec_kw={"height_ratios": heights},
-    )
+    # 2 x 2 links in 12 x 8.5 in: the report's viewer shows the SVG at its natural size,
+    # centred, so it must fit a laptop's window (about 1200 x 900 px) to be seen whole
+    fig, axes = plt.subplots(2, 2, figsize=DRAWING_SIZE_IN)
+    axes = axes.flat
     for ax, name in zip(axes, LINK_NAMES, strict=True):
         _draw_link(ax, name, parts[name], d)
     fig.suptitle(

@@ -11,6 +11,7 @@ from qsm.config.settings.simulation import task_motion
 from qsm.embodiment.load_case import LoadCase
 from qsm.physics.task_points import design_task
 from qsm.realization.accuracy_budget import AccuracySettings
+from qsm.realization.kit import KitSettings
 from qsm.realization.pipeline import RealizationSettings
 
 Section = Mapping[str, Any]
@@ -73,4 +74,19 @@ def realization_of(config: Section) -> RealizationSettings:
         config["payload_test"],
         design_task(config["task"]["points"])[1],
         config["printing"]["build_volume_mm"],
+    )
+
+
+def kit(
+    section: Section, operating_range: Section, drives: Section, tolerance_mm: float
+) -> KitSettings:
+    """The builder's kit's settings: the ``kit`` section, the motors' ``operating_range``, the
+    ``drives`` section's catalogue (where ``interfaces.csv`` is read) and the task's
+    ``tolerance_mm``."""
+    return KitSettings(
+        section["tool_offset_m"],
+        tuple(operating_range["theta1_deg"]),
+        operating_range["theta2_min_deg"],
+        drives["catalogue"],
+        tolerance_mm,
     )
