@@ -18,7 +18,7 @@ from qsm.embodiment.kit import joints as jt
 from qsm.embodiment.kit.interfaces import interface_of, read_interfaces
 from qsm.embodiment.stiffness.frame import beam_stiffness
 from qsm.realization import kit_layout as kl
-from qsm.realization.kit import fastener_rows
+from qsm.realization.kit import fastener_rows, screw_lines
 from qsm.realization.kit_files import write_dxf, write_step
 
 
@@ -155,3 +155,12 @@ def test_step_files_reopen_as_closed_solids_and_dxf_reads_back(tmp_path):
 def _area(ring: list) -> float:
     x, y = np.asarray(ring).T
     return 0.5 * abs(np.dot(x, np.roll(y, 1)) - np.dot(y, np.roll(x, 1)))
+
+
+def test_a_threaded_rod_brings_the_nut_for_its_second_end():
+    rod = screw_lines("DIN 976-1 M4 x 60", 6, "hub 1 to the lower arm")
+    assert rod == [
+        ("DIN 976-1 M4 x 60", 6, "hub 1 to the lower arm"),
+        ("ISO 10511 M4", 6, "hub 1 to the lower arm: rod ends"),
+    ]
+    assert screw_lines("ISO 4762 M6 x 30", 4, "x") == [("ISO 4762 M6 x 30", 4, "x")]

@@ -275,16 +275,12 @@ def _geometry(
     return {"plates": plates, "turned": turned, "pose_deg": np.degrees(angles).tolist()}
 
 
-def _screw(name: str, qty: int, where: str) -> list[tuple[str, int, str]]:
-    """The lines of ``qty`` screws ``name``; a threaded rod (DIN 976-1) brings its second nut
-    and washer."""
+def screw_lines(name: str, qty: int, where: str) -> list[tuple[str, int, str]]:
+    """The lines of ``qty`` screws ``name``; a threaded rod (DIN 976-1) brings a nut for the end
+    a screw's head would be (its washer is counted with the head's)."""
     lines = [(name, qty, where)]
     if name.startswith("DIN 976-1"):
-        thread = name.split()[2]
-        lines += [
-            (f"ISO 10511 {thread}", qty, f"{where}: rod ends"),
-            (f"ISO 7089 {thread}", qty, f"{where}: rod ends"),
-        ]
+        lines.append((f"ISO 10511 {name.split()[2]}", qty, f"{where}: rod ends"))
     return lines
 
 
@@ -309,7 +305,7 @@ def _fastener_lines(
         k, iface, screws = hub["motor"], drive["interface"], hub["link_screws"]
         if screws["screw"]:
             th = screws["thread"]
-            lines += _screw(screws["screw"], 6, f"hub {k} to the {hub['link']}")
+            lines += screw_lines(screws["screw"], 6, f"hub {k} to the {hub['link']}")
             lines += [
                 (f"ISO 7089 {th}", 12, f"hub {k}: under heads and nuts"),
                 (f"ISO 10511 {th}", 6, f"hub {k}"),
@@ -325,17 +321,19 @@ def _fastener_lines(
             )
         else:
             s = fs.cap_screw(iface.flange_thread, jt.FLANGE_MM, True, "")
-            lines += _screw(s.name, iface.flange_bolts, f"hub {k} to drive {k}'s output flange")
+            lines += screw_lines(
+                s.name, iface.flange_bolts, f"hub {k} to drive {k}'s output flange"
+            )
         mount = fs.cap_screw(iface.mount_thread, c["thickness_mm"], True, "")
-        lines += _screw(mount.name, iface.mount_bolts, f"drive {k} to cheek {k}")
+        lines += screw_lines(mount.name, iface.mount_bolts, f"drive {k} to cheek {k}")
         if c["fixing"]["screw"]:
             th = c["fixing"]["screw"].split()[2]
-            lines += _screw(c["fixing"]["screw"], 3, f"cheek {k} to the base plate")
+            lines += screw_lines(c["fixing"]["screw"], 3, f"cheek {k} to the base plate")
             lines += [(f"ISO 7089 {th}", 3, f"cheek {k}: under the heads")]
-    lines += _screw(table["screw"], 4, "base plate to the table")
+    lines += screw_lines(table["screw"], 4, "base plate to the table")
     lines += [("ISO 7089 M8", 4, "base plate: under the heads")]
     if flange.get("pattern"):
-        lines += _screw(flange["centre_screw"], 1, "tool flange to the upper arm")
+        lines += screw_lines(flange["centre_screw"], 1, "tool flange to the upper arm")
         lines += [("ISO 7089 M8", 1, "tool flange: under the head")]
     return lines
 

@@ -1,9 +1,15 @@
 """The kit's files from its layout (:mod:`qsm.realization.kit_layout`, mm): a STEP file per part
-and one of the assembled arm (build123d on the OpenCASCADE kernel), a DXF outline of every plate
-with its holes and openings (ezdxf), and the exploded assembly view (matplotlib).
+and one of the assembled arm, a DXF outline of every plate with its holes and openings (ezdxf),
+and the exploded assembly view (matplotlib).
 
-Each part's STEP holds one closed solid in the part's own frame; the assembly's holds one solid
-per part, placed, the drives as plain cylinders of their bodies' size (envelopes, not parts).
+Each part's STEP holds one closed solid, named after the part, in the part's own frame; the
+assembly's holds one named solid per part, placed, the drives as plain cylinders of their bodies'
+size (envelopes, not parts). The solids are made and written with OpenCASCADE through OCP, the
+kernel binding that build123d ships and builds on (build123d itself takes 2 s to import, for its
+STL reader's scikit-learn among others; the tests read the files back with build123d). Parametric
+curves are left out of the files (OpenCASCADE's ``write.surfacecurve.mode`` 0: a third less
+time; CAD systems rebuild them) and the header's time stamp is fixed, so a rerun writes the same
+bytes.
 """
 
 from __future__ import annotations
@@ -14,49 +20,85 @@ from typing import Any
 import ezdxf
 import matplotlib.pyplot as plt
 import numpy as np
-from build123d import (
-    Align,
-    Compound,
-    Cylinder,
-    Face,
-    Location,
-    Plane,
-    Solid,
-    Vector,
-    Wire,
-    export_step,
-    extrude,
-)
+import shapely
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
+from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
+from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon
+from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakePrism
+from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
+from OCP.IFSelect import IFSelect_ReturnStatus
+from OCP.Interface import Interface_Static
+from OCP.Message import Message, Message_Gravity
+from OCP.STEPCAFControl import STEPCAFControl_Writer
+from OCP.STEPControl import STEPControl_Controller, STEPControl_StepModelType
+from OCP.TCollection import TCollection_ExtendedString, TCollection_HAsciiString
+from OCP.TDataStd import TDataStd_Name
+from OCP.TDocStd import TDocStd_Document
+from OCP.TopLoc import TopLoc_Location
+from OCP.TopoDS import TopoDS_Shape, TopoDS_Wire
+from OCP.XCAFDoc import XCAFDoc_DocumentTool
+
+#: The STEP header's time stamp: fixed, so that the same kit gives the same files.
+TIMESTAMP = "2000-01-01T00:00:00"
 
 
-def _wire(points: list[list[float]]) -> Wire:
-    return Wire.make_polygon([Vector(x, y, 0.0) for x, y in points], close=True)
+def _wire(points: list[list[float]]) -> TopoDS_Wire:
+    polygon = BRepBuilderAPI_MakePolygon()
+    for x, y in points:
+        polygon.Add(gp_Pnt(float(x), float(y), 0.0))
+    polygon.Close()
+    return polygon.Wire()
 
 
-def plate_solid(plate: dict[str, Any]) -> Solid:
+def plate_solid(plate: dict[str, Any]) -> TopoDS_Shape:
     """A plate's solid (mm) in its own frame: the outline less the holes, extruded along +z."""
-    face = Face(_wire(plate["outline"]), [_wire(h) for h in plate["holes"]])
-    return extrude(face, amount=plate["thickness_mm"])
+    ring = shapely.geometry.polygon.orient(shapely.Polygon(plate["outline"], plate["holes"]))
+    face = BRepBuilderAPI_MakeFace(_wire(list(ring.exterior.coords)[:-1]), True)
+    for hole in ring.interiors:  # clockwise: the face's inner wires
+        face.Add(_wire(list(hole.coords)[:-1]))
+    return BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, plate["thickness_mm"])).Shape()
 
 
-def turned_solid(part: dict[str, Any]) -> Solid:
+def turned_solid(part: dict[str, Any]) -> TopoDS_Shape:
     """A turned part's solid (mm) along +z from 0, with its bore."""
-    align = (Align.CENTER, Align.CENTER, Align.MIN)
-    solid = Cylinder(part["d_mm"] / 2, part["length_mm"], align=align)
+    solid = BRepPrimAPI_MakeCylinder(part["d_mm"] / 2, part["length_mm"]).Shape()
     if part["bore_mm"] > 0:
-        solid = solid - Cylinder(part["bore_mm"] / 2, part["length_mm"], align=align)
+        bore = BRepPrimAPI_MakeCylinder(part["bore_mm"] / 2, part["length_mm"]).Shape()
+        solid = BRepAlgoAPI_Cut(solid, bore).Shape()
     return solid
 
 
-def _placed_plate(solid: Solid, plate: dict[str, Any]) -> Solid:
-    plane = Plane(origin=plate["origin"], x_dir=plate["x_dir"], z_dir=plate["normal"])
-    return solid.moved(Location(plane))
+def _placed(shape: TopoDS_Shape, origin: list, normal: list, x_dir: list) -> TopoDS_Shape:
+    """``shape`` moved from the global frame to the frame (``origin``, ``normal``, ``x_dir``)."""
+    frame = gp_Ax3(
+        gp_Pnt(*map(float, origin)), gp_Dir(*map(float, normal)), gp_Dir(*map(float, x_dir))
+    )
+    move = gp_Trsf()
+    move.SetDisplacement(gp_Ax3(), frame)
+    return shape.Moved(TopLoc_Location(move))
 
 
-def _placed_turned(solid: Solid, part: dict[str, Any]) -> Solid:
-    x, y = part["at_mm"]
-    return solid.moved(Location((x, y, part["z0_mm"])))
+def _write(shapes: dict[str, TopoDS_Shape], path: str) -> None:
+    """A STEP file (AP214, mm) of the named ``shapes``."""
+    doc = TDocStd_Document(TCollection_ExtendedString("XmlOcaf"))
+    tool = XCAFDoc_DocumentTool.ShapeTool_s(doc.Main())
+    for name, shape in shapes.items():
+        TDataStd_Name.Set_s(tool.AddShape(shape, False), TCollection_ExtendedString(name))
+    for printer in Message.DefaultMessenger_s().Printers():  # no transfer statistics on stdout
+        printer.SetTraceLevel(Message_Gravity.Message_Fail)
+    STEPControl_Controller.Init_s()
+    Interface_Static.SetIVal_s("write.surfacecurve.mode", 0)
+    writer = STEPCAFControl_Writer()
+    writer.SetNameMode(True)
+    header = APIHeaderSection_MakeHeader(writer.Writer().Model())
+    if not header.IsDone():
+        header = APIHeaderSection_MakeHeader(0)
+        header.Apply(writer.Writer().Model())
+    header.SetTimeStamp(TCollection_HAsciiString(TIMESTAMP))
+    writer.Transfer(doc, STEPControl_StepModelType.STEPControl_AsIs)
+    if writer.Write(path) != IFSelect_ReturnStatus.IFSelect_RetDone:
+        raise RuntimeError(f"OpenCASCADE could not write {path}")
 
 
 def write_step(layout: dict[str, Any], folder: str | Path) -> dict[str, str]:
@@ -64,22 +106,21 @@ def write_step(layout: dict[str, Any], folder: str | Path) -> dict[str, str]:
     with every part placed and the drives' envelopes; returns the paths by name."""
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
-    paths, placed = {}, []
+    paths, placed = {}, {}
     for name, plate in layout["plates"].items():
         solid = plate_solid(plate)
-        solid.label = name
         paths[name] = str(out / f"{name}.step")
-        export_step(solid, paths[name])
-        placed.append(_placed_plate(solid, plate))
+        _write({name: solid}, paths[name])
+        placed[name] = _placed(solid, plate["origin"], plate["normal"], plate["x_dir"])
     for name, part in layout["turned"].items():
         solid = turned_solid(part)
-        solid.label = name
         if not name.startswith("drive"):
             paths[name] = str(out / f"{name}.step")
-            export_step(solid, paths[name])
-        placed.append(_placed_turned(solid, part))
+            _write({name: solid}, paths[name])
+        x, y = part["at_mm"]
+        placed[name] = _placed(solid, [x, y, part["z0_mm"]], [0, 0, 1], [1, 0, 0])
     paths["assembly"] = str(out / "assembly.step")
-    export_step(Compound(children=placed, label="arm"), paths["assembly"])
+    _write(placed, paths["assembly"])
     return paths
 
 
