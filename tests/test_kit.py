@@ -18,7 +18,7 @@ from qsm.embodiment.kit import joints as jt
 from qsm.embodiment.kit.interfaces import interface_of, read_interfaces
 from qsm.embodiment.stiffness.frame import beam_stiffness
 from qsm.realization import kit_layout as kl
-from qsm.realization.kit import fastener_rows, screw_lines
+from qsm.realization.kit_bom import fastener_rows, screw_lines
 from qsm.realization.kit_files import write_dxf, write_step
 
 
@@ -48,6 +48,7 @@ def test_a_pin_is_checked_as_a_cantilever_from_its_printed_bore():
     shear = 4 * 400 / (math.pi * 6**2)  # 14 MPa
     assert pin["safety_factor"] == pytest.approx(1100 / math.hypot(bending, math.sqrt(3) * shear))
     assert pin["screw"] == "ISO 7379 6 x 45 - M5"  # 20 + 1.6 + 20 = 41.6 -> 45
+    assert pin["fill_spacers"] == 2  # 3.4 mm of shoulder left: two 1.6 mm spacers
     assert pin["holds"]
     weak = jt.pin("B", bearing | {"peak_force_N": 4000.0}, seat, other, 2.0)
     assert not weak["holds"]  # 43 mm of printed bore needed, and 10x the moment
@@ -131,7 +132,7 @@ def _layout() -> dict:
         "kind": "cut",
     }
     other = plate | {"origin": [0, 0, 10], "x_dir": [0, 1, 0]}
-    turned = {"hub_1": kl.cylinder(30, 8, -8, 10)}
+    turned = {"hub_1": kl.turned([(30, -8, 0), (20, 0, 10)], 10)}
     return {"plates": {"one": plate, "two": other}, "turned": turned, "pose_deg": [90, 0]}
 
 
@@ -164,3 +165,17 @@ def test_a_threaded_rod_brings_the_nut_for_its_second_end():
         ("ISO 10511 M4", 6, "hub 1 to the lower arm: rod ends"),
     ]
     assert screw_lines("ISO 4762 M6 x 30", 4, "x") == [("ISO 4762 M6 x 30", 4, "x")]
+
+
+def test_a_hub_s_key_bears_over_its_engaged_length_less_its_width():
+    plate = jt.Plate("crank", 30.0, 15.5, 40.0)
+    drive = interface_of("no such gearbox", 12.0)  # an assumed 12 mm keyed shaft, 24 mm long
+    screws = jt.hub_screws(plate, 17.0, 12.0)
+    hub = jt.hub(2, drive, plate, 17.0, 12.0, 2.0, 30.0, screws)
+    engaged = min(drive.shaft_length_mm, 30.0 + jt.FLANGE_MM)
+    by_hand = 2 * 12e3 / (drive.shaft_d_mm * 0.4 * drive.key_h_mm * (engaged - drive.key_w_mm))
+    assert hub["key"]["pressure_MPa"] == pytest.approx(by_hand)
+    # the screws keep two diameters from the boss's edge and bear T / (6 r d t)
+    d = float(screws["thread"][1:])
+    assert screws["pcd_mm"] / 2 == pytest.approx(40.0 - 2 * d)
+    assert screws["bearing_MPa"] == pytest.approx(12e3 / (6 * screws["pcd_mm"] / 2 * d * 30.0))

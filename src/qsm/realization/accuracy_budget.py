@@ -379,14 +379,22 @@ def with_base(budget: dict[str, Any], base_mm: float, settings: AccuracySettings
     n = len(budget["points_m"])
     per["base_mm"] = [float(base_mm)] * n
     per["error_budget_mm"] = [e + base_mm for e in budget["per_point"]["error_budget_mm"]]
-    per["first_mode_hz"] = per.pop("first_mode_hz")
     verdict, ok = _verdict(per, settings)
+    would = (
+        budget["would_meet"]
+        if budget["would_meet"] or ok
+        else [
+            f"a stiffer base: its {base_mm:.2f} mm at the tool (the builder's kit's cheeks, sized "
+            f"for 2 % of the tolerance) is what the budget cannot take"
+        ]
+    )
     return budget | {
         "per_point": per,
         "worst": _worst(per),
         "worst_point": int(np.argmax(per["error_budget_mm"])) + 1,
         "verdict": verdict,
         "meets_requirements": ok,
+        "would_meet": would,
     }
 
 

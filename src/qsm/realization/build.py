@@ -65,6 +65,7 @@ def build_links(
     parts = final_parts(done.design, done.bearing_rows, done.part_settings, held)
     force = peak_payload_force_N(done.design, payload_kg, duty.theta, duty.dtheta, duty.ddtheta)
     made = builders_kit(done, parts, force, kit)
+    parts = made.parts  # with the hubs' screw holes
     written = write_parts(
         parts,
         done.bearing_rows,

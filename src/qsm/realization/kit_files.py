@@ -23,10 +23,10 @@ import numpy as np
 import shapely
 from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
-from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut
+from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon
 from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakePrism
-from OCP.gp import gp_Ax3, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
+from OCP.gp import gp_Ax2, gp_Ax3, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
 from OCP.IFSelect import IFSelect_ReturnStatus
 from OCP.Interface import Interface_Static
 from OCP.Message import Message, Message_Gravity
@@ -61,12 +61,18 @@ def plate_solid(plate: dict[str, Any]) -> TopoDS_Shape:
 
 
 def turned_solid(part: dict[str, Any]) -> TopoDS_Shape:
-    """A turned part's solid (mm) along +z from 0, with its bore."""
-    solid = BRepPrimAPI_MakeCylinder(part["d_mm"] / 2, part["length_mm"]).Shape()
+    """A turned part's solid (mm): its coaxial cylinders fused, along +z from its lowest, less
+    the bore through them."""
+    shape = None
+    for d, a, b in part["steps"]:
+        cylinder = BRepPrimAPI_MakeCylinder(
+            gp_Ax2(gp_Pnt(0, 0, a - part["z0_mm"]), gp_Dir(0, 0, 1)), d / 2, b - a
+        ).Shape()
+        shape = cylinder if shape is None else BRepAlgoAPI_Fuse(shape, cylinder).Shape()
     if part["bore_mm"] > 0:
         bore = BRepPrimAPI_MakeCylinder(part["bore_mm"] / 2, part["length_mm"]).Shape()
-        solid = BRepAlgoAPI_Cut(solid, bore).Shape()
-    return solid
+        shape = BRepAlgoAPI_Cut(shape, bore).Shape()
+    return shape
 
 
 def _placed(shape: TopoDS_Shape, origin: list, normal: list, x_dir: list) -> TopoDS_Shape:

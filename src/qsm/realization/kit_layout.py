@@ -15,6 +15,10 @@ from typing import Any
 import numpy as np
 import shapely
 
+from qsm.embodiment.kit import base as bs
+from qsm.embodiment.kit import fasteners as fs
+from qsm.embodiment.kit import joints as jt
+from qsm.embodiment.kit.interfaces import DriveInterface
 from qsm.embodiment.parts.link_parts import LinkPart
 from qsm.physics.kinematics import pose
 
@@ -80,10 +84,11 @@ def bolt_circle(pcd: float, n: int, hole: float, start_deg: float = 0.0) -> list
     return [circle(pcd / 2 * math.cos(t), pcd / 2 * math.sin(t), hole, 24) for t in a]
 
 
-def cheek_plate(part: dict[str, Any], iface: Any, hole: float, fix_hole: float, z0: float) -> dict:
+def cheek_plate(part: dict[str, Any], iface: DriveInterface, hole: float, z0: float) -> dict:
     """Cheek ``part`` (its sizes, mm) as a placed plate: a bar of the cheek's width from the
     base plate up to A, rounded about A, with the central bore, the drive's mounting holes
-    (``hole`` mm, a square pattern of 4 turned by 45 degrees) and the fixing holes' centres."""
+    (``hole`` mm, a square pattern of 4 turned by 45 degrees); its three fixing screws are
+    tapped into its bottom edge (``tapped_bottom``)."""
     b, h, t = part["width_mm"], part["height_mm"], part["thickness_mm"]
     body = shapely.union(shapely.box(-b / 2, -h, b / 2, 0.0), shapely.Point(0, 0).buffer(b / 2, 32))
     start = 45.0 if iface.mount_bolts == 4 else 0.0
@@ -97,26 +102,30 @@ def cheek_plate(part: dict[str, Any], iface: Any, hole: float, fix_hole: float, 
         "x_dir": [1.0, 0.0, 0.0],
         "normal": [0.0, 0.0, 1.0],
         "kind": "cut",
-        "tapped_bottom": {"count": 3, "hole_mm": fix_hole},
+        "tapped_bottom": {"count": 3, "screw": part["fixing"]["screw"]},
     }
 
 
-def base_plate(
-    cheeks: list[dict[str, Any]], z: tuple[float, float], h: float, t: float, fix: float
-) -> dict:
-    """The base plate under both cheeks (``z``: cheek 1's outer face and cheek 2's, mm): 40 mm
-    beyond each cheek, 4 x 9 mm table holes 15 mm in from its corners, three ``fix`` mm holes
-    under each cheek. Its plane: x and z (the plate's local y is the global z)."""
+def base_plate_size(cheeks: list[dict[str, Any]], stack: dict[str, float]) -> tuple[float, float]:
+    """The base plate's width across (x) and length along the axis (z), mm: 40 mm beyond the
+    widest cheek on each side and beyond each cheek's outer face."""
+    span = stack["cheek_2"] + cheeks[0]["thickness_mm"] + cheeks[1]["thickness_mm"]
+    return max(c["width_mm"] for c in cheeks) + 80.0, span + 80.0
+
+
+def base_plate(cheeks: list[dict[str, Any]], z: tuple[float, float], h: float, t: float) -> dict:
+    """The base plate under both cheeks (``z``: cheek 1's outer face and cheek 2's, mm), 40 mm
+    beyond them, with 4 x 9 mm table holes 15 mm in from its corners and each cheek's three
+    fixing holes under it. Its plane: x and z (the plate's local y is the global z)."""
     w = max(c["width_mm"] for c in cheeks) + 80.0
     z0, z1 = z[0] - 40.0, z[1] + 40.0
     holes = [circle(x, zz, 9.0) for x in (-w / 2 + 15, w / 2 - 15) for zz in (z0 + 15, z1 - 15)]
-    for c, zc in zip(
-        cheeks,
-        (z[0] + cheeks[0]["thickness_mm"] / 2, z[1] - cheeks[1]["thickness_mm"] / 2),
-        strict=True,
-    ):
+    middles = (z[0] + cheeks[0]["thickness_mm"] / 2, z[1] - cheeks[1]["thickness_mm"] / 2)
+    for c, zc in zip(cheeks, middles, strict=True):
+        screw = c["fixing"]["screw"]
+        hole = bs.clearance_hole_mm(screw.split()[2] if screw else "M6")
         span = c["width_mm"] / 2 - 10
-        holes += [circle(x, zc, fix) for x in (-span, 0.0, span)]
+        holes += [circle(x, zc, hole) for x in (-span, 0.0, span)]
     return {
         "outline": [[-w / 2, z0], [w / 2, z0], [w / 2, z1], [-w / 2, z1]],
         "holes": holes,
@@ -129,12 +138,70 @@ def base_plate(
     }
 
 
-def cylinder(d: float, length: float, z0: float, bore: float = 0.0, at=(0.0, 0.0)) -> dict:
-    """A turned part or envelope along z: outer ``d``, ``length`` from ``z0`` (mm)."""
+def turned(
+    steps: list[tuple[float, float, float]], bore: float = 0.0, at: tuple = (0.0, 0.0)
+) -> dict[str, Any]:
+    """A turned part or envelope along z, as coaxial cylinders ``steps`` (diameter, z from, z
+    to; mm) with a ``bore`` through them, its axis at ``at`` (x, y) mm; ``d_mm``,
+    ``length_mm`` and ``z0_mm`` give its bounds."""
+    z0 = min(a for _, a, _ in steps)
     return {
-        "d_mm": d,
-        "length_mm": length,
+        "steps": [[float(d), float(a), float(b)] for d, a, b in steps],
+        "d_mm": max(d for d, _, _ in steps),
+        "length_mm": max(b for _, _, b in steps) - z0,
         "z0_mm": z0,
-        "bore_mm": bore,
+        "bore_mm": float(bore),
         "at_mm": [float(at[0]), float(at[1])],
     }
+
+
+def _hub_steps(hub: dict[str, Any], link_face: float, toward: int, drive_face: float) -> list:
+    """A hub's cylinders: its flange against the link's face, its spigot into the link's bore
+    (10 mm, at most half the gap) and its boss through the cheek to the drive's face;
+    ``toward``: -1 when the drive is at lower z."""
+    screws = hub["link_screws"]
+    flange_d = screws["pcd_mm"] + fs.washer_mm(screws["thread"] or "M8")[1]  # washers inside
+    f0 = link_face + toward * jt.FLANGE_MM
+    spigot = (link_face, link_face - toward * 10.0)
+    return [
+        (flange_d, min(link_face, f0), max(link_face, f0)),
+        (hub["spigot_d_mm"], min(spigot), max(spigot)),
+        (hub["boss_d_mm"], min(f0, drive_face), max(f0, drive_face)),
+    ]
+
+
+def kit_geometry(
+    design: np.ndarray,
+    parts: dict[str, LinkPart],
+    stack: dict[str, float],
+    cheeks: list[dict[str, Any]],
+    drives: list[dict[str, Any]],
+    hubs: list[dict[str, Any]],
+    flange: dict[str, Any],
+    angles: tuple[float, float],
+) -> dict[str, Any]:
+    """Every part placed, mm: the plates (links at motor ``angles``, cheeks, base plate), and
+    along z the hubs (flange on the link, boss to the drive), the drives' envelopes outside the
+    cheeks and the tool flange's disc against the upper arm at E."""
+    t1, t2 = cheeks[0]["thickness_mm"], cheeks[1]["thickness_mm"]
+    end = stack["cheek_2"]
+    plates = link_plates(design, parts, stack, angles)
+    for k, (c, z0) in enumerate(zip(cheeks, (-t1, end), strict=True), 1):
+        iface = drives[k - 1]["interface"]
+        plates[f"cheek_{k}"] = cheek_plate(c, iface, bs.clearance_hole_mm(iface.mount_thread), z0)
+    plates["base_plate"] = base_plate(cheeks, (-t1, end + t2), cheeks[0]["height_mm"],
+                                      bs.BASE_PLATE_MM)  # fmt: skip
+    faces = {1: (stack["lower_arm"], -1, -t1), 2: (stack["crank_end"], 1, end + t2)}
+    out = {}
+    for hub in hubs:
+        k, iface = hub["motor"], drives[hub["motor"] - 1]["interface"]
+        bore = iface.shaft_d_mm if iface.output == "shaft" else 0.0
+        out[f"hub_{k}"] = turned(_hub_steps(hub, *faces[k]), bore)
+        z = (-t1 - iface.body_length_mm, -t1) if k == 1 else (end + t2, end + t2 +
+                                                              iface.body_length_mm)  # fmt: skip
+        out[f"drive_{k}"] = turned([(iface.body_d_mm, *z)])
+    if flange.get("pattern"):
+        e = np.asarray(pose(design, *angles).E) * 1e3
+        z_e = stack["upper_arm"] - jt.ADAPTER_MM
+        out["tool_flange"] = turned([(flange["face_d_mm"], z_e, stack["upper_arm"])], 0.0, e)
+    return {"plates": plates, "turned": out, "pose_deg": np.degrees(angles).tolist()}

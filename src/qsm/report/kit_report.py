@@ -61,6 +61,7 @@ def kit_markdown(kit: Mapping[str, Any]) -> str:
         else ("THE KIT DOES NOT HOLD: " + "; ".join(kit["problems"]) + ".")
     )
     assumed = [f"{d['drive']}: {d['assumed']}" for d in kit["drives"] if d["assumed"]]
+    sources = [f"{d['drive']}: {d['status']} ({d['source']})" for d in kit["drives"]]
     lines = [
         "## The builder's kit",
         "",
@@ -87,6 +88,7 @@ def kit_markdown(kit: Mapping[str, Any]) -> str:
             "**Assumed** (no maker's value in the catalogue): " + "; ".join(assumed) + ".",
             "",
         ]
+    lines += ["**The drives' interfaces:** " + "; ".join(sources) + ".", ""]
     lines += ["**Not checked:** " + "; ".join(dict.fromkeys(kit["not_checked"])) + ".", ""]
     lines += ["### Assembly", ""]
     lines += [f"{k}. {step}" for k, step in enumerate(kit["assembly_steps"], 1)]

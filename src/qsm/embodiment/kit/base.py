@@ -143,18 +143,20 @@ def cheek(
 
 
 def fixing_screws(load: CheekLoad, part: dict[str, Any], required_sf: float) -> dict:
-    """The three screws of a cheek through the base plate into its tapped bottom edge: the
-    smallest thread whose most loaded screw, ``M_out / (3 t / 2) + 2 M_in / (3 (b - 20))``
-    (moments at the root), stays within yield over ``required_sf``."""
+    """The three screws of a cheek, at -s, 0 and s (s = b / 2 - 10 mm), through the base plate
+    (and a washer) into the cheek's tapped bottom edge: the smallest thread of at most half the
+    cheek's thickness whose most loaded screw, ``M_out / (3 t / 2) + M_in / (2 s)`` (moments
+    at the root), stays within yield over ``required_sf``."""
     h, b, t = part["height_mm"], part["width_mm"], part["thickness_mm"]
     m_in = load.force_N * h + load.torque_Nm * 1e3
-    force = out_of_plane_Nmm(load, t) / (3 * t / 2) + 2 * m_in / (3 * (b - 20))
+    force = out_of_plane_Nmm(load, t) / (3 * t / 2) + m_in / (b - 20)
     for thread in ("M5", "M6", "M8", "M10", "M12"):
         if float(thread[1:]) > t / 2:
             break
         sf = fs.screw_yield_N(thread) / force
         if sf >= required_sf:
-            screw = fs.cap_screw(thread, BASE_PLATE_MM, True, "cheek to base plate")
+            grip = BASE_PLATE_MM + fs.washer_mm(thread)[2]
+            screw = fs.cap_screw(thread, grip, True, "cheek to base plate")
             return {
                 "screw": screw.name,
                 "count": 3,
@@ -183,13 +185,16 @@ def clearance_hole_mm(thread: str) -> float:
 
 
 def table_screws(
-    load: CheekLoad, h: float, width: float, length: float, required_sf: float
+    loads: list[CheekLoad], h: float, size: tuple[float, float], required_sf: float
 ) -> dict:
-    """The four M8 screws (ISO 4762) at the base plate's corners (``width`` x ``length`` mm,
-    holes 15 mm in) into the table: the most loaded takes the overturning moments ``F (h + t) +
-    T`` across the width and ``F e + m g c`` along the length, each on two screws."""
-    m_in = load.force_N * (h + BASE_PLATE_MM) + load.torque_Nm * 1e3
-    force = m_in / (2 * (width - 30)) + out_of_plane_Nmm(load, 0.0) / (2 * (length - 30))
+    """The four M8 screws (ISO 4762) at the base plate's corners (``size``: width across and
+    length along the axis, mm; holes 15 mm in) into the table: the most loaded takes the
+    overturning moments of both cheeks' ``loads``, ``F (h + t) + T`` across the width and ``F e
+    + m g c`` along the length, each on two screws."""
+    width, length = size
+    m_in = sum(x.force_N * (h + BASE_PLATE_MM) + x.torque_Nm * 1e3 for x in loads)
+    m_out = sum(out_of_plane_Nmm(x, 0.0) for x in loads)
+    force = m_in / (2 * (width - 30)) + m_out / (2 * (length - 30))
     sf = fs.screw_yield_N("M8") / force
     screw = fs.cap_screw("M8", BASE_PLATE_MM + fs.washer_mm("M8")[2], True, "base plate to table")
     return {

@@ -73,21 +73,28 @@ def nut_height_mm(thread: str) -> float:
     return float(_row("iso10511", "thread", thread)["height_mm"])
 
 
-def cap_screw(thread: str, grip_mm: float, tapped: bool, purpose: str) -> Fastener:
+def cap_screw(
+    thread: str, grip_mm: float, tapped: bool, purpose: str, depth_mm: float | None = None
+) -> Fastener:
     """The ISO 4762 screw of ``thread`` through a grip of ``grip_mm`` (washer under the head
-    included by the caller), into a tapped hole (``tapped``) or through into a washer and nut;
-    beyond the screws' preferred lengths, a DIN 976-1 threaded rod (5 mm steps) with a washer
-    and nut at its other end as well."""
+    included by the caller), into a tapped hole (``tapped``: at least 1.5 d of thread, and no
+    more than ``depth_mm`` where the tapped part is that thick) or through into a washer and
+    nut. Where no preferred length fits: a DIN 976-1 threaded rod with a washer and nut at the
+    head's end, in 5 mm steps, or cut to the tap's depth."""
     row = _row("iso4762", "thread", thread)
     d = float(row["d_mm"])
-    tail = TAPPED_ENGAGEMENT * d if tapped else washer_mm(thread)[2] + nut_height_mm(thread) + 1
+    nut_end = washer_mm(thread)[2] + nut_height_mm(thread) + 1
+    tail = TAPPED_ENGAGEMENT * d if tapped else nut_end
     try:
         length = _preferred(row["lengths_mm"], grip_mm + tail, f"ISO 4762 {thread}")
-    except FastenerError:  # longer than the series: a threaded rod with a nut at each end
-        tail += washer_mm(thread)[2] + nut_height_mm(thread) + 1
-        length = 5 * math.ceil((grip_mm + tail) / 5)
+        if tapped and depth_mm is not None and length > grip_mm + depth_mm:
+            raise FastenerError(f"ISO 4762 {thread}: none within the {depth_mm:g} mm tap")
+        return Fastener("ISO 4762", f"{thread} x {length:g}", thread, d, length, purpose)
+    except FastenerError:
+        length = 5 * math.ceil((grip_mm + tail + nut_end) / 5)
+        if tapped and depth_mm is not None:
+            length = min(length, round(grip_mm + depth_mm + nut_end, 1))
         return Fastener("DIN 976-1", f"{thread} x {length:g}", thread, d, length, purpose)
-    return Fastener("ISO 4762", f"{thread} x {length:g}", thread, d, length, purpose)
 
 
 def screw_head_mm(thread: str) -> tuple[float, float]:

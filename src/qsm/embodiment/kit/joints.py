@@ -10,12 +10,15 @@ plate), so the bending arm runs from the bearing's centre, across the washer, to
 that length. Bending ``32 F a / (pi d^3)`` and shear ``4 F / (pi d^2)`` (von Mises with shear
 ``sqrt(3)``) must stay within the screw's yield over the required safety factor.
 
-**Hubs (A).** A steel hub (C45, :data:`HUB_YIELD_MPA`) is bolted to its link, which it centres
-with a spigot in the link's bore at A, by six ISO 4762 screws on the largest bolt circle the
-link's boss holds. The screws carry the drive's peak torque in bearing on the printed plate:
-``T / (6 r d t)`` within the link material's allowable. A shaft output drives the hub through a
-DIN 6885 key (pressure ``2 T / (d (h - t1) l)`` with ``h - t1 = 0.4 h`` in the hub, within the
-hub's yield over the safety factor); a flange output is bolted to the hub with its own pattern.
+**Hubs (A).** A steel hub (C45, :data:`HUB_YIELD_MPA`) per drive: a flange bolted to its link,
+which it centres with a spigot in the link's bore at A, by six screws (through, with nuts) on the
+largest bolt circle that keeps each hole :data:`EDGE_DISTANCE` diameters from the boss's edge,
+and a boss that reaches through the cheek to the drive. The screws carry the drive's peak torque
+in bearing on the printed plate: ``T / (6 r d t)`` within the link material's allowable. A shaft
+output drives the hub through a DIN 6885 form A key (pressure ``2 T / (d (h - t1) (l - b))``
+with ``h - t1 = 0.4 h`` in the hub and l the shaft's length in the hub, within the hub's yield
+over the safety factor); a flange output is bolted to the hub's boss with its own pattern, the
+heads counterbored into the hub's flange.
 
 **Tool flange (E).** A steel adapter disc on the boss at E, held by one M8 screw through the
 arm's tool hole, carries the smallest ISO 9409-1 pattern whose bolts carry the payload's peak
@@ -35,12 +38,19 @@ from qsm.embodiment.kit.interfaces import DriveInterface
 
 #: Yield strength (MPa) of the hubs' and adapters' steel: C45+N, EN 10083-2 (d <= 16 mm).
 HUB_YIELD_MPA = 340.0
+#: Yield strength (MPa) of a made pin where no ISO 7379 screw fits: 42CrMo4+QT, EN 10083-3
+#: (16 < d <= 40 mm).
+PIN_YIELD_MPA = 750.0
 #: Screws joining a hub to its link.
 HUB_SCREWS = 6
 #: Thickness (mm) of a hub's flange.
 FLANGE_MM = 8.0
 #: Thickness (mm) of the tool flange's steel adapter disc (tapped for its M8 centre screw).
-ADAPTER_MM = 12.0
+ADAPTER_MM = 16.0
+#: A hub's wall (mm) around a drive's shaft.
+HUB_WALL_MM = 4.0
+#: Distance, in hole diameters, from a hub screw's hole to the edge of the printed boss.
+EDGE_DISTANCE = 2.0
 #: ISO 9409-1 patterns, smallest first: (d1 pitch circle, d2 face, d3 recess, n, thread) mm.
 #: Source: ISO 9409-1:2004 table 1 as transcribed in github.com/AndreNijman/softsense
 #: (motor/interfaces/iso-9409-1.md), with robot makers' flanges (UR, Dobot, ABB, Kosmek) agreeing
@@ -69,36 +79,47 @@ def pin(
     joint: str, bearing: dict[str, Any], seat: Plate, other: Plate, required_sf: float
 ) -> dict[str, Any]:
     """The shoulder screw of ``joint`` through the ``bearing`` (``d_mm``, ``B_mm``,
-    ``peak_force_N``) in ``seat`` and the bore of ``other``, and its check."""
+    ``peak_force_N``), pressed flush with ``seat``'s face toward ``other``, and the bore of
+    ``other``, and its check; the shoulder's length beyond the grip is filled with spacers."""
     d, force = float(bearing["d_mm"]), float(bearing["peak_force_N"])
     washer = _spacer(d)
     grip = seat.thickness_mm + washer[2] + other.thickness_mm
     screw = fs.shoulder_screw(d, grip, f"pin of joint {joint}")
-    yield_mpa = fs.shoulder_yield_MPa(d)
+    thread = screw.thread if screw else _pin_thread(d)
+    fill = int((screw.length_mm - grip) // washer[2]) if screw else 0
     bore_mm = force / (other.allowable_MPa * d)  # printed length that carries F
     arm = float(bearing["B_mm"]) / 2 + washer[2] + bore_mm / 2
     bending = 32 * force * arm / (math.pi * d**3)
     shear = 4 * force / (math.pi * d**2)
     von_mises = math.hypot(bending, math.sqrt(3) * shear)
+    yield_mpa = fs.shoulder_yield_MPa(d) if screw else PIN_YIELD_MPA
     sf = yield_mpa / von_mises if von_mises > 0 else math.inf
     return {
         "joint": joint,
         "screw": screw.name if screw else None,
-        "made": None if screw else f"pin {d:g} h8 x {math.ceil(grip):g} mm, M{d - 1:g} end",
+        "made": None if screw else f"pin {d:g} h8 x {math.ceil(grip):g} mm, {thread} end",
         "shoulder_d_mm": d,
         "grip_mm": grip,
         "spacer": f"ISO 7089 {washer[3]}",
-        "nut": f"ISO 10511 {screw.thread if screw else f'M{d - 1:g}'}",
+        "fill_spacers": fill,
+        "nut": f"ISO 10511 {thread}",
         "peak_force_N": force,
         "bending_arm_mm": arm,
         "printed_bearing_length_mm": bore_mm,
         "bending_MPa": bending,
         "shear_MPa": shear,
+        "yield_MPa": yield_mpa,
         "safety_factor": sf,
         "required_safety_factor": required_sf,
         "holds": sf >= required_sf and bore_mm <= other.thickness_mm,
         "plates": [seat.link, other.link],
     }
+
+
+def _pin_thread(d_mm: float) -> str:
+    """The largest thread of the nut table below a made pin's ``d_mm``."""
+    threads = [r["thread"] for r in fs.table("iso10511")]
+    return max((t for t in threads if float(t[1:]) < d_mm), key=lambda t: float(t[1:]))
 
 
 def _spacer(shoulder_d_mm: float) -> tuple[float, float, float, str]:
@@ -110,23 +131,44 @@ def _spacer(shoulder_d_mm: float) -> tuple[float, float, float, str]:
 
 
 def hub_screws(plate: Plate, spigot_mm: float, torque_Nm: float) -> dict[str, Any]:
-    """The smallest thread of six screws on the largest bolt circle inside ``plate``'s boss
-    (around a spigot of ``spigot_mm``) whose bearing on the printed plate carries
-    ``torque_Nm``; the last tried when none does (``holds`` False)."""
+    """The smallest thread of six screws, on the largest bolt circle that keeps each hole
+    :data:`EDGE_DISTANCE` diameters from the edge of ``plate``'s boss (and clear of a spigot of
+    ``spigot_mm``), whose bearing on the printed plate carries ``torque_Nm``; the last tried
+    when none does (``holds`` False)."""
+    result: dict[str, Any] = {
+        "thread": "",
+        "pcd_mm": 0.0,
+        "bearing_MPa": math.inf,
+        "screw": None,
+        "holds": False,
+    }
     for thread in fs.threads()[1:]:
         d = float(thread[1:])
-        washer_d = fs.washer_mm(thread)[1]
-        r = plate.boss_mm - washer_d / 2 - 1.0
-        if r - d / 2 < spigot_mm / 2 + 2.0:
+        r = plate.boss_mm - EDGE_DISTANCE * d
+        if r - d < spigot_mm / 2 + 2.0:
             break
         bearing = torque_Nm * 1e3 / (HUB_SCREWS * r * d * plate.thickness_mm)
-        screw = fs.cap_screw(thread, plate.thickness_mm + FLANGE_MM, False, "hub to link")
-        result = {"thread": thread, "pcd_mm": 2 * r, "bearing_MPa": bearing, "screw": screw}
-        if bearing <= plate.allowable_MPa:
-            return result | {"holds": True}
-    if "result" not in locals():
-        return {"thread": "", "pcd_mm": 0.0, "bearing_MPa": math.inf, "screw": None, "holds": False}
-    return result | {"holds": False}
+        grip = plate.thickness_mm + FLANGE_MM + fs.washer_mm(thread)[2]  # washer under the head
+        screw = fs.cap_screw(thread, grip, False, "hub to link")
+        result = {
+            "thread": thread,
+            "pcd_mm": 2 * r,
+            "bearing_MPa": bearing,
+            "screw": screw,
+            "holds": bearing <= plate.allowable_MPa,
+        }
+        if result["holds"]:
+            break
+    return result
+
+
+def hub_boss_mm(drive: DriveInterface) -> float:
+    """The diameter (mm) of a hub's boss, which reaches through the cheek to the drive: around
+    a shaft, the shaft and :data:`HUB_WALL_MM` each side; at a flange, its bolt circle and a
+    head (the screws counterbored into the hub) and 2 mm."""
+    if drive.output == "shaft":
+        return drive.shaft_d_mm + 2 * HUB_WALL_MM
+    return drive.flange_pcd_mm + fs.screw_head_mm(drive.flange_thread)[0] + 2.0
 
 
 def hub(
@@ -136,31 +178,41 @@ def hub(
     spigot_mm: float,
     torque_Nm: float,
     required_sf: float,
+    boss_length_mm: float,
+    screws: dict[str, Any],
 ) -> dict[str, Any]:
-    """The hub of ``motor`` (1: lower arm, 2: crank) on ``drive``'s output, bolted to
-    ``plate`` around a spigot of ``spigot_mm`` in its bore, for the peak ``torque_Nm``."""
-    screws = hub_screws(plate, spigot_mm, torque_Nm)
+    """The hub of ``motor`` (1: lower arm, 2: crank) on ``drive``'s output: bolted to
+    ``plate`` by ``screws`` (:func:`hub_screws`) around a spigot of ``spigot_mm`` in its bore,
+    for the peak ``torque_Nm``, its boss ``boss_length_mm`` long to the drive's face. A shaft's
+    key (DIN 6885 form A) bears over its engaged length less its width."""
     out: dict[str, Any] = {
         "motor": motor,
         "link": plate.link,
         "output": drive.output,
         "spigot_d_mm": spigot_mm,
+        "boss_d_mm": hub_boss_mm(drive),
+        "boss_length_mm": boss_length_mm,
         "peak_torque_Nm": torque_Nm,
+        "required_safety_factor": required_sf,
         "link_screws": {
             k: (v.name if isinstance(v, fs.Fastener) else v) for k, v in screws.items()
         },
-        "required_safety_factor": required_sf,
     }
+    holds = bool(screws["holds"])
     if drive.output == "shaft":
         w, h = drive.key_w_mm, drive.key_h_mm
-        length = max(drive.shaft_length_mm - 2.0, w)
-        pressure = 2 * torque_Nm * 1e3 / (drive.shaft_d_mm * 0.4 * h * length)
-        out["key"] = {"w_mm": w, "h_mm": h, "length_mm": length, "pressure_MPa": pressure}
+        engaged = min(drive.shaft_length_mm, boss_length_mm + FLANGE_MM)
+        bearing = max(engaged - w, 1e-9)  # form A: the rounded ends carry nothing
+        pressure = 2 * torque_Nm * 1e3 / (drive.shaft_d_mm * 0.4 * h * bearing)
+        out["key"] = {"w_mm": w, "h_mm": h, "length_mm": engaged, "pressure_MPa": pressure}
         out["key_safety_factor"] = HUB_YIELD_MPA / pressure
-        out["holds"] = bool(screws["holds"]) and out["key_safety_factor"] >= required_sf
+        holds = holds and out["key_safety_factor"] >= required_sf
     else:
         out["flange"] = f"{drive.flange_bolts} x {drive.flange_thread} on {drive.flange_pcd_mm:g}"
-        out["holds"] = bool(screws["holds"])
+        head_h = fs.screw_head_mm(drive.flange_thread)[1]
+        grip = boss_length_mm + FLANGE_MM - head_h  # heads counterbored into the hub's flange
+        out["flange_screw"] = fs.cap_screw(drive.flange_thread, grip, True, "").name
+    out["holds"] = holds
     return out
 
 
@@ -171,16 +223,19 @@ def tool_flange(
     arm (``plate_mm`` thick) by one ISO 4762 M8 screw through the arm's tool hole into the disc,
     with the smallest ISO 9409-1 pattern (tapped) whose bolts carry ``force_N`` at ``offset_m``
     from the face and whose face fits the boss at E (radius ``boss_mm``). The centre screw takes
-    the moment with the disc's edge as the pivot: ``F e / (d2 / 2) + F``."""
-    moment = force_N * offset_m * 1e3  # N mm
+    the moment at the disc's joint with the arm, the disc's edge the pivot: ``F (e + t) / (d2 /
+    2) + F``, t the disc's thickness."""
+    moment = force_N * (offset_m * 1e3 + ADAPTER_MM)  # N mm, at the disc's joint with the arm
     tried = []
     for d1, d2, d3, n, thread in ISO9409:
-        bolt = 2 * moment / (n * d1 / 2) + force_N / n
+        bolt = 2 * force_N * offset_m * 1e3 / (n * d1 / 2) + force_N / n
         centre = moment / (d2 / 2) + force_N
         sf = min(fs.screw_yield_N(thread) / bolt, fs.screw_yield_N("M8") / centre)
         tried.append(f"ISO 9409-1-{d1:g}-{n}-{thread}")
         if sf >= required_sf and d2 / 2 <= boss_mm:
-            screw = fs.cap_screw("M8", plate_mm + fs.washer_mm("M8")[2], True, "tool flange")
+            screw = fs.cap_screw(
+                "M8", plate_mm + fs.washer_mm("M8")[2], True, "tool flange", ADAPTER_MM
+            )
             return {
                 "pattern": tried[-1],
                 "pitch_circle_mm": d1,
