@@ -67,7 +67,7 @@ def test_no_label_overlaps_another_and_the_openings_are_drawn() -> None:
     )
     fig = drawing_figure(short, built)
     assert text_overlaps(fig) == []
-    assert "1 optimised openings" in fig.axes[0].get_title(loc="left")
+    assert "1 hole besides the joint bores" in fig.axes[0].get_title(loc="left")
     patch = fig.axes[0].patches[0]
     assert len(patch.get_path().to_polygons()) == 1 + 2 + 1  # outline, bores A and B, opening
     plt.close(fig)

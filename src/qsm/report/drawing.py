@@ -142,7 +142,10 @@ def _draw_link(ax: plt.Axes, name: str, part: LinkPart, d: np.ndarray) -> None:
     notes = "\n".join(_joint_note(b) for b in sorted(part.bores, key=lambda b: b.centre_m[0]))
     ax.text(0.01, 0.02, notes, transform=ax.transAxes, fontsize=6.5, va="bottom", ha="left")
     holes = len(part.polygon.interiors) - sum(b.diameter_m > 0 for b in part.bores)
-    openings = f"; {holes} optimised openings" if holes > 0 else ""
+    plural = "s" if holes > 1 else ""
+    openings = (
+        f"; {holes} hole{plural} besides the joint bores (openings, hub screws)" if holes else ""
+    )
     ax.set_title(
         f"{name}: section width {mm(part.section.width_m)} x thickness "
         f"{mm(part.section.thickness_m)} mm{openings}",
