@@ -175,7 +175,20 @@ def test_a_hub_s_key_bears_over_its_engaged_length_less_its_width():
     engaged = min(drive.shaft_length_mm, 30.0 + jt.FLANGE_MM)
     by_hand = 2 * 12e3 / (drive.shaft_d_mm * 0.4 * drive.key_h_mm * (engaged - drive.key_w_mm))
     assert hub["key"]["pressure_MPa"] == pytest.approx(by_hand)
-    # the screws keep two diameters from the boss's edge and bear T / (6 r d t)
-    d = float(screws["thread"][1:])
-    assert screws["pcd_mm"] / 2 == pytest.approx(40.0 - 2 * d)
-    assert screws["bearing_MPa"] == pytest.approx(12e3 / (6 * screws["pcd_mm"] / 2 * d * 30.0))
+    # the inserts' holes keep two diameters from the boss's edge and bear T / (6 r D L)
+    length, hole, _ = fs.insert(screws["thread"])
+    assert screws["pcd_mm"] / 2 == pytest.approx(40.0 - 2 * hole)
+    r = screws["pcd_mm"] / 2
+    assert screws["bearing_MPa"] == pytest.approx(12e3 / (6 * r * hole * length))
+    # the screw ends within its insert: no more than the flange, washer and insert
+    screw_length = float(screws["screw"].designation.split()[-1])
+    grip = jt.FLANGE_MM + fs.washer_mm(screws["thread"])[2]
+    assert grip + 1.5 * float(screws["thread"][1:]) <= screw_length <= grip + length
+
+
+def test_the_distance_to_a_link_s_spine_by_hand():
+    from qsm.realization.kit import segment_distance
+
+    a, b = np.array([0.0, 0.0]), np.array([100.0, 0.0])
+    points = np.array([[50.0, 30.0], [-30.0, 40.0], [130.0, 0.0]])
+    assert segment_distance(points, a, b) == pytest.approx([30.0, 50.0, 30.0])

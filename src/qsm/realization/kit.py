@@ -118,20 +118,81 @@ def _drive_name(drive: dict[str, Any]) -> str:
     return f"{drive['motor']} + {drive['gearbox']}" if drive else "no drive"
 
 
-def lowest_point_mm(done: Realization, parts: dict[str, LinkPart], s: KitSettings) -> float:
-    """How far (mm) below A any link reaches over the operating range (a 61 x 61 grid)."""
+def _sweep(done: Realization, s: KitSettings) -> dict[str, np.ndarray]:
+    """The joints' positions (mm, (61, 61, 2)) over the operating range (a 61 x 61 grid of
+    the motors' angles), NaN where the loop does not close."""
     t1 = np.radians(np.linspace(*s.theta1_deg, 61))[:, None]
     frac = np.linspace(0.0, 1.0, 61)[None, :]
     t2 = np.radians(s.theta2_min_deg) + frac * (t1 - np.radians(s.theta2_min_deg))
     t1 = np.broadcast_to(t1, t2.shape)
     p = pose(done.design, t1, t2)
     ok = p.closes[..., None]
-    joints = {
+    return {
         "A": np.zeros((*t1.shape, 2)),
-        **{j: np.where(ok, getattr(p, j), np.nan) for j in "BCDE"},
+        **{j: 1e3 * np.where(ok, getattr(p, j), np.nan) for j in "BCDE"},
     }
-    radii = {n: {b.joint: 1e3 * b.boss_radius_m for b in part.bores} for n, part in parts.items()}
-    return bs.lowest_point_mm(joints, radii)
+
+
+def _radii(parts: dict[str, LinkPart]) -> dict[str, dict[str, float]]:
+    """Each link's boss radius (mm) at each of its joints."""
+    return {n: {b.joint: 1e3 * b.boss_radius_m for b in p.bores} for n, p in parts.items()}
+
+
+def lowest_point_mm(done: Realization, parts: dict[str, LinkPart], s: KitSettings) -> float:
+    """How far (mm) below A any link reaches over the operating range."""
+    joints = {j: v * (1e-3 if j != "A" else 1.0) for j, v in _sweep(done, s).items()}
+    return bs.lowest_point_mm(joints, _radii(parts))
+
+
+#: What stands out of a plate into a neighbour's layer at a pin (the side the pin's head or nut
+#: is on, :mod:`qsm.embodiment.kit.joints`): (joint, head or nut, the link whose layer it is in).
+PROTRUSIONS = (
+    ("B", "head", "coupler"),
+    ("D", "head", "lower_arm"),
+    ("D", "nut", "crank"),
+    ("C", "head", "upper_arm"),
+)
+#: Each link's spine: the joints whose segments, widened by its largest boss, hold it.
+SPINES = {"lower_arm": ("AB",), "crank": ("AC",), "coupler": ("CD",), "upper_arm": ("DB", "BE")}
+
+
+def segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Distance (mm) from points ``p`` to segments ``a``-``b`` (..., 2)."""
+    ab, ap = b - a, p - a
+    t = np.clip((ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-12), 0.0, 1.0)
+    return np.linalg.norm(ap - t[..., None] * ab, axis=-1)
+
+
+def clearances(
+    done: Realization, parts: dict[str, LinkPart], pins: dict[str, Any], s: KitSettings
+) -> list[dict[str, Any]]:
+    """For each pin's head or nut that stands into a neighbour's layer (:data:`PROTRUSIONS`),
+    its least distance (mm) over the operating range from that link (the segments of its spine
+    widened by its largest boss), against the head's or the nut's and washer's radius and
+    1 mm."""
+    joints, radii = _sweep(done, s), _radii(parts)
+    out = []
+    for joint, end, link in PROTRUSIONS:
+        pin = pins[joint]
+        thread = pin["nut"].split()[-1]
+        if end == "head" and pin["screw"]:
+            size = fs.shoulder_head_mm(pin["shoulder_d_mm"])[0] / 2
+        else:  # a nut on its washer (a made pin has a nut at each end)
+            size = max(fs.nut_across_corners_mm(thread), fs.washer_mm(thread)[1]) / 2
+        gap = np.min(
+            [segment_distance(joints[joint], joints[a], joints[b]) for a, b in SPINES[link]], axis=0
+        ) - max(radii[link].values())
+        least = float(np.nanmin(gap))
+        out.append(
+            {
+                "what": f"pin {joint}'s {end}",
+                "into": link,
+                "clearance_mm": least,
+                "needed_mm": size + 1.0,
+                "holds": least >= size + 1.0,
+            }
+        )
+    return out
 
 
 def _bearing(done: Realization, joint: str) -> dict[str, Any]:
@@ -173,15 +234,16 @@ def _stack(
 ) -> dict[str, float]:
     """The plates' z (mm) from cheek 1's inner face (the arrangement of
     :mod:`qsm.embodiment.kit.base`), each link's offset from its cheek's face, and the gap
-    between a cheek and its link: a hub's flange and its screws' washer, nut and rod end."""
+    between a cheek and its link: a hub's flange and its screws' washers and heads."""
     t = {n: 1e3 * p.section.thickness_m for n, p in parts.items()}
     spacer = {j: fs.washer_mm(p["spacer"].split()[-1])[2] for j, p in pins.items()}
-    ends = [
-        fs.washer_mm(s["thread"])[2] + fs.nut_height_mm(s["thread"]) + 2.0
+    heads = [
+        fs.washer_mm(s["thread"])[2] + fs.screw_head_mm(s["thread"])[1] + 2.0
         for s in screws
         if s["thread"]
     ]
-    gap = jt.FLANGE_MM + max([10.0, *ends])
+    gap = jt.FLANGE_MM + max([10.0, *heads])  # the hub's flange and its screws' heads
+
     z = {"lower_arm": gap}
     z["upper_arm"] = z["lower_arm"] + t["lower_arm"] + spacer["B"]
     z["coupler"] = z["upper_arm"] + t["upper_arm"] + spacer["D"]
@@ -281,25 +343,33 @@ def _hubs(
 
 
 def with_hub_holes(parts: dict[str, LinkPart], hubs: list[dict[str, Any]]) -> dict[str, LinkPart]:
-    """``parts`` with each hub's six screw holes (ISO 273 medium clearance) cut into its link
-    around A, on the hub's bolt circle, the first at 30 degrees from the link's axis."""
+    """``parts`` with each hub's six holes for its heat-set inserts cut into its link around A,
+    on the hub's bolt circle, the first at 30 degrees from the link's axis."""
     out = dict(parts)
     for link, hub in zip(HUB_LINKS, hubs, strict=True):
         s = hub["link_screws"]
         if not s["thread"]:
             continue
         part = parts[link]
-        holes = kl.bolt_circle(s["pcd_mm"], jt.HUB_SCREWS, bs.clearance_hole_mm(s["thread"]), 30)
+        holes = kl.bolt_circle(s["pcd_mm"], jt.HUB_SCREWS, s["hole_mm"], 30)
         cut = shapely.union_all([shapely.Polygon(np.asarray(h) * 1e-3) for h in holes])
         out[link] = LinkPart(link, part.polygon.difference(cut), part.bores, part.section)
     return out
 
 
 def _checks(
-    pins: dict[str, Any], hubs: list[dict], cheeks: list[dict], table: dict, flange: dict
+    pins: dict[str, Any],
+    hubs: list[dict],
+    cheeks: list[dict],
+    table: dict,
+    flange: dict,
+    clear: list[dict],
 ) -> dict[str, bool]:
     """Whether each of the kit's checks holds."""
     out = {f"pin {j}": bool(p["holds"]) for j, p in pins.items()}
+    out |= {
+        f"{c['what']} clears the {c['into'].replace('_', ' ')}": bool(c["holds"]) for c in clear
+    }
     out |= {f"hub {h['motor']}": bool(h["holds"]) for h in hubs}
     for c in cheeks:
         out[f"cheek {c['motor']}"] = bool(c["holds"])
@@ -310,10 +380,20 @@ def _checks(
 
 
 def _problems(
-    pins: dict[str, Any], hubs: list[dict], cheeks: list[dict], table: dict, flange: dict
+    pins: dict[str, Any],
+    hubs: list[dict],
+    cheeks: list[dict],
+    table: dict,
+    flange: dict,
+    clear: list[dict],
 ) -> list[str]:
     """Each of the kit's failing checks, with its numbers."""
     out = [
+        f"{c['what']} comes within {c['clearance_mm']:.1f} mm of the "
+        f"{c['into'].replace('_', ' ')}'s layer ({c['needed_mm']:.1f} mm needed)"
+        for c in clear
+        if not c["holds"]
+    ] + [
         f"the pin of joint {j} ({p['shoulder_d_mm']:g} mm) reaches a safety factor of "
         f"{p['safety_factor']:.2f} ({p['required_safety_factor']:g} required), or needs "
         f"{p['printed_bearing_length_mm']:.1f} mm of printed bore"
@@ -375,11 +455,13 @@ def builders_kit(
     angles = kl.working_pose(done.design, settings.theta1_deg, settings.theta2_min_deg)
     geometry = kl.kit_geometry(done.design, holed, stack, cheeks, drives, hubs, flange, angles)
     lines = kb.fastener_lines(pins, hubs, cheeks, drives, flange, table)
-    checks = _checks(pins, hubs, cheeks, table, flange)
+    clear = clearances(done, parts, pins, settings)
+    checks = _checks(pins, hubs, cheeks, table, flange, clear)
     record = {
         "holds": all(checks.values()),
         "checks": checks,
-        "problems": _problems(pins, hubs, cheeks, table, flange),
+        "problems": _problems(pins, hubs, cheeks, table, flange, clear),
+        "clearances": clear,
         "not_checked": [h["output_bearing"]["note"] for h in hubs],
         "drives": [_interface_record(d) for d in drives],
         "pins": pins,

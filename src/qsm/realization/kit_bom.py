@@ -46,16 +46,20 @@ def _pin_lines(pins: dict[str, Any]) -> list[tuple[str, int, str]]:
 
 
 def _hub_lines(hub: dict[str, Any], iface: Any) -> list[tuple[str, int, str]]:
-    """A hub's screws to its link (with washers and nuts) and its drive's key or flange
-    screws."""
+    """A hub's screws to its link (with washers, into heat-set inserts) and its drive's key or
+    flange screws."""
     k, screws = hub["motor"], hub["link_screws"]
     lines: list[tuple[str, int, str]] = []
     if screws["screw"]:
         th = screws["thread"]
         lines += screw_lines(screws["screw"], jt.HUB_SCREWS, f"hub {k} to the {hub['link']}")
         lines += [
-            (f"ISO 7089 {th}", 2 * jt.HUB_SCREWS, f"hub {k}: under heads and nuts"),
-            (f"ISO 10511 {th}", jt.HUB_SCREWS, f"hub {k}"),
+            (f"ISO 7089 {th}", jt.HUB_SCREWS, f"hub {k}: under the heads"),
+            (
+                f"{screws['insert']} heat-set insert",
+                jt.HUB_SCREWS,
+                f"hub {k}: in the {hub['link']}, from the hub's side",
+            ),
         ]
     if iface.output == "shaft":
         key = hub["key"]
@@ -120,11 +124,15 @@ def fastener_rows(lines: list[tuple[str, int, str]]) -> list[dict[str, Any]]:
 def _category(name: str) -> str:
     if name.startswith("made"):
         return "made part"
+    if name.endswith("insert"):
+        return "insert"
     return "key" if name.startswith("DIN 6885") else "fastener"
 
 
 def _fastener_material(name: str) -> str:
     standard = " ".join(name.split()[:2])
+    if standard.startswith("Ruthex"):
+        return "brass"
     return {
         "ISO 4762": "steel 8.8",
         "ISO 7379": "steel 12.9",

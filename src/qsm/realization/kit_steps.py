@@ -66,8 +66,10 @@ def assembly_steps(
         "joins (the pins' check takes them there): "
         + ", ".join(f"{b['designation']} at {j}" for j, b in bearings.items() if j != "A")
         + ".",
-        f"Bolt the lower arm to hub 1, its bore at A on the hub's spigot: "
-        f"{_named(lines, 'hub 1 to the')}, with washers and nuts.",
+        f"Press the hubs' heat-set inserts into the lower arm and the crank from the face "
+        f"toward their cheeks ({_named(lines, 'hub 1: in the')}, {_named(lines, 'hub 2: in the')})"
+        f"; bolt the lower arm to hub 1, its bore at A on the hub's spigot: "
+        f"{_named(lines, 'hub 1 to the')}, with washers.",
         f"Join the upper arm to the lower arm at B: {pin('B')}.",
         f"Join the coupler to the upper arm at D: {pin('D')}.",
         f"Join the crank to the coupler at C: {pin('C')}.",

@@ -146,3 +146,19 @@ def shoulder_head_mm(shoulder_d_mm: float) -> tuple[float, float]:
     """Head diameter and height (mm) of the ISO 7379 screw of ``shoulder_d_mm``."""
     row = _row("iso7379", "shoulder_d_mm", f"{shoulder_d_mm:g}")
     return float(row["head_d_mm"]), float(row["head_h_mm"])
+
+
+def insert(thread: str) -> tuple[float, float, str]:
+    """The heat-set insert of ``thread``: length, hole diameter (mm) and designation."""
+    row = _row("inserts", "thread", thread)
+    return float(row["length_mm"]), float(row["hole_mm"]), row["designation"]
+
+
+def insert_threads() -> list[str]:
+    """The threads of the insert table, smallest first."""
+    return [row["thread"] for row in table("inserts")]
+
+
+def nut_across_corners_mm(thread: str) -> float:
+    """Across corners (mm) of the ISO 10511 nut of ``thread``: its across flats / cos 30."""
+    return float(_row("iso10511", "thread", thread)["across_flats_mm"]) / math.cos(math.pi / 6)

@@ -11,10 +11,13 @@ that length. Bending ``32 F a / (pi d^3)`` and shear ``4 F / (pi d^2)`` (von Mis
 ``sqrt(3)``) must stay within the screw's yield over the required safety factor.
 
 **Hubs (A).** A steel hub (C45, :data:`HUB_YIELD_MPA`) per drive: a flange bolted to its link,
-which it centres with a spigot in the link's bore at A, by six screws (through, with nuts) on the
+which it centres with a spigot in the link's bore at A, by six screws on the
 largest bolt circle that keeps each hole :data:`EDGE_DISTANCE` diameters from the boss's edge,
-and a boss that reaches through the cheek to the drive. The screws carry the drive's peak torque
-in bearing on the printed plate: ``T / (6 r d t)`` within the link material's allowable. A shaft
+and a boss that reaches through the cheek to the drive. The screws come from the hub's side
+into heat-set inserts pressed into the link, so nothing stands out of its far face (where the
+coupler passes over A); the inserts carry the drive's peak torque in bearing on the printed
+plate: ``T / (6 r D L)`` within the link material's allowable, D and L the insert's hole and
+length. A shaft
 output drives the hub through a DIN 6885 form A key (pressure ``2 T / (d (h - t1) (l - b))``
 with ``h - t1 = 0.4 h`` in the hub and l the shaft's length in the hub, within the hub's yield
 over the safety factor); a flange output is bolted to the hub's boss with its own pattern, the
@@ -131,30 +134,38 @@ def _spacer(shoulder_d_mm: float) -> tuple[float, float, float, str]:
 
 
 def hub_screws(plate: Plate, spigot_mm: float, torque_Nm: float) -> dict[str, Any]:
-    """The smallest thread of six screws, on the largest bolt circle that keeps each hole
-    :data:`EDGE_DISTANCE` diameters from the edge of ``plate``'s boss (and clear of a spigot of
-    ``spigot_mm``), whose bearing on the printed plate carries ``torque_Nm``; the last tried
-    when none does (``holds`` False)."""
+    """The smallest thread of six screws from the hub's side into heat-set inserts in
+    ``plate`` (nothing stands out of its far face), on the largest bolt circle that keeps each
+    insert's hole :data:`EDGE_DISTANCE` diameters from the edge of the boss (and clear of a
+    spigot of ``spigot_mm``), whose inserts carry ``torque_Nm`` in bearing on the printed
+    plate, ``T / (6 r D L)`` (D, L the insert's hole and length); the last tried when none does
+    (``holds`` False)."""
     result: dict[str, Any] = {
         "thread": "",
         "pcd_mm": 0.0,
         "bearing_MPa": math.inf,
         "screw": None,
+        "insert": None,
+        "hole_mm": 0.0,
         "holds": False,
     }
-    for thread in fs.threads()[1:]:
-        d = float(thread[1:])
-        r = plate.boss_mm - EDGE_DISTANCE * d
-        if r - d < spigot_mm / 2 + 2.0:
+    for thread in fs.insert_threads():
+        length, hole, name = fs.insert(thread)
+        r = plate.boss_mm - EDGE_DISTANCE * hole
+        if r - hole < spigot_mm / 2 + 2.0 or length > plate.thickness_mm - 1.0:
             break
-        bearing = torque_Nm * 1e3 / (HUB_SCREWS * r * d * plate.thickness_mm)
-        grip = plate.thickness_mm + FLANGE_MM + fs.washer_mm(thread)[2]  # washer under the head
-        screw = fs.cap_screw(thread, grip, False, "hub to link")
+        bearing = torque_Nm * 1e3 / (HUB_SCREWS * r * hole * length)
+        grip = FLANGE_MM + fs.washer_mm(thread)[2]  # the hub's flange and the head's washer
+        screw = fs.cap_screw(thread, grip, True, "hub to link", length)
+        if screw.standard != "ISO 4762":  # no cap screw ends within the insert: a larger one
+            continue
         result = {
             "thread": thread,
             "pcd_mm": 2 * r,
             "bearing_MPa": bearing,
             "screw": screw,
+            "insert": name,
+            "hole_mm": hole,
             "holds": bearing <= plate.allowable_MPa,
         }
         if result["holds"]:
