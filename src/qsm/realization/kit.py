@@ -403,6 +403,11 @@ def _problems(
     for hub in hubs:
         if not hub["has_drive"]:
             out.append(f"motor {hub['motor']} has no drive, so hub {hub['motor']} is not sized")
+        elif not hub["link_screws"]["thread"]:
+            out.append(
+                f"no heat-set insert and screw fit the {hub['link'].replace('_', ' ')}'s "
+                f"boss at A for hub {hub['motor']}"
+            )
         elif not hub["holds"]:
             out.append(f"hub {hub['motor']} does not carry {hub['peak_torque_Nm']:.1f} N m")
     out += [

@@ -40,7 +40,11 @@ def _joint_rows(kit: Mapping[str, Any]) -> list[str]:
         )
     for h in kit["hubs"]:
         s = h["link_screws"]
-        text = f"6 x {s['thread']} on {s['pcd_mm']:.0f} mm, {s['bearing_MPa']:.1f} MPa bearing"
+        text = (
+            f"6 x {s['thread']} on {s['pcd_mm']:.0f} mm, {s['bearing_MPa']:.1f} MPa bearing"
+            if s["thread"]
+            else "no insert and screw fit the boss at A"
+        )
         key = h.get("key_safety_factor")
         sf = f"key {key:.1f}" if key is not None else "the drive's flange pattern"
         rows.append(f"| A (hub {h['motor']}) | {text} | {h['peak_torque_Nm']:.1f} N m | {sf} |")

@@ -156,8 +156,9 @@ def hub_screws(plate: Plate, spigot_mm: float, torque_Nm: float) -> dict[str, An
             break
         bearing = torque_Nm * 1e3 / (HUB_SCREWS * r * hole * length)
         grip = FLANGE_MM + fs.washer_mm(thread)[2]  # the hub's flange and the head's washer
-        screw = fs.cap_screw(thread, grip, True, "hub to link", length)
-        if screw.standard != "ISO 4762":  # no cap screw ends within the insert: a larger one
+        # the screw runs through its insert and on into the hole, short of the far face
+        screw = fs.cap_screw(thread, grip, True, "hub to link", plate.thickness_mm - 1.0)
+        if screw.standard != "ISO 4762" or length < fs.TAPPED_ENGAGEMENT * float(thread[1:]):
             continue
         result = {
             "thread": thread,
