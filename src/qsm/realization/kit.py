@@ -57,8 +57,8 @@ class KitSettings:
     of it)."""
 
     tool_offset_m: float = default("kit.tool_offset_m")
-    theta1_deg: tuple[float, float] = (45.0, 180.0)
-    theta2_min_deg: float = -37.5
+    theta1_deg: tuple[float, float] = default("operating_range.theta1_deg")
+    theta2_min_deg: float = default("operating_range.theta2_min_deg")
     catalogue: str | None = None
     tolerance_mm: float = default("task.tolerance_mm")
 

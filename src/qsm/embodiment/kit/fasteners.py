@@ -109,11 +109,6 @@ def screw_yield_N(thread: str) -> float:
     return float(row["stress_area_mm2"]) * float(row["yield_MPa"])
 
 
-def threads() -> list[str]:
-    """The ISO 4762 threads of the table, smallest first."""
-    return [row["thread"] for row in table("iso4762")]
-
-
 def shoulder_screw(shoulder_d_mm: float, grip_mm: float, purpose: str) -> Fastener | None:
     """The ISO 7379 shoulder screw of shoulder ``shoulder_d_mm`` whose shoulder spans
     ``grip_mm``; None where the table has no such shoulder or no shoulder that long."""
