@@ -29,6 +29,7 @@ from typing import Any
 import pandas as pd
 import yaml
 
+from qsm.embodiment.drives.selection import drive_of
 from qsm.realization.accuracy_budget import TERMS
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -157,9 +158,9 @@ def drives_of(report: dict[str, Any]) -> dict[str, Any]:
     """Each motor's drive (or the nearest, marked) from a selected.json ``drives`` report."""
     out: dict[str, Any] = {"has_drives": report.get("has_drives")}
     for key, m in report.get("motors", {}).items():
-        d = m.get("drive") or m.get("best_drive")
+        d = drive_of(m)
         out[key] = {
-            "name": f"{d['motor']} + {d['gearbox']}" + ("" if m["has_drive"] else " (NONE)"),
+            "name": f"{d['motor']} + {d['gearbox']}" + ("" if d["chosen"] else " (NONE)"),
             "ratio": d["ratio"],
             "mass_kg": d["mass_kg"],
         }

@@ -21,6 +21,7 @@ rule select_design:
         ),
     output:
         choice=f"{REAL}/choice.json",
+        machine=f"{REAL}/machine.json",  # the realised machine: later rules never realise again
         figure=report(
             f"{RESULTS}/figures/selected_design.png",
             caption="../report/selected_design.rst",
@@ -49,7 +50,7 @@ rule select_design:
 
 rule topology_optimize:
     input:
-        selected=rules.select_design.output.choice,
+        machine=rules.select_design.output.machine,
     output:
         torques=f"{REAL}/torques.json",
         table=f"{REAL}/torques.md",  # in the report as a page (rule markdown_pages)
@@ -151,6 +152,7 @@ rule payload_test:
 rule cycle_time:
     input:
         choice=rules.select_design.output.choice,
+        machine=rules.select_design.output.machine,
         links=rules.topology_optimize.output.links,
         topology=rules.topology_optimize.output.topology,
         kit=rules.topology_optimize.output.kit,
@@ -188,6 +190,7 @@ rule cycle_time:
 rule accuracy_budget:
     input:
         choice=rules.select_design.output.choice,
+        machine=rules.select_design.output.machine,
         links=rules.topology_optimize.output.links,
         topology=rules.topology_optimize.output.topology,
         kit=rules.topology_optimize.output.kit,

@@ -4,8 +4,8 @@ import json
 from pathlib import Path
 
 from qsm.config.settings import links, realization
+from qsm.realization.machine import realization_from_record
 from qsm.realization.outputs import props_from_json
-from qsm.realization.pipeline import realize
 from qsm.report.accuracy_report import accuracy_figure, final_record
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
@@ -21,7 +21,7 @@ with logged(snakemake.log[0]) as log:
     settings = realization.realization(
         case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
     )
-    done = realize(choice["design_m"], settings)
+    done = realization_from_record(json.loads(Path(inp.machine).read_text()), settings)
     base = json.loads(Path(inp.kit).read_text())["base"]["tool_error_mm"]  # the kit's cheeks
     parts = (topology, props)
     record = final_record(choice, done, parts, payload, settings, p.task_points, cycle, base)

@@ -6,8 +6,8 @@ from pathlib import Path
 from qsm.config.settings import links, realization, simulation
 from qsm.physics.task_points import TaskCycle
 from qsm.realization.accuracy_budget import largest_load_N
+from qsm.realization.machine import realization_from_record
 from qsm.realization.outputs import props_from_json
-from qsm.realization.pipeline import realize
 from qsm.report.accuracy_report import measured_budget
 from qsm.report.cycle_report import cycle_figure, run_cycle, trajectory_table
 from qsm.workflow.json_files import write_json
@@ -24,7 +24,7 @@ with logged(snakemake.log[0]) as log:
     settings = realization.realization(
         case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
     )
-    done = realize(choice["design_m"], settings)
+    done = realization_from_record(json.loads(Path(inp.machine).read_text()), settings)
     (lo, hi), theta2_min = case.operating_range_deg
     op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
     test = simulation.payload_test(p.payload_test, case.payload_kg, op)

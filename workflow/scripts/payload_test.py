@@ -6,6 +6,7 @@ import numpy as np
 
 from qsm.config.settings import actuation, physics, simulation
 from qsm.embodiment.drives.envelope import OutputEnvelope
+from qsm.embodiment.drives.selection import drive_of
 from qsm.realization.outputs import props_from_json
 from qsm.realization.payload import payload_test
 from qsm.report.payload_report import (
@@ -32,11 +33,9 @@ with logged(snakemake.log[0]) as log:
     catalogue = actuation.catalogue(p.drives)
     drives = []
     for j, m in selected["drives"]["motors"].items():  # the chosen drive, or the nearest
-        d = m.get("drive") or m["best_drive"]
+        d = drive_of(m)
         drives.append(OutputEnvelope.of(catalogue, d["motor_key"], d["gearbox_key"]))
-        log.info(
-            "%s: %s%s", j, drives[-1].name, "" if m["has_drive"] else " (NOT meeting its duty)"
-        )
+        log.info("%s: %s%s", j, drives[-1].name, "" if d["chosen"] else " (NOT meeting its duty)")
     result = payload_test(
         design, p.task_points, physics.cad(p.cad, p.material), props, test_settings, drives
     )

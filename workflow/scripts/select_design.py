@@ -5,6 +5,7 @@ from qsm.config.settings import links, physics, realization
 from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import ok_rows
 from qsm.physics.kinematics import DESIGN_COLUMNS
+from qsm.realization.machine import machine_record
 from qsm.report.selection_record import selected_figure, selected_record
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
@@ -26,7 +27,7 @@ with logged(snakemake.log[0]) as log:
         case, p.strength, p.drives, p.task, p.motion, p.task_points, p.printing["build_volume_mm"]
     )
     volume = tuple(p.printing["build_volume_mm"])
-    record = selected_record(
+    record, done = selected_record(
         fronts, p.primary, dataset, rule, volume, p.task_points, p.user_points, op, settings
     )
     if record["task"]["mirrored"]:
@@ -36,5 +37,6 @@ with logged(snakemake.log[0]) as log:
     if not (record["printable"] and record["holds_loads"] and record["drives"]["has_drives"]):
         log.warning(record["verdict"])
     write_json(out.choice, record)
+    write_json(out.machine, machine_record(done))  # every later rule reads it: realised once
     selected_figure(record, rule, op, p.task_points, out.figure)
     log.info("selected %s: %s", record["design_m"], record["verdict"])

@@ -2,11 +2,12 @@
 bill of materials), torques again."""
 
 import json
+from pathlib import Path
 
 from qsm.config.settings import links, plates, realization
 from qsm.realization.build import build_links
+from qsm.realization.machine import realization_from_record
 from qsm.realization.outputs import props_to_json, torques_markdown
-from qsm.realization.pipeline import realize
 from qsm.report.drawing import draw_links
 from qsm.report.topology_figure import plot_links
 from qsm.workflow.json_files import write_json
@@ -14,14 +15,13 @@ from qsm.workflow.logs import logged
 
 with logged(snakemake.log[0]) as log:
     p = snakemake.params
+    inp = snakemake.input
     out = snakemake.output
-    with open(snakemake.input.selected) as fh:
-        selected = json.load(fh)
     case = links.load_case(p.load_case)
     settings = realization.realization(
         case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
     )
-    done = realize(selected["design_m"], settings)
+    done = realization_from_record(json.loads(Path(inp.machine).read_text()), settings)
     folder = out.bom_csv.rsplit("/", 1)[0]
     topo = plates.topology(p.topology, p.load_case["material"], p.strength)
     volume = tuple(p.build_volume_mm)

@@ -13,6 +13,9 @@ Stage 1 does), or in Python :func:`export`. The folder holds:
   (:func:`qsm.optimization.verify.verify_design`: containment of the task at its own scale, eta,
   the MuJoCo peak torques over the duty), its printability per link and, for a front or dataset
   design, the run's own values beside;
+* ``machine.json``: the realised machine (:func:`qsm.realization.machine.machine_record`),
+  built as the workflow builds its ``realization/machine.json``: the same design under the same
+  config gives the same record;
 * ``design.png``: the design with its workspace, task and link outlines;
 * ``README.md``: these files in words.
 
@@ -43,6 +46,8 @@ from qsm.app.locate import (
 )
 from qsm.config.reading import load_config, validate_config
 from qsm.config.settings import actuation, physics, realization
+from qsm.embodiment.drives.selection import drive_of
+from qsm.realization.machine import machine_record
 from qsm.embodiment.parts.link_parts import part_meshes
 from qsm.embodiment.parts.printing import link_printability
 from qsm.optimization.verify import verify_design
@@ -156,6 +161,7 @@ def export_design(
         scale,
     )
     write_json(folder / "design.json", record)
+    write_json(folder / "machine.json", machine_record(done))  # the workflow's record, the same way
     (folder / "README.md").write_text(export_readme(record, title))
     return record
 
@@ -314,7 +320,7 @@ def _drive_efforts(drives: Mapping[str, Any], config: Mapping[str, Any]) -> list
         if m is None:
             out.append(0.0)
             continue
-        d = m.get("drive") or m["best_drive"]
+        d = drive_of(m)
         env = OutputEnvelope.of(cat, d["motor_key"], d["gearbox_key"])
         out.append(float(env.limit(1.0, 0.0)))
     return out

@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.config.defaults import default
 from qsm.embodiment.drives.compliance import ARCMIN_RAD
+from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.stiffness.error_terms import (
     lost_motion_m,
     payload_force_N,
@@ -98,7 +99,7 @@ def drive_terms(drives: dict[str, Any]) -> tuple[NDArray, NDArray, NDArray, NDAr
     one)."""
     k, play, ref, mass, notes = [], [], [], [], {}
     for name, motor in drives.get("motors", {}).items():
-        d = motor.get("drive") or motor.get("best_drive") or {}
+        d = drive_of(motor)
         k.append(float(d.get("torsional_stiffness_Nm_rad", math.inf)))
         play.append(float(d.get("backlash_arcmin", 0.0)) * ARCMIN_RAD)
         ref.append(float(d.get("reflected_inertia_kgm2", 0.0)))

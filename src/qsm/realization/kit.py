@@ -20,6 +20,7 @@ import numpy as np
 import shapely
 
 from qsm.config.defaults import default
+from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.kit import base as bs
 from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import joints as jt
@@ -99,7 +100,7 @@ def _drives(done: Realization, settings: KitSettings) -> list[dict[str, Any]]:
         peak = float(motor.get("required", {}).get("peak_torque_Nm", 0.0))
         if motion.get("defined"):
             peak = max(peak, float(motion["peak_torque_Nm"][k - 1]))
-        drive = motor.get("drive") or {}
+        drive = drive_of(motor)  # the chosen, else the nearest: the drive every output names
         key = drive.get("gearbox_key", f"motor {k}: no drive")
         iface = interface_of(key, peak, settings.catalogue)
         out.append(
@@ -108,7 +109,7 @@ def _drives(done: Realization, settings: KitSettings) -> list[dict[str, Any]]:
                 "mass_kg": float(drive.get("mass_kg", 0.0)),
                 "peak_torque_Nm": peak,
                 "name": _drive_name(drive),
-                "has_drive": bool(motor.get("has_drive")) and bool(drive),
+                "has_drive": bool(drive.get("chosen")),
             }
         )
     return out

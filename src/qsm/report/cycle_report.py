@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from qsm.embodiment.drives.catalogue import Catalogue
 from qsm.embodiment.drives.envelope import OutputEnvelope
-from qsm.embodiment.drives.selection import offer
+from qsm.embodiment.drives.selection import drive_of, offer
 from qsm.embodiment.drives.utilization import DriveArrays
 from qsm.embodiment.strength.loads import Inertials
 from qsm.physics.cad import MassProperties
@@ -294,7 +294,7 @@ def run_cycle(
     that keeps the tool within the tolerance): its record, the checked cycle (None, and the
     record says why, where no cycle can be planned) and the arm it was planned for."""
     catalogue = settings.drives.catalogue
-    keys = [(m.get("drive") or m["best_drive"]) for m in done.drives["motors"].values()]
+    keys = [drive_of(m) for m in done.drives["motors"].values()]
     drives = [OutputEnvelope.of(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys]
     rows = np.array([_drive_row(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys])
     continuous = np.array([offer(catalogue)[i]["cont_torque_Nm"] for i in rows])

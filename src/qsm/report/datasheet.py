@@ -16,6 +16,8 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from qsm.embodiment.drives.selection import drive_of
+
 #: Volumetric printing rate (mm^3/s) of the print-time rule.
 PRINT_RATE_MM3_S = 10.0
 #: Setup time (min) per printed part of the print-time rule (heating, first layer).
@@ -55,7 +57,7 @@ def _machine_rows(selected: Mapping[str, Any], parts: pd.DataFrame) -> list[str]
     reach = d[0] + float(np.hypot(d[4], d[5]))
     points = np.asarray(selected["task"]["points_m"], dtype=float)
     motors = selected["drives"]["motors"]
-    drives = [m.get("drive") or m["best_drive"] for m in motors.values()]
+    drives = [drive_of(m) for m in motors.values()]
     link_kg = float(parts["filament_g"].sum()) / 1e3
     drive_kg = sum(float(x["mass_kg"]) for x in drives)
     bearings = ", ".join(f"{j} {b['designation'] or 'none fits'}"

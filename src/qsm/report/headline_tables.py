@@ -7,6 +7,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
+from qsm.embodiment.drives.selection import drive_of
 from qsm.report.drive_text import drive_sentences
 
 
@@ -29,14 +30,14 @@ def drive_rows(drives: Mapping[str, Any]) -> list[str]:
     """One row per motor of ``selected.json``'s ``drives``: the drive and what it must do."""
     rows = []
     for key, m in drives.get("motors", {}).items():
-        d = m.get("drive") or m["best_drive"]
+        d = drive_of(m)
         r = m["required"]
         margins = ", ".join(
             f"{k.replace('_', ' ')} {100 * v:.0f} %" for k, v in m["margins"].items()
         )
         rows.append(
             f"| {key.removeprefix('motor')} ({m['drives']}) | {d['motor']} + {d['gearbox']}"
-            f"{'' if m['has_drive'] else ' (NONE meets the duty: nearest)'} | {d['ratio']:.4g} "
+            f"{'' if d['chosen'] else ' (NONE meets the duty: nearest)'} | {d['ratio']:.4g} "
             f"| {d['mass_kg']:.2f} | {r['peak_torque_Nm']:.1f} | {r['rms_torque_Nm']:.1f} "
             f"| {r['peak_speed_rad_s']:.2f} | {r['peak_power_W']:.0f} | {margins} |"
         )

@@ -105,12 +105,12 @@ def selected_record(
     user_points: Sequence[Sequence[float]],
     op: OperatingRange,
     settings: RealizationSettings,
-) -> dict[str, Any]:
+) -> tuple[dict[str, Any], Realization]:
     """The design chosen by ``rule`` from the fronts (``primary`` first) or the dataset
-    (:func:`qsm.realization.choice.choose_design`), realised (:func:`realize`), as the record
-    of ``selected.json``: its row, how it was found, the task (the user's points; the design's
-    are ``task_points``), the clearance (m), strength, drives, the advice where a check fails,
-    and the verdict."""
+    (:func:`qsm.realization.choice.choose_design`), realised (:func:`realize`): the record of
+    ``choice.json`` (its row, how it was found, the task (the user's points; the design's are
+    ``task_points``), the clearance (m), strength, drives, the advice where a check fails, and
+    the verdict) and the realisation, which ``machine.json`` holds."""
     cad = settings.parts.cad
     disk = min_enclosing_circle(task_points)
 
@@ -138,7 +138,7 @@ def selected_record(
     if not how["printable"]:
         verdicts.append(_printing_failure(record, fronts, dataset, cad, volume_mm, disk))
     record["verdict"] = ". ".join(verdicts) + "." if verdicts else _ready(record, volume_mm)
-    return record
+    return record, done
 
 
 def _strength_failure(record: Mapping[str, Any], settings: RealizationSettings) -> str:

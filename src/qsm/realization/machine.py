@@ -1,0 +1,135 @@
+"""The realised machine as one record: :class:`~qsm.realization.pipeline.Realization` to JSON
+and back.
+
+The rule ``select_design`` realises the chosen design once (:func:`~qsm.realization.pipeline
+.realize`) and writes :func:`machine_record` to ``realization/machine.json``. Every later rule
+(the plates, the kit, the cycle, the final budget) rebuilds the same realisation from that file
+with :func:`realization_from_record` instead of realising again: the record holds what the
+realisation computed (sections, strength, bearings, drives, the tolerance's choice), and the
+settings the rule is given hold the rest. The bored solid parts are rebuilt from the record's
+bearings and sections (geometry, no check). Floats travel as their shortest repr, so the
+rebuilt realisation equals the one realised; a non-finite figure is written as null and read
+back as NaN.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import replace
+from typing import Any
+
+import numpy as np
+
+from qsm.embodiment.parts.link_parts import link_parts
+from qsm.embodiment.strength.sizing import SizedSections, SizingSettings
+from qsm.realization.accuracy_sizing import AccuracyChoice
+from qsm.realization.pipeline import Realization, RealizationSettings
+
+#: The record's version: a reader refuses a record of another.
+VERSION = 1
+
+
+def _finite_or_none(value: float) -> float | None:
+    return float(value) if math.isfinite(value) else None
+
+
+def _nan_if_none(value: float | None) -> float:
+    return math.nan if value is None else float(value)
+
+
+def _sizing_record(sizing: SizingSettings | None) -> dict[str, Any] | None:
+    """The sizing bounds the realisation ended with (m), its floor (section scales) included."""
+    if sizing is None:
+        return None
+    return {
+        "width_m": list(sizing.width_m),
+        "thickness_m": list(sizing.thickness_m),
+        "max_iterations": sizing.max_iterations,
+        "tolerance": sizing.tolerance,
+        "target": sizing.target,
+        "floor": None if sizing.floor is None else list(sizing.floor),
+    }
+
+
+def _sizing_of(data: Mapping[str, Any] | None) -> SizingSettings | None:
+    if data is None:
+        return None
+    floor = data["floor"]
+    return SizingSettings(
+        width_m=tuple(data["width_m"]),
+        thickness_m=tuple(data["thickness_m"]),
+        max_iterations=int(data["max_iterations"]),
+        tolerance=float(data["tolerance"]),
+        target=float(data["target"]),
+        floor=None if floor is None else tuple(float(f) for f in floor),
+    )
+
+
+def _accuracy_record(choice: AccuracyChoice) -> dict[str, Any]:
+    return {
+        "section_scale": choice.scale.tolist(),
+        "min_gearbox_stiffness_Nm_rad": list(choice.min_stiffness_Nm_rad),
+        "structure_mm": _finite_or_none(choice.structure_mm),
+        "target_mm": _finite_or_none(choice.target_mm),
+        "meets_target": choice.meets,
+    }
+
+
+def _accuracy_of(data: Mapping[str, Any]) -> AccuracyChoice:
+    k1, k2 = (float(k) for k in data["min_gearbox_stiffness_Nm_rad"])
+    return AccuracyChoice(
+        scale=np.asarray(data["section_scale"], dtype=float),
+        min_stiffness_Nm_rad=(k1, k2),
+        structure_mm=_nan_if_none(data["structure_mm"]),
+        target_mm=_nan_if_none(data["target_mm"]),
+        meets=data["meets_target"],
+    )
+
+
+def machine_record(done: Realization) -> dict[str, Any]:
+    """``machine.json``: the realised design ``done`` as JSON-ready values (lengths m, section
+    scales on the configured section, bearings as rows of the bearing table, joints A-D)."""
+    sections = done.sections
+    return {
+        "version": VERSION,
+        "design_m": done.design.tolist(),
+        "section_scale": None if done.scale is None else list(done.scale),
+        "sizing": _sizing_record(done.strength_check.sizing),
+        "sizing_iterations": None if sections is None else int(sections.iterations[0]),
+        "bearing_rows": [int(r) for r in done.bearing_rows],
+        "tolerance_choice": _accuracy_record(done.accuracy),
+        "strength": done.strength,
+        "drives": done.drives,
+    }
+
+
+def realization_from_record(data: Mapping[str, Any], settings: RealizationSettings) -> Realization:
+    """The :class:`Realization` that :func:`machine_record` wrote, under the same ``settings``
+    the realisation ran with; ``ValueError`` for a record of another version."""
+    if data.get("version") != VERSION:
+        raise ValueError(
+            f"machine.json is of version {data.get('version')}, this code reads {VERSION}: "
+            "rerun the rule select_design"
+        )
+    d = np.asarray(data["design_m"], dtype=float)
+    scale = None if data["section_scale"] is None else tuple(map(float, data["section_scale"]))
+    check = replace(settings.strength, sizing=_sizing_of(data["sizing"]))
+    sections = None
+    if scale is not None:
+        iterations = np.array([int(data["sizing_iterations"])], dtype=np.intp)
+        sections = SizedSections(np.asarray(scale, dtype=float)[None], iterations)
+    part_settings = replace(settings.parts, scale=scale)
+    rows = [int(r) for r in data["bearing_rows"]]
+    return Realization(
+        design=d,
+        scale=scale,
+        strength=dict(data["strength"]),
+        drives=dict(data["drives"]),
+        bearing_rows=rows,
+        part_settings=part_settings,
+        parts=link_parts(d, rows, part_settings),
+        accuracy=_accuracy_of(data["tolerance_choice"]),
+        strength_check=check,
+        sections=sections,
+    )

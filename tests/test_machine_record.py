@@ -1,0 +1,101 @@
+"""The realised machine is realised once: ``machine.json`` rebuilds the realisation that
+wrote it (qsm.realization.machine), and ``qsm export`` gives the workflow's record."""
+
+import json
+import re
+import subprocess
+import sys
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from qsm import load_config
+from qsm.config.settings.realization import realization_of
+from qsm.embodiment.drives.selection import drive_of
+from qsm.physics.kinematics import end_effector
+from qsm.realization.accuracy_budget import AccuracySettings
+from qsm.realization.machine import machine_record, realization_from_record
+from qsm.realization.pipeline import budget_of, realize
+from qsm.workflow.json_files import dumps
+
+DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
+ANGLES = np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0]])
+POINTS = end_effector(DESIGN, ANGLES[:, 0], ANGLES[:, 1])
+
+
+def _settings(tolerance_mm: float):
+    points = tuple(map(tuple, POINTS.tolist()))
+    accuracy = AccuracySettings(tolerance_mm, points_m=points, max_section_scale=2.0)
+    return replace(realization_of(load_config()), accuracy=accuracy)
+
+
+@pytest.mark.parametrize("tolerance_mm", [1.0, 1e3])  # grown for the tolerance, and not
+def test_the_record_rebuilds_the_realisation_it_was_written_from(tolerance_mm):
+    settings = _settings(tolerance_mm)
+    done = realize(DESIGN, settings)
+    again = realization_from_record(json.loads(dumps(machine_record(done))), settings)
+    assert np.array_equal(again.design, done.design)
+    assert again.scale == done.scale
+    assert again.strength_check == done.strength_check
+    assert again.bearing_rows == done.bearing_rows
+    assert again.accuracy.record() == done.accuracy.record()
+    assert again.part_settings == done.part_settings
+    for name, part in done.parts.items():
+        assert again.parts[name].polygon.equals_exact(part.polygon, 0.0)
+    if done.sections is None:
+        assert again.sections is None
+    else:
+        assert np.array_equal(again.sections.scale, done.sections.scale)
+    # what later rules compute from it: the same numbers, to the bit
+    assert dumps(budget_of(again, settings, POINTS)) == dumps(budget_of(done, settings, POINTS))
+
+
+def test_a_tight_tolerance_records_the_floor_it_grew_the_sections_to():
+    settings = _settings(1.0)
+    done = realize(DESIGN, settings)
+    record = machine_record(done)
+    assert record["sizing"]["floor"] is not None  # else the case shows nothing
+    assert record["tolerance_choice"]["section_scale"] == record["sizing"]["floor"]
+
+
+def test_a_record_of_another_version_is_refused():
+    settings = _settings(1e3)
+    record = machine_record(realize(DESIGN, settings)) | {"version": 0}
+    with pytest.raises(ValueError, match="rerun the rule select_design"):
+        realization_from_record(record, settings)
+
+
+def test_the_drive_rule_marks_the_nearest_drive():
+    chosen = {"has_drive": True, "drive": {"motor": "m"}}
+    nearest = {"has_drive": False, "best_drive": {"motor": "n"}}
+    assert drive_of(chosen) == {"motor": "m", "chosen": True}
+    assert drive_of(nearest) == {"motor": "n", "chosen": False}
+    assert drive_of({}) == {}
+
+
+def test_only_the_selection_and_the_export_realise():
+    """The rules after select_design rebuild the realisation from machine.json."""
+    root = Path(__file__).resolve().parents[1]
+    callers = {
+        p.relative_to(root).as_posix()
+        for p in [*root.glob("src/qsm/**/*.py"), *root.glob("workflow/scripts/*.py")]
+        if re.search(r"\brealize\(", p.read_text()) and p.name != "pipeline.py"
+    }
+    assert callers == {"src/qsm/report/selection_record.py", "src/qsm/app/export.py"}
+
+
+def test_the_workflow_and_the_export_give_one_record(run, tmp_path):
+    real = run / "results" / "realization"
+    machine = json.loads((real / "machine.json").read_text())
+    selected = json.loads((real / "selected.json").read_text())
+    assert selected["drives"] == machine["drives"]
+    assert selected["strength"] == machine["strength"]
+    lengths = [repr(v) for v in machine["design_m"]]
+    out = tmp_path / "export"
+    cmd = [sys.executable, "-m", "qsm", "export", "--lengths", *lengths, "--out", str(out)]
+    cmd += ["--config", "config/test.yaml"]
+    done = subprocess.run(cmd, cwd=run, capture_output=True, text=True, check=False)
+    assert done.returncode == 0, done.stderr
+    assert json.loads((out / "machine.json").read_text()) == machine
