@@ -139,9 +139,9 @@ def row(work: Path, name: str) -> dict[str, Any]:
         "selected": {
             "source": selected["source"],
             "printable": selected["printable"],
-            "tau1_true_Nm": selected["tau1_true_Nm"],
-            "tau2_true_Nm": selected["tau2_true_Nm"],
-            "mass_links_kg": selected.get("mass_links_kg"),
+            "tau1_true_Nm": selected["candidate"]["tau1_true_Nm"],
+            "tau2_true_Nm": selected["candidate"]["tau2_true_Nm"],
+            "mass_links_kg": selected["candidate"].get("mass_links_kg"),
             "holds_loads": selected.get("strength", {}).get("holds_loads"),
             "sections_mm": {
                 k: [v.get("width_mm"), v.get("thickness_mm")]
@@ -217,7 +217,7 @@ def embodiment(
         "min_drive_margin": min(
             (min(m["margins"].values()) for m in motors.values() if m["has_drive"]), default=None
         ),
-        "drive_mass_kg": selected["drive_mass_kg"],
+        "drive_mass_kg": sum(drive_of(m).get("mass_kg", 0.0) for m in motors.values()),
         "optimised_links": {
             k: {
                 "stress_MPa": v["max_von_mises_after_MPa"],

@@ -13,6 +13,8 @@ from qsm.embodiment.drives.catalogue import (
 )
 from qsm.embodiment.drives.selection import offer, select_drives
 from qsm.embodiment.drives.utilization import CHECKS, utilization
+from qsm.report.drive_text import shortfall
+from qsm.report.headline import drive_problems
 
 MOTORS = """key,manufacturer,ID,type,V,k_t,R,L,mass,inertia,omega_nl,I_nl,I_nom,max_int_torque,\
 max_int_speed,max_cont_speed,max_cont_power,source
@@ -230,3 +232,19 @@ def test_armature_equals_a_geared_rotor_body(three):
         assert da.qfrc_inverse[0] == pytest.approx(geared, rel=1e-9)
         # the rotor's share is J N^2 qacc (not zero: the check above can fail)
         assert geared - dr.qfrc_inverse[0] == pytest.approx(j_rotor * n_ratio**2 * a, rel=1e-9)
+
+
+def test_a_drive_that_meets_the_duty_but_not_the_task_or_the_stiffness_says_which(three):
+    # 3 N m at 0.5 rad/s: (A, G10) meets the duty's limits (the test above), so any failure
+    # is the task's motion or the stiffness; its words name it with its number
+    tau, omega, w = np.full(3, 3.0), np.full(3, 0.5), np.ones(3)
+    task = select_drives(three, tau, omega, w, also=np.full(3, 0.25))
+    rep = task.report(0)
+    assert not rep["has_drive"] and rep["failing"] == {"task_motion": pytest.approx(0.25)}
+    assert shortfall(rep) == "exceeds its task motion limit by 25 %"
+    none = select_drives(three, tau, omega, w, allowed=np.zeros(3, bool)).report(0)
+    assert none["stiff_enough"] is False
+    assert "as stiff as the tolerance asks" in shortfall(none)
+    motors = {"motor1": none | {"drives": "lower arm"}}
+    problems = drive_problems(motors)
+    assert len(problems) == 1 and "as stiff as the tolerance asks" in problems[0]

@@ -139,7 +139,8 @@ def test_the_html_front_holds_every_pareto_row_with_its_values(run):
         if marked:
             star = traces[8]
             assert star["legendgroup"] == "selected"
-            true = [selected["eta_true"], selected["tau1_true_Nm"], selected["tau2_true_Nm"]]
+            cand = selected["candidate"]
+            true = [cand["eta_true"], cand["tau1_true_Nm"], cand["tau2_true_Nm"]]
             shown = [decoded(star[a])[0] for a in ("x", "y", "z")]
             np.testing.assert_allclose(shown, true, rtol=1e-12)
         assert "lower is better" in figure["layout"]["scene"]["xaxis"]["title"]["text"]

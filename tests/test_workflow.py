@@ -375,7 +375,8 @@ def test_realization_outputs(run):
     realised = evaluate_mechanism(design, duty, cad, config["task"]["payload_kg"], scale)
     assert torques["before"]["tau1_Nm"] == pytest.approx(realised["tau1_Nm"], rel=1e-9)
     if scale == [1.0] * 4:  # not grown: the front's own model
-        assert torques["before"]["tau1_Nm"] == pytest.approx(selected["tau1_true_Nm"], rel=1e-9)
+        tau1 = selected["candidate"]["tau1_true_Nm"]
+        assert torques["before"]["tau1_Nm"] == pytest.approx(tau1, rel=1e-9)
     topo = json.loads((real / "topology.json").read_text())
     for link in topo["links"].values():
         assert link["mass_after_kg"] < link["mass_before_kg"] and link["watertight"]
@@ -688,6 +689,12 @@ def test_a_catalogue_where_no_drive_fits_gives_valid_files_and_plain_words(tmp_p
     assert "**NOT READY TO BUILD" in summary_md
     assert not re.search(r"\binf\b|\bnan\b", summary_md, re.IGNORECASE)
     assert "0 of those printable" not in summary_md  # the design is printable
+    # the verdict's line for the motor says why its nearest drive does not do, with its number
+    assert re.search(
+        r"motor 1 \(lower arm\) has no drive in the catalogue \(the nearest exceeds its "
+        r"[a-z ]+ limit by \d+ %",
+        summary_md,
+    )
     for log in results.rglob("*.log"):
         assert "RuntimeWarning" not in log.read_text(), log
     assert "RuntimeWarning" not in out.stderr

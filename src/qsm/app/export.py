@@ -47,7 +47,6 @@ from qsm.app.locate import (
 from qsm.config.reading import load_config, validate_config
 from qsm.config.settings import actuation, physics, realization
 from qsm.embodiment.drives.selection import drive_of
-from qsm.realization.machine import machine_record
 from qsm.embodiment.parts.link_parts import part_meshes
 from qsm.embodiment.parts.printing import link_printability
 from qsm.optimization.verify import verify_design
@@ -61,6 +60,7 @@ from qsm.physics.task import Disk
 from qsm.physics.urdf import LOOP_NOTE, urdf_xml
 from qsm.physics.workspace import OperatingRange
 from qsm.realization.choice import printing_advice
+from qsm.realization.machine import machine_record
 from qsm.realization.outputs import export_stls
 from qsm.realization.pipeline import Realization, budget_of, realize
 from qsm.report.design_sheet import design_sheet

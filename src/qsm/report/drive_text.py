@@ -36,18 +36,27 @@ def drive_sentences(report: dict[str, Any]) -> list[str]:
                 f"({check.replace('_', ' ')}); it must give {_required(m)}"
             )
             continue
-        fails = ", ".join(
-            f"{k.replace('_', ' ')} by {100 * v:.0f} %"
-            for k, v in sorted(m["failing"].items(), key=lambda kv: -kv[1])
-        )
         s = m["strongest_drive"]
         out.append(
             f"{head}: NO DRIVE in the catalogue meets its duty ({_required(m)}); the nearest, "
-            f"{_drive_name(m['best_drive'])}, exceeds its {fails}; the strongest drive, "
+            f"{_drive_name(m['best_drive'])}, {shortfall(m)}; the strongest drive, "
             f"{_drive_name(s)}, offers {s['peak_torque_Nm']:.0f} N m peak, "
             f"{s['cont_torque_Nm']:.0f} N m continuous and {_speed(s['top_speed_rad_s'])}"
         )
     return out
+
+
+def shortfall(motor: dict[str, Any]) -> str:
+    """Why a motor's nearest drive does not do (a motor entry of the report without a drive):
+    no gearbox as stiff as the tolerance asks, or the limits it exceeds, worst first."""
+    if not motor.get("stiff_enough", True):
+        return "is not considered: no gearbox of the catalogue is as stiff as the tolerance asks"
+    failing = sorted(motor.get("failing", {}).items(), key=lambda kv: -kv[1])
+    if not failing:
+        return "has no defined figures for this duty"
+    return "exceeds its " + ", ".join(
+        f"{k.replace('_', ' ')} limit by {100 * v:.0f} %" for k, v in failing
+    )
 
 
 def _speed(rad_s: float | None) -> str:

@@ -12,7 +12,7 @@ import pandas as pd
 
 from qsm.report.accuracy_report import accuracy_lines
 from qsm.report.cycle_report import cycle_lines, cycle_problems
-from qsm.report.drive_text import use_text
+from qsm.report.drive_text import shortfall, use_text
 from qsm.report.headline_tables import (
     drive_failures,
     drive_rows,
@@ -90,14 +90,7 @@ def build_verdict(
                 f"{r['max_von_mises_after_MPa']:.1f} MPa in the FE check, "
                 f"{r['allowable_stress_MPa']:.1f} MPa allowed"
             )
-    for key, m in selected.get("drives", {}).get("motors", {}).items():
-        if not m["has_drive"]:
-            worst = max(m["failing"].items(), key=lambda kv: kv[1])
-            problems.append(
-                f"motor {key.removeprefix('motor')} ({m['drives']}) has no drive in the catalogue "
-                f"(the nearest exceeds its {worst[0].replace('_', ' ')} limit by "
-                f"{100 * worst[1]:.0f} %)"
-            )
+    problems += drive_problems(selected.get("drives", {}).get("motors", {}))
     if not payload["passed"]:
         problems.append(
             f"the payload test failed (max tracking error {payload['max_tracking_error_deg']:.3f}"
@@ -111,6 +104,17 @@ def build_verdict(
     if kit is not None and not kit["holds"]:
         problems += [f"the builder's kit: {p}" for p in kit["problems"]]
     return not problems, problems
+
+
+def drive_problems(motors: Mapping[str, Any]) -> list[str]:
+    """One verdict line per motor of a drive report's ``motors`` without a drive: why its
+    nearest drive does not do, with its number."""
+    return [
+        f"motor {key.removeprefix('motor')} ({m['drives']}) has no drive in the catalogue "
+        f"(the nearest {shortfall(m)})"
+        for key, m in motors.items()
+        if not m["has_drive"]
+    ]
 
 
 def verdict_sentence(
@@ -307,8 +311,10 @@ def _realization_lines(selected: Mapping[str, Any], topology: Mapping[str, Any])
         f"- selected ({selected['selection_rule']}, from the {selected['source']}"
         f"{'' if selected['source'] == 'dataset' else ' front'}, "
         f"{selected['n_candidates']} candidates): l1 {selected['scale_m']:.3f} m, "
-        f"eta {selected['eta_true']:.3f}, true peak torques {selected['tau1_true_Nm']:.1f} / "
-        f"{selected['tau2_true_Nm']:.1f} N m.",
+        f"as the optimiser's candidate (the configured section): eta "
+        f"{selected['candidate']['eta_true']:.3f}, true peak torques "
+        f"{selected['candidate']['tau1_true_Nm']:.1f} / "
+        f"{selected['candidate']['tau2_true_Nm']:.1f} N m.",
         f"- verdict: {selected['verdict']}",
         *(f"- fell back past: {line}" for line in selected["fallback"]),
         "",

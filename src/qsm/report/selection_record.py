@@ -13,7 +13,12 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from qsm.embodiment.parts.printing import advice_sentence, smallest_build_volume
+from qsm.embodiment.parts.printing import (
+    advice_sentence,
+    box_fits,
+    link_printability,
+    smallest_build_volume,
+)
 from qsm.embodiment.strength.advice import advice_sentences as strength_sentences
 from qsm.embodiment.strength.advice import strength_advice
 from qsm.embodiment.strength.verdict import strength_verdict
@@ -119,15 +124,13 @@ def selected_record(
         return choose_design(kept, primary, _without(dataset, skipped), rule, cad, volume_mm)
 
     row, how, done = _buildable(choose, settings)
-    record = selection_record(row)
-    record.update(how)
+    record = machine_top(row, how, done, volume_mm)
     record["task"] = task_record(user_points)
     record["clearance_m"] = disk_clearance_m(record["design_m"], op, disk)
-    record["strength"], record["drives"] = done.strength, done.drives
     verdicts = []
-    if not how["holds_loads"]:
+    if not record["holds_loads"]:
         record["strength_advice"] = strength_advice(record["design_m"], settings.strength)
-        verdicts.append(_strength_failure(record, settings))
+        verdicts.append(_strength_failure(record, how, settings))
     if not done.has_drives:
         verdicts.append(
             "NO DRIVE for each motor in the catalogue"
@@ -137,15 +140,67 @@ def selected_record(
         )
     if not how["printable"]:
         verdicts.append(_printing_failure(record, fronts, dataset, cad, volume_mm, disk))
+    elif not record["printable"]:
+        verdicts.append(_grown_past_printer(record, volume_mm))
     record["verdict"] = ". ".join(verdicts) + "." if verdicts else _ready(record, volume_mm)
     return record, done
 
 
-def _strength_failure(record: Mapping[str, Any], settings: RealizationSettings) -> str:
+#: The candidate's fields that are the realised machine's as well: its lengths and how it was
+#: chosen. Every other column of the candidate's row describes it at the section it was chosen
+#: with, and stays in ``candidate``.
+SHARED_KEYS = (
+    *("design_m", "scale_m", "l1_m", "l2_m", "l3_m", "l4_m", "ee_x_m", "ee_y_m"),
+    *("formulation", "mechanism_id", "selection_rule", "selection_score", "n_candidates"),
+)
+
+
+def machine_top(
+    row: pd.Series, how: Mapping[str, Any], done: Realization, volume_mm: tuple[float, ...]
+) -> dict[str, Any]:
+    """The top of ``choice.json``: the realised machine (its lengths, how it was chosen, its
+    printer fit, strength and drives as realised) and, in ``candidate``, the optimiser's
+    candidate as it was chosen (every column of its row; ``printable``, ``holds_loads`` and
+    ``has_drives`` of the tier it was chosen in)."""
+    candidate = selection_record(row)
+    candidate.update({k: how[k] for k in ("printable", "holds_loads", "has_drives")})
+    fit = link_printability(done.design, done.part_settings.cad, done.scale, volume_mm)["links"]
+    record = {k: candidate[k] for k in SHARED_KEYS if k in candidate}
+    record["source"], record["fallback"] = how["source"], how["fallback"]
+    record["printable"] = all(link["fits"] for link in fit.values())
+    record["printer_box_mm"] = {name: list(link["dims_mm"]) for name, link in fit.items()}
+    record["holds_loads"] = bool(done.strength["holds_loads"])
+    record["has_drives"] = done.has_drives
+    record["strength"], record["drives"] = done.strength, done.drives
+    record["candidate"] = candidate
+    return record
+
+
+def _grown_past_printer(record: Mapping[str, Any], volume_mm: tuple[float, ...]) -> str:
+    """The verdict of a candidate that fits the printer at the section it was chosen with, and
+    not at the sections it was realised with."""
+    over = [
+        f"the {name.replace('_', ' ')} {' x '.join(f'{v:.0f}' for v in box)} mm"
+        for name, box in record["printer_box_mm"].items()
+        if not box_fits(box, np.sort(np.asarray(volume_mm, dtype=float)))
+    ]
+    return (
+        f"NOT PRINTABLE on {' x '.join(f'{v:g}' for v in volume_mm)} mm at the sections the "
+        f"realisation gave its links: {', '.join(over)}"
+    )
+
+
+def _strength_failure(
+    record: Mapping[str, Any], how: Mapping[str, Any], settings: RealizationSettings
+) -> str:
     return (
         strength_verdict(record["strength"])
-        + ", and no design of the fronts or the dataset holds its loads. What would change "
-        + "that: "
+        + (
+            ""
+            if how["holds_loads"]
+            else ", and no design of the fronts or the dataset holds its loads"
+        )
+        + ". What would change that: "
         + "; ".join(strength_sentences(record["strength_advice"], settings.strength))
     )
 
@@ -198,6 +253,7 @@ def selected_figure(
     """PNG: the selected design over its workspace with the task disk, titled with what it
     fails, how it was chosen and its true objectives."""
     fig, ax = plt.subplots(figsize=(6, 6))
+    cand = record["candidate"]
     title = (
         f"selected ({rule}, {record['formulation']}"
         f"{'' if record['printable'] else ', NOT PRINTABLE'}"
@@ -205,8 +261,8 @@ def selected_figure(
         f"{'' if record['drives']['has_drives'] else ', NO DRIVES'}"
         f"{', designed MIRRORED (x -> -x)' if record['task']['mirrored'] else ''}): "
         f"l1 {record['scale_m']:.3f} m\n"
-        f"eta {record['eta_true']:.3f}, tau1 {record['tau1_true_Nm']:.1f} N m, "
-        f"tau2 {record['tau2_true_Nm']:.1f} N m"
+        f"eta {cand['eta_true']:.3f}, tau1 {cand['tau1_true_Nm']:.1f} N m, "
+        f"tau2 {cand['tau2_true_Nm']:.1f} N m (as chosen)"
     )
     disk = min_enclosing_circle(task_points)
     draw_design(ax, np.asarray(record["design_m"]), op, disk, title)

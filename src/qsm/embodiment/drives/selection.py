@@ -41,7 +41,9 @@ class Selection:
     ``violation`` (D,) is g14's value (<= 0: a drive exists); ``utilisation`` (D, len(CHECKS)) is
     that of ``best``. Required (output side): peak_torque and rms_torque (N m), peak_speed
     (rad/s), peak_power (W, max |tau omega|). ``strongest`` is the drive of the largest peak
-    output torque at standstill.
+    output torque at standstill. ``task_excess`` (D,): ``best``'s violation of the second duty
+    (the task's motion; None: none was given); ``stiff_enough``: whether any drive was allowed
+    (the gearbox stiffness the tolerance asks).
     """
 
     catalogue: Catalogue
@@ -55,6 +57,8 @@ class Selection:
     peak_speed: np.ndarray
     peak_power: np.ndarray
     strongest: int
+    task_excess: np.ndarray | None = None
+    stiff_enough: bool = True
 
     def report(self, d: int = 0) -> dict:
         """JSON-ready account of duty ``d``: the drive, its margins (1 - utilisation) and, when
@@ -75,6 +79,9 @@ class Selection:
         }
         if self.choice[d] < 0:
             out["failing"] = {k: float(v - 1) for k, v in zip(CHECKS, u, strict=True) if v > 1}
+            if self.task_excess is not None and self.task_excess[d] > 0:
+                out["failing"]["task_motion"] = float(self.task_excess[d])
+            out["stiff_enough"] = self.stiff_enough
             out["strongest_drive"] = (
                 self._describe(self.strongest) | offer(self.catalogue)[self.strongest]
             )
@@ -190,6 +197,8 @@ def select_drives(
         peak_speed=np.abs(omega).max(axis=1),
         peak_power=np.abs(tau * omega).max(axis=1),
         strongest=int(np.nanargmax(_offer(arr)[0])),
+        task_excess=None if also is None else np.broadcast_to(also, v.shape)[rows, best],
+        stiff_enough=bool(allowed is None or np.any(allowed)),
     )
 
 
