@@ -10,6 +10,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+from workflow_helpers import assert_one_machine, copy_workflow, snakemake
 
 from qsm import load_config
 from qsm.config.settings.realization import realization_of
@@ -99,3 +100,27 @@ def test_the_workflow_and_the_export_give_one_record(run, tmp_path):
     done = subprocess.run(cmd, cwd=run, capture_output=True, text=True, check=False)
     assert done.returncode == 0, done.stderr
     assert json.loads((out / "machine.json").read_text()) == machine
+
+
+def test_the_test_run_describes_one_machine(run):
+    assert_one_machine(run)
+
+
+LIGHT = """\
+task:
+  points: [[-0.36, 0.12], [-0.46, 0.05], [-0.42, 0.2]]
+  payload_kg: 1.5
+  tolerance_mm: 3
+printing: {build_volume_mm: [250, 210, 210]}
+"""
+
+
+@pytest.mark.workflow
+def test_a_light_task_on_a_small_printer_describes_one_machine(tmp_path):
+    """1.5 kg, three points 0.36-0.46 m out, 3 mm, a 250 x 210 x 210 mm printer: the plates are
+    cut, and every output still describes the machine the verdict judges."""
+    work = copy_workflow(tmp_path / "light")
+    light = tmp_path / "light.yaml"
+    light.write_text(LIGHT)
+    snakemake(work, configs=(str(light),))
+    assert_one_machine(work)

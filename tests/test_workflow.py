@@ -11,7 +11,14 @@ import pandas as pd
 import pytest
 import trimesh
 import yaml
-from workflow_helpers import ROOT, copy_run, copy_workflow, planned_jobs, snakemake
+from workflow_helpers import (
+    ROOT,
+    assert_one_machine,
+    copy_run,
+    copy_workflow,
+    planned_jobs,
+    snakemake,
+)
 
 from qsm.app.evaluate import evaluate_ratios
 from qsm.config.reading import validate_config
@@ -354,7 +361,8 @@ def test_realization_outputs(run):
     real = run / "results/realization"
     selected = json.loads((real / "selected.json").read_text())
     design = np.array(selected["design_m"])
-    assert selected["feasible"] and selected["dynamics_status"] == "ok"
+    candidate = selected["candidate"]  # the optimiser's row, as chosen
+    assert candidate["feasible"] and candidate["dynamics_status"] == "ok"
     assert selected["printable"] and selected["source"] == config["optimization"]["formulation"]
     assert all_links_fit(
         design,
@@ -375,7 +383,7 @@ def test_realization_outputs(run):
     realised = evaluate_mechanism(design, duty, cad, config["task"]["payload_kg"], scale)
     assert torques["before"]["tau1_Nm"] == pytest.approx(realised["tau1_Nm"], rel=1e-9)
     if scale == [1.0] * 4:  # not grown: the front's own model
-        tau1 = selected["candidate"]["tau1_true_Nm"]
+        tau1 = candidate["tau1_true_Nm"]
         assert torques["before"]["tau1_Nm"] == pytest.approx(tau1, rel=1e-9)
     topo = json.loads((real / "topology.json").read_text())
     for link in topo["links"].values():
@@ -592,7 +600,7 @@ def test_a_far_heavy_task_completes_with_the_verdicts(tmp_path):
     far.write_text("task: {points: [[-1.15, 0.0], [-0.75, 0.0], [-0.95, 0.15]], payload_kg: 10}")
     snakemake(work, configs=(str(far),))
     selected = json.loads((work / "results/realization/selected.json").read_text())
-    assert selected["printable"] is False and selected["feasible"]
+    assert selected["printable"] is False and selected["candidate"]["feasible"]
     assert selected["strength"]["holds_loads"] is False
     weakest = selected["strength"]["weakest_link"].replace("_", " ")
     assert selected["verdict"].startswith(f"NOT STRONG ENOUGH: the {weakest}")
@@ -635,6 +643,7 @@ def test_a_far_heavy_task_completes_with_the_verdicts(tmp_path):
         assert verification["holds_task_share"] == 1.0
         assert "g12 dropped" in verification["constraints"]
         assert "g13 dropped" in verification["constraints"]
+    assert_one_machine(work)
 
 
 def strict_json(path: Path) -> object:
@@ -698,6 +707,7 @@ def test_a_catalogue_where_no_drive_fits_gives_valid_files_and_plain_words(tmp_p
     for log in results.rglob("*.log"):
         assert "RuntimeWarning" not in log.read_text(), log
     assert "RuntimeWarning" not in out.stderr
+    assert_one_machine(work)
 
 
 def _cells(row: str) -> list[str]:

@@ -72,3 +72,51 @@ def planned_jobs(workdir: Path, *args: str, configs: tuple[str, ...] = ()) -> di
             break
         jobs[parts[0]] = int(parts[1])
     return jobs
+
+
+def assert_one_machine(work: Path) -> None:
+    """The outputs of the finished run in ``work`` describe one machine: ``selected.json``,
+    ``machine.json``, ``summary.md``, ``datasheet.md``, ``bom.csv``, ``kit.json`` and
+    ``topology.json`` name the same drives, bearings, sections, printed masses, placing error
+    and verdict."""
+    import json
+
+    import pandas as pd
+    import pytest
+
+    from qsm.embodiment.drives.selection import drive_of
+    from qsm.report.datasheet import bom_masses_kg
+
+    res = work / "results"
+    real = res / "realization"
+    selected = json.loads((real / "selected.json").read_text())
+    machine = json.loads((real / "machine.json").read_text())
+    topology = json.loads((real / "topology.json").read_text())
+    kit = json.loads((real / "kit/kit.json").read_text())
+    bom = pd.read_csv(real / "bom.csv")
+    summary, datasheet = (res / "summary.md").read_text(), (res / "datasheet.md").read_text()
+    assert selected["drives"] == machine["drives"] and selected["strength"] == machine["strength"]
+    for k, motor in enumerate(selected["drives"]["motors"].values(), start=1):
+        drive = drive_of(motor)
+        name = f"{drive['motor']} + {drive['gearbox']}"
+        assert name in summary and name in datasheet, name
+        assert kit["drives"][k - 1]["drive"] == name
+        row = bom.set_index("item").loc[f"motor {k}"]
+        assert row["designation"] == drive["motor"] and row["mass_kg"] == drive["mass_kg"]
+    built = bom.loc[bom["category"] == "bearing"].set_index("where")["designation"]
+    for joint, designation in built.items():
+        assert designation.endswith(selected["strength"]["bearings"][joint]["designation"])
+    printed = bom.loc[bom["category"] == "printed part"].set_index("item")
+    for link, r in selected["strength"]["links"].items():
+        section = topology["parts"]["section_mm"][link]
+        assert section == pytest.approx([r["width_mm"], r["thickness_mm"]], rel=1e-9)
+        assert printed.loc[link, "bbox_z_mm"] == round(r["thickness_mm"], 1)
+        assert printed.loc[link, "mass_kg"] == topology["parts"]["masses_kg"][link]
+    total = sum(bom_masses_kg(bom).values())
+    assert f"{total:.2f} kg as built" in datasheet
+    budget = selected.get("stiffness")
+    if budget is not None:
+        worst = max(budget["per_point"]["error_budget_mm"])
+        assert f"| placing error | {worst:.2f} mm worst" in datasheet
+    verdict = summary.split("\n\n")[1]
+    assert verdict.startswith("**") and verdict.split("\n")[0] in datasheet

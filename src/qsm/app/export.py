@@ -117,21 +117,11 @@ def export_design(
     verified = verify_design(d, fit, duty, cad, payload, None if scale is None else np.array(scale))
     performance = {k: verified[k] for k in TRUE_KEYS}
     task = task_record(config["task"]["points"])
-    props = mass_properties(d, cad, scale)  # the solid links of each link's section
-    xml = mjcf_xml(d, cad, payload, home_pose(d, fit.op), bool(task["mirrored"]), props)
-    (folder / "model.xml").write_text(xml)
-    stl = export_stls(part_meshes(parts), folder / "stl", volume)
-    draw_links(d, parts, folder / "drawing")
-    printability = _printability(d, cad, scale, volume, stl, fit.disk)
+    printability = _write_models(done, config, bool(task["mirrored"]), folder)
     links = printability["links"]
     drives = done.drives
-    _write_urdf(d, cad, payload, props, drives, config, folder / "model.urdf")
     record: dict[str, Any] = {
-        "design": {
-            "lengths_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True)),
-            "scale_m": float(d[0]),
-            "ratios": dict(zip(RATIO_NAMES, (d[1:] / d[0]).tolist(), strict=True)),
-        },
+        "design": _lengths(d),
         "source": dict(source or {"kind": "design"}),
         "task": {
             **task,
@@ -149,21 +139,40 @@ def export_design(
     }
     record = plain(record)
     title = _title(record, d)
-    design_sheet(
-        d,
-        fit.op,
-        cad,
-        design_points(config["task"]["points"]),
-        volume,
-        links,
-        title,
-        folder / "design.png",
-        scale,
-    )
+    points = design_points(config["task"]["points"])
+    design_sheet(d, fit.op, cad, points, volume, links, title, folder / "design.png", scale)
     write_json(folder / "design.json", record)
     write_json(folder / "machine.json", machine_record(done))  # the workflow's record, the same way
     (folder / "README.md").write_text(export_readme(record, title))
     return record
+
+
+def _lengths(d: np.ndarray) -> dict[str, Any]:
+    """``design.json``'s design: the lengths (m), the scale l1 (m) and the ratios to it."""
+    return {
+        "lengths_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True)),
+        "scale_m": float(d[0]),
+        "ratios": dict(zip(RATIO_NAMES, (d[1:] / d[0]).tolist(), strict=True)),
+    }
+
+
+def _write_models(
+    done: Realization, config: Mapping[str, Any], mirrored: bool, folder: Path
+) -> dict[str, Any]:
+    """Write the MJCF, URDF, STL files and drawing of the realised design ``done`` into
+    ``folder``; returns its printability (:func:`_printability`)."""
+    d, scale = done.design, done.scale
+    cad = physics.cad(config["cad"], config["material"])
+    payload = float(config["task"]["payload_kg"])
+    volume = tuple(float(v) for v in config["printing"]["build_volume_mm"])
+    fit = physics.fit_of(config)
+    props = mass_properties(d, cad, scale)  # the solid links of each link's section
+    xml = mjcf_xml(d, cad, payload, home_pose(d, fit.op), mirrored, props)
+    (folder / "model.xml").write_text(xml)
+    stl = export_stls(part_meshes(done.parts), folder / "stl", volume)
+    draw_links(d, done.parts, folder / "drawing")
+    _write_urdf(d, cad, payload, props, done.drives, config, folder / "model.urdf")
+    return _printability(d, cad, scale, volume, stl, fit.disk)
 
 
 def _printability(

@@ -5,7 +5,7 @@ and the tables a run writes."""
 
 from __future__ import annotations
 
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -278,6 +278,31 @@ def _paper_infeasible(n_designs: int) -> str:
     )
 
 
+def _with_drive_mass(
+    extra: ExtraConstraints | None, objectives: Sequence[Any]
+) -> ExtraConstraints | None:
+    """``extra`` with the drive check as the drive-mass objective's, where the objectives ask
+    for it (fewer than three: ``drive_mass``); an error naming the key where no check is on."""
+    if len(objectives) >= 3:
+        return extra
+    if extra is None or extra.drives is None:
+        raise ValueError(
+            "config key 'optimization.objectives': drive_mass needs the drive check of "
+            "optimization.constraints.drives"
+        )
+    return replace(extra, drive_mass=extra.drives)
+
+
+def _objective_range(
+    dataset: pd.DataFrame, objectives: Sequence[Any]
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The dataset's lowest and highest value of each objective (a constant spans 1): the
+    hypervolume's normalisation."""
+    labels = dataset[[o.dataset for o in objectives]].to_numpy(float)
+    lower, upper = np.nanmin(labels, axis=0), np.nanmax(labels, axis=0)
+    return lower, np.where(upper > lower, upper, lower + 1.0)
+
+
 def optimize(
     formulation: str,
     model: Surrogate,
@@ -301,16 +326,8 @@ def optimize(
     """
     stats = LabelStats.of(model, section["z"])
     objectives = OBJECTIVE_SETS[section.get("objectives", "torques")]
-    if len(objectives) < 3:
-        if extra is None or extra.drives is None:
-            raise ValueError(
-                "config key 'optimization.objectives': drive_mass needs the drive check of "
-                "optimization.constraints.drives"
-            )
-        extra = replace(extra, drive_mass=extra.drives)
-    labels = dataset[[o.dataset for o in objectives]].to_numpy(float)
-    lower, upper = np.nanmin(labels, axis=0), np.nanmax(labels, axis=0)
-    objective_range = (lower, np.where(upper > lower, upper, lower + 1.0))  # a constant: span 1
+    extra = _with_drive_mass(extra, objectives)
+    objective_range = _objective_range(dataset, objectives)
     lo, hi, fit = _search_space(formulation, dataset, section, ratio_bounds, fit, extra)
 
     def make(extra: ExtraConstraints | None) -> Problem:
@@ -340,12 +357,8 @@ def optimize(
         label = "; ".join([extra.label(formulation), *dropped])
     pareto = _design_table(front[keep], result.pareto_p[keep], result.pareto_f[keep], objectives)
     generations = _generation_tables(result, n_gen, lengths, objectives)
-    history = pd.DataFrame(
-        {
-            "generation": np.arange(1, len(result.hypervolume) + 1),
-            "hypervolume": result.hypervolume,
-        }
-    )
+    n = len(result.hypervolume)
+    history = pd.DataFrame({"generation": np.arange(1, n + 1), "hypervolume": result.hypervolume})
     return FrontTables(pareto, generations, history, label, result.last_populations[-1]["X"])
 
 

@@ -213,6 +213,33 @@ def _failure(status: str, reason: str, masses: dict[str, float]) -> dict[str, An
     return out
 
 
+def _peaks(
+    tau: NDArray[np.float64],
+    coupler_force: NDArray[np.float64],
+    sin_mu: NDArray[np.float64],
+    duty: Duty,
+) -> dict[str, float]:
+    """The torque columns of :func:`evaluate_mechanism` from its motor torques (N, 2) N m, the
+    coupler force (N, 2) N and |sin| of the transmission angle (N,) over ``duty``."""
+    mag = np.abs(tau)
+    k1, k2 = int(np.argmax(mag[:, 0])), int(np.argmax(mag[:, 1]))
+    w = duty.weight_s
+    rms = np.sqrt((w[:, None] * tau**2).sum(axis=0) / w.sum())
+    deg = np.degrees(duty.theta)
+    return {
+        "tau1_Nm": float(mag[k1, 0]),
+        "tau2_Nm": float(mag[k2, 1]),
+        "theta1_at_tau1_peak_deg": float(deg[k1, 0]),
+        "theta2_at_tau1_peak_deg": float(deg[k1, 1]),
+        "theta1_at_tau2_peak_deg": float(deg[k2, 0]),
+        "theta2_at_tau2_peak_deg": float(deg[k2, 1]),
+        "tau1_rms_Nm": float(rms[0]),
+        "tau2_rms_Nm": float(rms[1]),
+        "coupler_force_peak_N": float(np.hypot(*coupler_force.T).max()),
+        "transmission_angle_min_deg": float(np.degrees(np.arcsin(min(sin_mu.min(), 1.0)))),
+    }
+
+
 def evaluate_mechanism(
     design: ArrayLike,
     duty: Duty,
@@ -260,23 +287,5 @@ def evaluate_mechanism(
         return _failure("cad_invalid", str(exc), masses)
     except Exception as exc:  # one bad mechanism must not stop a table
         return _failure("error", f"{type(exc).__name__}: {exc}", masses)
-    mag = np.abs(inv.tau)
-    k1, k2 = int(np.argmax(mag[:, 0])), int(np.argmax(mag[:, 1]))
-    w = duty.weight_s
-    rms = np.sqrt((w[:, None] * inv.tau**2).sum(axis=0) / w.sum())
-    deg = np.degrees(duty.theta)
-    return {
-        "tau1_Nm": float(mag[k1, 0]),
-        "tau2_Nm": float(mag[k2, 1]),
-        "theta1_at_tau1_peak_deg": float(deg[k1, 0]),
-        "theta2_at_tau1_peak_deg": float(deg[k1, 1]),
-        "theta1_at_tau2_peak_deg": float(deg[k2, 0]),
-        "theta2_at_tau2_peak_deg": float(deg[k2, 1]),
-        "tau1_rms_Nm": float(rms[0]),
-        "tau2_rms_Nm": float(rms[1]),
-        "coupler_force_peak_N": float(np.hypot(*inv.coupler_force.T).max()),
-        "transmission_angle_min_deg": float(np.degrees(np.arcsin(min(sin_mu.min(), 1.0)))),
-        **masses,
-        "status": "ok",
-        "status_reason": "",
-    }
+    return {**_peaks(inv.tau, inv.coupler_force, sin_mu, duty), **masses, "status": "ok",
+            "status_reason": ""}  # fmt: skip

@@ -273,6 +273,20 @@ def _label(per_point: dict[str, Any], i: int) -> str:
     return max(terms, key=terms.get)
 
 
+def term_phrases(per_point: dict[str, Any], i: int) -> list[str]:
+    """The placing error's terms at point ``i``, each named as the glossary names it (mm): the
+    larger of the static and the dynamic sag (the one the error counts), lost motion, tracking
+    error and base, where the budget has them; they add up to ``error_budget_mm``."""
+    static, dynamic = per_point["sag_mm"][i], per_point["dynamic_sag_mm"][i]
+    sag = f"static sag {static:.2f} mm" if static >= dynamic else f"dynamic sag {dynamic:.2f} mm"
+    parts = [sag, f"lost motion {per_point['lost_motion_mm'][i]:.2f} mm"]
+    if per_point["tracking_error_mm"] is not None:
+        parts.append(f"tracking error {per_point['tracking_error_mm'][i]:.2f} mm")
+    if per_point.get("base_mm") is not None:
+        parts.append(f"base {per_point['base_mm'][i]:.2f} mm")
+    return parts
+
+
 def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str, bool]:
     """The budget's sentence, with its numbers, and whether the design meets the tolerance and
     the first-mode requirement."""
@@ -280,14 +294,7 @@ def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str
     i = int(np.argmax(budget))
     mode = float(np.min(per_point["first_mode_hz"]))
     tol, low = settings.tolerance_mm, settings.min_first_mode_hz
-    parts = [
-        f"sag {max(per_point['sag_mm'][i], per_point['dynamic_sag_mm'][i]):.1f} mm",
-        f"lost motion {per_point['lost_motion_mm'][i]:.1f} mm",
-    ]
-    if per_point["tracking_error_mm"] is not None:
-        parts.append(f"tracking {per_point['tracking_error_mm'][i]:.2f} mm")
-    if per_point.get("base_mm") is not None:
-        parts.append(f"base {per_point['base_mm'][i]:.2f} mm")
+    parts = term_phrases(per_point, i)
     detail = f"{budget[i]:.2f} mm at point {i + 1} ({', '.join(parts)}; tolerance {tol:g} mm)"
     problems = []
     if not budget[i] <= tol:

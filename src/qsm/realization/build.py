@@ -85,14 +85,7 @@ def build_links(
     props = written.pop("masses")
     written["masses_kg"] = {name: m.mass_kg for name, m in props.items()}
     torques = torques_before_after(done.design, cad, payload_kg, duty, props, done.scale)
-    after = part_meshes(parts)
-    after.update(
-        {name: extrude(parts[name].polygon, parts[name].section.thickness_m) for name in held}
-    )
-    checks = {
-        "before": export_stls(part_meshes(done.parts), f"{folder}/stl/before", volume_mm),
-        "after": export_stls(after, f"{folder}/stl/after", volume_mm),
-    }
+    checks = _write_stls(done.parts, parts, held, Path(folder), volume_mm)
     written["printer"] = {  # the parts to print against the printer, as drawn
         name: {"box_mm": c["box_mm"], "fits": c["fits_build_volume"]}
         for name, c in checks["after"].items()
@@ -100,3 +93,22 @@ def build_links(
     summary = {name: link.summary() for name, link in result.links.items()}
     record = {"carries_loads": result.carries_loads, "links": summary, "parts": written}
     return BuiltLinks(result, props, torques, checks, record, made, parts)
+
+
+def _write_stls(
+    solid: dict[str, LinkPart],
+    final: dict[str, LinkPart],
+    held: dict[str, Any],
+    folder: Path,
+    volume_mm: tuple[float, ...],
+) -> dict[str, Any]:
+    """Write the solid parts' and the final parts' STLs (mm; an optimised plate of ``held`` as
+    its outline extruded) into ``folder/stl/before`` and ``after``, with their checks."""
+    after = part_meshes(final)
+    after.update(
+        {name: extrude(final[name].polygon, final[name].section.thickness_m) for name in held}
+    )
+    return {
+        "before": export_stls(part_meshes(solid), f"{folder}/stl/before", volume_mm),
+        "after": export_stls(after, f"{folder}/stl/after", volume_mm),
+    }

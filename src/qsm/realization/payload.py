@@ -413,50 +413,90 @@ def payload_test(
     s = settings
     fixed, envelopes, armature = _drive_limits(s, drives)
     limits = _limit_function(fixed, envelopes)
-
     d = as_design(design)
-    model = model_spec(d, cad, s.payload_kg, props, armature).compile()
-    dt = float(model.opt.timestep)
-    pts, way, ref = _route(d, points, s, reference, dt)
-    t, th, dth, ddth = ref.t, ref.theta, ref.dtheta, ref.ddtheta
-    state = _reference_state(d, t, th, dth, ddth)
-    tau_ff = inverse_dynamics(model, d, state).tau
-    plant = _plant(d, cad, props, s, armature)
-    kp, ki, kd = (np.asarray(g, float) for g in (s.kp_Nm_rad, s.ki_Nm_rad_s, s.kd_Nms_rad))
-    data, inertia, substeps = _start(model, plant, d, state, way, kd, dt)
-    q_act, req, applied, available, over = _track(
-        plant, data, tau_ff, th, dth, (kp, ki, kd), substeps, limits
-    )
+    run = _simulate(d, points, cad, props, s, armature, limits, reference)
     limit = fixed if fixed is not None else limits(np.ones(2), np.zeros(2))
-    saturated = bool(over.any())
-    max_err = float(np.degrees(np.abs(q_act - th)).max())
-    point_err = _point_errors_mm(d, q_act, pts, ref.hold_ends)
-    use, past_top = torque_use(req, available)
+    saturated = bool(run.over.any())
+    max_err = float(np.degrees(np.abs(run.q_act - run.ref.theta)).max())
+    use, past_top = torque_use(run.req, run.available)
     what = "fixed limits" if fixed is not None else "drives' torque-speed envelopes"
-    reasons = _failure_reasons(saturated, what, use, req, limit, max_err, s.tracking_tolerance_deg)
+    reasons = _failure_reasons(
+        saturated, what, use, run.req, limit, max_err, s.tracking_tolerance_deg
+    )
     return {
         "passed": bool(max_err <= s.tracking_tolerance_deg and not saturated),
         "saturated": saturated,
         "max_tracking_error_deg": max_err,
         "tracking_tolerance_deg": s.tracking_tolerance_deg,
-        "peak_torque_Nm": np.abs(req).max(axis=0).tolist(),
-        "peak_feedforward_Nm": np.abs(tau_ff).max(axis=0).tolist(),
+        "peak_torque_Nm": np.abs(run.req).max(axis=0).tolist(),
+        "peak_feedforward_Nm": np.abs(run.tau_ff).max(axis=0).tolist(),
         "limit_Nm": limit.tolist(),
         "limits_from": "payload_test.torque_limits_Nm" if fixed is not None else "drives",
         "drives": [e.name for e in envelopes] if envelopes is not None else None,
         "reflected_inertia_kgm2": list(armature),
         "peak_torque_over_available": use,
         "past_top_speed_fraction": past_top,
-        "saturated_fraction": float(over.any(axis=1).mean()),
-        "point_error_mm": point_err.tolist(),
-        "waypoints_deg": np.degrees(way).tolist(),
-        "payload_kg": s.payload_kg,
-        "min_motor_inertia_kg_m2": inertia.tolist(),
-        "substeps": substeps,
-        "duration_s": float(t[-1]),
         "reason": "; ".join(reasons) if reasons else "ok",
-        "t_s": t,
-        "theta_ref_deg": np.degrees(th),
-        "theta_deg": np.degrees(q_act),
-        **dict(zip(TORQUE_SERIES, (req, applied, available), strict=True)),
+        "payload_kg": s.payload_kg,
+        **run.fields(d),
     }
+
+
+class _Run(NamedTuple):
+    """One simulated payload test: the reference, its points and waypoints, the feedforward
+    and the tracked motion (rad, N m), the least motor inertia and the substeps."""
+
+    ref: Reference
+    pts: NDArray[np.float64]
+    way: NDArray[np.float64]
+    tau_ff: NDArray[np.float64]
+    q_act: NDArray[np.float64]
+    req: NDArray[np.float64]
+    applied: NDArray[np.float64]
+    available: NDArray[np.float64]
+    over: NDArray[np.bool_]
+    inertia: NDArray[np.float64]
+    substeps: int
+
+    def fields(self, d: NDArray[np.float64]) -> dict[str, Any]:
+        """The result's fields of the motion itself: errors at the holds, waypoints, series."""
+        return {
+            "saturated_fraction": float(self.over.any(axis=1).mean()),
+            "point_error_mm": _point_errors_mm(
+                d, self.q_act, self.pts, self.ref.hold_ends
+            ).tolist(),
+            "waypoints_deg": np.degrees(self.way).tolist(),
+            "min_motor_inertia_kg_m2": self.inertia.tolist(),
+            "substeps": self.substeps,
+            "duration_s": float(self.ref.t[-1]),
+            "t_s": self.ref.t,
+            "theta_ref_deg": np.degrees(self.ref.theta),
+            "theta_deg": np.degrees(self.q_act),
+            **dict(zip(TORQUE_SERIES, (self.req, self.applied, self.available), strict=True)),
+        }
+
+
+def _simulate(
+    d: NDArray[np.float64],
+    points: ArrayLike,
+    cad: CadSettings,
+    props: dict[str, MassProperties] | None,
+    s: PayloadSettings,
+    armature: NDArray[np.float64],
+    limits: Callable[[NDArray[np.float64], NDArray[np.float64]], NDArray[np.float64]],
+    reference: Reference | None,
+) -> _Run:
+    """The payload test's motion: its reference, the feedforward of the model, and the plant
+    tracking it under the controller and ``limits``."""
+    model = model_spec(d, cad, s.payload_kg, props, armature).compile()
+    dt = float(model.opt.timestep)
+    pts, way, ref = _route(d, points, s, reference, dt)
+    state = _reference_state(d, ref.t, ref.theta, ref.dtheta, ref.ddtheta)
+    tau_ff = inverse_dynamics(model, d, state).tau
+    plant = _plant(d, cad, props, s, armature)
+    kp, ki, kd = (np.asarray(g, float) for g in (s.kp_Nm_rad, s.ki_Nm_rad_s, s.kd_Nms_rad))
+    data, inertia, substeps = _start(model, plant, d, state, way, kd, dt)
+    q_act, req, applied, available, over = _track(
+        plant, data, tau_ff, ref.theta, ref.dtheta, (kp, ki, kd), substeps, limits
+    )
+    return _Run(ref, pts, way, tau_ff, q_act, req, applied, available, over, inertia, substeps)

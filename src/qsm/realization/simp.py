@@ -31,6 +31,37 @@ class SimpResult:
     iterations: int
 
 
+def _oc_update(
+    x: np.ndarray,
+    dc: np.ndarray,
+    x0: np.ndarray,
+    design: np.ndarray,
+    move: float,
+    filt: tuple[sps.csr_matrix, np.ndarray],
+    target: float,
+) -> np.ndarray:
+    """One optimality-criteria step from densities ``x`` with compliance sensitivities ``dc``
+    (<= 0): the Lagrange multiplier bisected until the filtered (physical) volume of the
+    ``design`` cells meets ``target`` (cells); cells outside ``design`` keep ``x0``."""
+    filt_h, filt_hs = filt
+    lo = np.maximum(0.0, x - move)
+    hi = np.minimum(1.0, x + move)
+    l1, l2 = 0.0, max(float(-dc.min()), 1e-300) * 1e6  # xn = lo at l2
+    xn = x
+    for _ in range(100):
+        lm = 0.5 * (l1 + l2)
+        xn = np.clip(x * np.sqrt(-dc / lm), lo, hi)
+        xn[~design] = x0[~design]
+        vol = (filt_h @ xn / filt_hs)[design].sum()  # physical volume
+        if vol > target:
+            l1 = lm
+        else:
+            l2 = lm
+        if (l2 - l1) <= 1e-6 * (l1 + l2):
+            break
+    return xn
+
+
 def simp(problem: FeProblem, settings: TopologySettings = DEFAULT_TOPOLOGY) -> SimpResult:
     """Minimum-compliance SIMP with OC updates on ``problem`` (pyMOTO network for the analysis and
     the sensitivities); passive solid/void cells are overwritten after the filter."""
@@ -71,21 +102,7 @@ def simp(problem: FeProblem, settings: TopologySettings = DEFAULT_TOPOLOGY) -> S
             net.sensitivity()
             history.append(float(c.state))
             dc = np.minimum(np.asarray(sx.sensitivity), 0.0)
-            lo = np.maximum(0.0, x - s.move)
-            hi = np.minimum(1.0, x + s.move)
-            l1, l2 = 0.0, max(float(-dc.min()), 1e-300) * 1e6  # xn = lo at l2
-            xn = x
-            for _ in range(100):
-                lm = 0.5 * (l1 + l2)
-                xn = np.clip(x * np.sqrt(-dc / lm), lo, hi)
-                xn[~design] = x0[~design]
-                vol = (filt_h @ xn / filt_hs)[design].sum()  # physical volume
-                if vol > target:
-                    l1 = lm
-                else:
-                    l2 = lm
-                if (l2 - l1) <= 1e-6 * (l1 + l2):
-                    break
+            xn = _oc_update(x, dc, x0, design, s.move, (filt_h, filt_hs), target)
             change = float(np.abs(xn - x).max())
             x = xn
             sx.state = x

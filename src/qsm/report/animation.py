@@ -96,6 +96,32 @@ def motion_frames(series: pd.DataFrame, fps: float = FRAME_RATE_HZ) -> pd.DataFr
     return frames
 
 
+def _write_gif(fig: Any, draw: Callable[[int], None], n: int, out: Path, fps: float) -> None:
+    """Draw frames 0..n-1 of ``fig`` with ``draw`` into the GIF ``out``."""
+    out.parent.mkdir(parents=True, exist_ok=True)
+    writer = PaletteGifWriter(fps=fps)
+    with writer.saving(fig, out, DPI):
+        for k in range(n):
+            draw(k)
+            writer.grab_frame()
+
+
+def _over_background(background: np.ndarray, drawn: Sequence[Any]) -> tuple[Any, list[Any]]:
+    """A figure showing the still ``background`` image (RGBA), with transparent twins of the
+    ``drawn`` axes at their positions and limits, for the moving artists."""
+    fig = plt.figure(figsize=FIGSIZE_IN, dpi=DPI)
+    fig.figimage(background, origin="upper")
+    live = []
+    for source in drawn:
+        twin = fig.add_axes(source.get_position())
+        twin.set_xlim(source.get_xlim())
+        twin.set_ylim(source.get_ylim())
+        twin.set_axis_off()
+        twin.set_zorder(2)  # above the background, which the figure draws after its axes
+        live.append(twin)
+    return fig, live
+
+
 def write_task_motion(
     design: ArrayLike,
     series: pd.DataFrame,
@@ -140,26 +166,11 @@ def write_task_motion(
     still.canvas.draw()
     background = np.asarray(still.canvas.buffer_rgba()).copy()
 
-    fig = plt.figure(figsize=FIGSIZE_IN, dpi=DPI)
-    fig.figimage(background, origin="upper")
-    live = []
-    for source in drawn:  # transparent twins at the drawn positions and limits
-        twin = fig.add_axes(source.get_position())
-        twin.set_xlim(source.get_xlim())
-        twin.set_ylim(source.get_ylim())
-        twin.set_axis_off()
-        twin.set_zorder(2)  # above the background, which the figure draws after its axes
-        live.append(twin)
+    fig, live = _over_background(background, drawn)
     plt.close(still)
     ax, ax_tau, _ = live
     draw = _frame_drawer(fig, live, d, th, poses, tau, frames, limits, colours, t[0])
-    out = Path(path)
-    out.parent.mkdir(parents=True, exist_ok=True)
-    writer = PaletteGifWriter(fps=fps)
-    with writer.saving(fig, out, DPI):
-        for k in range(len(frames)):
-            draw(k)
-            writer.grab_frame()
+    _write_gif(fig, draw, len(frames), Path(path), fps)
     geometry = _axes_geometry(fig, ax)
     torque_geometry = _axes_geometry(fig, ax_tau)
     plt.close(fig)

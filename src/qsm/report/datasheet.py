@@ -17,6 +17,7 @@ import numpy as np
 import pandas as pd
 
 from qsm.embodiment.drives.selection import drive_of
+from qsm.realization.accuracy_budget import term_phrases
 
 #: Volumetric printing rate (mm^3/s) of the print-time rule.
 PRINT_RATE_MM3_S = 10.0
@@ -51,17 +52,36 @@ def printed_parts(bom: pd.DataFrame, density_kg_m3: float) -> pd.DataFrame:
     )
 
 
-def _machine_rows(selected: Mapping[str, Any], parts: pd.DataFrame) -> list[str]:
+def bom_masses_kg(bom: pd.DataFrame) -> dict[str, float]:
+    """The BOM's weighed mass (kg, mass times quantity) by category, printed parts first; the
+    rows without a mass (bearings, fasteners, inserts) are not in it."""
+    weighed = bom.dropna(subset=["mass_kg"])
+    kg = weighed["mass_kg"].astype(float) * weighed["quantity"].astype(float)
+    return {str(k): float(v) for k, v in kg.groupby(weighed["category"], sort=False).sum().items()}
+
+
+def _mass_text(bom: pd.DataFrame) -> str:
+    """The datasheet's mass line: the BOM's weighed parts, in total and by category."""
+    by = bom_masses_kg(bom)
+    name = {"motor": "drives (motor and gearbox)"}
+    parts = ", ".join(f"{name.get(k, k + 's')} {v:.2f} kg" for k, v in by.items())
+    return f"{sum(by.values()):.2f} kg as built: {parts} (bearings and fasteners not weighed)"
+
+
+def _bearings_text(bom: pd.DataFrame) -> str:
+    """The bearings as built, from the BOM: each joint's, and A's carried by the drives."""
+    rows = bom.loc[bom["category"] == "bearing"]
+    built = ", ".join(f"{w} {d}" for w, d in zip(rows["where"], rows["designation"], strict=True))
+    return f"{built or 'none'}; A: the drives' output bearings"
+
+
+def _machine_rows(selected: Mapping[str, Any], bom: pd.DataFrame) -> list[str]:
     """Payload, reach, task region, masses, drives, bearings and material."""
     d = selected["design_m"]
     reach = d[0] + float(np.hypot(d[4], d[5]))
     points = np.asarray(selected["task"]["points_m"], dtype=float)
     motors = selected["drives"]["motors"]
     drives = [drive_of(m) for m in motors.values()]
-    link_kg = float(parts["filament_g"].sum()) / 1e3
-    drive_kg = sum(float(x["mass_kg"]) for x in drives)
-    bearings = ", ".join(f"{j} {b['designation'] or 'none fits'}"
-                         for j, b in selected["strength"]["bearings"].items())  # fmt: skip
     return [
         _row("payload", f"{selected['strength']['payload_kg']:g} kg at the tool (gripper "
              "included)"),
@@ -69,15 +89,14 @@ def _machine_rows(selected: Mapping[str, Any], parts: pd.DataFrame) -> list[str]
         _row("task", f"{len(points)} points, x {points[:, 0].min():.3f} to "
              f"{points[:, 0].max():.3f} m, y {points[:, 1].min():.3f} to "
              f"{points[:, 1].max():.3f} m"),
-        _row("mass", f"{link_kg + drive_kg:.2f} kg: printed links {link_kg:.2f} kg, drives "
-             f"{drive_kg:.2f} kg (bearings, pins and fasteners not counted)"),
+        _row("mass", _mass_text(bom)),
         *(
             _row(f"drive {j}", f"{x['motor']} + {x['gearbox']} ({x['ratio']:g}:1, "
                  f"{x['mass_kg']:.2f} kg; backlash {x.get('backlash_arcmin', '-')} arcmin, "
                  f"{x.get('torsional_stiffness_Nm_rad', '-')} N m/rad)")
             for j, x in enumerate(drives, start=1)
         ),
-        _row("bearings", bearings),
+        _row("bearings", _bearings_text(bom)),
         _row("material", f"{selected['strength']['material']}, printed"),
     ]  # fmt: skip
 
@@ -105,12 +124,11 @@ def _performance_rows(selected: Mapping[str, Any]) -> list[str]:
     budget = selected.get("stiffness")
     if budget:
         w = budget["worst"]
-        track = w["tracking_error_mm"]
+        per = budget["per_point"]
+        i = int(np.argmax(per["error_budget_mm"]))  # the worst point's own terms
         rows += [
-            _row("placing accuracy", f"{w['error_budget_mm']:.2f} mm worst at the task points "
-                 f"(sag {max(w['sag_mm'], w['dynamic_sag_mm']):.2f} mm, lost motion "
-                 f"{w['lost_motion_mm']:.2f} mm, tracking "
-                 f"{'-' if track is None else f'{track:.2f}'} mm; "
+            _row("placing error", f"{per['error_budget_mm'][i]:.2f} mm worst, at task point "
+                 f"{i + 1} ({', '.join(term_phrases(per, i))}; "
                  f"tolerance {budget['tolerance_mm']:g} mm)"),
             _row("first mode", f"{w['first_mode_hz']:.1f} Hz (loaded, lowest at the task points)"),
         ]  # fmt: skip
@@ -140,7 +158,7 @@ def datasheet_markdown(
             "",
             "| | |",
             "| --- | --- |",
-            *_machine_rows(selected, parts),
+            *_machine_rows(selected, bom),
             *_performance_rows(selected),
             "",
             "## Printed parts",

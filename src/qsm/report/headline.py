@@ -48,27 +48,9 @@ def build_verdict(
     problems = []
     if not selected["printable"]:
         problems.append("not printable on the configured printer (see the verdict below)")
-    strength = selected["strength"]
-    for link, r in strength["links"].items():
-        if not r["holds"]:
-            problems.append(
-                f"the {link.replace('_', ' ')} does not hold its loads "
-                f"({r['stress_peak_MPa']:.1f} MPa, {r['allowable_MPa']:.1f} MPa allowed; "
-                f"buckling factor {factor_text(r['buckling_factor'])}, "
-                f"{r['required_buckling_factor']:g} required)"
-            )
-    for joint, b in strength.get("bearings", {}).items():
-        if not b["designation"]:
-            problems.append(
-                f"no bearing of the catalogue fits joint {joint} ({b['peak_force_N']:.0f} N peak, "
-                f"static safety {strength['required_bearing_safety']:g} required, within the boss)"
-            )
-    if not strength["holds_loads"] and len(problems) == (0 if selected["printable"] else 1):
-        problems.append(
-            f"the strength check fails (utilisation {strength['utilisation']:.2f}, at most 1)"
-        )
+    problems += _strength_problems(selected["strength"])
     drawn = topology.get("parts", {}).get("section_mm", {})
-    for link, r in strength["links"].items():
+    for link, r in selected["strength"]["links"].items():
         checked, built = [r.get("width_mm"), r.get("thickness_mm")], drawn.get(link)
         if built and None not in checked and not np.allclose(checked, built, rtol=1e-6):
             problems.append(
@@ -104,6 +86,31 @@ def build_verdict(
     if kit is not None and not kit["holds"]:
         problems += [f"the builder's kit: {p}" for p in kit["problems"]]
     return not problems, problems
+
+
+def _strength_problems(strength: Mapping[str, Any]) -> list[str]:
+    """The verdict's lines for the links and bearings of a strength record that do not hold;
+    one for the check as a whole where it fails and no line names a link or a bearing."""
+    problems = []
+    for link, r in strength["links"].items():
+        if not r["holds"]:
+            problems.append(
+                f"the {link.replace('_', ' ')} does not hold its loads "
+                f"({r['stress_peak_MPa']:.1f} MPa, {r['allowable_MPa']:.1f} MPa allowed; "
+                f"buckling factor {factor_text(r['buckling_factor'])}, "
+                f"{r['required_buckling_factor']:g} required)"
+            )
+    for joint, b in strength.get("bearings", {}).items():
+        if not b["designation"]:
+            problems.append(
+                f"no bearing of the catalogue fits joint {joint} ({b['peak_force_N']:.0f} N peak, "
+                f"static safety {strength['required_bearing_safety']:g} required, within the boss)"
+            )
+    if not strength["holds_loads"] and not problems:
+        problems.append(
+            f"the strength check fails (utilisation {strength['utilisation']:.2f}, at most 1)"
+        )
+    return problems
 
 
 def drive_problems(motors: Mapping[str, Any]) -> list[str]:

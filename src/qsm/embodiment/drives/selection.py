@@ -162,28 +162,17 @@ def select_drives(
     arr = DriveArrays.of(cat) if arrays is None else arrays
     tau, omega, w = duty_arrays(tau, omega, weights)
     acc = None if accel is None else np.broadcast_to(np.asarray(accel, float), tau.shape)
-    keys = {"mass": arr.mass, "reflected_inertia": arr.reflected_inertia}
-    first = keys.pop(RULES[rule])
-    order = np.lexsort([np.nan_to_num(k, nan=np.inf) for k in (*keys.values(), first)])
-    rank = np.empty(order.size, int)
-    rank[order] = np.arange(order.size)
-    n_d, n_c = tau.shape[0], arr.ratio.size
+    rank = _rank(arr, rule)
     u = _utilisations(arr, tau, omega, w, acc)
     v = u.max(axis=2) - 1
     if also is not None:
         v = np.maximum(v, also)
     if allowed is not None:
         v = np.where(allowed, v, np.inf)
-    rows = np.arange(n_d)
-    best = v.argmin(axis=1)
-    violation = v[rows, best]
-    ranked = np.where(v <= 0, rank, n_c).argmin(axis=1)
-    ok = v[rows, ranked] <= 0
-    choice = np.where(ok, ranked, -1)
-    best = np.where(ok, ranked, best)
+    rows = np.arange(tau.shape[0])
+    choice, best, violation = _choose(v, rank)
     if acc is not None:
         tau = tau + np.nan_to_num(arr.reflected_inertia[best])[:, None] * acc
-    a = np.abs(tau)
     wn = w / w.sum(axis=1, keepdims=True)
     return Selection(
         catalogue=cat,
@@ -192,7 +181,7 @@ def select_drives(
         best=best,
         violation=violation,
         utilization=u[rows, best],
-        peak_torque=a.max(axis=1),
+        peak_torque=np.abs(tau).max(axis=1),
         rms_torque=np.sqrt((wn * tau**2).sum(axis=1)),
         peak_speed=np.abs(omega).max(axis=1),
         peak_power=np.abs(tau * omega).max(axis=1),
@@ -200,6 +189,29 @@ def select_drives(
         task_excess=None if also is None else np.broadcast_to(also, v.shape)[rows, best],
         stiff_enough=bool(allowed is None or np.any(allowed)),
     )
+
+
+def _choose(v: np.ndarray, rank: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """From each drive's violation ``v`` (D, C) and place ``rank`` (C,): the first-ranked drive
+    that meets each duty (-1: none), the drive used (that one, else the least violation) and
+    the least violation (D,) each."""
+    rows = np.arange(v.shape[0])
+    best = v.argmin(axis=1)
+    violation = v[rows, best]
+    ranked = np.where(v <= 0, rank, v.shape[1]).argmin(axis=1)
+    ok = v[rows, ranked] <= 0
+    return np.where(ok, ranked, -1), np.where(ok, ranked, best), violation
+
+
+def _rank(arr: DriveArrays, rule: str) -> np.ndarray:
+    """Each drive's place (C,) in the order of ``rule``: by its key (unknown last), ties to the
+    other key, then to catalogue order."""
+    keys = {"mass": arr.mass, "reflected_inertia": arr.reflected_inertia}
+    first = keys.pop(RULES[rule])
+    order = np.lexsort([np.nan_to_num(k, nan=np.inf) for k in (*keys.values(), first)])
+    rank = np.empty(order.size, int)
+    rank[order] = np.arange(order.size)
+    return rank
 
 
 def _utilisations(

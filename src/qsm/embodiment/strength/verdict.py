@@ -11,6 +11,7 @@ from collections.abc import Mapping
 from typing import Any
 
 import numpy as np
+import pandas as pd
 from numpy.typing import ArrayLike
 
 from qsm.embodiment.strength.link_checks import StrengthCheck
@@ -20,6 +21,38 @@ from qsm.physics.kinematics import LINK_NAMES
 
 def _finite(x: float) -> float | None:
     return float(x) if math.isfinite(x) else None
+
+
+def _bearing_entry(row: pd.Series, joint: str, check: StrengthCheck) -> dict[str, Any]:
+    """Joint ``joint``'s bearing in a design's strength row: its designation, peak force (N) and
+    where (deg; at A the more loaded of the two links' bores), and the catalogue's figures."""
+    name = str(row[f"bearing_{joint}"])
+    column = "A_lower_arm" if joint == "A" else joint
+    if joint == "A" and row["joint_force_peak_A_crank_N"] > row["joint_force_peak_A_lower_arm_N"]:
+        column = "A_crank"
+    force = float(row[f"joint_force_peak_{column}_N"])
+    entry: dict[str, Any] = {
+        "designation": name,
+        "peak_force_N": force,
+        "at_theta_deg": [
+            float(row[f"joint_force_peak_{column}_theta1_deg"]),
+            float(row[f"joint_force_peak_{column}_theta2_deg"]),
+        ],
+    }
+    if name:
+        table = check.bearings
+        b = table.row(int(np.flatnonzero(table.designation == name)[0]))
+        entry.update(
+            d_mm=1e3 * b["d_m"],
+            D_mm=1e3 * b["D_m"],
+            B_mm=1e3 * b["B_m"],
+            C_kN=b["C_N"] / 1e3,
+            C0_kN=b["C0_N"] / 1e3,
+            static_safety=b["C0_N"] / force if force > 0 else None,
+            maker=b["maker"],
+            source=b["source"],
+        )
+    return entry
 
 
 def strength_record(
@@ -49,38 +82,7 @@ def strength_record(
             "width_mm": float(row[f"section_width_{link}_mm"]),
             "thickness_mm": float(row[f"section_thickness_{link}_mm"]),
         }
-    table = check.bearings
-    bearings = {}
-    for joint in ("A", "B", "C", "D"):
-        name = str(row[f"bearing_{joint}"])
-        column = "A_lower_arm" if joint == "A" else joint
-        if (
-            joint == "A"
-            and row["joint_force_peak_A_crank_N"] > row["joint_force_peak_A_lower_arm_N"]
-        ):
-            column = "A_crank"
-        force = float(row[f"joint_force_peak_{column}_N"])
-        entry: dict[str, Any] = {
-            "designation": name,
-            "peak_force_N": force,
-            "at_theta_deg": [
-                float(row[f"joint_force_peak_{column}_theta1_deg"]),
-                float(row[f"joint_force_peak_{column}_theta2_deg"]),
-            ],
-        }
-        if name:
-            b = table.row(int(np.flatnonzero(table.designation == name)[0]))
-            entry.update(
-                d_mm=1e3 * b["d_m"],
-                D_mm=1e3 * b["D_m"],
-                B_mm=1e3 * b["B_m"],
-                C_kN=b["C_N"] / 1e3,
-                C0_kN=b["C0_N"] / 1e3,
-                static_safety=b["C0_N"] / force if force > 0 else None,
-                maker=b["maker"],
-                source=b["source"],
-            )
-        bearings[joint] = entry
+    bearings = {joint: _bearing_entry(row, joint, check) for joint in ("A", "B", "C", "D")}
     return {
         "links": links,
         "bearings": bearings,
