@@ -325,3 +325,33 @@ def test_parts_drawn_at_another_section_than_the_checked_one_are_not_ready():
     assert not ready and len(problems) == 1
     assert "coupler" in problems[0]
     assert "52.0 x 26.0 mm" in problems[0] and "40.0 x 20.0 mm" in problems[0]
+
+
+def test_a_link_that_fails_by_another_check_than_its_stress_is_named_with_that_check():
+    """A link can fail by its bearing seat while its peak stress is within the allowable: the
+    strength record marks it as not holding, and the verdict names the check and its use."""
+    from qsm.report.headline import build_verdict
+
+    ok = {"holds": True, "stress_peak_MPa": 9.0, "allowable_MPa": 15.5}
+    strength = {
+        "links": {**dict.fromkeys(LINK_NAMES, ok), "lower_arm": {**ok, "holds": False}},
+        "bearings": {},
+        "holds_loads": False,
+        "utilisation": 1.12,
+        "weakest_link": "lower_arm",
+        "weakest_check": "bearing seat",
+    }
+    ready, problems = build_verdict(
+        {"printable": True, "strength": strength}, {"links": {}}, {"passed": True}
+    )
+    assert not ready and len(problems) == 1
+    assert "lower arm does not hold its loads: its bearing seat is at 1.12" in problems[0]
+    bearing = strength | {"links": dict.fromkeys(LINK_NAMES, ok), "weakest_link": "bearing B"}
+    bearing["weakest_check"] = "static load rating"
+    _, problems = build_verdict(
+        {"printable": True, "strength": bearing}, {"links": {}}, {"passed": True}
+    )
+    assert problems == [
+        "the strength check fails: the bearing B's static load rating is at 1.12 of what it may "
+        "take (at most 1)"
+    ]

@@ -25,10 +25,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("config.defaults",),  # every setting's default, from the config schema
     ("physics",),  # kinematics, workspace, solids, MuJoCo dynamics, clearance
     ("mechanisms", "surrogate"),  # Stage 1 designs; the MLP
-    ("dataset.columns",),  # Stage 2's columns with their units
-    ("dataset.gathering",),  # Stage 2's gathered table and its healthy rows
-    ("embodiment",),  # parts and printability, strength, drives, stiffness
-    ("dataset",),  # Stage 2: one shard's dynamics, strength, drives and sag
+    ("embodiment",),  # parts and printability, strength, drives, stiffness; their columns
+    ("dataset",),  # Stage 2: every domain's columns, one shard's table, the gathered table
     ("optimization",),  # NSGA-II, constraints, verification, ranking
     ("realization",),  # the realisation pipeline: selection, topology, assembly, payload test
     ("report",),  # figures, drawings, headline, interactive pages

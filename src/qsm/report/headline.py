@@ -93,7 +93,14 @@ def _strength_problems(strength: Mapping[str, Any]) -> list[str]:
     one for the check as a whole where it fails and no line names a link or a bearing."""
     problems = []
     for link, r in strength["links"].items():
-        if not r["holds"]:
+        if not r["holds"] and link == strength["weakest_link"]:
+            problems.append(
+                f"the {link.replace('_', ' ')} does not hold its loads: its "
+                f"{strength['weakest_check']} is at {strength['utilisation']:.2f} of what it may "
+                f"take ({r['stress_peak_MPa']:.1f} MPa peak stress, {r['allowable_MPa']:.1f} MPa "
+                f"allowed)"
+            )
+        elif not r["holds"]:
             problems.append(
                 f"the {link.replace('_', ' ')} does not hold its loads "
                 f"({r['stress_peak_MPa']:.1f} MPa, {r['allowable_MPa']:.1f} MPa allowed; "
@@ -108,7 +115,9 @@ def _strength_problems(strength: Mapping[str, Any]) -> list[str]:
             )
     if not strength["holds_loads"] and not problems:
         problems.append(
-            f"the strength check fails (utilisation {strength['utilisation']:.2f}, at most 1)"
+            f"the strength check fails: the {strength['weakest_link'].replace('_', ' ')}'s "
+            f"{strength['weakest_check']} is at {strength['utilisation']:.2f} of what it may "
+            "take (at most 1)"
         )
     return problems
 

@@ -28,9 +28,9 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.dataset.columns import DRIVE_COLUMNS, MOTORS
 from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
 from qsm.embodiment.drives.compliance import gear_compliance
+from qsm.embodiment.drives.drive_columns import DRIVE_COLUMNS, MOTORS
 from qsm.embodiment.drives.drive_table import drive_columns
 from qsm.embodiment.drives.selection import Selection, drive_violations, select_drives
 from qsm.embodiment.drives.utilization import DriveArrays

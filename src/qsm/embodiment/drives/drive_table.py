@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 from numpy.typing import NDArray
 
-from qsm.dataset.columns import DRIVE_COLUMNS, MOTORS
+from qsm.embodiment.drives.drive_columns import DRIVE_COLUMNS, MOTORS
 from qsm.embodiment.drives.selection import Selection
 from qsm.embodiment.drives.utilization import CHECKS
 

@@ -26,7 +26,6 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.dataset.columns import STRENGTH_COLUMNS
 from qsm.embodiment.parts.bearings import (
     BearingTable,
     astuple_shallow,
@@ -48,6 +47,7 @@ from qsm.embodiment.strength.sizing import (
     seat_limit,
     size_sections,
 )
+from qsm.embodiment.strength.strength_columns import STRENGTH_COLUMNS
 from qsm.embodiment.strength.strength_table import StrengthCore, strength_columns
 from qsm.embodiment.strength.stresses import link_strength
 from qsm.physics.batch_mass import batch_mass_properties

@@ -10,10 +10,10 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from qsm.dataset.columns import JOINT_COLUMNS
 from qsm.embodiment.parts.bearings import BearingChoice, BearingTable
 from qsm.embodiment.strength.loads import JointLoads
 from qsm.embodiment.strength.sizing import SizedSections
+from qsm.embodiment.strength.strength_columns import JOINT_COLUMNS
 from qsm.embodiment.strength.stresses import JOINTS, LinkStrength
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import LINK_NAMES

@@ -78,6 +78,7 @@ def strength_record(
             "holds": bool(
                 stress <= allow * (1 + 1e-12)
                 and buckling >= check.strength.buckling_safety_factor * (1 - 1e-12)
+                and (bool(row["holds_loads"]) or str(row["weakest_link"]) != link)
             ),
             "width_mm": float(row[f"section_width_{link}_mm"]),
             "thickness_mm": float(row[f"section_thickness_{link}_mm"]),
