@@ -66,3 +66,14 @@ def test_missing_bearing_and_drive_values() -> None:
     assert "no bearing" in d.loc["bearing D", "notes"] and "pin D" not in d.index
     assert d.loc["motor 1", "designation"] == "T-motor AK80-64"
     assert pd.isna(d.loc["motor 2", "designation"])
+
+
+def test_a_motor_without_a_drive_is_built_with_its_nearest_drive_marked():
+    from qsm.realization.assembly import drive_rows
+
+    nearest = {"motor": "M", "gearbox": "G", "ratio": 50.0, "mass_kg": 1.2}
+    report = {"motors": {"motor1": {"has_drive": False, "best_drive": nearest}}}
+    rows = drive_rows(report)
+    assert rows["motor 1"]["designation"] == "M" and rows["motor 1"]["mass_kg"] == 1.2
+    assert rows["motor 1"]["notes"].startswith("NONE of the catalogue meets its duty")
+    assert rows["gearbox 1"]["designation"] == "G"

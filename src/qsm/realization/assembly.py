@@ -11,6 +11,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike
 
+from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.parts.bearings import BearingTable
 from qsm.embodiment.parts.bom import bill_of_materials, write_bom
 from qsm.embodiment.parts.link_parts import LinkPart, PartSettings, link_parts
@@ -55,17 +56,20 @@ def final_parts(
 
 def drive_rows(report: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
     """BOM values of the motor and gearbox rows from a drives report
-    (:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`); none for a motor without a
-    drive. A gearbox named after its motor (an actuator's own stage) is built in: quantity 0."""
+    (:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`): the drive each motor is
+    built with (:func:`~qsm.embodiment.drives.selection.drive_of`; the nearest, marked, where
+    none meets its duty). A gearbox named after its motor (an actuator's own stage) is built in:
+    quantity 0."""
     rows: dict[str, dict[str, Any]] = {}
     for k, motor in enumerate(report.get("motors", {}).values(), start=1):
-        if not motor.get("has_drive"):
+        drive = drive_of(motor)
+        if not drive:
             continue
-        drive = motor["drive"]
+        mark = "" if drive["chosen"] else "NONE of the catalogue meets its duty: the nearest; "
         rows[f"motor {k}"] = {
             "designation": drive["motor"],
             "mass_kg": drive["mass_kg"],
-            "notes": f"with {drive['gearbox']}; mass of motor and gearbox together",
+            "notes": f"{mark}with {drive['gearbox']}; mass of motor and gearbox together",
         }
         built_in = drive["gearbox"].startswith(drive["motor"])  # e.g. the AK80-6's own stage
         rows[f"gearbox {k}"] = {
