@@ -52,7 +52,7 @@ def printed_parts(bom: pd.DataFrame, density_kg_m3: float) -> pd.DataFrame:
     )
 
 
-def bom_masses_kg(bom: pd.DataFrame) -> dict[str, float]:
+def _bom_masses_kg(bom: pd.DataFrame) -> dict[str, float]:
     """The BOM's weighed mass (kg, mass times quantity) by category, printed parts first; the
     rows without a mass (bearings, fasteners, inserts) are not in it."""
     weighed = bom.dropna(subset=["mass_kg"])
@@ -62,7 +62,7 @@ def bom_masses_kg(bom: pd.DataFrame) -> dict[str, float]:
 
 def _mass_text(bom: pd.DataFrame) -> str:
     """The datasheet's mass line: the BOM's weighed parts, in total and by category."""
-    by = bom_masses_kg(bom)
+    by = _bom_masses_kg(bom)
     name = {"motor": "drives (motor and gearbox)"}
     parts = ", ".join(f"{name.get(k, k + 's')} {v:.2f} kg" for k, v in by.items())
     return f"{sum(by.values()):.2f} kg as built: {parts} (bearings and fasteners not weighed)"
