@@ -30,7 +30,7 @@ import pandas as pd
 import yaml
 
 from qsm.embodiment.drives.selection import drive_of
-from qsm.realization.accuracy_budget import TERMS
+from qsm.realization.accuracy.accuracy_budget import TERMS
 
 ROOT = Path(__file__).resolve().parents[1]
 

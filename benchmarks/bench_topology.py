@@ -1,6 +1,6 @@
 """Time one design's topology optimisation (both links), the torque re-evaluation and the payload
 test, and the factorisation of its largest stiffness matrix with pyMOTO's default sparse LU
-(COLAMD ordering) against ``qsm.realization.fe.SymmetricLU``, interleaved, with residuals.
+(COLAMD ordering) against ``qsm.realization.topology.fe.SymmetricLU``, interleaved, with residuals.
 Run: python benchmarks/bench_topology.py"""
 
 from __future__ import annotations
@@ -15,10 +15,11 @@ from scipy.sparse.linalg import splu
 from qsm.physics import cad, duty
 from qsm.physics.cad import mass_properties
 from qsm.physics.kinematics import as_design
-from qsm.realization import payload, topology
-from qsm.realization.fe import DEFAULT_TOPOLOGY, SymmetricLU, stiffness
-from qsm.realization.plate_loads import link_problem, peak_loads
-from qsm.realization.torques import torques_before_after
+from qsm.realization.motion import payload
+from qsm.realization.motion.torques import torques_before_after
+from qsm.realization.topology import topology
+from qsm.realization.topology.fe import DEFAULT_TOPOLOGY, SymmetricLU, stiffness
+from qsm.realization.topology.plate_loads import link_problem, peak_loads
 from qsm.report.payload_report import summary
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])  # m

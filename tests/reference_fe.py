@@ -1,14 +1,16 @@
 """The beam model of :mod:`qsm.embodiment.strength.stresses` against plane-stress finite elements.
 
 For one design, at the duty samples of peak |tau1| and |tau2| (those of
-:func:`qsm.realization.plate_loads.peak_loads`), the lower and the upper arm are analysed twice
+:func:`qsm.realization.topology.plate_loads.peak_loads`), the lower and the upper arm are analysed
+twice
 under the same loads: the joint forces of :func:`qsm.embodiment.strength.loads.joint_loads` plus the
 link's own weight and d'Alembert inertia.
 
 * Beam: :func:`qsm.embodiment.strength.stresses.cut_forces` with a solid section (no bore, as the
 FE plate
   has solid bosses), the peak over the link's bar cuts.
-* FE: the solid CAD plate of :func:`qsm.realization.plate_loads.link_problem` (clamped over the
+* FE: the solid CAD plate of :func:`qsm.realization.topology.plate_loads.link_problem` (clamped
+over the
   whole boss of A, for the lower arm, or B, for the upper arm; joint forces spread over the nodes
   of the other bosses), each cell's stiffness and body force in proportion to its area inside the
   outline; von Mises stress per cell. The peak is taken over the whole cells outside every boss
@@ -45,7 +47,7 @@ from qsm.physics.cad import DEFAULT_CAD, CadSettings, link_outlines, mass_proper
 from qsm.physics.duty import Duty, duty_cycle
 from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import LINK_NAMES, as_design, perp
-from qsm.realization.fe import (
+from qsm.realization.topology.fe import (
     DEFAULT_TOPOLOGY,
     FeProblem,
     Grid,
@@ -54,10 +56,11 @@ from qsm.realization.fe import (
     clamped_dofs,
     nodal_forces,
 )
-from qsm.realization.geometry import cell_fill
-from qsm.realization.plate_loads import LinkLoads, joint_points
+from qsm.realization.topology.geometry import cell_fill
+from qsm.realization.topology.plate_loads import LinkLoads, joint_points
 
-#: Links with a finite-element problem (:data:`qsm.realization.plate_loads.OPTIMISED_LINKS`).
+#: Links with a finite-element problem
+#: (:data:`qsm.realization.topology.plate_loads.OPTIMISED_LINKS`).
 FE_LINKS = ("lower_arm", "upper_arm")
 
 
@@ -84,7 +87,8 @@ class LinkComparison(NamedTuple):
 def aligned_problem(
     design: NDArray[np.float64], cad: CadSettings, link: str, case: LinkLoads, h: float
 ) -> FeProblem:
-    """The FE problem of :func:`qsm.realization.plate_loads.link_problem` (solid plate of the CAD
+    """The FE problem of :func:`qsm.realization.topology.plate_loads.link_problem` (solid plate of
+    the CAD
     outline, bosses solid, the clamp joint's boss clamped, joint forces spread over the boss
     nodes) on a grid whose cell edges lie on the bars' edges, so that a bar is exactly
     ``width / h`` cells wide (``h`` must divide the width). link_problem centres its grid on the

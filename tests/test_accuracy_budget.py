@@ -1,4 +1,5 @@
-"""The realised design's accuracy budget (qsm.realization.accuracy_budget) and the gearboxes'
+"""The realised design's accuracy budget (qsm.realization.accuracy.accuracy_budget) and the
+gearboxes'
 stiffness and play (qsm.embodiment.drives.compliance)."""
 
 import json
@@ -27,16 +28,16 @@ from qsm.physics.dynamics import inverse_dynamics, loop_state
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import end_effector
 from qsm.physics.mjcf import model_spec
-from qsm.realization.accuracy_budget import (
+from qsm.realization.accuracy.accuracy_budget import (
     MOTION_STEP_S,
     AccuracySettings,
     budget_mm,
     largest_load_N,
     task_motion_torques,
 )
-from qsm.realization.payload import reference_trajectory
-from qsm.realization.pipeline import arm_model, budget_of, realize
-from qsm.report.accuracy_report import plate_factors, tracking_per_point
+from qsm.realization.final.final_budget import plate_factors, tracking_per_point
+from qsm.realization.motion.payload import reference_trajectory
+from qsm.realization.selection.pipeline import arm_model, budget_of, realize
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 ANGLES = np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0]])
@@ -171,7 +172,7 @@ def test_tracking_error_of_the_first_point_is_its_worse_hold():
 
 
 def test_a_drive_without_a_stiffness_keeps_the_others():
-    from qsm.realization.accuracy_budget import RIGID_FACTOR, drive_terms
+    from qsm.realization.accuracy.accuracy_budget import RIGID_FACTOR, drive_terms
 
     report = {
         "motors": {

@@ -1,5 +1,5 @@
 """The realisation builds the arm for the tolerance: stiffer gearboxes and larger sections, the
-lightest that meets the structure's share (qsm.realization.accuracy_sizing)."""
+lightest that meets the structure's share (qsm.realization.accuracy.accuracy_sizing)."""
 
 from dataclasses import replace
 
@@ -12,9 +12,9 @@ from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.embodiment.drives.selection import select_drives
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import end_effector
-from qsm.realization.accuracy_budget import AccuracySettings
-from qsm.realization.accuracy_sizing import STRUCTURE_SHARE, structure_mm
-from qsm.realization.pipeline import budget_of, realize
+from qsm.realization.accuracy.accuracy_budget import AccuracySettings
+from qsm.realization.accuracy.accuracy_sizing import STRUCTURE_SHARE, structure_mm
+from qsm.realization.selection.pipeline import budget_of, realize
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 ANGLES = np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0]])

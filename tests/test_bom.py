@@ -69,7 +69,7 @@ def test_missing_bearing_and_drive_values() -> None:
 
 
 def test_a_motor_without_a_drive_is_built_with_its_nearest_drive_marked():
-    from qsm.realization.assembly import drive_rows
+    from qsm.realization.selection.assembly import drive_rows
 
     nearest = {"motor": "M", "gearbox": "G", "ratio": 50.0, "mass_kg": 1.2}
     report = {"motors": {"motor1": {"has_drive": False, "best_drive": nearest}}}

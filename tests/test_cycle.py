@@ -1,4 +1,5 @@
-"""The time-optimal moves (qsm.realization.cycle) against hand cases: a single link's bang-bang
+"""The time-optimal moves (qsm.realization.motion.cycle) against hand cases: a single link's
+bang-bang
 motion in closed form, with a speed bound, and under gravity against a phase-plane reference."""
 
 import itertools
@@ -13,14 +14,14 @@ from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.embodiment.strength.loads import Inertials
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import DEFAULT_CAD
-from qsm.realization.cycle import Arm, plan_cycle, slowed, time_optimal_move, top_speed
-from qsm.realization.cycle_check import (
+from qsm.realization.final.cycle_check import (
     cycle_torques,
     peak_load_N,
     thermal_use,
     tolerance_factor,
 )
-from qsm.realization.front_cycles import FRONT_FRACTIONS
+from qsm.realization.motion.cycle import Arm, plan_cycle, slowed, time_optimal_move, top_speed
+from qsm.realization.motion.front_cycles import FRONT_FRACTIONS
 
 INERTIA = 0.5  # kg m^2 about the joint
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])

@@ -29,7 +29,7 @@ from qsm.physics.dynamics import loop_state
 from qsm.physics.kinematics import DESIGN_COLUMNS, pose
 from qsm.physics.mjcf import add_point_mass
 from qsm.physics.task import min_enclosing_circle
-from qsm.realization.choice import select_design
+from qsm.realization.selection.choice import select_design
 from qsm.report.animation import EE_COLOUR, frames_record, write_task_motion
 from qsm.workflow.tables import read_table
 
@@ -282,7 +282,7 @@ def test_export_round_trip_of_a_pareto_design(run, tmp_path):
         assert record["true_performance"][key] == pytest.approx(row[key], rel=1e-12)
     selected = json.loads((run / "results/realization/selected.json").read_text())
     np.testing.assert_array_equal(design, selected["design_m"])  # rank 1 = the knee selected
-    # one realisation (qsm.realization.pipeline.realize): the export's strength and drive
+    # one realisation (qsm.realization.selection.pipeline.realize): the export's strength and drive
     # records are the workflow's, and its solid bored parts the workflow's, file for file
     assert record["strength"] == selected["strength"]
     assert record["drives"] == selected["drives"]

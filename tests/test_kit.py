@@ -1,4 +1,5 @@
-"""The builder's kit (qsm.embodiment.kit, qsm.realization.kit, qsm.realization.kit_files):
+"""The builder's kit (qsm.embodiment.kit, qsm.realization.kit.builders_kit,
+qsm.realization.kit.kit_files):
 fasteners from the standards' tables, the pins, hubs and tool flange against hand calculations,
 the base's cheek against a cantilever of the frame model, the drives' interfaces and their
 assumptions, the BOM's quantities, and STEP and DXF files read back by their kernels."""
@@ -17,9 +18,9 @@ from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import joints as jt
 from qsm.embodiment.kit.interfaces import interface_of, read_interfaces
 from qsm.embodiment.stiffness.frame import beam_stiffness
-from qsm.realization import kit_layout as kl
-from qsm.realization.kit_bom import fastener_rows, screw_lines
-from qsm.realization.kit_files import write_dxf, write_step
+from qsm.realization.kit import kit_layout as kl
+from qsm.realization.kit.kit_bom import fastener_rows, screw_lines
+from qsm.realization.kit.kit_files import write_dxf, write_step
 
 
 def test_screw_lengths_are_the_shortest_preferred_that_span_grip_and_tail():
@@ -187,7 +188,7 @@ def test_a_hub_s_key_bears_over_its_engaged_length_less_its_width():
 
 
 def test_the_distance_to_a_link_s_spine_by_hand():
-    from qsm.realization.kit import segment_distance
+    from qsm.realization.kit.builders_kit import segment_distance
 
     a, b = np.array([0.0, 0.0]), np.array([100.0, 0.0])
     points = np.array([[50.0, 30.0], [-30.0, 40.0], [130.0, 0.0]])

@@ -1,6 +1,7 @@
 """The packages of ``qsm`` import only downward: no package imports one listed above it."""
 
 import ast
+import graphlib
 from pathlib import Path
 
 import pytest
@@ -42,8 +43,12 @@ def _imports(path: Path) -> set[str]:
     return found
 
 
+#: Units that are only a package's docstring, split into layered subpackages.
+DOCSTRING_PACKAGES = {"__init__", "realization"}
+
+
 def test_every_package_and_module_has_a_layer():
-    names = {_package(p) for p in SRC.rglob("*.py")} - {"__init__", "config"}
+    names = {_package(p) for p in SRC.rglob("*.py")} - DOCSTRING_PACKAGES
     assert names == set(_rank()), "list every package or module of qsm in qsm.LAYERS"
 
 
@@ -51,7 +56,7 @@ def test_every_package_and_module_has_a_layer():
 def test_imports_point_down(path):
     rank = _rank()
     own = _package(path)
-    if own in ("__init__", "config"):  # the package docstrings import nothing
+    if own in DOCSTRING_PACKAGES:  # the package docstrings import nothing
         return
     up = sorted(p for p in _imports(path) if p != own and rank[p] >= rank[own])
     assert not up, f"{path.relative_to(SRC)} ({own}, layer {rank[own]}) imports {up}"
@@ -94,3 +99,27 @@ def test_the_function_length_check_can_fail(tmp_path):
 def test_no_two_modules_share_a_name():
     names = [p.name for p in SRC.rglob("*.py") if p.name != "__init__.py"]
     assert sorted({n for n in names if names.count(n) > 1}) == []
+
+
+def _package_graph() -> dict[str, set[str]]:
+    """Each top-level package (or module) of qsm and the top-level ones it imports."""
+    graph: dict[str, set[str]] = {}
+    for path in SRC.rglob("*.py"):
+        own = path.relative_to(SRC).parts[0].removesuffix(".py")
+        found = {unit.split(".")[0] for unit in _imports(path)} - {own}
+        graph.setdefault(own, set()).update(found)
+    return graph
+
+
+def test_the_packages_import_each_other_without_a_cycle():
+    """Checked at package level, not only by layer entry: no package is above itself."""
+    tuple(graphlib.TopologicalSorter(_package_graph()).static_order())  # raises CycleError
+
+
+def test_the_cycle_check_can_fail():
+    with pytest.raises(graphlib.CycleError):
+        tuple(
+            graphlib.TopologicalSorter(
+                {"config": {"physics"}, "physics": {"config"}}
+            ).static_order()
+        )

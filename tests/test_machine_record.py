@@ -1,5 +1,5 @@
 """The realised machine is realised once: ``machine.json`` rebuilds the realisation that
-wrote it (qsm.realization.machine), and ``qsm export`` gives the workflow's record."""
+wrote it (qsm.realization.selection.machine), and ``qsm export`` gives the workflow's record."""
 
 import json
 import re
@@ -16,9 +16,9 @@ from qsm import load_config
 from qsm.config.settings.realization import realization_of
 from qsm.embodiment.drives.selection import drive_of
 from qsm.physics.kinematics import end_effector
-from qsm.realization.accuracy_budget import AccuracySettings
-from qsm.realization.machine import machine_record, realization_from_record
-from qsm.realization.pipeline import budget_of, realize
+from qsm.realization.accuracy.accuracy_budget import AccuracySettings
+from qsm.realization.selection.machine import machine_record, realization_from_record
+from qsm.realization.selection.pipeline import budget_of, realize
 from qsm.workflow.json_files import dumps
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
@@ -84,7 +84,7 @@ def test_only_the_selection_and_the_export_realise():
         for p in [*root.glob("src/qsm/**/*.py"), *root.glob("workflow/scripts/*.py")]
         if re.search(r"\brealize\(", p.read_text()) and p.name != "pipeline.py"
     }
-    assert callers == {"src/qsm/report/selection_record.py", "src/qsm/app/export.py"}
+    assert callers == {"src/qsm/realization/selection/chosen_machine.py", "src/qsm/app/export.py"}
 
 
 def test_the_workflow_and_the_export_give_one_record(run, tmp_path):

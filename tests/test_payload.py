@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from qsm.realization import payload
+from qsm.realization.motion import payload
 from qsm.report.payload_report import plot_payload_test, summary
 
 DESIGN = np.array([0.40, 0.12, 0.40, 0.20, 0.48, 0.16])

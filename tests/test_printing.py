@@ -9,7 +9,7 @@ import pytest
 from qsm.embodiment.parts import printing
 from qsm.physics import cad
 from qsm.physics.kinematics import DESIGN_COLUMNS
-from qsm.realization.choice import select_design
+from qsm.realization.selection.choice import select_design
 
 SMALL = [0.30, 0.10, 0.30, 0.15, 0.36, 0.12]  # upper arm 0.56 m: fits 600 x 350 x 350 mm
 LARGE = [0.40, 0.12, 0.40, 0.20, 0.48, 0.16]  # upper arm 0.73 m: does not fit

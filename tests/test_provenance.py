@@ -60,7 +60,7 @@ def test_importing_the_figure_modules_leaves_matplotlib_backend_alone():
     code = (
         "import matplotlib; matplotlib.use('svg'); "
         "import qsm.report.figures, qsm.design_rules.plots, qsm.report.payload_report; "
-        "import qsm.realization.topology; "
+        "import qsm.realization.topology.topology; "
         "print(matplotlib.get_backend())"
     )
     out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)

@@ -11,7 +11,7 @@ from qsm.optimization.ranking import rule_scores
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task import Disk
-from qsm.realization.choice import (
+from qsm.realization.selection.choice import (
     NoFeasibleDesign,
     advice_sentences,
     choose_design,

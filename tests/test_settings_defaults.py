@@ -1,6 +1,6 @@
 """The settings dataclasses' defaults are the config schema's, the defaults a run uses.
 
-Notebook calls take the dataclass defaults (read from the schema by :mod:`qsm.config.defaults`), the
+Notebook calls take the dataclass defaults (read from the schema by :mod:`qsm.schema.defaults`), the
 workflow the validated config's: each field must read its own key.
 """
 
@@ -13,8 +13,8 @@ from qsm.embodiment.strength.material import Material, StrengthSettings
 from qsm.physics.cad import CadSettings
 from qsm.physics.duty import DutySettings
 from qsm.physics.workspace import Resolution
-from qsm.realization.fe import TopologySettings
-from qsm.realization.payload import PayloadSettings
+from qsm.realization.motion.payload import PayloadSettings
+from qsm.realization.topology.fe import TopologySettings
 from qsm.surrogate.model import SurrogateSettings
 
 CONFIG = load_config()
@@ -73,7 +73,7 @@ def test_the_settings_layer_gives_the_default_dataclasses_on_the_default_config(
 
 
 def test_a_default_names_a_key_the_schema_lacks():
-    from qsm.config.defaults import default
+    from qsm.schema.defaults import default
 
     assert default("cad.width_m") == CONFIG["cad"]["width_m"]
     assert default("operating_range.theta1_deg") == tuple(CONFIG["operating_range"]["theta1_deg"])

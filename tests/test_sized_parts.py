@@ -14,7 +14,7 @@ from qsm.embodiment.parts import link_parts as parts
 from qsm.embodiment.parts.printing import link_printability, printability_violation_mm
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import LINK_NAMES
-from qsm.realization.plate_loads import LinkLoads, link_problem
+from qsm.realization.topology.plate_loads import LinkLoads, link_problem
 from qsm.report.drawing import draw_links
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])

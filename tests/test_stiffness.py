@@ -142,7 +142,7 @@ def test_one_beam_is_the_cantilever_formula():
 def test_the_beam_agrees_with_plane_stress_finite_elements():
     """A second path: pyMOTO's plane-stress FE of the bar's outline, clamped at one end and
     loaded across at the other, against the Timoshenko beam (within 3 %)."""
-    from qsm.realization.fe import DEFAULT_TOPOLOGY, FeProblem, Grid, analyse
+    from qsm.realization.topology.fe import DEFAULT_TOPOLOGY, FeProblem, Grid, analyse
 
     length, w, t, h = 0.3, 0.04, 0.02, 0.0025
     grid = Grid((0.0, -w / 2), h, round(length / h), round(w / h))

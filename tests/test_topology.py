@@ -9,7 +9,8 @@ import shapely
 from scipy.sparse.linalg import spsolve
 
 from qsm.physics import cad, duty
-from qsm.realization import fe, geometry, simp, topology, torques
+from qsm.realization.motion import torques
+from qsm.realization.topology import fe, geometry, simp, topology
 from qsm.report import topology_figure
 
 SETTINGS = fe.TopologySettings(volume_fraction=0.5, max_iterations=60, cell_size_m=0.01)

@@ -38,7 +38,7 @@ from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task_points import task_cycle
 from qsm.physics.workspace import OperatingRange
-from qsm.realization.cycle import top_speed
+from qsm.realization.motion.cycle import top_speed
 from qsm.report.headline import headline_markdown
 from qsm.surrogate.model import INPUTS
 from qsm.surrogate.model import load as load_surrogate

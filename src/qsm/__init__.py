@@ -18,26 +18,26 @@ from typing import Any
 
 __version__ = "0.1.0"
 
-#: The parts of ``qsm`` by layer, lowest first: a package, a top-level module, or a dotted part of
-#: a package (``config.defaults``). A layer imports only from the layers before it
-#: (tests/test_layers.py holds the code to this).
+#: The parts of ``qsm`` by layer, lowest first: a package, a top-level module, or a subpackage
+#: (``realization.kit``). A layer imports only from the layers before it (tests/test_layers.py
+#: holds the code to this).
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("config.defaults",),  # every setting's default, from the config schema
+    ("schema",),  # the config schema and every setting's default
     ("physics",),  # kinematics, workspace, solids, MuJoCo dynamics, clearance
     ("mechanisms", "surrogate"),  # Stage 1 designs; the MLP
     ("embodiment",),  # parts and printability, strength, drives, stiffness; their columns
     ("dataset",),  # Stage 2: every domain's columns, one shard's table, the gathered table
     ("optimization",),  # NSGA-II, constraints, verification, ranking
-    ("realization",),  # the realisation pipeline: selection, topology, assembly, payload test
-    ("report",),  # figures, drawings, headline, interactive pages
+    # Stage 6, operations on the one chosen design:
+    ("realization.topology", "realization.motion"),  # plates (SIMP); payload test, cycle
+    ("realization.accuracy",),  # the accuracy budget and the sizing for the tolerance
+    ("realization.selection",),  # the choice, the realisation, the machine record
+    ("realization.kit",),  # the builder's kit, the plates and STLs built with it
+    ("realization.final",),  # the cycle checked, the final budget
+    ("report",),  # records into prose and figures: headline, datasheet, drawings, pages
     ("design_rules",),  # Stage 5 and the study
     ("workflow",),  # tables, logs, shards, provenance: plumbing for the rules
-    ("config.errors",),
-    ("config.points",),  # the task points: a points file, long lists checked with numpy
-    ("config.drive_limits",),  # the drive catalogue and the payload the arm can hold
-    ("config.checks",),
-    ("config.reading",),
-    ("config.settings",),
+    ("config",),  # reading and checking a config, its settings for the library
     ("app",),  # the command line and notebook calls: evaluate, locate and export a design
     ("__main__",),
 )
@@ -48,8 +48,8 @@ _EXPORTS: dict[str, tuple[str, str]] = {
     "evaluate_ratios": ("qsm.app.evaluate", "evaluate_ratios"),
     "load_config": ("qsm.config.reading", "load_config"),
     "load_surrogate": ("qsm.surrogate.model", "load"),
-    "choose_design": ("qsm.realization.choice", "choose_design"),
-    "printing_advice": ("qsm.realization.choice", "printing_advice"),
+    "choose_design": ("qsm.realization.selection.choice", "choose_design"),
+    "printing_advice": ("qsm.realization.selection.choice", "printing_advice"),
     "containment_margin_m": ("qsm.optimization.constraints", "containment_margin_m"),
     "printability_violation_mm": ("qsm.embodiment.parts.printing", "printability_violation_mm"),
 }

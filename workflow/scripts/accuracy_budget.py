@@ -4,9 +4,10 @@ import json
 from pathlib import Path
 
 from qsm.config.settings import links, realization
-from qsm.realization.machine import realization_from_record
-from qsm.realization.outputs import props_from_json
-from qsm.report.accuracy_report import accuracy_figure, final_record
+from qsm.realization.final.final_budget import final_record
+from qsm.realization.selection.machine import realization_from_record
+from qsm.realization.selection.outputs import props_from_json
+from qsm.report.accuracy_report import accuracy_figure, final_verdict
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 
@@ -25,6 +26,7 @@ with logged(snakemake.log[0]) as log:
     base = json.loads(Path(inp.kit).read_text())["base"]["tool_error_mm"]  # the kit's cheeks
     parts = (topology, props)
     record = final_record(choice, done, parts, payload, settings, p.task_points, cycle, base)
+    record["verdict"] = final_verdict(record)
     write_json(out.selected, record)
     accuracy_figure(record, done, topology, props, settings, p.task_points, out.figure)
     budget = record["stiffness"]

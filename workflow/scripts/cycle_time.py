@@ -5,11 +5,12 @@ from pathlib import Path
 
 from qsm.config.settings import links, realization, simulation
 from qsm.physics.task_points import TaskCycle
-from qsm.realization.accuracy_budget import largest_load_N
-from qsm.realization.machine import realization_from_record
-from qsm.realization.outputs import props_from_json
-from qsm.report.accuracy_report import measured_budget
-from qsm.report.cycle_report import cycle_figure, run_cycle, trajectory_table
+from qsm.realization.accuracy.accuracy_budget import largest_load_N
+from qsm.realization.final.cycle_run import run_cycle, trajectory_table
+from qsm.realization.final.final_budget import measured_budget
+from qsm.realization.selection.machine import realization_from_record
+from qsm.realization.selection.outputs import props_from_json
+from qsm.report.cycle_report import cycle_figure
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 

@@ -5,7 +5,7 @@ import numpy as np
 from qsm.config.settings import actuation, links, simulation
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task_points import TaskCycle
-from qsm.realization.front_cycles import CYCLE_COLUMNS, front_cycles
+from qsm.realization.motion.front_cycles import CYCLE_COLUMNS, front_cycles
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, write_table
 

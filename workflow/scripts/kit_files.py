@@ -2,7 +2,7 @@
 
 import json
 
-from qsm.realization.kit_files import exploded_view, write_dxf, write_step
+from qsm.realization.kit.kit_files import exploded_view, write_dxf, write_step
 from qsm.workflow.logs import logged
 
 with logged(snakemake.log[0]) as log:

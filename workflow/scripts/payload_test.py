@@ -7,8 +7,8 @@ import numpy as np
 from qsm.config.settings import actuation, physics, simulation
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.embodiment.drives.selection import drive_of
-from qsm.realization.outputs import props_from_json
-from qsm.realization.payload import payload_test
+from qsm.realization.motion.payload import payload_test
+from qsm.realization.selection.outputs import props_from_json
 from qsm.report.payload_report import (
     SERIES_COLUMNS,
     drive_duty_note,

@@ -5,8 +5,9 @@ from qsm.config.settings import links, physics, realization
 from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import ok_rows
 from qsm.physics.kinematics import DESIGN_COLUMNS
-from qsm.realization.machine import machine_record
-from qsm.report.selection_record import selected_figure, selected_record
+from qsm.realization.selection.chosen_machine import chosen_machine
+from qsm.realization.selection.machine import machine_record
+from qsm.report.selection_record import selected_figure, selection_verdict
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
@@ -27,9 +28,10 @@ with logged(snakemake.log[0]) as log:
         case, p.strength, p.drives, p.task, p.motion, p.task_points, p.printing["build_volume_mm"]
     )
     volume = tuple(p.printing["build_volume_mm"])
-    record, done = selected_record(
+    record, done = chosen_machine(
         fronts, p.primary, dataset, rule, volume, p.task_points, p.user_points, op, settings
     )
+    record["verdict"] = selection_verdict(record, settings.strength, settings.parts.cad, volume)
     if record["task"]["mirrored"]:
         log.info("mirrored: %s", record["task"]["note"])
     for line in record["fallback"]:

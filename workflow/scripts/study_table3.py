@@ -9,7 +9,7 @@ from qsm.design_rules.experiments import table3_sweep
 from qsm.design_rules.plots import table3_figure
 from qsm.design_rules.study import PAPER_TABLE3_PCT
 from qsm.physics.duty import duty_cycle
-from qsm.realization.outputs import props_from_json
+from qsm.realization.selection.outputs import props_from_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import write_table
 

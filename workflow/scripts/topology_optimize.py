@@ -5,9 +5,9 @@ import json
 from pathlib import Path
 
 from qsm.config.settings import links, plates, realization
-from qsm.realization.build import build_links
-from qsm.realization.machine import realization_from_record
-from qsm.realization.outputs import props_to_json, torques_markdown
+from qsm.realization.kit.build import build_links
+from qsm.realization.selection.machine import realization_from_record
+from qsm.realization.selection.outputs import props_to_json, torques_markdown
 from qsm.report.drawing import draw_links
 from qsm.report.topology_figure import plot_links
 from qsm.workflow.json_files import write_json

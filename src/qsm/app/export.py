@@ -13,7 +13,7 @@ Stage 1 does), or in Python :func:`export`. The folder holds:
   (:func:`qsm.optimization.verify.verify_design`: containment of the task at its own scale, eta,
   the MuJoCo peak torques over the duty), its printability per link and, for a front or dataset
   design, the run's own values beside;
-* ``machine.json``: the realised machine (:func:`qsm.realization.machine.machine_record`),
+* ``machine.json``: the realised machine (:func:`qsm.realization.selection.machine.machine_record`),
   built as the workflow builds its ``realization/machine.json``: the same design under the same
   config gives the same record;
 * ``design.png``: the design with its workspace, task and link outlines;
@@ -59,10 +59,10 @@ from qsm.physics.mjcf import mjcf_xml
 from qsm.physics.task import Disk
 from qsm.physics.urdf import LOOP_NOTE, urdf_xml
 from qsm.physics.workspace import OperatingRange
-from qsm.realization.choice import printing_advice
-from qsm.realization.machine import machine_record
-from qsm.realization.outputs import export_stls
-from qsm.realization.pipeline import Realization, budget_of, realize
+from qsm.realization.selection.choice import printing_advice
+from qsm.realization.selection.machine import machine_record
+from qsm.realization.selection.outputs import export_stls
+from qsm.realization.selection.pipeline import Realization, budget_of, realize
 from qsm.report.design_sheet import design_sheet
 from qsm.report.drawing import draw_links
 from qsm.workflow.json_files import write_json

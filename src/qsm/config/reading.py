@@ -12,9 +12,9 @@ import jsonschema
 import yaml
 
 from qsm.config.checks import check_config
-from qsm.config.defaults import schema
 from qsm.config.errors import ConfigError
 from qsm.config.points import check_finite_points, plain_points, resolve_points_file
+from qsm.schema.defaults import schema
 
 
 def _with_defaults(cls: type) -> type:

@@ -14,7 +14,7 @@ from qsm.dataset.evaluation import evaluate_table
 from qsm.physics.cad import CadSettings, MassProperties, mass_properties
 from qsm.physics.duty import Duty
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES, design_from_ratios
-from qsm.realization.torques import torques_before_after
+from qsm.realization.motion.torques import torques_before_after
 
 #: Columns of results/study/independent_lengths.parquet and their units.
 INDEPENDENT_COLUMNS: dict[str, str] = {

@@ -22,9 +22,9 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from qsm.config.defaults import default
 from qsm.optimization.nsga import FrontTables
 from qsm.optimization.ranking import OBJECTIVE_SETS
+from qsm.schema.defaults import default
 from qsm.surrogate.model import INPUTS, Surrogate
 
 #: The surrogate's objectives whose predictions the infill makes right.

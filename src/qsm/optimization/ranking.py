@@ -83,7 +83,7 @@ def rule_scores(df: pd.DataFrame, rule: str) -> np.ndarray:
     ``knee``, the distance to the ideal point of the true values of the objectives the table was
     optimised on (:func:`objectives_of`), each min-max normalised over the rows, or ``fastest``,
     the task's time-optimal cycle (s, ``time_optimal_cycle_s``,
-    :mod:`qsm.realization.front_cycles`; the knee on a table without it)."""
+    :mod:`qsm.realization.motion.front_cycles`; the knee on a table without it)."""
     if rule == "min_tau1":
         return df["tau1_true_Nm"].to_numpy(float)
     if rule == "min_tau2":

@@ -37,8 +37,8 @@ import shapely
 import trimesh
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.config.defaults import default
 from qsm.physics.kinematics import LINK_NAMES, as_design
+from qsm.schema.defaults import default
 
 
 class CadError(ValueError):

@@ -25,7 +25,7 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.config.defaults import default
+from qsm.schema.defaults import default
 
 # peak speed of a unit minimum-jerk move of unit duration
 MIN_JERK_PEAK_SPEED = 1.875

@@ -23,8 +23,8 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.config.defaults import default
 from qsm.physics.kinematics import as_design, pose
+from qsm.schema.defaults import default
 
 #: The motor ranges (deg) of the config's default ``operating_range`` (the paper's).
 THETA1_RANGE_DEG: tuple[float, float] = default("operating_range.theta1_deg")

@@ -24,7 +24,6 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.config.defaults import default
 from qsm.physics.kinematics import relative_arm_angle
 from qsm.physics.slicing import (
     intervals_on_levels,
@@ -36,6 +35,7 @@ from qsm.physics.slicing import (
 )
 from qsm.physics.slicing import margin_about_zero as margin_about_zero
 from qsm.physics.slicing import wrap_about as wrap_about
+from qsm.schema.defaults import default
 
 #: Designs whose arcs are computed and whose scales are searched in one vectorised call.
 ARCS_CHUNK = 256

@@ -17,7 +17,7 @@ import numpy as np
 import pandas as pd
 
 from qsm.embodiment.drives.selection import drive_of
-from qsm.realization.accuracy_budget import term_phrases
+from qsm.realization.accuracy.accuracy_budget import term_phrases
 
 #: Volumetric printing rate (mm^3/s) of the print-time rule.
 PRINT_RATE_MM3_S = 10.0

@@ -66,5 +66,5 @@ def _speed(rad_s: float | None) -> str:
 
 def use_text(use: Sequence[float | None]) -> str:
     """Peak torque uses as percentages; "past its top speed" for a motor that ran past its
-    drive's top speed (None: :func:`qsm.realization.payload.torque_use`)."""
+    drive's top speed (None: :func:`qsm.realization.motion.payload.torque_use`)."""
     return ", ".join("past its top speed" if u is None else f"{u:.0%}" for u in use)

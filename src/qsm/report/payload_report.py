@@ -1,4 +1,5 @@
-"""The payload test's outputs (:func:`qsm.realization.payload.payload_test`): its time series as a
+"""The payload test's outputs (:func:`qsm.realization.motion.payload.payload_test`): its time
+series as a
 table, its scalar summary for JSON and its figure."""
 
 from __future__ import annotations
@@ -10,7 +11,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.realization.payload import SERIES_KEYS
+from qsm.realization.motion.payload import SERIES_KEYS
 
 #: Columns of :func:`series_table`: the time series of a payload test, one row per sample.
 SERIES_COLUMNS: dict[str, str] = {

@@ -1,4 +1,5 @@
-"""Figure of the topology-optimised links (:mod:`qsm.realization.topology`): the density fields
+"""Figure of the topology-optimised links (:mod:`qsm.realization.topology.topology`): the density
+fields
 (0-1) with the CAD and the printed outlines in the link frames (m).
 """
 
@@ -8,10 +9,10 @@ from pathlib import Path
 
 import numpy as np
 
-from qsm.realization.geometry import (
+from qsm.realization.topology.geometry import (
     polygons,
 )
-from qsm.realization.topology import TopologyResult
+from qsm.realization.topology.topology import TopologyResult
 
 
 def plot_links(result: TopologyResult, path: str | Path) -> Path:

@@ -20,8 +20,8 @@ from sklearn.metrics import mean_squared_error, r2_score
 from sklearn.model_selection import train_test_split
 from sklearn.neural_network import MLPRegressor
 
-from qsm.config.defaults import default
 from qsm.physics.kinematics import DESIGN_COLUMNS
+from qsm.schema.defaults import default
 
 INPUTS: tuple[str, ...] = DESIGN_COLUMNS
 OUTPUTS: tuple[str, ...] = ("eta", "tau1_Nm", "tau2_Nm")

@@ -4,7 +4,7 @@ One function per section, in a module per domain; scripts, the command line and
 ``qsm.app.evaluate`` build their settings here and nowhere else. Each function takes the
 section(s) as validated by :mod:`qsm.config.reading` (every default filled from the schema) and
 passes every field on, so the schema's defaults are the ones a run uses; the dataclasses' own
-defaults, for direct notebook calls, are read from the same schema (:mod:`qsm.config.defaults`).
+defaults, for direct notebook calls, are read from the same schema (:mod:`qsm.schema.defaults`).
 
 Each module imports what it builds at its top, and this package imports none of them: a workflow
 script's rerun hash (:mod:`qsm.workflow.provenance`) holds exactly the modules of the settings it

@@ -6,7 +6,6 @@ import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
-from qsm.config.defaults import default
 from qsm.config.settings.actuation import drive_check
 from qsm.config.settings.links import load_case, sag_check, strength_check
 from qsm.embodiment.load_case import LoadCase
@@ -19,6 +18,7 @@ from qsm.optimization.constraint_set import (
 )
 from qsm.physics.cad import DEFAULT_CAD
 from qsm.physics.task_points import visited_points
+from qsm.schema.defaults import default
 
 Section = Mapping[str, Any]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from qsm.realization.fe import TopologySettings
+from qsm.realization.topology.fe import TopologySettings
 
 Section = Mapping[str, Any]
 

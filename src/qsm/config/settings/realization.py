@@ -10,9 +10,9 @@ from qsm.config.settings.links import load_case_of, parts, strength_check
 from qsm.config.settings.simulation import task_motion
 from qsm.embodiment.load_case import LoadCase
 from qsm.physics.task_points import design_task
-from qsm.realization.accuracy_budget import AccuracySettings
-from qsm.realization.kit import KitSettings
-from qsm.realization.pipeline import RealizationSettings
+from qsm.realization.accuracy.accuracy_budget import AccuracySettings
+from qsm.realization.kit.builders_kit import KitSettings
+from qsm.realization.selection.pipeline import RealizationSettings
 
 Section = Mapping[str, Any]
 

@@ -5,7 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from qsm.realization.payload import PayloadSettings
+from qsm.realization.motion.payload import PayloadSettings
 
 Section = Mapping[str, Any]
 

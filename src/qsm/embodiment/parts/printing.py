@@ -33,9 +33,9 @@ import numpy as np
 import pandas as pd
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.config.defaults import default
 from qsm.physics.cad import DEFAULT_CAD, CadError, CadSettings, link_outlines, link_settings
 from qsm.physics.kinematics import DESIGN_COLUMNS, LINK_NAMES, as_design
+from qsm.schema.defaults import default
 
 #: How far (mm) a box may exceed the build volume and still fit: rounding, never a real excess.
 #: Every fit test of qsm (the outlines', the STL files', the export's) uses it.

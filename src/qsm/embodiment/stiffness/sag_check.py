@@ -2,7 +2,8 @@
 payload's weight, for thousands of designs at once (solid links of the section, rigid drives).
 
 This is the part of the accuracy budget a design's lengths and section decide; the realised
-design's full budget (:mod:`qsm.realization.accuracy_budget`) adds its drives' stiffness and play,
+design's full budget (:mod:`qsm.realization.accuracy.accuracy_budget`) adds its drives' stiffness
+and play,
 the optimised plates and the payload test's tracking, and decides its verdict.
 """
 
@@ -13,13 +14,13 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.config.defaults import default
 from qsm.embodiment.stiffness.error_terms import payload_force_N, sag_m
 from qsm.embodiment.stiffness.frame import FrameSections, tool_compliance
 from qsm.embodiment.strength.material import DEFAULT_MATERIAL, Material
 from qsm.physics.batch_ik import batch_joint_angles
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.kinematics import as_design
+from qsm.schema.defaults import default
 
 #: g15 of a design that cannot reach a task point in the operating range (mm over tolerance).
 UNREACHABLE_MM = 1e6

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from qsm.config.defaults import default
+from qsm.schema.defaults import default
 
 
 @dataclass(frozen=True)

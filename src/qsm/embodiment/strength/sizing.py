@@ -36,7 +36,6 @@ from typing import NamedTuple
 import numpy as np
 from numpy.typing import NDArray
 
-from qsm.config.defaults import default
 from qsm.embodiment.parts.bearings import BearingChoice, BearingTable, min_shaft_diameter_m
 from qsm.embodiment.parts.bearings import select_bearings as _select
 from qsm.embodiment.strength.beam import Section
@@ -48,6 +47,7 @@ from qsm.physics.cad import CadSettings
 from qsm.physics.duty import Duty
 from qsm.physics.dynamics import MIN_SIN_TRANSMISSION, loop_state
 from qsm.physics.kinematics import LINK_NAMES
+from qsm.schema.defaults import default
 
 #: Utilisation a sized link is sized to (1 % in hand for the last iteration's change of loads).
 TARGET = 0.99

@@ -1,4 +1,4 @@
-"""The kit's files from its layout (:mod:`qsm.realization.kit_layout`, mm): a STEP file per part
+"""The kit's files from its layout (:mod:`qsm.realization.kit.kit_layout`, mm): a STEP file per part
 and one of the assembled arm, a DXF outline of every plate with its holes and openings (ezdxf),
 and the exploded assembly view (matplotlib).
 

@@ -43,7 +43,6 @@ import mujoco
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.config.defaults import default
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.physics.cad import DEFAULT_CAD, CadSettings, MassProperties, mass_properties
 from qsm.physics.duty import minimum_jerk
@@ -52,6 +51,7 @@ from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import as_design, pose
 from qsm.physics.mjcf import model_spec
 from qsm.physics.task_points import visited_points
+from qsm.schema.defaults import default
 
 
 @dataclass(frozen=True)
@@ -397,7 +397,8 @@ def payload_test(
     overrides the limits (one of the two is needed). With drives the result adds ``drives``
     (their names) and ``limit_Nm`` is each drive's standstill torque at the joint. ``reference``:
     the motion through the visited points (default :func:`raster_reference`; a time-optimal
-    cycle, :mod:`qsm.realization.cycle`), whose ``points`` are then the visited ones in order.
+    cycle, :mod:`qsm.realization.motion.cycle`), whose ``points`` are then the visited ones in
+    order.
 
     Returns scalars: ``passed``, ``saturated``, ``max_tracking_error_deg``,
     ``tracking_tolerance_deg``, ``peak_torque_Nm`` (peak |requested| per motor),

@@ -21,7 +21,7 @@ SCHEMA_FILE = "config.schema.yaml"
 @cache
 def schema() -> dict[str, Any]:
     """The configuration schema shipped with the package."""
-    text = resources.files("qsm.config").joinpath(SCHEMA_FILE).read_text()
+    text = resources.files("qsm.schema").joinpath(SCHEMA_FILE).read_text()
     return yaml.load(text, Loader=getattr(yaml, "CSafeLoader", yaml.SafeLoader))
 
 

@@ -10,8 +10,8 @@ import scipy.sparse as sps
 from numpy.typing import ArrayLike, NDArray
 from scipy.sparse.linalg import splu
 
-from qsm.config.defaults import default
-from qsm.realization.pymoto_quiet import pym
+from qsm.realization.topology.pymoto_quiet import pym
+from qsm.schema.defaults import default
 
 
 @dataclass(frozen=True)

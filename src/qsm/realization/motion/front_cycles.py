@@ -1,13 +1,13 @@
 """The task's time-optimal cycle for every design of a verified front (true values).
 
 Each design that truly holds the task, whose dynamics ran and whose motors have drives gets the
-cycle the realised design gets (:func:`qsm.realization.cycle.plan_cycle`: the same visits,
+cycle the realised design gets (:func:`qsm.realization.motion.cycle.plan_cycle`: the same visits,
 dwells, planner and TOPP-RA bounds) with the drives the verification chose for it and its solid
 links at the strength's sections, at four speed bounds (:data:`FRONT_FRACTIONS`, against the
 realised design's seven: half the time, and on 25 designs of the default front at most 0.4 %
 slower, never faster). It is the time-optimal plan only: not slowed for the tolerance, the
 drives' RMS or MuJoCo's run, which the realised design's cycle adds
-(:mod:`qsm.realization.cycle_check`). The column ``time_optimal_cycle_s`` ranks the front
+(:mod:`qsm.realization.final.cycle_check`). The column ``time_optimal_cycle_s`` ranks the front
 (``printing.selection_rule: fastest``) and shows in the interactive front.
 """
 
@@ -25,8 +25,8 @@ from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.mjcf import TIMESTEP_S
 from qsm.physics.task_points import TaskCycle
-from qsm.realization.cycle import Arm, plan_cycle
-from qsm.realization.payload import PayloadSettings
+from qsm.realization.motion.cycle import Arm, plan_cycle
+from qsm.realization.motion.payload import PayloadSettings
 
 #: The speed bounds each front design's moves are planned at (fractions of each drive's top speed).
 FRONT_FRACTIONS: tuple[float, ...] = (0.3, 0.5, 0.7, 0.9)

@@ -10,14 +10,14 @@ import numpy as np
 import scipy.sparse as sps
 from numpy.typing import NDArray
 
-from qsm.realization.fe import (
+from qsm.realization.topology.fe import (
     DEFAULT_TOPOLOGY,
     FeProblem,
     TopologySettings,
     linear_solve,
     stiffness,
 )
-from qsm.realization.pymoto_quiet import pym
+from qsm.realization.topology.pymoto_quiet import pym
 
 
 @dataclass(frozen=True)

@@ -1,7 +1,8 @@
 """The builder's kit of a realised design: the base, the hubs, pins and tool flange, every
 fastener, their checks, and the layout the STEP, DXF and assembly-view files are drawn from.
 
-:func:`builders_kit` takes a :class:`qsm.realization.pipeline.Realization` and its final parts
+:func:`builders_kit` takes a :class:`qsm.realization.selection.pipeline.Realization` and its final
+parts
 (topology-optimised plates with their bores) and applies :mod:`qsm.embodiment.kit`: the drives'
 interfaces (:mod:`~qsm.embodiment.kit.interfaces`), the pins, hubs and tool flange
 (:mod:`~qsm.embodiment.kit.joints`) and the base (:mod:`~qsm.embodiment.kit.base`, whose
@@ -19,7 +20,6 @@ from typing import Any, NamedTuple
 import numpy as np
 import shapely
 
-from qsm.config.defaults import default
 from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.kit import base as bs
 from qsm.embodiment.kit import fasteners as fs
@@ -27,10 +27,11 @@ from qsm.embodiment.kit import joints as jt
 from qsm.embodiment.kit.interfaces import DriveInterface, interface_of
 from qsm.embodiment.parts.link_parts import LinkPart
 from qsm.physics.kinematics import pose
-from qsm.realization import kit_bom as kb
-from qsm.realization import kit_layout as kl
-from qsm.realization import kit_steps as ks
-from qsm.realization.pipeline import Realization
+from qsm.realization.kit import kit_bom as kb
+from qsm.realization.kit import kit_layout as kl
+from qsm.realization.kit import kit_steps as ks
+from qsm.realization.selection.pipeline import Realization
+from qsm.schema.defaults import default
 
 #: The base's arrangement, as :mod:`qsm.embodiment.kit.base` states it (its cross-references
 #: as plain names).

@@ -36,7 +36,7 @@ from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import CadSettings, link_settings
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import LINK_NAMES
-from qsm.realization.accuracy_budget import (
+from qsm.realization.accuracy.accuracy_budget import (
     AccuracySettings,
     ArmModel,
     budget_mm,
@@ -46,7 +46,7 @@ from qsm.realization.accuracy_budget import (
     smallest_factor,
     task_motion_torques,
 )
-from qsm.realization.payload import PayloadSettings
+from qsm.realization.motion.payload import PayloadSettings
 
 #: The share of the tolerance the structure may take; the rest is kept for the tracking error.
 STRUCTURE_SHARE = 0.7

@@ -21,7 +21,7 @@ from qsm.physics.duty import Duty
 from qsm.physics.dynamics import inverse_dynamics, loop_state
 from qsm.physics.kinematics import as_design, perp
 from qsm.physics.mjcf import GRAVITY_M_S2, model_spec
-from qsm.realization.fe import (
+from qsm.realization.topology.fe import (
     DEFAULT_TOPOLOGY,
     FeProblem,
     TopologySettings,

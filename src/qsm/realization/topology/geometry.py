@@ -9,7 +9,7 @@ import trimesh
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.physics.cad import MassProperties
-from qsm.realization.fe import Grid
+from qsm.realization.topology.fe import Grid
 
 
 def cells_to_geometry(grid: Grid, mask: ArrayLike) -> shapely.Geometry:

@@ -29,7 +29,7 @@ from qsm.physics.cad import CadSettings, MassProperties
 from qsm.physics.duty import Duty
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import as_design
-from qsm.realization.accuracy_budget import (
+from qsm.realization.accuracy.accuracy_budget import (
     AccuracySettings,
     ArmModel,
     accuracy_record,
@@ -37,14 +37,14 @@ from qsm.realization.accuracy_budget import (
     peak_payload_force_N,
     task_motion_duty,
 )
-from qsm.realization.accuracy_sizing import (
+from qsm.realization.accuracy.accuracy_sizing import (
     AccuracyChoice,
     accuracy_choice,
     as_realised,
     frame_sections,
 )
-from qsm.realization.assembly import bearing_rows
-from qsm.realization.payload import PayloadSettings
+from qsm.realization.motion.payload import PayloadSettings
+from qsm.realization.selection.assembly import bearing_rows
 
 
 @dataclass(frozen=True)
@@ -91,8 +91,8 @@ class Realization:
 def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
     """Check and embody ``design`` (6 lengths, m): the sections its links need (sized, or the
     configured one) and the drives, both grown for the tolerance where it asks for more
-    (:mod:`qsm.realization.accuracy_sizing`), their strength and bearings, and the solid bored
-    parts (the accuracy budget at task points: :func:`budget_of`)."""
+    (:mod:`qsm.realization.accuracy.accuracy_sizing`), their strength and bearings, and the solid
+    bored parts (the accuracy budget at task points: :func:`budget_of`)."""
     d = np.asarray(as_design(design), dtype=float)
     settings = replace(settings, drives=replace(settings.drives, task_duty=_task_duty(d, settings)))
     check, sized, accuracy = _for_accuracy(d, settings)
@@ -197,7 +197,7 @@ def budget_of(
     tracking_mm: ArrayLike | None = None,
     cycle_load_N: float | None = None,
 ) -> dict[str, Any]:
-    """The accuracy budget (:func:`qsm.realization.accuracy_budget.accuracy_record`) of a
+    """The accuracy budget (:func:`qsm.realization.accuracy.accuracy_budget.accuracy_record`) of a
     realised design at task ``points_m``; ``props`` and ``factor`` for the optimised plates,
     ``tracking_mm`` the payload test's error per point, ``cycle_load_N`` the payload's peak
     force (N) over the task's cycle (the duty's is always counted)."""

@@ -1,7 +1,9 @@
-"""The realised machine as one record: :class:`~qsm.realization.pipeline.Realization` to JSON
+"""The realised machine as one record: :class:`~qsm.realization.selection.pipeline.Realization` to
+JSON
 and back.
 
-The rule ``select_design`` realises the chosen design once (:func:`~qsm.realization.pipeline
+The rule ``select_design`` realises the chosen design once
+(:func:`~qsm.realization.selection.pipeline
 .realize`) and writes :func:`machine_record` to ``realization/machine.json``. Every later rule
 (the plates, the kit, the cycle, the final budget) rebuilds the same realisation from that file
 with :func:`realization_from_record` instead of realising again: the record holds what the
@@ -23,8 +25,8 @@ import numpy as np
 
 from qsm.embodiment.parts.link_parts import link_parts
 from qsm.embodiment.strength.sizing import SizedSections, SizingSettings
-from qsm.realization.accuracy_sizing import AccuracyChoice
-from qsm.realization.pipeline import Realization, RealizationSettings
+from qsm.realization.accuracy.accuracy_sizing import AccuracyChoice
+from qsm.realization.selection.pipeline import Realization, RealizationSettings
 
 #: The record's version: a reader refuses a record of another.
 VERSION = 1

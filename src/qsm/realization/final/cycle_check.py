@@ -3,14 +3,15 @@ payload's peak force, its links' strength at the cycle's loads, its drives' RMS 
 over the repeated cycle, and MuJoCo's run of it with the chosen drives' envelopes (the payload
 test's plant and controller).
 
-:func:`checked_cycle` plans the cycle (:mod:`qsm.realization.cycle`), slows it first until the
+:func:`checked_cycle` plans the cycle (:mod:`qsm.realization.motion.cycle`), slows it first until
+the
 payload's peak force keeps the accuracy budget within the tolerance (the least such factor, by
 bisection: the peak force never grows as the cycle slows), then runs it :data:`SLOWER` times
 slower in turn until the links hold (g13's check on one period of its samples), each drive's
 RMS use is within its continuous ratings (the drive check's own model,
 :mod:`qsm.embodiment.drives.utilization`) and MuJoCo's run passes; what even the slowest cannot
 meet does not slow it, and the result says by how much it was slowed and why
-(:func:`qsm.report.cycle_report.cycle_record` gives its figures).
+(:func:`qsm.realization.final.cycle_run.cycle_record` gives its figures).
 """
 
 from __future__ import annotations
@@ -26,10 +27,10 @@ from qsm.embodiment.drives.utilization import CHECKS, DriveArrays, utilization
 from qsm.physics.cad import MassProperties
 from qsm.physics.duty import Duty
 from qsm.physics.mjcf import TIMESTEP_S
-from qsm.realization.accuracy_budget import peak_payload_force_N
-from qsm.realization.cycle import Arm, Cycle, motor_torques, plan_cycle, slowed
-from qsm.realization.payload import PayloadSettings, payload_test
-from qsm.realization.pipeline import Realization
+from qsm.realization.accuracy.accuracy_budget import peak_payload_force_N
+from qsm.realization.motion.cycle import Arm, Cycle, motor_torques, plan_cycle, slowed
+from qsm.realization.motion.payload import PayloadSettings, payload_test
+from qsm.realization.selection.pipeline import Realization
 
 #: How many times slower than time-optimal a cycle is tried, in turn, until it passes.
 SLOWER: tuple[float, ...] = (1.0, 1.1, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0)

@@ -25,7 +25,6 @@ from typing import Any, NamedTuple
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.config.defaults import default
 from qsm.embodiment.drives.compliance import ARCMIN_RAD
 from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.stiffness.error_terms import (
@@ -44,7 +43,8 @@ from qsm.embodiment.strength.loads import Inertials, joint_loads
 from qsm.physics.duty import Duty
 from qsm.physics.dynamics import loop_state
 from qsm.physics.inverse_kinematics import joint_path
-from qsm.realization.payload import PayloadSettings, reference_trajectory
+from qsm.realization.motion.payload import PayloadSettings, reference_trajectory
+from qsm.schema.defaults import default
 
 #: A drive without a stiffness beside one with: this many times the other's (as good as rigid).
 RIGID_FACTOR = 1e6

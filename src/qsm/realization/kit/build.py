@@ -11,15 +11,15 @@ from typing import Any
 from qsm.embodiment.parts.link_parts import LinkPart, part_meshes
 from qsm.physics.cad import MassProperties
 from qsm.physics.duty import Duty
-from qsm.realization.accuracy_budget import peak_payload_force_N
-from qsm.realization.assembly import final_parts, write_parts
-from qsm.realization.fe import TopologySettings
-from qsm.realization.geometry import extrude
-from qsm.realization.kit import Kit, KitSettings, builders_kit
-from qsm.realization.outputs import export_stls
-from qsm.realization.pipeline import Realization
-from qsm.realization.topology import TopologyResult, optimize_links
-from qsm.realization.torques import torques_before_after
+from qsm.realization.accuracy.accuracy_budget import peak_payload_force_N
+from qsm.realization.kit.builders_kit import Kit, KitSettings, builders_kit
+from qsm.realization.motion.torques import torques_before_after
+from qsm.realization.selection.assembly import final_parts, write_parts
+from qsm.realization.selection.outputs import export_stls
+from qsm.realization.selection.pipeline import Realization
+from qsm.realization.topology.fe import TopologySettings
+from qsm.realization.topology.geometry import extrude
+from qsm.realization.topology.topology import TopologyResult, optimize_links
 
 
 @dataclass(frozen=True)
@@ -49,12 +49,13 @@ def build_links(
     drawing: dict[str, str],
     kit: KitSettings,
 ) -> BuiltLinks:
-    """Optimise the plates of ``done`` (:func:`qsm.realization.pipeline.realize`) for its loads
-    (``payload_kg`` at E over ``duty``), keep an optimised plate only where it holds, bore every
-    part, and write the BOM into ``folder`` and the STLs (mm) of the solid and the final parts
+    """Optimise the plates of ``done`` (:func:`qsm.realization.selection.pipeline.realize`) for its
+    loads (``payload_kg`` at E over ``duty``), keep an optimised plate only where it holds, bore
+    every part, and write the BOM into ``folder`` and the STLs (mm) of the solid and the final parts
     into ``folder/stl/before`` and ``folder/stl/after``, checked against ``volume_mm``.
     ``drawing`` names the dimensioned drawing's files (``svg``, ``png``) for the record; the
-    builder's kit (:func:`qsm.realization.kit.builders_kit`, with ``kit``) joins the BOM."""
+    builder's kit (:func:`qsm.realization.kit.builders_kit.builders_kit`, with ``kit``) joins the
+    BOM."""
     cad = done.part_settings.cad
     result = optimize_links(done.design, cad, payload_kg, duty, topology, scale=done.scale)
     held = {

@@ -56,7 +56,7 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.physics.cad import CadSettings, MassProperties, link_settings, mass_properties
 from qsm.physics.duty import Duty
 from qsm.physics.kinematics import as_design
-from qsm.realization.fe import (
+from qsm.realization.topology.fe import (
     DEFAULT_TOPOLOGY,
     FeProblem,
     FeResult,
@@ -64,21 +64,21 @@ from qsm.realization.fe import (
     TopologySettings,
     analyse,
 )
-from qsm.realization.geometry import (
+from qsm.realization.topology.geometry import (
     cell_fill,
     cells_to_geometry,
     extrude,
     mesh_mass_properties,
     polygons,
 )
-from qsm.realization.plate_loads import (
+from qsm.realization.topology.plate_loads import (
     OPTIMIZED_LINKS,
     LinkLoads,
     joint_points,
     link_problem,
     peak_loads,
 )
-from qsm.realization.simp import SimpResult, simp
+from qsm.realization.topology.simp import SimpResult, simp
 
 #: Step (of the designable cells) by which the kept material grows after a plate that fails.
 VOLUME_STEP = 0.1

@@ -37,7 +37,7 @@ from toppra.constraint.linear_constraint import canlinear_colloc_to_interpolate
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.embodiment.strength.loads import Inertials, joint_loads
 from qsm.physics.dynamics import loop_state
-from qsm.realization.payload import Reference
+from qsm.realization.motion.payload import Reference
 
 #: Speed bounds tried per move, as fractions of each drive's top speed at the joint.
 SPEED_FRACTIONS: tuple[float, ...] = (0.05, 0.15, 0.3, 0.5, 0.7, 0.85, 0.95)

@@ -1,0 +1,86 @@
+"""The final record of the realised design: its accuracy budget as measured, with the optimised
+plates, the payload test's tracking error, the cycle's peak payload force and the base, and
+``selected.json``'s content."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import ArrayLike, NDArray
+
+from qsm.physics.cad import MassProperties
+from qsm.physics.kinematics import LINK_NAMES
+from qsm.physics.task_points import visited_points
+from qsm.realization.accuracy.accuracy_budget import with_base
+from qsm.realization.selection.pipeline import Realization, RealizationSettings, budget_of
+
+
+def plate_factors(topology: Mapping[str, Any]) -> NDArray[np.float64]:
+    """Each link's stiffness factor (4,): an optimised plate's FE compliance before over after
+    optimisation under its own load cases (1 for a solid link or a plate kept solid)."""
+    links = topology.get("links", {})
+    out = np.ones(len(LINK_NAMES))
+    for k, name in enumerate(LINK_NAMES):
+        r = links.get(name)
+        if r and not r.get("kept_solid") and r.get("compliance_after_J"):
+            out[k] = r["compliance_before_J"] / r["compliance_after_J"]
+    return out
+
+
+def tracking_per_point(points: ArrayLike, point_error_mm: Sequence[float]) -> NDArray[np.float64]:
+    """The payload test's end-effector error at each task point (n,) mm: at the point's hold
+    where the test visits it (the worse of the first hold and the return's for the first point),
+    else the largest error of any hold."""
+    pts = np.asarray(points, dtype=float).reshape(-1, 2)
+    err = np.asarray(point_error_mm, dtype=float)
+    out = np.full(len(pts), float(err.max()) if err.size else 0.0)
+    visited = visited_points(pts)
+    out[visited] = err[: len(visited)]
+    if len(err) > len(visited) and len(visited):  # the return to the first point: its worse hold
+        out[visited[0]] = max(out[visited[0]], float(err[-1]))
+    return out
+
+
+def measured_budget(
+    done: Realization,
+    parts: tuple[Mapping[str, Any], dict[str, MassProperties]],
+    payload: Mapping[str, Any],
+    settings: RealizationSettings,
+    points: ArrayLike,
+    cycle_load_N: float | None = None,
+    base_mm: float = 0.0,
+) -> dict[str, Any]:
+    """The accuracy budget of the realised design as measured: its optimised plates (``parts``:
+    the topology record and their mass properties), the payload test's tracking error, the
+    payload's peak force over the duty and (``cycle_load_N``, N) the task's cycle, and the
+    base's compliance at the tool (``base_mm``, the builder's kit's; 0: none)."""
+    topology, props = parts
+    tracking = tracking_per_point(points, payload.get("point_error_mm", []))
+    factors = plate_factors(topology)
+    budget = budget_of(done, settings, points, props, factors, tracking, cycle_load_N)
+    return with_base(budget, base_mm, settings.accuracy) if base_mm else budget
+
+
+def final_record(
+    choice: Mapping[str, Any],
+    done: Realization,
+    parts: tuple[Mapping[str, Any], dict[str, MassProperties]],
+    payload: Mapping[str, Any],
+    settings: RealizationSettings,
+    points: ArrayLike,
+    cycle: Mapping[str, Any] | None = None,
+    base_mm: float = 0.0,
+) -> dict[str, Any]:
+    """``choice`` (realised as ``done``) with its ``stiffness`` the final budget
+    (:func:`measured_budget` with the ``cycle``'s load and the base's ``base_mm``) and its
+    ``cycle``; :func:`qsm.report.accuracy_report.final_verdict` adds the budget's sentence to
+    its verdict."""
+    load = None if not cycle or not cycle.get("planned") else cycle["peak_payload_force_N"]
+    budget = measured_budget(done, parts, payload, settings, points, load, base_mm)
+    record = dict(choice)
+    if cycle is not None:
+        record["cycle"] = dict(cycle)
+    record["stiffness"] = budget | {"built_for_tolerance": done.accuracy.record()}
+    return record

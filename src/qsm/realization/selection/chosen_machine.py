@@ -1,0 +1,154 @@
+"""The design Stage 6 realises: chosen by the selection rule (printable, strong enough and with
+drives if any design is), realised (:func:`~qsm.realization.selection.pipeline.realize`), and the
+top of ``choice.json``: the realised machine, how it was chosen and, in ``candidate``, the
+optimiser's row. :mod:`qsm.report.selection_record` states its verdict."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Mapping, Sequence
+from typing import Any
+
+import numpy as np
+import pandas as pd
+from numpy.typing import NDArray
+
+from qsm.embodiment.parts.printing import link_printability, smallest_build_volume
+from qsm.embodiment.strength.advice import strength_advice
+from qsm.physics.clearance import disk_clearance_m
+from qsm.physics.kinematics import DESIGN_COLUMNS
+from qsm.physics.mirror import task_record
+from qsm.physics.task import min_enclosing_circle
+from qsm.physics.workspace import OperatingRange
+from qsm.realization.selection.choice import candidate_pool, choose_design, printing_advice
+from qsm.realization.selection.outputs import selection_record
+from qsm.realization.selection.pipeline import Realization, RealizationSettings, realize
+
+#: How many designs, best first, the selection realises before it keeps one it cannot build
+#: for the tolerance.
+TRIES = 5
+
+
+def _without(table: pd.DataFrame, designs: list[NDArray[np.float64]]) -> pd.DataFrame:
+    """``table`` without the rows of ``designs`` (6 lengths, m, each)."""
+    if not designs or table.empty:
+        return table
+    lengths = table[list(DESIGN_COLUMNS)].to_numpy(float)
+    gone = np.zeros(len(table), bool)
+    for d in designs:
+        gone |= np.all(lengths == d, axis=1)
+    return table[~gone]
+
+
+def _tier(how: Mapping[str, Any]) -> tuple[bool, bool, bool]:
+    """What a chosen design met: printable, holds its loads, has drives."""
+    return bool(how["printable"]), bool(how["holds_loads"]), bool(how["has_drives"])
+
+
+def _buildable(
+    choose: Callable[[list[NDArray[np.float64]]], tuple[pd.Series, dict[str, Any]]],
+    settings: RealizationSettings,
+) -> tuple[pd.Series, dict[str, Any], Realization]:
+    """The design ``choose`` gives (:func:`choose_design` without the designs it is passed),
+    realised: the best that the realisation can build for the tolerance (its structure within
+    the target, :mod:`qsm.realization.accuracy.accuracy_sizing`) among the first :data:`TRIES`
+    of the first one's tier (printable, holds its loads, has drives), each one skipped named in
+    ``fallback`` with its numbers; the first when none can."""
+    skipped: list[NDArray[np.float64]] = []
+    notes: list[str] = []
+    tried: list[tuple[pd.Series, dict[str, Any], Realization]] = []
+    for _ in range(TRIES):
+        try:
+            row, how = choose(skipped)
+        except ValueError:  # nothing left once these are skipped
+            break
+        if tried and _tier(how) != _tier(tried[0][1]):  # a worse tier: keep the first's
+            break
+        done = realize(selection_record(row)["design_m"], settings)
+        tried.append((row, how, done))
+        if done.accuracy.meets is not False:
+            break
+        skipped.append(done.design)
+        record = done.accuracy.record()
+        structure = record["structure_mm"]
+        notes.append(
+            f"{how['source']} design {np.round(1e3 * done.design, 1).tolist()} mm: the "
+            f"realisation cannot build it for the tolerance (structure "
+            + ("not defined" if structure is None else f"{structure:.2f} mm")
+            + f", target {record['target_mm']:.2f} mm)"
+        )
+    row, how, done = tried[-1]
+    if done.accuracy.meets is False:  # none can: the rule's own choice, which the verdict judges
+        row, how, done = tried[0]
+        notes = []
+    how["fallback"] = [*notes[: len(tried) - 1], *how["fallback"]]
+    return row, how, done
+
+
+def chosen_machine(
+    fronts: Mapping[str, pd.DataFrame],
+    primary: str,
+    dataset: pd.DataFrame,
+    rule: str,
+    volume_mm: tuple[float, float, float],
+    task_points: Sequence[Sequence[float]],
+    user_points: Sequence[Sequence[float]],
+    op: OperatingRange,
+    settings: RealizationSettings,
+) -> tuple[dict[str, Any], Realization]:
+    """The design chosen by ``rule`` from the fronts (``primary`` first) or the dataset
+    (:func:`~qsm.realization.selection.choice.choose_design`), realised (:func:`realize`): the
+    record of ``choice.json`` without its verdict (:func:`machine_top`, the task (the user's
+    points; the design's are ``task_points``), the clearance (m), and the advice where the
+    strength or the printer fails) and the realisation, which ``machine.json`` holds."""
+    cad = settings.parts.cad
+    disk = min_enclosing_circle(task_points)
+
+    def choose(skipped: list[NDArray[np.float64]]) -> tuple[pd.Series, dict[str, Any]]:
+        kept = {name: _without(t, skipped) for name, t in fronts.items()}
+        return choose_design(kept, primary, _without(dataset, skipped), rule, cad, volume_mm)
+
+    row, how, done = _buildable(choose, settings)
+    record = machine_top(row, how, done, volume_mm)
+    record["task"] = task_record(user_points)
+    record["clearance_m"] = disk_clearance_m(record["design_m"], op, disk)
+    if not record["holds_loads"]:
+        record["strength_advice"] = strength_advice(record["design_m"], settings.strength)
+    if not how["printable"]:
+        advice = printing_advice(record["design_m"], cad, volume_mm, disk)
+        pool = candidate_pool(fronts, dataset)
+        strong = pool["holds_loads"].astype(bool)
+        advice["smallest_over_designs"] = smallest_build_volume(
+            pool, strong if record["holds_loads"] else np.ones(len(pool), bool), cad
+        )
+        record["printing_advice"] = advice
+    return record, done
+
+
+#: The candidate's fields that are the realised machine's as well: its lengths and how it was
+#: chosen. Every other column of the candidate's row describes it at the section it was chosen
+#: with, and stays in ``candidate``.
+SHARED_KEYS = (
+    *("design_m", "scale_m", "l1_m", "l2_m", "l3_m", "l4_m", "ee_x_m", "ee_y_m"),
+    *("formulation", "mechanism_id", "selection_rule", "selection_score", "n_candidates"),
+)
+
+
+def machine_top(
+    row: pd.Series, how: Mapping[str, Any], done: Realization, volume_mm: tuple[float, ...]
+) -> dict[str, Any]:
+    """The top of ``choice.json``: the realised machine (its lengths, how it was chosen, its
+    printer fit, strength and drives as realised) and, in ``candidate``, the optimiser's
+    candidate as it was chosen (every column of its row; ``printable``, ``holds_loads`` and
+    ``has_drives`` of the tier it was chosen in)."""
+    candidate = selection_record(row)
+    candidate.update({k: how[k] for k in ("printable", "holds_loads", "has_drives")})
+    fit = link_printability(done.design, done.part_settings.cad, done.scale, volume_mm)["links"]
+    record = {k: candidate[k] for k in SHARED_KEYS if k in candidate}
+    record["source"], record["fallback"] = how["source"], how["fallback"]
+    record["printable"] = all(link["fits"] for link in fit.values())
+    record["printer_box_mm"] = {name: list(link["dims_mm"]) for name, link in fit.items()}
+    record["holds_loads"] = bool(done.strength["holds_loads"])
+    record["has_drives"] = done.has_drives
+    record["strength"], record["drives"] = done.strength, done.drives
+    record["candidate"] = candidate
+    return record
