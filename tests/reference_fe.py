@@ -2,18 +2,15 @@
 
 For one design, at the duty samples of peak |tau1| and |tau2| (those of
 :func:`qsm.realization.topology.plate_loads.peak_loads`), the lower and the upper arm are analysed
-twice
-under the same loads: the joint forces of :func:`qsm.embodiment.strength.loads.joint_loads` plus the
-link's own weight and d'Alembert inertia.
+twice under the same loads: the joint forces of :func:`qsm.embodiment.strength.loads.joint_loads`
+plus the link's own weight and d'Alembert inertia.
 
-* Beam: :func:`qsm.embodiment.strength.stresses.cut_forces` with a solid section (no bore, as the
-FE plate
-  has solid bosses), the peak over the link's bar cuts.
-* FE: the solid CAD plate of :func:`qsm.realization.topology.plate_loads.link_problem` (clamped
-over the
-  whole boss of A, for the lower arm, or B, for the upper arm; joint forces spread over the nodes
-  of the other bosses), each cell's stiffness and body force in proportion to its area inside the
-  outline; von Mises stress per cell. The peak is taken over the whole cells outside every boss
+* Beam: :func:`qsm.embodiment.strength.stresses.cut_forces` with a solid section (no bore, as
+  the FE plate has solid bosses), the peak over the link's bar cuts.
+* FE: the solid CAD plate of :func:`qsm.realization.topology.plate_loads.link_problem` (clamped over
+  the whole boss of A, for the lower arm, or B, for the upper arm; joint forces spread over the
+  nodes of the other bosses), each cell's stiffness and body force in proportion to its area inside
+  the outline; von Mises stress per cell. The peak is taken over the whole cells outside every boss
   (centre farther than the boss radius from every joint): inside, the clamp and the spread point
   loads make stresses that are not real, and a cut cell's strain overstates the stress.
 
@@ -88,8 +85,7 @@ def aligned_problem(
     design: NDArray[np.float64], cad: CadSettings, link: str, case: LinkLoads, h: float
 ) -> FeProblem:
     """The FE problem of :func:`qsm.realization.topology.plate_loads.link_problem` (solid plate of
-    the CAD
-    outline, bosses solid, the clamp joint's boss clamped, joint forces spread over the boss
+    the CAD outline, bosses solid, the clamp joint's boss clamped, joint forces spread over the boss
     nodes) on a grid whose cell edges lie on the bars' edges, so that a bar is exactly
     ``width / h`` cells wide (``h`` must divide the width). link_problem centres its grid on the
     outline's box instead, which makes a bar one cell wider or offset by half a cell."""

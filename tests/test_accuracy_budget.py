@@ -1,6 +1,5 @@
 """The realised design's accuracy budget (qsm.realization.accuracy.accuracy_budget) and the
-gearboxes'
-stiffness and play (qsm.embodiment.drives.compliance)."""
+gearboxes' stiffness and play (qsm.embodiment.drives.compliance)."""
 
 import json
 import math

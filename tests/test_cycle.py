@@ -1,6 +1,6 @@
 """The time-optimal moves (qsm.realization.motion.cycle) against hand cases: a single link's
-bang-bang
-motion in closed form, with a speed bound, and under gravity against a phase-plane reference."""
+bang-bang motion in closed form, with a speed bound, and under gravity against a phase-plane
+reference."""
 
 import itertools
 

@@ -43,6 +43,7 @@ def test_the_record_rebuilds_the_realisation_it_was_written_from(tolerance_mm):
     assert again.bearing_rows == done.bearing_rows
     assert again.accuracy.record() == done.accuracy.record()
     assert again.part_settings == done.part_settings
+    assert again.tool_flange == done.tool_flange and again.fixed_point == done.fixed_point
     for name, part in done.parts.items():
         assert again.parts[name].polygon.equals_exact(part.polygon, 0.0)
     if done.sections is None:

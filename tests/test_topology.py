@@ -134,3 +134,43 @@ def test_a_plate_over_the_stress_limit_is_not_kept(tmp_path) -> None:
     else:
         assert link.attempts[-1]["max_von_mises_MPa"] <= allow
         assert link.attempts[-1]["volume_fraction"] > 0.3
+
+
+def test_a_plate_keeps_the_stiffness_the_realisation_sized_for() -> None:
+    """At 50 % material and a 1 kg payload the lower arm's printed plate holds its stress but is far
+    less stiff than the solid one. With
+    ``min_stiffness_factor`` 0.8 it gets more material until it keeps 0.8 of the solid plate's
+    stiffness (the solid compliance over the printed one, which the accuracy budget applies), or
+    the solid link is kept; with a floor of 0.05 the first plate is kept."""
+    d = duty.duty_cycle(
+        duty.DutySettings(
+            raster_lines=3, samples_per_segment=8, static_theta1_count=3, static_theta2_count=3
+        )
+    )
+
+    def lower_arm(floor: float) -> topology.LinkResult:
+        lean = fe.TopologySettings(
+            volume_fraction=0.5, cell_size_m=0.005, max_iterations=40, min_stiffness_factor=floor
+        )
+        res = topology.optimize_links(DESIGN, cad.CadSettings(), 1.0, d, lean, links=("lower_arm",))
+        return res.links["lower_arm"]
+
+    loose = lower_arm(0.05)
+    first = loose.attempts[0]
+    assert len(loose.attempts) == 1 and not loose.kept_solid
+    assert first["stiffness_factor"] == pytest.approx(
+        loose.compliance_before_J / loose.compliance_after_J, rel=1e-12
+    )
+    assert first["stiffness_factor"] < 0.8  # the lean plate is too soft for the floor below
+    stiff = lower_arm(0.8)
+    assert stiff.attempts[0]["stiffness_factor"] == pytest.approx(first["stiffness_factor"])
+    if stiff.kept_solid:
+        assert stiff.props_after == stiff.props_before
+    else:
+        assert stiff.compliance_before_J / stiff.compliance_after_J >= 0.8
+        assert stiff.attempts[-1]["volume_fraction"] > 0.5
+
+
+def test_the_stiffness_floor_is_a_share_of_the_solid_plate() -> None:
+    with pytest.raises(ValueError, match="min_stiffness_factor"):
+        fe.TopologySettings(min_stiffness_factor=1.2)

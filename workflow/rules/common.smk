@@ -1,6 +1,7 @@
 # Shared definitions: the conda environment, code provenance and the settings rules depend on.
 import functools
 
+from qsm.config.sections import accuracy_section
 from qsm.physics.task_points import MOTION_KEYS, design_task, task_cycle
 from qsm.workflow.provenance import source_hash
 
@@ -93,10 +94,9 @@ def load_case():
 
 
 def accuracy_settings():
-    """The task's keys the realisation's accuracy reads (qsm.config.settings.realization
-    .accuracy): the task's points and cycle arrive by other params."""
-    keys = ("tolerance_mm", "min_first_mode_hz", "grow_for_tolerance")
-    return {k: config["task"][k] for k in keys}
+    """The keys the realisation's accuracy reads (qsm.config.settings.realization
+    .accuracy_section): the task's points and cycle arrive by other params."""
+    return accuracy_section(config)
 
 
 def motion_settings():

@@ -35,6 +35,7 @@ rule select_design:
     params:
         code=code("select_design.py"),
         printing=config["printing"],
+        kit=config["kit"],
         load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),
@@ -81,7 +82,6 @@ rule topology_optimize:
     params:
         code=code("topology_optimize.py"),
         topology=config["topology"],
-        kit=config["kit"],
         operating_range=config["operating_range"],
         load_case=load_case(),
         strength=config["strength"],

@@ -7,6 +7,7 @@ from qsm.config.settings import links, realization
 from qsm.realization.final.final_budget import final_record
 from qsm.realization.selection.machine import realization_from_record
 from qsm.realization.selection.outputs import props_from_json
+from qsm.realization.selection.pipeline import carrying
 from qsm.report.accuracy_report import accuracy_figure, final_verdict
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
@@ -23,6 +24,7 @@ with logged(snakemake.log[0]) as log:
         case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
     )
     done = realization_from_record(json.loads(Path(inp.machine).read_text()), settings)
+    settings = carrying(settings, done.tool_kg)  # the tool flange at E, as realised
     base = json.loads(Path(inp.kit).read_text())["base"]["tool_error_mm"]  # the kit's cheeks
     parts = (topology, props)
     record = final_record(choice, done, parts, payload, settings, p.task_points, cycle, base)

@@ -10,6 +10,7 @@ from qsm.realization.final.cycle_run import run_cycle, trajectory_table
 from qsm.realization.final.final_budget import measured_budget
 from qsm.realization.selection.machine import realization_from_record
 from qsm.realization.selection.outputs import props_from_json
+from qsm.realization.selection.pipeline import carrying
 from qsm.report.cycle_report import cycle_figure
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
@@ -26,9 +27,10 @@ with logged(snakemake.log[0]) as log:
         case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
     )
     done = realization_from_record(json.loads(Path(inp.machine).read_text()), settings)
+    settings = carrying(settings, done.tool_kg)  # the tool flange at E, as realised
     (lo, hi), theta2_min = case.operating_range_deg
     op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
-    test = simulation.payload_test(p.payload_test, case.payload_kg, op)
+    test = simulation.payload_test(p.payload_test, settings.motion.payload_kg, op)
     task = TaskCycle(**p.cycle)
     base = json.loads(Path(inp.kit).read_text())["base"]["tool_error_mm"]
     budget = measured_budget(done, (topology, props), payload, settings, p.task_points, None, base)

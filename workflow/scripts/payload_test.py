@@ -7,6 +7,7 @@ import numpy as np
 from qsm.config.settings import actuation, physics, simulation
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.torque_limits import limited
 from qsm.realization.motion.payload import payload_test
 from qsm.realization.selection.outputs import props_from_json
 from qsm.report.payload_report import (
@@ -29,17 +30,22 @@ with logged(snakemake.log[0]) as log:
     design = np.asarray(selected["design_m"])
     with open(inp.links) as fh:
         props = props_from_json(json.load(fh))
-    test_settings = simulation.payload_test(p.payload_test, p.payload_kg, p.operating_range)
+    tool_kg = selected["tool_flange_kg"]  # the realised tool flange, at E beside the payload
+    carried = p.payload_kg + tool_kg
+    test_settings = simulation.payload_test(p.payload_test, carried, p.operating_range)
     catalogue = actuation.catalogue(p.drives)
     drives = []
-    for j, m in selected["drives"]["motors"].items():  # the chosen drive, or the nearest
-        d = drive_of(m)
-        drives.append(OutputEnvelope.of(catalogue, d["motor_key"], d["gearbox_key"]))
+    limits = selected["torque_limits_Nm"]  # each drive's, which its controller keeps
+    for (j, m), limit in zip(selected["drives"]["motors"].items(), limits, strict=True):
+        d = drive_of(m)  # the chosen drive, or the nearest
+        drives.append(
+            limited(OutputEnvelope.of(catalogue, d["motor_key"], d["gearbox_key"]), limit)
+        )
         log.info("%s: %s%s", j, drives[-1].name, "" if d["chosen"] else " (NOT meeting its duty)")
     result = payload_test(
         design, p.task_points, physics.cad(p.cad, p.material), props, test_settings, drives
     )
-    scalars = summary(result)
+    scalars = summary(result) | {"payload_kg": p.payload_kg, "tool_flange_kg": tool_kg}
     scalars.update(drive_duty_note(selected["drives"]["motors"], drives))
     write_json(out.result, scalars)
     write_table(series_table(result), out.series, {"columns": SERIES_COLUMNS})

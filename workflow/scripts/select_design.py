@@ -24,10 +24,10 @@ with logged(snakemake.log[0]) as log:
     rule = p.printing["selection_rule"]
     op = physics.operating_range(p.load_case["operating_range"])
     case = links.load_case(p.load_case)
-    settings = realization.realization(
-        case, p.strength, p.drives, p.task, p.motion, p.task_points, p.printing["build_volume_mm"]
-    )
     volume = tuple(p.printing["build_volume_mm"])
+    settings = realization.realization(
+        case, p.strength, p.drives, p.task, p.motion, p.task_points, volume, p.kit
+    )
     record, done = chosen_machine(
         fronts, p.primary, dataset, rule, volume, p.task_points, p.user_points, op, settings
     )

@@ -27,10 +27,9 @@ with logged(snakemake.log[0]) as log:
     volume = tuple(p.build_volume_mm)
     drawing = {"svg": out.drawing, "png": out.drawing_png}
     material = case.material.name
-    kit = realization.kit(p.kit, p.operating_range, p.drives, settings.accuracy.tolerance_mm)
-    built = build_links(
-        done, case.payload_kg, case.cycle(), topo, material, folder, volume, drawing, kit
-    )
+    kit = realization.kit(p.operating_range, p.drives, settings.accuracy.tolerance_mm)
+    carried = case.payload_kg + done.tool_kg  # the payload and the tool flange at E
+    built = build_links(done, carried, case.cycle(), topo, material, folder, volume, drawing, kit)
     draw_links(done.design, built.parts, f"{folder}/drawing")  # as built, openings included
     write_json(out.kit, built.kit.record)
     log.info("builder's kit: checks %s", built.kit.record["checks"])

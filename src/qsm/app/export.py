@@ -62,7 +62,7 @@ from qsm.physics.workspace import OperatingRange
 from qsm.realization.selection.choice import printing_advice
 from qsm.realization.selection.machine import machine_record
 from qsm.realization.selection.outputs import export_stls
-from qsm.realization.selection.pipeline import Realization, budget_of, realize
+from qsm.realization.selection.pipeline import Realization, budget_of, carrying, realize
 from qsm.report.design_sheet import design_sheet
 from qsm.report.drawing import draw_links
 from qsm.workflow.json_files import write_json
@@ -85,7 +85,8 @@ def _accuracy(done: Realization, config: Mapping[str, Any]) -> dict[str, Any]:
     or why there is none (a point it cannot reach)."""
     try:
         points = design_points(config["task"]["points"])
-        budget = budget_of(done, realization.realization_of(config), points)
+        settings = carrying(realization.realization_of(config), done.tool_kg)
+        budget = budget_of(done, settings, points)
     except ValueError as exc:
         return {"meets_requirements": False, "verdict": f"no accuracy budget: {exc}"}
     budget["verdict"] += " (solid parts; without tracking error: qsm export runs no payload test)"
@@ -133,6 +134,8 @@ def export_design(
         "strength": strength,
         "parts": {name: {"holes": p.holes} for name, p in parts.items()},
         "drives": drives,
+        "tool_flange_kg": done.tool_kg,
+        "torque_limits_Nm": list(done.torque_limits_Nm),
         "stiffness": accuracy,
         "files": _files(links),
         "urdf": {"written": True, "closed_loop": LOOP_NOTE},
@@ -163,11 +166,12 @@ def _write_models(
     ``folder``; returns its printability (:func:`_printability`)."""
     d, scale = done.design, done.scale
     cad = physics.cad(config["cad"], config["material"])
-    payload = float(config["task"]["payload_kg"])
+    payload = float(config["task"]["payload_kg"]) + done.tool_kg  # the tool flange at E
     volume = tuple(float(v) for v in config["printing"]["build_volume_mm"])
     fit = physics.fit_of(config)
     props = mass_properties(d, cad, scale)  # the solid links of each link's section
-    xml = mjcf_xml(d, cad, payload, home_pose(d, fit.op), mirrored, props)
+    pose = home_pose(d, fit.op)
+    xml = mjcf_xml(d, cad, payload, pose, mirrored, props, done.torque_limits_Nm)
     (folder / "model.xml").write_text(xml)
     stl = export_stls(part_meshes(done.parts), folder / "stl", volume)
     draw_links(d, done.parts, folder / "drawing")

@@ -46,8 +46,12 @@ def export_readme(record: Mapping[str, Any], title: str) -> str:
         "evaluation and its printability |\n"
         "| `design.png` | the design with workspace, task and link outlines |\n\n"
         "The MJCF's keyframe `home` is a pose with the loop closed (the middle of the motor "
-        "ranges). The payload is a point mass at E merged into the upper arm's inertial (the "
-        "site `payload` marks E).\n\n"
+        "ranges). The payload and the tool flange "
+        f"({record['tool_flange_kg']:.3f} kg) are a point mass at E merged into the upper arm's "
+        "inertial (the site `payload` marks E). Each motor's joint carries its drive's torque "
+        "limit as `actuatorfrcrange`: "
+        + " and ".join(f"{t:.1f} N m" for t in record["torque_limits_Nm"])
+        + " (motor 1 and 2), which the controller keeps and the kit is sized for.\n\n"
         f"URDF and the closed loop: {LOOP_NOTE}\n"
         + (
             f"\nMirrored: {record['task']['note']}. `model.xml` is the mirrored arm (x negated, "

@@ -172,18 +172,23 @@ def mjcf_xml(
     home_qpos: ArrayLike | None = None,
     mirrored: bool = False,
     props: dict[str, MassProperties] | None = None,
+    torque_limits_Nm: tuple[float, float] | None = None,
 ) -> str:
     """Standalone MJCF XML of the model of :func:`build_model` (link mass properties ``props``,
     default the CAD links), with a keyframe ``home`` at the joint positions ``home_qpos`` (rad,
     :data:`JOINT_NAMES` order) when given: a pose where the loop is closed, so a simulation
     loaded from it starts consistent. ``mirrored``: the arm
     mirrored through x = 0 (:func:`qsm.physics.mirror.mirror_spec`; same joint values), the one
-    built for a task at x > 0.
+    built for a task at x > 0. ``torque_limits_Nm``: each motor's torque limit (N m), written
+    as its joint's ``actuatorfrcrange``, which MuJoCo holds the actuator's torque to.
 
     MuJoCo writes numbers with 6 significant digits, so a model loaded from this XML reproduces
     the torques of :func:`build_model` to about 1e-5 relative.
     """
     spec = model_spec(design, settings, payload_kg, props)
+    for joint, limit in zip(("theta1", "theta2"), torque_limits_Nm or (), strict=False):
+        spec.joint(joint).actfrclimited = mujoco.mjtLimited.mjLIMITED_TRUE
+        spec.joint(joint).actfrcrange = [-float(limit), float(limit)]
     if mirrored:
         mirror_spec(spec)
     if home_qpos is not None:

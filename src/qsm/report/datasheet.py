@@ -84,7 +84,8 @@ def _machine_rows(selected: Mapping[str, Any], bom: pd.DataFrame) -> list[str]:
     drives = [drive_of(m) for m in motors.values()]
     return [
         _row("payload", f"{selected['strength']['payload_kg']:g} kg at the tool (gripper "
-             "included)"),
+             f"included), on a {selected['tool_flange_kg']:.3f} kg tool flange "
+             f"({selected['tool_flange'].get('pattern') or 'none fits'})"),
         _row("reach", f"{reach:.3f} m from the base joint A (lower arm and upper arm in line)"),
         _row("task", f"{len(points)} points, x {points[:, 0].min():.3f} to "
              f"{points[:, 0].max():.3f} m, y {points[:, 1].min():.3f} to "
@@ -96,6 +97,9 @@ def _machine_rows(selected: Mapping[str, Any], bom: pd.DataFrame) -> list[str]:
                  f"{x.get('torsional_stiffness_Nm_rad', '-')} N m/rad)")
             for j, x in enumerate(drives, start=1)
         ),
+        _row("torque limits", _pair(selected["torque_limits_Nm"], 1, "N m") + " at the joints: "
+             "each controller keeps its drive within it; the kit is sized for it, the cycle "
+             "planned within it"),
         _row("bearings", _bearings_text(bom)),
         _row("material", f"{selected['strength']['material']}, printed"),
     ]  # fmt: skip

@@ -47,7 +47,9 @@ def _joint_rows(kit: Mapping[str, Any]) -> list[str]:
         )
         key = h.get("key_safety_factor")
         sf = f"key {key:.1f}" if key is not None else "the drive's flange pattern"
-        rows.append(f"| A (hub {h['motor']}) | {text} | {h['peak_torque_Nm']:.1f} N m | {sf} |")
+        rows.append(
+            f"| A (hub {h['motor']}) | {text} | {h['torque_Nm']:.1f} N m (torque limit) | {sf} |"
+        )
     f = kit["tool_flange"]
     if f.get("pattern"):
         rows.append(

@@ -1,6 +1,5 @@
-"""The payload test's outputs (:func:`qsm.realization.motion.payload.payload_test`): its time
-series as a
-table, its scalar summary for JSON and its figure."""
+"""The payload test's outputs (:func:`qsm.realization.motion.payload.payload_test`): its time series
+as a table, its scalar summary for JSON and its figure."""
 
 from __future__ import annotations
 

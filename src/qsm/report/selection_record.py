@@ -49,6 +49,8 @@ def selection_verdict(
         verdicts.append(_printing_failure(record, cad, volume_mm))
     elif not record["printable"]:
         verdicts.append(_grown_past_printer(record, volume_mm))
+    if not record["fixed_point"]["converged"]:
+        verdicts.append(_unsettled(record))
     return ". ".join(verdicts) + "." if verdicts else _ready(record, volume_mm)
 
 
@@ -96,6 +98,17 @@ def _grown_past_printer(record: Mapping[str, Any], volume_mm: tuple[float, ...])
     return (
         f"NOT PRINTABLE on {' x '.join(f'{v:g}' for v in volume_mm)} mm at the sections the "
         f"realisation gave its links: {', '.join(over)}"
+    )
+
+
+def _unsettled(record: Mapping[str, Any]) -> str:
+    """The verdict of a realisation whose loop stopped before the tool flange's mass settled."""
+    point = record["fixed_point"]
+    return (
+        f"NOT SETTLED: the realisation stopped after {point['iterations']} realisations "
+        f"(kit.fixed_point_iterations) with the tool flange's mass still changing: the last "
+        f"carried {point['tool_kg'][-1]:.3f} kg at E and chose a flange of "
+        f"{record['tool_flange'].get('moving_mass_kg', 0.0):.3f} kg"
     )
 
 

@@ -1,6 +1,5 @@
 """Figure of the topology-optimised links (:mod:`qsm.realization.topology.topology`): the density
-fields
-(0-1) with the CAD and the printed outlines in the link frames (m).
+fields (0-1) with the CAD and the printed outlines in the link frames (m).
 """
 
 from __future__ import annotations

@@ -5,6 +5,7 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any
 
+from qsm.config.sections import accuracy_section
 from qsm.config.settings.actuation import drive_check
 from qsm.config.settings.links import load_case_of, parts, strength_check
 from qsm.config.settings.simulation import task_motion
@@ -12,7 +13,7 @@ from qsm.embodiment.load_case import LoadCase
 from qsm.physics.task_points import design_task
 from qsm.realization.accuracy.accuracy_budget import AccuracySettings
 from qsm.realization.kit.builders_kit import KitSettings
-from qsm.realization.selection.pipeline import RealizationSettings
+from qsm.realization.selection.pipeline import KitSizing, RealizationSettings
 
 Section = Mapping[str, Any]
 
@@ -25,13 +26,15 @@ def realization(
     motion: Section,
     points: Sequence[Sequence[float]],
     build_volume_mm: Sequence[float],
+    kit_section: Section | None = None,
 ) -> RealizationSettings:
     """The link check, drive check and bored parts of a design under ``case``, with the
     ``strength`` and ``drives`` sections; the accuracy the ``task`` needs at its design
     ``points`` (m) and the task's ``motion`` through them (``payload_test``'s
     :data:`~qsm.physics.task_points.MOTION_KEYS`), which the realisation meets
     (``task.grow_for_tolerance``, within the printer's ``build_volume_mm``) and the accuracy
-    budget reports."""
+    budget reports; ``kit_section`` (``kit``; None: its defaults, for the rules that rebuild a
+    realisation from its record) sets the loop that adds the tool flange's mass."""
     (lo, hi), theta2_min = case.operating_range_deg
     op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
     return RealizationSettings(
@@ -41,6 +44,17 @@ def realization(
         accuracy=accuracy(task, case, points, build_volume_mm),
         motion=task_motion(motion, case.payload_kg, op),
         task_points_m=tuple((float(x), float(y)) for x, y in points),
+        kit_sizing=KitSizing() if kit_section is None else kit_sizing(kit_section),
+    )
+
+
+def kit_sizing(section: Section) -> KitSizing:
+    """The ``kit`` section's keys of the loop that adds the tool flange's mass."""
+    return KitSizing(
+        tool_offset_m=float(section["tool_offset_m"]),
+        max_iterations=int(section["fixed_point_iterations"]),
+        tolerance=float(section["fixed_point_tolerance"]),
+        torque_margin=float(section["torque_limit_margin"]),
     )
 
 
@@ -50,9 +64,10 @@ def accuracy(
     points: Sequence[Sequence[float]],
     build_volume_mm: Sequence[float],
 ) -> AccuracySettings:
-    """``task.tolerance_mm`` and ``task.min_first_mode_hz``: what the design's accuracy must
-    meet; where the realisation builds the design for it (``task.grow_for_tolerance``), the
-    design ``points`` (m) and the largest section it may give a link (``cad.sized``'s)."""
+    """``task`` (:func:`accuracy_section`): ``tolerance_mm`` and ``min_first_mode_hz``, what the
+    design's accuracy must meet; where the realisation builds the design for it
+    (``grow_for_tolerance``), the design ``points`` (m), the largest section it may give a link
+    (``cad.sized``'s) and the optimised plates' least stiffness factor it sizes them at."""
     return AccuracySettings(
         tolerance_mm=float(task["tolerance_mm"]),
         min_first_mode_hz=task["min_first_mode_hz"],
@@ -61,6 +76,7 @@ def accuracy(
         else (),
         max_section_scale=case.largest_scale,
         build_volume_mm=tuple(float(v) for v in build_volume_mm),
+        plate_factor=float(task["min_stiffness_factor"]),
     )
 
 
@@ -70,21 +86,19 @@ def realization_of(config: Section) -> RealizationSettings:
         load_case_of(config),
         config["strength"],
         config["drives"],
-        config["task"],
+        accuracy_section(config),
         config["payload_test"],
         design_task(config["task"]["points"])[1],
         config["printing"]["build_volume_mm"],
+        config["kit"],
     )
 
 
-def kit(
-    section: Section, operating_range: Section, drives: Section, tolerance_mm: float
-) -> KitSettings:
-    """The builder's kit's settings: the ``kit`` section, the motors' ``operating_range``, the
-    ``drives`` section's catalogue (where ``interfaces.csv`` is read) and the task's
-    ``tolerance_mm``."""
+def kit(operating_range: Section, drives: Section, tolerance_mm: float) -> KitSettings:
+    """The builder's kit's settings: the motors' ``operating_range``, the ``drives`` section's
+    catalogue (where ``interfaces.csv`` is read) and the task's ``tolerance_mm`` (the tool
+    flange is the realisation's: :func:`kit_sizing`)."""
     return KitSettings(
-        section["tool_offset_m"],
         tuple(operating_range["theta1_deg"]),
         operating_range["theta2_min_deg"],
         drives["catalogue"],

@@ -50,6 +50,8 @@ HUB_SCREWS = 6
 FLANGE_MM = 8.0
 #: Thickness (mm) of the tool flange's steel adapter disc (tapped for its M8 centre screw).
 ADAPTER_MM = 16.0
+#: Density (kg/m^3) of the turned steel parts and screws: EN 1993-1-1:2005, 3.2.6.
+STEEL_KG_M3 = 7850.0
 #: A hub's wall (mm) around a drive's shaft.
 HUB_WALL_MM = 4.0
 #: Distance, in hole diameters, from a hub screw's hole to the edge of the printed boss.
@@ -204,7 +206,7 @@ def hub(
         "spigot_d_mm": spigot_mm,
         "boss_d_mm": hub_boss_mm(drive),
         "boss_length_mm": boss_length_mm,
-        "peak_torque_Nm": torque_Nm,
+        "torque_Nm": torque_Nm,
         "required_safety_factor": required_sf,
         "link_screws": {
             k: (v.name if isinstance(v, fs.Fastener) else v) for k, v in screws.items()
@@ -228,6 +230,21 @@ def hub(
     return out
 
 
+def flange_mass_kg(face_d_mm: float, screw: fs.Fastener) -> float:
+    """The mass (kg) the tool flange adds at E: its steel disc (``face_d_mm`` across,
+    :data:`ADAPTER_MM` thick), its centre ``screw`` (head and shank as cylinders) and the washer
+    under the head."""
+    head_d, head_h = fs.screw_head_mm(screw.thread)
+    inner, outer, washer_h = fs.washer_mm(screw.thread)
+    volume_mm3 = (math.pi / 4) * (
+        face_d_mm**2 * ADAPTER_MM
+        + head_d**2 * head_h
+        + screw.d_mm**2 * screw.length_mm
+        + (outer**2 - inner**2) * washer_h
+    )
+    return volume_mm3 * 1e-9 * STEEL_KG_M3
+
+
 def tool_flange(
     force_N: float, offset_m: float, boss_mm: float, plate_mm: float, required_sf: float
 ) -> dict[str, Any]:
@@ -249,6 +266,7 @@ def tool_flange(
                 "M8", plate_mm + fs.washer_mm("M8")[2], True, "tool flange", ADAPTER_MM
             )
             return {
+                "moving_mass_kg": flange_mass_kg(d2, screw),
                 "pattern": tried[-1],
                 "pitch_circle_mm": d1,
                 "face_d_mm": d2,

@@ -71,9 +71,8 @@ def bill_of_materials(
     ``topology_optimised`` per link (default all False); ``drives`` optional values per drive
     item (``"motor 1"`` ...) for the columns ``designation``, ``maker``, ``mass_kg``, ``source``,
     ``notes``; ``kit`` the builder's kit's rows
-    (:func:`qsm.realization.kit.builders_kit.builders_kit`),
-    which bring the pins of B, C and D themselves and carry A on the drives' output bearings
-    (no bearing at A).
+    (:func:`qsm.realization.kit.builders_kit.builders_kit`), which bring the pins of B, C and D
+    themselves and carry A on the drives' output bearings (no bearing at A).
     """
     t = table if table is not None else load_catalogue()
     topo = topology_optimized or {}

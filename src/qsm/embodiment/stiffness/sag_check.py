@@ -1,9 +1,8 @@
 """g15 and the dataset's stiffness column: the tool's largest sag at the task points under the
 payload's weight, for thousands of designs at once (solid links of the section, rigid drives).
 
-This is the part of the accuracy budget a design's lengths and section decide; the realised
-design's full budget (:mod:`qsm.realization.accuracy.accuracy_budget`) adds its drives' stiffness
-and play,
+This is the part of the accuracy budget a design's lengths and section decide; the realised design's
+full budget (:mod:`qsm.realization.accuracy.accuracy_budget`) adds its drives' stiffness and play,
 the optimised plates and the payload test's tracking, and decides its verdict.
 """
 

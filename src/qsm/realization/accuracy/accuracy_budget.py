@@ -67,14 +67,16 @@ class AccuracySettings:
     """What the user needs: ``tolerance_mm`` (the largest placing error at a task point, mm) and
     ``min_first_mode_hz`` (the lowest first natural frequency, Hz; None: no requirement); the
     task ``points_m`` ((x, y) m each) where the realisation meets the tolerance (empty: it does
-    not try), the largest section scale it may give a link for it (1: none larger) and the
-    printer's ``build_volume_mm`` the grown links must still fit."""
+    not try), the largest section scale it may give a link for it (1: none larger), the
+    printer's ``build_volume_mm`` the grown links must still fit, and the least stiffness factor
+    the optimised plates keep (``topology.min_stiffness_factor``), at which it sizes them."""
 
     tolerance_mm: float = default("task.tolerance_mm")
     min_first_mode_hz: float | None = default("task.min_first_mode_hz")
     points_m: tuple[tuple[float, float], ...] = ()
     max_section_scale: float = 1.0
     build_volume_mm: tuple[float, float, float] = tuple(default("printing.build_volume_mm"))
+    plate_factor: float = default("topology.min_stiffness_factor")
 
 
 class ArmModel(NamedTuple):

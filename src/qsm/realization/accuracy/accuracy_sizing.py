@@ -3,9 +3,11 @@ payload within its share of ``task.tolerance_mm``.
 
 The strength check gives each link's section (sized, or the configured one) and the drive check
 the lightest drives for the duty. Where the tool's structural error at the task points (the
-accuracy budget without the tracking error: max(sag, dynamic sag) + lost motion, solid links)
-exceeds :data:`STRUCTURE_SHARE` of the tolerance, :func:`accuracy_choice` tries every least
-gearbox stiffness per motor that the catalogue offers and, for each, the smallest common factor on
+accuracy budget without the tracking error: max(sag, dynamic sag) + lost motion, with the
+plates that topology optimisation cuts at ``topology.min_stiffness_factor`` of their solid
+stiffness, which it keeps, :mod:`qsm.realization.topology.topology`) exceeds
+:data:`STRUCTURE_SHARE` of the tolerance, :func:`accuracy_choice` tries every least gearbox
+stiffness per motor that the catalogue offers and, for each, the smallest common factor on
 the sections that meets it, each link's capped at ``cad.sized``'s largest section and at what its
 length takes (none when ``task.grow_for_tolerance`` is off); it keeps the lightest arm (links and
 drives).
@@ -47,6 +49,7 @@ from qsm.realization.accuracy.accuracy_budget import (
     task_motion_torques,
 )
 from qsm.realization.motion.payload import PayloadSettings
+from qsm.realization.topology.plate_loads import OPTIMIZED_LINKS
 
 #: The share of the tolerance the structure may take; the rest is kept for the tracking error.
 STRUCTURE_SHARE = 0.7
@@ -92,6 +95,12 @@ def frame_sections(
     )
 
 
+def floor_factors(plate_factor: float) -> NDArray[np.float64]:
+    """Each link's stiffness factor (4,) with its plate optimised (:data:`OPTIMIZED_LINKS`) at
+    ``plate_factor`` of the solid plate's stiffness, the others solid (1)."""
+    return np.array([plate_factor if name in OPTIMIZED_LINKS else 1.0 for name in LINK_NAMES])
+
+
 def structure_mm(
     design: NDArray[np.float64],
     scale: NDArray[np.float64],
@@ -100,14 +109,17 @@ def structure_mm(
     motion: PayloadSettings,
     angles: NDArray[np.float64],
     reflected: bool = True,
+    plate_factor: float = 1.0,
 ) -> float:
     """The worst structural error (mm) over the task points' motor ``angles`` (n, 2) rad of the
-    solid links at ``scale`` (4,) with the ``drives`` of a drive report."""
+    links at ``scale`` (4,), the optimised plates at ``plate_factor`` of the solid stiffness and
+    the masses of the solid links (the plates weigh less: their inertial loads are bounded), with
+    the ``drives`` of a drive report."""
     stiffness, play, inertia, mass, _ = drive_terms(drives)
     model = ArmModel(
         design=design,
         sections=frame_sections(strength.cad, strength.material, scale),
-        factor=np.ones(4),
+        factor=floor_factors(plate_factor),
         inertials=Inertials(*batch_mass_properties(design, strength.cad, scale)),
         drive_stiffness=stiffness,
         backlash_rad=play,
@@ -192,8 +204,9 @@ def accuracy_choice(
         def error(f: float, report: dict = report) -> float:
             scale = np.minimum(f * base, upper)
             return structure_mm(
-                design, scale, report, strength, motion, angles, drives.reflected_inertia
-            )
+                design, scale, report, strength, motion, angles, drives.reflected_inertia,
+                accuracy.plate_factor,
+            )  # fmt: skip
 
         f = 1.0 if error(1.0) <= target else smallest_factor(lambda x: error(x) <= target, high)
         if f is None:
@@ -229,5 +242,7 @@ def as_realised(
         return choice
     points = np.asarray(accuracy.points_m, dtype=float).reshape(-1, 2)
     angles = joint_path(design, points, motion.theta1_range_deg, motion.theta2_min_deg)
-    error = structure_mm(design, scale, drives, strength, motion, angles, reflected)
+    error = structure_mm(
+        design, scale, drives, strength, motion, angles, reflected, accuracy.plate_factor
+    )
     return replace(choice, scale=scale, structure_mm=error, meets=error <= choice.target_mm)

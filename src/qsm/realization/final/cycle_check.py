@@ -4,10 +4,9 @@ over the repeated cycle, and MuJoCo's run of it with the chosen drives' envelope
 test's plant and controller).
 
 :func:`checked_cycle` plans the cycle (:mod:`qsm.realization.motion.cycle`), slows it first until
-the
-payload's peak force keeps the accuracy budget within the tolerance (the least such factor, by
-bisection: the peak force never grows as the cycle slows), then runs it :data:`SLOWER` times
-slower in turn until the links hold (g13's check on one period of its samples), each drive's
+the payload's peak force keeps the accuracy budget within the tolerance (the least such factor, by
+bisection: the peak force never grows as the cycle slows), then runs it :data:`SLOWER` times slower
+in turn until the links hold (g13's check on one period of its samples), each drive's
 RMS use is within its continuous ratings (the drive check's own model,
 :mod:`qsm.embodiment.drives.utilization`) and MuJoCo's run passes; what even the slowest cannot
 meet does not slow it, and the result says by how much it was slowed and why

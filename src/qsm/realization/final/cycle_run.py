@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 from qsm.embodiment.drives.catalogue import Catalogue
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.embodiment.drives.selection import drive_of, offer
+from qsm.embodiment.drives.torque_limits import limited
 from qsm.embodiment.drives.utilization import DriveArrays
 from qsm.embodiment.strength.loads import Inertials
 from qsm.physics.cad import MassProperties
@@ -194,7 +195,10 @@ def run_cycle(
     and the record says why, where no cycle can be planned) and the arm it was planned for."""
     catalogue = settings.drives.catalogue
     keys = [drive_of(m) for m in done.drives["motors"].values()]
-    drives = [OutputEnvelope.of(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys]
+    drives = [  # within each drive's torque limit, which the controller keeps
+        limited(OutputEnvelope.of(catalogue, k["motor_key"], k["gearbox_key"]), limit)
+        for k, limit in zip(keys, done.torque_limits_Nm, strict=True)
+    ]
     rows = np.array([_drive_row(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys])
     continuous = np.array([offer(catalogue)[i]["cont_torque_Nm"] for i in rows])
     ratings = (continuous, settings.drives.arrays.take(rows))

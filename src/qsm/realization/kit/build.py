@@ -11,7 +11,6 @@ from typing import Any
 from qsm.embodiment.parts.link_parts import LinkPart, part_meshes
 from qsm.physics.cad import MassProperties
 from qsm.physics.duty import Duty
-from qsm.realization.accuracy.accuracy_budget import peak_payload_force_N
 from qsm.realization.kit.builders_kit import Kit, KitSettings, builders_kit
 from qsm.realization.motion.torques import torques_before_after
 from qsm.realization.selection.assembly import final_parts, write_parts
@@ -40,7 +39,7 @@ class BuiltLinks:
 
 def build_links(
     done: Realization,
-    payload_kg: float,
+    carried_kg: float,
     duty: Duty,
     topology: TopologySettings,
     material_name: str,
@@ -49,23 +48,23 @@ def build_links(
     drawing: dict[str, str],
     kit: KitSettings,
 ) -> BuiltLinks:
-    """Optimise the plates of ``done`` (:func:`qsm.realization.selection.pipeline.realize`) for its
-    loads (``payload_kg`` at E over ``duty``), keep an optimised plate only where it holds, bore
-    every part, and write the BOM into ``folder`` and the STLs (mm) of the solid and the final parts
-    into ``folder/stl/before`` and ``folder/stl/after``, checked against ``volume_mm``.
+    """Optimise the plates of ``done`` (:func:`qsm.realization.selection.pipeline.realize`) for
+    its loads (``carried_kg`` at E, the payload and the tool flange, over ``duty``), keep an
+    optimised plate only where it holds and keeps its stiffness, bore every part, and write the
+    BOM into ``folder`` and the STLs (mm) of the solid and the final parts into
+    ``folder/stl/before`` and ``folder/stl/after``, checked against ``volume_mm``.
     ``drawing`` names the dimensioned drawing's files (``svg``, ``png``) for the record; the
     builder's kit (:func:`qsm.realization.kit.builders_kit.builders_kit`, with ``kit``) joins the
     BOM."""
     cad = done.part_settings.cad
-    result = optimize_links(done.design, cad, payload_kg, duty, topology, scale=done.scale)
+    result = optimize_links(done.design, cad, carried_kg, duty, topology, scale=done.scale)
     held = {
         name: link.polygon
         for name, link in result.links.items()
         if link.carries_loads and not link.kept_solid
     }
     parts = final_parts(done.design, done.bearing_rows, done.part_settings, held)
-    force = peak_payload_force_N(done.design, payload_kg, duty.theta, duty.dtheta, duty.ddtheta)
-    made = builders_kit(done, parts, force, kit)
+    made = builders_kit(done, parts, kit)
     parts = made.parts  # with the hubs' screw holes
     written = write_parts(
         parts,
@@ -85,7 +84,7 @@ def build_links(
     }
     props = written.pop("masses")
     written["masses_kg"] = {name: m.mass_kg for name, m in props.items()}
-    torques = torques_before_after(done.design, cad, payload_kg, duty, props, done.scale)
+    torques = torques_before_after(done.design, cad, carried_kg, duty, props, done.scale)
     checks = _write_stls(done.parts, parts, held, Path(folder), volume_mm)
     written["printer"] = {  # the parts to print against the printer, as drawn
         name: {"box_mm": c["box_mm"], "fits": c["fits_build_volume"]}

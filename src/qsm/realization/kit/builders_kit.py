@@ -2,11 +2,10 @@
 fastener, their checks, and the layout the STEP, DXF and assembly-view files are drawn from.
 
 :func:`builders_kit` takes a :class:`qsm.realization.selection.pipeline.Realization` and its final
-parts
-(topology-optimised plates with their bores) and applies :mod:`qsm.embodiment.kit`: the drives'
-interfaces (:mod:`~qsm.embodiment.kit.interfaces`), the pins, hubs and tool flange
-(:mod:`~qsm.embodiment.kit.joints`) and the base (:mod:`~qsm.embodiment.kit.base`, whose
-module docs state the arrangement). The loads are the realisation's: each joint's peak force
+parts (topology-optimised plates with their bores) and applies :mod:`qsm.embodiment.kit`: the
+drives' interfaces (:mod:`~qsm.embodiment.kit.interfaces`), the pins, hubs and tool flange
+(:mod:`~qsm.embodiment.kit.joints`) and the base (:mod:`~qsm.embodiment.kit.base`, whose module docs
+state the arrangement). The loads are the realisation's: each joint's peak force
 over the duty, each drive's peak torque over the duty and the task's motion, and the payload's
 peak force at the tool.
 """
@@ -52,13 +51,11 @@ PIN_PLATES = {
 
 @dataclass(frozen=True)
 class KitSettings:
-    """The payload's offset (m) from the tool flange's face, the motors' operating range
-    (``theta1_deg`` (lo, hi), ``theta2_min_deg``; the links' sweep sizes the base), the drive
-    catalogue's folder (None: the shipped one), where ``interfaces.csv`` is read, and the
-    task's placing tolerance (mm; the base takes :data:`~qsm.embodiment.kit.base.BASE_SHARE`
-    of it)."""
+    """The motors' operating range (``theta1_deg`` (lo, hi), ``theta2_min_deg``; the links' sweep
+    sizes the base), the drive catalogue's folder (None: the shipped one), where ``interfaces.csv``
+    is read, and the task's placing tolerance (mm; the base takes
+    :data:`~qsm.embodiment.kit.base.BASE_SHARE` of it)."""
 
-    tool_offset_m: float = default("kit.tool_offset_m")
     theta1_deg: tuple[float, float] = default("operating_range.theta1_deg")
     theta2_min_deg: float = default("operating_range.theta2_min_deg")
     catalogue: str | None = None
@@ -92,23 +89,20 @@ def _plates(done: Realization, parts: dict[str, LinkPart]) -> dict[str, dict[str
 
 
 def _drives(done: Realization, settings: KitSettings) -> list[dict[str, Any]]:
-    """Per motor: its drive's interface, mass (kg) and peak torque (N m, the larger of the duty
-    and the task's motion)."""
-    motion = done.drives.get("task_motion", {})
+    """Per motor: its drive's interface, mass (kg) and torque limit (N m at the joint, the
+    realisation's: the controller keeps to it, and the kit is sized for it)."""
     out = []
     for k in (1, 2):
         motor = done.drives.get("motors", {}).get(f"motor{k}", {})  # none: no drive check ran
-        peak = float(motor.get("required", {}).get("peak_torque_Nm", 0.0))
-        if motion.get("defined"):
-            peak = max(peak, float(motion["peak_torque_Nm"][k - 1]))
+        limit = done.torque_limits_Nm[k - 1]
         drive = drive_of(motor)  # the chosen, else the nearest: the drive every output names
         key = drive.get("gearbox_key", f"motor {k}: no drive")
-        iface = interface_of(key, peak, settings.catalogue)
+        iface = interface_of(key, limit, settings.catalogue)
         out.append(
             {
                 "interface": iface,
                 "mass_kg": float(drive.get("mass_kg", 0.0)),
-                "peak_torque_Nm": peak,
+                "torque_limit_Nm": limit,
                 "name": _drive_name(drive),
                 "has_drive": bool(drive.get("chosen")),
             }
@@ -226,7 +220,7 @@ def _hub_screws(
 ) -> list[dict[str, Any]]:
     """Each hub's screws to its link (:func:`qsm.embodiment.kit.joints.hub_screws`)."""
     return [
-        jt.hub_screws(plates[link]["A"], spigot, d["peak_torque_Nm"])
+        jt.hub_screws(plates[link]["A"], spigot, d["torque_limit_Nm"])
         for link, d in zip(HUB_LINKS, drives, strict=True)
     ]
 
@@ -286,7 +280,7 @@ def _cheeks(
         bore, b = _cheek_size(iface)
         load = bs.CheekLoad(
             force,
-            drive["peak_torque_Nm"],
+            drive["torque_limit_Nm"],
             drive["mass_kg"],
             iface.body_length_mm / 2,
             stack[f"offset_{k}"],
@@ -326,7 +320,7 @@ def _hubs(
             d["interface"],
             plates[link]["A"],
             spigot,
-            d["peak_torque_Nm"],
+            d["torque_limit_Nm"],
             _safety(done),
             boss[k],
             s,
@@ -411,7 +405,10 @@ def _problems(
                 f"boss at A for hub {hub['motor']}"
             )
         elif not hub["holds"]:
-            out.append(f"hub {hub['motor']} does not carry {hub['peak_torque_Nm']:.1f} N m")
+            out.append(
+                f"hub {hub['motor']} does not carry {hub['torque_Nm']:.1f} N m, its drive's "
+                "torque limit"
+            )
     out += [
         f"cheek {c['motor']} reaches a safety factor of {c['safety_factor']:.2f} "
         f"({c['required_safety_factor']:g} required), its fixing screws "
@@ -429,19 +426,10 @@ def _problems(
     return out
 
 
-def _tool_flange(
-    done: Realization, plates: dict[str, dict[str, jt.Plate]], force_N: float, s: KitSettings
-) -> dict[str, Any]:
-    """The tool flange at E (:func:`qsm.embodiment.kit.joints.tool_flange`)."""
-    e = plates["upper_arm"]["E"]
-    return jt.tool_flange(force_N, s.tool_offset_m, e.boss_mm, e.thickness_mm, _safety(done))
-
-
-def builders_kit(
-    done: Realization, parts: dict[str, LinkPart], payload_force_N: float, settings: KitSettings
-) -> Kit:
-    """The kit of ``done`` with its final ``parts`` (module docs); ``payload_force_N``: the
-    payload's peak force on the tool. Its ``parts`` are those with the hubs' screw holes."""
+def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSettings) -> Kit:
+    """The kit of ``done`` with its final ``parts`` (module docs) and the tool flange the
+    realisation chose and carried (``done.tool_flange``). Its ``parts`` are those with the hubs'
+    screw holes."""
     plates, drives = _plates(done, parts), _drives(done, settings)
     pins = _pins(done, plates)
     screws = _hub_screws(plates, drives, float(_bearing(done, "A")["d_mm"]))
@@ -451,7 +439,7 @@ def builders_kit(
     drop = lowest_point_mm(done, parts, settings)
     cheeks = _cheeks(done, drives, drop, stack, reach, settings.tolerance_mm)
     hubs = _hubs(done, plates, drives, screws, stack, cheeks)
-    flange = _tool_flange(done, plates, payload_force_N, settings)
+    flange = done.tool_flange
     table = bs.table_screws(
         [c["load"] for c in cheeks],
         cheeks[0]["height_mm"],
@@ -494,7 +482,7 @@ def _interface_record(drive: dict[str, Any]) -> dict[str, Any]:
     iface = drive["interface"]
     return {
         "drive": drive["name"],
-        "peak_torque_Nm": drive["peak_torque_Nm"],
+        "torque_limit_Nm": drive["torque_limit_Nm"],
         "mass_kg": drive["mass_kg"],
         **iface.__dict__,
     }

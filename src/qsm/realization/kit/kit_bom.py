@@ -13,9 +13,6 @@ from qsm.embodiment.kit import base as bs
 from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import joints as jt
 
-#: Density (kg/m^3) of the turned steel parts (C45).
-STEEL_KG_M3 = 7850.0
-
 
 def screw_lines(name: str, qty: int, where: str) -> list[tuple[str, int, str]]:
     """The lines of ``qty`` screws ``name``; a threaded rod (DIN 976-1) brings a nut for the end
@@ -152,7 +149,7 @@ def _plate_mass_kg(plate: dict[str, Any], density: float) -> float:
 def _turned_kg(part: dict[str, Any]) -> float:
     """Mass (kg) of a turned steel part: its cylinders less the bore through them."""
     volume = sum(np.pi / 4 * (d**2 - part["bore_mm"] ** 2) * (b - a) for d, a, b in part["steps"])
-    return float(volume * STEEL_KG_M3 * 1e-9)
+    return float(volume * jt.STEEL_KG_M3 * 1e-9)
 
 
 def made_rows(geometry: dict[str, Any]) -> list[dict[str, Any]]:

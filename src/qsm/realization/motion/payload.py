@@ -394,11 +394,10 @@ def payload_test(
     """Forward-simulate the payload test of ``design`` (6 lengths, m) through task ``points``
     (n, 2) m with link mass properties ``props`` (default: the CAD links), each motor being
     ``drives[j]`` (its envelope and reflected inertia) unless ``settings.torque_limits_Nm``
-    overrides the limits (one of the two is needed). With drives the result adds ``drives``
-    (their names) and ``limit_Nm`` is each drive's standstill torque at the joint. ``reference``:
-    the motion through the visited points (default :func:`raster_reference`; a time-optimal
-    cycle, :mod:`qsm.realization.motion.cycle`), whose ``points`` are then the visited ones in
-    order.
+    overrides the limits (one of the two is needed). With drives the result adds ``drives`` (their
+    names) and ``limit_Nm`` is each drive's standstill torque at the joint. ``reference``: the
+    motion through the visited points (default :func:`raster_reference`; a time-optimal cycle,
+    :mod:`qsm.realization.motion.cycle`), whose ``points`` are then the visited ones in order.
 
     Returns scalars: ``passed``, ``saturated``, ``max_tracking_error_deg``,
     ``tracking_tolerance_deg``, ``peak_torque_Nm`` (peak |requested| per motor),

@@ -20,8 +20,14 @@ from qsm.physics.mirror import task_record
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import OperatingRange
 from qsm.realization.selection.choice import candidate_pool, choose_design, printing_advice
+from qsm.realization.selection.machine import fixed_point_record
 from qsm.realization.selection.outputs import selection_record
-from qsm.realization.selection.pipeline import Realization, RealizationSettings, realize
+from qsm.realization.selection.pipeline import (
+    Realization,
+    RealizationSettings,
+    carrying,
+    realize,
+)
 
 #: How many designs, best first, the selection realises before it keeps one it cannot build
 #: for the tolerance.
@@ -112,7 +118,8 @@ def chosen_machine(
     record["task"] = task_record(user_points)
     record["clearance_m"] = disk_clearance_m(record["design_m"], op, disk)
     if not record["holds_loads"]:
-        record["strength_advice"] = strength_advice(record["design_m"], settings.strength)
+        carried = carrying(settings, done.tool_kg).strength  # the tool flange's mass included
+        record["strength_advice"] = strength_advice(record["design_m"], carried)
     if not how["printable"]:
         advice = printing_advice(record["design_m"], cad, volume_mm, disk)
         pool = candidate_pool(fronts, dataset)
@@ -150,5 +157,8 @@ def machine_top(
     record["holds_loads"] = bool(done.strength["holds_loads"])
     record["has_drives"] = done.has_drives
     record["strength"], record["drives"] = done.strength, done.drives
+    record["tool_flange"], record["tool_flange_kg"] = done.tool_flange, done.tool_kg
+    record["fixed_point"] = fixed_point_record(done.fixed_point)
+    record["torque_limits_Nm"] = list(done.torque_limits_Nm)
     record["candidate"] = candidate
     return record

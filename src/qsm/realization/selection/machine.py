@@ -1,11 +1,10 @@
 """The realised machine as one record: :class:`~qsm.realization.selection.pipeline.Realization` to
-JSON
-and back.
+JSON and back.
 
 The rule ``select_design`` realises the chosen design once
-(:func:`~qsm.realization.selection.pipeline
-.realize`) and writes :func:`machine_record` to ``realization/machine.json``. Every later rule
-(the plates, the kit, the cycle, the final budget) rebuilds the same realisation from that file
+(:func:`~qsm.realization.selection.pipeline.realize`) and writes :func:`machine_record` to
+``realization/machine.json``. Every later rule (the plates, the kit, the cycle, the final budget)
+rebuilds the same realisation from that file
 with :func:`realization_from_record` instead of realising again: the record holds what the
 realisation computed (sections, strength, bearings, drives, the tolerance's choice), and the
 settings the rule is given hold the rest. The bored solid parts are rebuilt from the record's
@@ -26,10 +25,15 @@ import numpy as np
 from qsm.embodiment.parts.link_parts import link_parts
 from qsm.embodiment.strength.sizing import SizedSections, SizingSettings
 from qsm.realization.accuracy.accuracy_sizing import AccuracyChoice
-from qsm.realization.selection.pipeline import Realization, RealizationSettings
+from qsm.realization.selection.pipeline import (
+    FixedPoint,
+    Realization,
+    RealizationSettings,
+    carrying,
+)
 
 #: The record's version: a reader refuses a record of another.
-VERSION = 1
+VERSION = 2
 
 
 def _finite_or_none(value: float) -> float | None:
@@ -103,6 +107,19 @@ def machine_record(done: Realization) -> dict[str, Any]:
         "tolerance_choice": _accuracy_record(done.accuracy),
         "strength": done.strength,
         "drives": done.drives,
+        "tool_flange": done.tool_flange,
+        "fixed_point": fixed_point_record(done.fixed_point),
+        "torque_limits_Nm": list(done.torque_limits_Nm),
+    }
+
+
+def fixed_point_record(point: FixedPoint) -> dict[str, Any]:
+    """The realisation loop's end: the tool flange's mass (kg) each realisation carried, their
+    number, and whether the last flange changed it by at most the tolerance."""
+    return {
+        "tool_kg": list(point.tool_kg),
+        "iterations": point.iterations,
+        "converged": point.converged,
     }
 
 
@@ -116,7 +133,9 @@ def realization_from_record(data: Mapping[str, Any], settings: RealizationSettin
         )
     d = np.asarray(data["design_m"], dtype=float)
     scale = None if data["section_scale"] is None else tuple(map(float, data["section_scale"]))
-    check = replace(settings.strength, sizing=_sizing_of(data["sizing"]))
+    tool_kg = [float(m) for m in data["fixed_point"]["tool_kg"]]
+    carried = carrying(settings, tool_kg[-1]).strength  # the check ran with the tool flange
+    check = replace(carried, sizing=_sizing_of(data["sizing"]))
     sections = None
     if scale is not None:
         iterations = np.array([int(data["sizing_iterations"])], dtype=np.intp)
@@ -134,4 +153,7 @@ def realization_from_record(data: Mapping[str, Any], settings: RealizationSettin
         accuracy=_accuracy_of(data["tolerance_choice"]),
         strength_check=check,
         sections=sections,
+        tool_flange=dict(data["tool_flange"]),
+        fixed_point=FixedPoint(tuple(tool_kg), bool(data["fixed_point"]["converged"])),
+        torque_limits_Nm=tuple(float(t) for t in data["torque_limits_Nm"]),
     )

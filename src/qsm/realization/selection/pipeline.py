@@ -19,6 +19,8 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.drives.drive_checks import DriveCheck
+from qsm.embodiment.drives.torque_limits import torque_limits_Nm
+from qsm.embodiment.kit.joints import tool_flange
 from qsm.embodiment.parts.link_parts import LinkPart, PartSettings, link_parts
 from qsm.embodiment.parts.part_mass import part_mass_properties
 from qsm.embodiment.strength.link_checks import StrengthCheck
@@ -45,6 +47,35 @@ from qsm.realization.accuracy.accuracy_sizing import (
 )
 from qsm.realization.motion.payload import PayloadSettings
 from qsm.realization.selection.assembly import bearing_rows
+from qsm.schema.defaults import default
+
+
+@dataclass(frozen=True)
+class KitSizing:
+    """What the kit adds to the realisation: the loop that puts its moving masses into the
+    dynamics (the tool flange at E, ``tool_offset_m`` the payload's centre of mass from its face,
+    m; at most ``max_iterations`` realisations, until the mass at E changes by at most
+    ``tolerance`` of the payload), and each drive's torque limit, ``torque_margin`` times the
+    largest checked torque (:mod:`qsm.embodiment.drives.torque_limits`), which sizes the kit."""
+
+    tool_offset_m: float = default("kit.tool_offset_m")
+    max_iterations: int = default("kit.fixed_point_iterations")
+    tolerance: float = default("kit.fixed_point_tolerance")
+    torque_margin: float = default("kit.torque_limit_margin")
+
+
+@dataclass(frozen=True)
+class FixedPoint:
+    """How the realisation's loop ended: the tool flange's mass (kg) each realisation carried at
+    E, in order, and whether the flange of the last changed it by at most the tolerance."""
+
+    tool_kg: tuple[float, ...]
+    converged: bool
+
+    @property
+    def iterations(self) -> int:
+        """The realisations the loop ran."""
+        return len(self.tool_kg)
 
 
 @dataclass(frozen=True)
@@ -53,7 +84,8 @@ class RealizationSettings:
     duty), the drive check (catalogue, rule, payload and duty) and the bored parts (section and
     the wall around each bearing seat), the accuracy the task needs and the task's motion (the
     payload test's path through the design's ``task_points_m``, (x, y) m each, along which the
-    joints' torques are checked and which the drives meet as well as the duty)."""
+    joints' torques are checked and which the drives meet as well as the duty), and the loop
+    that adds the kit's moving masses (``kit_sizing``)."""
 
     strength: StrengthCheck
     drives: DriveCheck
@@ -61,6 +93,7 @@ class RealizationSettings:
     accuracy: AccuracySettings = field(default_factory=AccuracySettings)
     motion: PayloadSettings = field(default_factory=PayloadSettings)
     task_points_m: tuple[tuple[float, float], ...] = ()
+    kit_sizing: KitSizing = field(default_factory=KitSizing)
 
 
 @dataclass(frozen=True)
@@ -69,7 +102,9 @@ class Realization:
     for the fixed section), ``part_settings`` the bored parts' settings at that scale, ``parts``
     the solid bored links with ``bearing_rows`` (rows of the bearing table, joints A, B, C, D),
     ``accuracy`` what the tolerance asked of its sections and gearboxes, ``strength_check`` and
-    ``sections`` the check and sections it was realised with (None: the fixed section)."""
+    ``sections`` the check and sections it was realised with (None: the fixed section), its
+    ``tool_flange`` (:func:`qsm.embodiment.kit.joints.tool_flange`), the ``fixed_point`` that
+    put the flange's mass into its dynamics and each drive's torque limit (N m at the joint)."""
 
     design: NDArray[np.float64]
     scale: tuple[float, ...] | None
@@ -81,14 +116,85 @@ class Realization:
     accuracy: AccuracyChoice
     strength_check: StrengthCheck
     sections: SizedSections | None
+    tool_flange: dict[str, Any] = field(default_factory=dict)
+    fixed_point: FixedPoint = FixedPoint((0.0,), True)
+    torque_limits_Nm: tuple[float, float] = (0.0, 0.0)
 
     @property
     def has_drives(self) -> bool:
         """Each motor has a drive of the catalogue that meets its duty."""
         return bool(self.drives["has_drives"])
 
+    @property
+    def tool_kg(self) -> float:
+        """The mass (kg) at E beside the payload in the realisation's dynamics: the tool
+        flange's."""
+        return self.fixed_point.tool_kg[-1]
+
+
+def carrying(settings: RealizationSettings, extra_kg: float) -> RealizationSettings:
+    """``settings`` with ``extra_kg`` (kg) more at E, beside the payload, in the dynamics of the
+    link check, the drive check and the task's motion."""
+
+    def heavier(s: Any) -> Any:
+        return replace(s, payload_kg=s.payload_kg + extra_kg)
+
+    return replace(
+        settings,
+        strength=heavier(settings.strength),
+        drives=heavier(settings.drives),
+        motion=heavier(settings.motion),
+    )
+
 
 def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
+    """:func:`realize_once` of ``design`` (6 lengths, m) with its tool flange at E: from the
+    flange for the payload's force on the configured section, each realisation carries the
+    flange the one before it chose (sized for the payload's and its own force, fitted to the
+    realised boss at E), until the flange's mass changes by at most ``kit_sizing.tolerance`` of
+    the payload, or for ``kit_sizing.max_iterations`` realisations (``fixed_point`` says which);
+    then each drive's torque limit
+    (:func:`qsm.embodiment.drives.torque_limits.torque_limits_Nm`)."""
+    d = np.asarray(as_design(design), dtype=float)
+    payload, loop = settings.motion.payload_kg, settings.kit_sizing
+    flange = _tool_flange(d, settings, payload, math.inf, settings.strength.cad.thickness_m)
+    carried: list[float] = []
+    for _ in range(loop.max_iterations):
+        carried.append(float(flange.get("moving_mass_kg", 0.0)))
+        done = realize_once(d, carrying(settings, carried[-1]))
+        upper = done.parts["upper_arm"]
+        boss = next(b.boss_radius_m for b in upper.bores if b.joint == "E")
+        flange = _tool_flange(d, settings, payload + carried[-1], boss, upper.section.thickness_m)
+        change = abs(float(flange.get("moving_mass_kg", 0.0)) - carried[-1])
+        if change <= loop.tolerance * payload:
+            break
+    converged = change <= loop.tolerance * payload
+    strength = {**done.strength, "payload_kg": payload, "tool_flange_kg": carried[-1]}
+    point = FixedPoint(tuple(carried), converged)
+    limits = torque_limits_Nm(done.drives, settings.drives.catalogue, loop.torque_margin)
+    return replace(
+        done, strength=strength, tool_flange=flange, fixed_point=point, torque_limits_Nm=limits
+    )
+
+
+def _tool_flange(
+    d: NDArray[np.float64],
+    settings: RealizationSettings,
+    mass_kg: float,
+    boss_m: float,
+    thickness_m: float,
+) -> dict[str, Any]:
+    """The tool flange (:func:`qsm.embodiment.kit.joints.tool_flange`) that carries ``mass_kg``
+    over the duty at E on a boss of radius ``boss_m`` (m) of the upper arm ``thickness_m`` (m)
+    thick, at the links' safety factor."""
+    du = settings.strength.duty
+    force = peak_payload_force_N(d, mass_kg, du.theta, du.dtheta, du.ddtheta)
+    sf = settings.strength.strength.safety_factor
+    offset = settings.kit_sizing.tool_offset_m
+    return tool_flange(force, offset, 1e3 * boss_m, 1e3 * thickness_m, sf)
+
+
+def realize_once(design: ArrayLike, settings: RealizationSettings) -> Realization:
     """Check and embody ``design`` (6 lengths, m): the sections its links need (sized, or the
     configured one) and the drives, both grown for the tolerance where it asks for more
     (:mod:`qsm.realization.accuracy.accuracy_sizing`), their strength and bearings, and the solid

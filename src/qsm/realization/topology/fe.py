@@ -28,6 +28,8 @@ class TopologySettings:
     youngs_modulus_pa, poisson_ratio, yield_strength_pa, safety_factor: the material's and the
     strength requirement's (:mod:`qsm.embodiment.strength.material`; the workflow passes the
     config's). threshold: density above which a cell is solid in the printed part, default 0.5.
+    min_stiffness_factor: the least share of the solid plate's stiffness (its compliance over
+    the printed plate's) a printed plate keeps, default 0.8.
     """
 
     volume_fraction: float = default("topology.volume_fraction")
@@ -43,6 +45,7 @@ class TopologySettings:
     yield_strength_pa: float = default("material.yield_strength_pa")
     safety_factor: float = default("strength.safety_factor")
     threshold: float = default("topology.threshold")
+    min_stiffness_factor: float = default("topology.min_stiffness_factor")
 
     def __post_init__(self) -> None:
         if not 0.0 < self.volume_fraction <= 1.0:
@@ -51,6 +54,8 @@ class TopologySettings:
             raise ValueError("need cell_size_m > 0, max_iterations >= 1, penal >= 1")
         if not 0.0 < self.threshold < 1.0:
             raise ValueError("threshold must be in (0, 1)")
+        if not 0.0 < self.min_stiffness_factor <= 1.0:
+            raise ValueError("min_stiffness_factor must be in (0, 1]")
 
     @property
     def allowable_stress_pa(self) -> float:

@@ -35,11 +35,14 @@ plate (rasterised as the covered fraction of each cell, stiffness proportional t
 compliance, and the peak von Mises stress of the cells at least half filled (element averages) must
 stay within ``allowable_stress_pa = yield_strength_pa / safety_factor``.
 
-Stress limit: compliance at a fixed volume fraction has no reason to respect it, so a printed
-plate that exceeds the allowable stress is not kept. The optimisation runs again with more
-material, ``volume_fraction`` raised by :data:`VOLUME_STEP` up to :data:`MAX_VOLUME_FRACTION`,
-until the printed plate holds; if none does, the link stays the solid CAD plate (``kept_solid``),
-and the result says so. Every attempt is recorded.
+Stress and stiffness limits: compliance at a fixed volume fraction has no reason to respect
+either, so a printed plate that exceeds the allowable stress, or keeps less than
+``min_stiffness_factor`` of the solid plate's stiffness (the solid plate's compliance over the
+printed one's, the factor the accuracy budget applies to the link; the realisation sized the
+sections for the tolerance with the plates at that factor), is not kept. The optimisation runs
+again with more material, ``volume_fraction`` raised by :data:`VOLUME_STEP` up to
+:data:`MAX_VOLUME_FRACTION`, until the printed plate passes both; if none does, the link stays the
+solid CAD plate (``kept_solid``), and the result says so. Every attempt is recorded.
 """
 
 from __future__ import annotations
@@ -222,8 +225,8 @@ def _printed_plate(
     fe_before: FeResult,
 ) -> _Plate:
     """SIMP at the configured volume fraction, raised by VOLUME_STEP until the printed plate
-    holds its loads (peak von Mises at most the allowable); past MAX_VOLUME_FRACTION the solid
-    plate is kept."""
+    holds its loads (peak von Mises at most the allowable) and keeps ``min_stiffness_factor`` of
+    the solid plate's stiffness; past MAX_VOLUME_FRACTION the solid plate is kept."""
     attempts: list[dict[str, float]] = []
     fraction = settings.volume_fraction
     while True:
@@ -239,10 +242,16 @@ def _printed_plate(
         )
         # the printed plate, rasterised by cell fill, stiffness proportional to the fill
         fe_after = analyse(problem, cell_fill(problem.grid, geom), settings, penal=1.0)
+        factor = fe_before.compliance_J / fe_after.compliance_J
         attempts.append(
-            {"volume_fraction": fraction, "max_von_mises_MPa": fe_after.max_von_mises_pa / 1e6}
+            {
+                "volume_fraction": fraction,
+                "max_von_mises_MPa": fe_after.max_von_mises_pa / 1e6,
+                "stiffness_factor": factor,
+            }
         )
-        if fe_after.max_von_mises_pa <= settings.allowable_stress_pa:
+        holds = fe_after.max_von_mises_pa <= settings.allowable_stress_pa
+        if holds and factor >= settings.min_stiffness_factor:
             mesh = extrude(geom, sec.thickness_m)
             props = mesh_mass_properties(mesh, sec.density_kg_m3)
             return _Plate(opt, geom, threshold, fe_after, mesh, props, attempts)
