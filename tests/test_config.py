@@ -85,6 +85,7 @@ def test_workflow_schema_is_the_package_schema():
         ({"cad": {"boss_radius_m": 2.0}}, "'cad.boss_radius_m': bosses of radius 2.0 m"),
         ({"cad": {"thickness_m": float("nan")}}, "'cad.thickness_m': nan is not a finite"),
         ({"scale": {"max_m": float("inf")}}, "'scale.max_m': inf is not a finite"),
+        ({"kit": {"torque_limit_margin": 1.1}}, "'kit.torque_limit_margin': 1.1 is below 1 +"),
     ],
 )
 def test_errors_name_the_key(config, key):

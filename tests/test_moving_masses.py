@@ -13,12 +13,16 @@ from qsm import load_config
 from qsm.config.settings.realization import realization_of
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.embodiment.drives.selection import drive_of
-from qsm.embodiment.drives.torque_limits import limited
+from qsm.embodiment.drives.torque_limits import checked_peaks_Nm, limited
 from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import joints as jt
 from qsm.physics.kinematics import end_effector
 from qsm.physics.mjcf import mjcf_xml
-from qsm.realization.accuracy.accuracy_budget import AccuracySettings, peak_payload_force_N
+from qsm.realization.accuracy.accuracy_budget import (
+    AccuracySettings,
+    peak_payload_force_N,
+    task_motion_duty,
+)
 from qsm.realization.selection.pipeline import (
     FixedPoint,
     KitSizing,
@@ -98,21 +102,27 @@ def test_the_loop_stops_at_its_fixed_point():
 
 
 def test_each_drive_gets_a_torque_limit_above_its_checked_torque():
-    """The limit is the margin times the largest torque the checks found on the motor (the
-    duty's and the task motion's), at most the drive's standstill torque; the cycle's and the
-    payload test's drives are capped at it, and the export's MJCF holds each motor to it."""
+    """The limit is the margin times the largest torque the checks found on the motor (over the
+    duty and the task motion, the drive's reflected inertia included), at most the drive's
+    standstill torque; the cycle's and the payload test's drives are capped at it, and the
+    export's MJCF holds each motor to it."""
     settings = _settings(torque_margin=1.2)
     done = realize(DESIGN, settings)
-    catalogue = settings.drives.catalogue
-    for k, limit in enumerate(done.torque_limits_Nm, start=1):
-        motor = done.drives["motors"][f"motor{k}"]
-        peak = motor["required"]["peak_torque_Nm"]
-        if done.drives["task_motion"]["defined"]:
-            peak = max(peak, done.drives["task_motion"]["peak_torque_Nm"][k - 1])
-        drive = drive_of(motor)
-        env = OutputEnvelope.of(catalogue, drive["motor_key"], drive["gearbox_key"])
+    check = carrying(settings, done.tool_kg).drives
+    check = replace(check, task_duty=task_motion_duty(_angles(), settings.motion))
+    scales = None if done.scale is None else np.asarray(done.scale)[None]
+    drives = [drive_of(done.drives["motors"][f"motor{k}"]) for k in (1, 2)]
+    envs = [OutputEnvelope.of(check.catalogue, d["motor_key"], d["gearbox_key"]) for d in drives]
+    rotors = [e.reflected_inertia for e in envs]
+    duty_only = checked_peaks_Nm(replace(check, task_duty=None), DESIGN, scales, rotors)
+    peaks = checked_peaks_Nm(check, DESIGN, scales, rotors)
+    for k, (limit, env) in enumerate(zip(done.torque_limits_Nm, envs, strict=True), start=1):
+        required = done.drives["motors"][f"motor{k}"]["required"]["peak_torque_Nm"]
+        assert duty_only[k - 1] == pytest.approx(required, rel=1e-9)  # the drive check's figure
+        task = done.drives["task_motion"]["peak_torque_Nm"][k - 1]  # without the rotor
+        assert peaks[k - 1] >= max(required, task) - 1e-9
         standstill = float(env.limit(1.0, 0.0))
-        assert limit == pytest.approx(min(1.2 * peak, standstill), rel=1e-12)
+        assert limit == pytest.approx(min(1.2 * peaks[k - 1], standstill), rel=1e-12)
         capped = limited(env, limit)
         speeds = np.linspace(0.0, 1.0, 11)
         assert np.all(capped.limit(np.ones(11), speeds) <= limit + 1e-12)
@@ -122,3 +132,8 @@ def test_each_drive_gets_a_torque_limit_above_its_checked_torque():
     np.testing.assert_allclose(  # MJCF holds 6 significant digits
         model.jnt_actfrcrange[ranges][:, 1], np.asarray(done.torque_limits_Nm), rtol=1e-5
     )
+
+
+def _angles():
+    """The motor angles (n, 2) rad at the test's task points."""
+    return np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0]])

@@ -57,6 +57,7 @@ def check_config(config: dict[str, Any]) -> None:
     _check_printer(config)
     _check_sized(config)
     _check_optimization(config)
+    _check_torque_margin(config)
 
 
 def config_warnings(config: dict[str, Any]) -> list[str]:
@@ -330,6 +331,18 @@ def _check_materials(config: dict[str, Any]) -> None:
                 f"than any printable solid; looks like {slip}: {section}.{name} is in {unit} "
                 f"({value} {slip} = {value * factor:g} {unit})"
             )
+
+
+def _check_torque_margin(config: dict[str, Any]) -> None:
+    """The drives' torque limits must leave room for the payload test's heavier plant."""
+    margin = config["kit"]["torque_limit_margin"]
+    heavier = 1.0 + config["payload_test"]["plant_mass_error"]
+    if margin < heavier:
+        raise ConfigError(
+            f"config key 'kit.torque_limit_margin': {margin:g} is below 1 + "
+            f"payload_test.plant_mass_error ({heavier:g}): the payload test's plant, that much "
+            "heavier than the model, could not be driven within the drives' torque limits"
+        )
 
 
 def _check_printer(config: dict[str, Any]) -> None:

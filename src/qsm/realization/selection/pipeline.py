@@ -171,10 +171,20 @@ def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
     converged = change <= loop.tolerance * payload
     strength = {**done.strength, "payload_kg": payload, "tool_flange_kg": carried[-1]}
     point = FixedPoint(tuple(carried), converged)
-    limits = torque_limits_Nm(done.drives, settings.drives.catalogue, loop.torque_margin)
+    limits = _torque_limits(done, carrying(settings, carried[-1]))
     return replace(
         done, strength=strength, tool_flange=flange, fixed_point=point, torque_limits_Nm=limits
     )
+
+
+def _torque_limits(done: Realization, settings: RealizationSettings) -> tuple[float, float]:
+    """Each drive's torque limit (:func:`qsm.embodiment.drives.torque_limits.torque_limits_Nm`)
+    over the duty and the task's motion of ``done``, with ``settings`` as it was realised."""
+    d = done.design
+    check = replace(settings.drives, task_duty=_task_duty(d, settings))
+    scales = None if done.scale is None else np.asarray(done.scale)[None]
+    margin = settings.kit_sizing.torque_margin
+    return torque_limits_Nm(done.drives, check, d, scales, margin)
 
 
 def _tool_flange(
