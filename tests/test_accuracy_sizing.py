@@ -14,23 +14,27 @@ from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import end_effector
 from qsm.realization.accuracy.accuracy_budget import AccuracySettings
 from qsm.realization.accuracy.accuracy_sizing import STRUCTURE_SHARE, structure_mm
-from qsm.realization.selection.pipeline import budget_of, realize
+from qsm.realization.selection.pipeline import budget_of, carrying, realize
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 ANGLES = np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0]])
 POINTS = end_effector(DESIGN, ANGLES[:, 0], ANGLES[:, 1])
 
 
-def _settings(tolerance_mm: float, largest: float = 2.0):
+def _settings(tolerance_mm: float, largest: float = 2.0, plate_factor: float = 1.0):
+    """Solid plates by default (``plate_factor`` 1): the sizing's search, as the plates' floor
+    leaves it (:func:`test_the_cut_plates_ask_for_larger_sections`)."""
     base = realization_of(load_config())
     points = tuple(map(tuple, POINTS.tolist()))
-    accuracy = AccuracySettings(tolerance_mm, points_m=points, max_section_scale=largest)
+    accuracy = AccuracySettings(
+        tolerance_mm, points_m=points, max_section_scale=largest, plate_factor=plate_factor
+    )
     return replace(base, accuracy=accuracy)
 
 
 def _structure(done, settings) -> float:
     """The worst structural error (mm) of the realised solid bored parts, by the budget."""
-    budget = budget_of(done, settings, POINTS)
+    budget = budget_of(done, carrying(settings, done.tool_kg), POINTS)
     return max(budget["per_point"]["error_budget_mm"])  # no tracking term yet
 
 
@@ -77,13 +81,31 @@ def test_the_realised_arm_meets_the_structures_share_of_the_tolerance(built):
 
 def test_the_realised_sections_are_the_smallest_common_factor_that_meets_it(built):
     settings, done = built
+    carried = carrying(settings, done.tool_kg)  # the tool flange at E, as the sizing had it
     choice = done.accuracy
     angles = joint_path(DESIGN, POINTS, settings.motion.theta1_range_deg)
-    drives = replace(settings.drives, min_stiffness_Nm_rad=choice.min_stiffness_Nm_rad)
+    drives = replace(carried.drives, min_stiffness_Nm_rad=choice.min_stiffness_Nm_rad)
     report = drives.report(DESIGN)
     less = choice.scale / 1.02  # 2 % smaller sections, the same gearboxes
-    error = structure_mm(DESIGN, less, report, settings.strength, settings.motion, angles)
+    error = structure_mm(DESIGN, less, report, carried.strength, carried.motion, angles)
     assert error > choice.target_mm
+
+
+def test_the_cut_plates_ask_for_larger_sections(built):
+    """Sized for plates that keep 0.8 of their solid stiffness, the arm's structure at that
+    factor is what the sizing reports, and its sections are at least the solid plates' ones."""
+    settings, solid = built
+    cut = realize(DESIGN, _settings(5.0, plate_factor=0.8))
+    carried = carrying(settings, cut.tool_kg)
+    angles = joint_path(DESIGN, POINTS, settings.motion.theta1_range_deg)
+    scale = np.asarray(cut.accuracy.scale)
+    error = structure_mm(
+        DESIGN, scale, cut.drives, carried.strength, carried.motion, angles, True, 0.8
+    )
+    assert error == pytest.approx(cut.accuracy.structure_mm, rel=1e-9)
+    solid_error = structure_mm(DESIGN, scale, cut.drives, carried.strength, carried.motion, angles)
+    assert solid_error < error  # the cut plates sag more
+    assert np.all(scale >= np.asarray(solid.accuracy.scale) - 1e-9)
 
 
 def test_a_loose_tolerance_keeps_the_lightest_arm():

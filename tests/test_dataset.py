@@ -97,7 +97,9 @@ def test_the_exported_mjcf_holds_its_loop(tmp_path):
     theta = np.radians([[110.0, 30.0]])
     state = loop_state(design, theta, np.zeros((1, 2)), np.zeros((1, 2)))
     data.qpos[:] = state.q[0]
-    hold = joint_torques(design, theta, np.zeros((1, 2)), np.zeros((1, 2)), payload_kg=5.0)[0]
+    flange = json.loads((tmp_path / "m/design.json").read_text())["tool_flange_kg"]
+    carried = 5.0 + flange  # the payload and the tool flange at E, as the MJCF has them
+    hold = joint_torques(design, theta, np.zeros((1, 2)), np.zeros((1, 2)), payload_kg=carried)[0]
     gap = 0.0
     for _ in range(1000):  # 0.5 s holding the pose with the static torques
         data.ctrl[:] = hold

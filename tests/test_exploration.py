@@ -312,9 +312,8 @@ def test_export_round_trip_of_a_pareto_design(run, tmp_path):
     assert tree.neq == 0 and tree.njnt == 4
     assert "cannot express closed kinematic loops" in (out / "model.urdf").read_text()
     assert "d_upper == d_coupler" in record["urdf"]["closed_loop"]
-    upper = add_point_mass(
-        masses["upper_arm"], config["task"]["payload_kg"], [design[4], -design[5], 0.0]
-    )
+    carried = config["task"]["payload_kg"] + record["tool_flange_kg"]  # payload and flange at E
+    upper = add_point_mass(masses["upper_arm"], carried, [design[4], -design[5], 0.0])
     assert tree.body("upper_arm").mass[0] == pytest.approx(upper.mass_kg, rel=1e-8)
     data = mujoco.MjData(tree)
     theta = np.radians([[120.0, 20.0], [80.0, -10.0], [160.0, 60.0]])

@@ -120,3 +120,29 @@ def assert_one_machine(work: Path) -> None:
         assert f"| placing error | {worst:.2f} mm worst" in datasheet
     verdict = summary.split("\n\n")[1]
     assert verdict.startswith("**") and verdict.split("\n")[0] in datasheet
+    _assert_sized_as_printed(real, selected, machine, topology, kit, datasheet)
+
+
+def _assert_sized_as_printed(real, selected, machine, topology, kit, datasheet) -> None:
+    """The arm as printed is the arm as sized: each cut plate keeps the stiffness factor the
+    sections were sized with (``topology.min_stiffness_factor``, the default 0.8), the tool
+    flange the realisation carried is the kit's and the payload test's, and the kit is checked
+    at the drives' torque limits, which the datasheet states."""
+    import json
+
+    import pytest
+
+    for name, link in topology["links"].items():
+        if not link["kept_solid"]:
+            assert link["compliance_before_J"] / link["compliance_after_J"] >= 0.8 - 1e-12, name
+    assert kit["tool_flange"] == selected["tool_flange"] == machine["tool_flange"]
+    payload = json.loads((real / "payload_test.json").read_text())
+    assert (
+        payload["tool_flange_kg"]
+        == selected["tool_flange_kg"]
+        == machine["fixed_point"]["tool_kg"][-1]
+    )
+    limits = selected["torque_limits_Nm"]
+    assert limits == machine["torque_limits_Nm"]
+    assert [h["torque_Nm"] for h in kit["hubs"]] == pytest.approx(limits, rel=1e-12)
+    assert " / ".join(f"{v:.1f}" for v in limits) + " N m" in datasheet
