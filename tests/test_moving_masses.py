@@ -24,8 +24,6 @@ from qsm.realization.accuracy.accuracy_budget import (
     task_motion_duty,
 )
 from qsm.realization.selection.pipeline import (
-    FixedPoint,
-    KitSizing,
     budget_of,
     carrying,
     realize,
@@ -92,13 +90,15 @@ def test_the_loop_stops_at_its_fixed_point():
     settled = realize(DESIGN, _settings(tolerance=1e-12, max_iterations=4))
     point = settled.fixed_point
     assert point.converged and 2 <= point.iterations <= 4
-    assert point.tool_kg[-1] == settled.tool_flange["moving_mass_kg"]
+    payload = _settings().motion.payload_kg  # the loop's tolerance is a share of it
+    assert point.tool_kg[-1] == pytest.approx(
+        settled.tool_flange["moving_mass_kg"], abs=1e-12 * payload
+    )
     once = realize(DESIGN, _settings(tolerance=1e-12, max_iterations=1))
     assert once.fixed_point.iterations == 1 and not once.fixed_point.converged
     # a single realisation carrying the settled flange is the settled realisation
     again = realize_once(DESIGN, carrying(_settings(), point.tool_kg[-1]))
-    assert again.drives == {k: v for k, v in settled.drives.items()}
-    assert isinstance(point, FixedPoint) and isinstance(_settings().kit_sizing, KitSizing)
+    assert again.drives == settled.drives  # the same inputs, the same code path
 
 
 def test_each_drive_gets_a_torque_limit_above_its_checked_torque():
