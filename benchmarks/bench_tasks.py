@@ -124,6 +124,7 @@ def row(work: Path, name: str) -> dict[str, Any]:
             for k, v in fronts.items()
         },
         "embodiment": embodiment(selected, topology, payload),
+        "machine": machine_of(json.loads((res / "realization/machine.json").read_text()), selected),
         "infill": {
             k: json.loads((res / f"optimization/{k}/infill.json").read_text())["rounds"]
             for k in fronts
@@ -151,6 +152,20 @@ def row(work: Path, name: str) -> dict[str, Any]:
             "needed_volume_mm": selected.get("printing_advice", {}).get("needed_volume_mm"),
             "drives": drives_of(selected.get("drives", {})),
         },
+    }
+
+
+def machine_of(machine: dict[str, Any], selected: dict[str, Any]) -> dict[str, Any]:
+    """The realised machine's loop and limits: the realisation loop's iterations and tool-flange
+    masses (kg), each drive's torque limit (N m), the placing error against the tolerance (mm),
+    and the verdict."""
+    budget = selected.get("stiffness") or {}
+    return {
+        "fixed_point": machine["fixed_point"],
+        "torque_limits_Nm": machine["torque_limits_Nm"],
+        "placing_error_mm": (budget.get("worst") or {}).get("error_budget_mm"),
+        "tolerance_mm": budget.get("tolerance_mm"),
+        "verdict": selected.get("verdict"),
     }
 
 

@@ -295,3 +295,22 @@ def test_the_largest_load_keeps_every_point_within_the_tolerance():
     budget["per_point"]["sag_mm"] = [2.0, 3.0]
     budget["per_point"]["dynamic_sag_mm"] = [0.0, 0.0]  # no force sags the tool: no limit
     assert largest_load_N(budget) is None
+
+
+def test_a_missed_tolerance_says_what_the_sizing_did():
+    """The final budget's advice starts from the sizing: the limits it stopped at, or (when it
+    met its own target) its figure against the arm's as printed; nothing where the budget meets
+    the tolerance or the arm was not sized for it."""
+    from qsm.realization.accuracy.accuracy_sizing import AccuracyChoice
+    from qsm.realization.final.final_budget import sizing_note
+
+    missed = {"meets_requirements": False, "worst": {"error_budget_mm": 6.2}}
+    met = AccuracyChoice(np.ones(4), (0.0, 0.0), 3.4, 3.5, True)
+    (note,) = sizing_note(met, missed)
+    assert "3.40 mm" in note and "3.50 mm" in note and "errs 6.20 mm" in note
+    held = replace(met, meets=False, structure_mm=4.1, stopped_at=("the crank at 1.30x", "x"))
+    assert sizing_note(held, missed) == [
+        "more than the sizing may give: it stopped at the crank at 1.30x; x"
+    ]
+    assert sizing_note(met, missed | {"meets_requirements": True}) == []
+    assert sizing_note(replace(met, meets=None), missed) == []

@@ -1,6 +1,7 @@
 """The realisation builds the arm for the tolerance: stiffer gearboxes and larger sections, the
 lightest that meets the structure's share (qsm.realization.accuracy.accuracy_sizing)."""
 
+import re
 from dataclasses import replace
 
 import numpy as np
@@ -14,7 +15,7 @@ from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import end_effector
 from qsm.realization.accuracy.accuracy_budget import AccuracySettings
 from qsm.realization.accuracy.accuracy_sizing import STRUCTURE_SHARE, structure_mm
-from qsm.realization.selection.pipeline import budget_of, carrying, realize
+from qsm.realization.selection.pipeline import _task_duty, budget_of, carrying, realize
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 ANGLES = np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0]])
@@ -141,3 +142,51 @@ def test_a_task_that_does_not_ask_for_growth_keeps_the_lightest_drives_and_secti
         assert chosen["drive"] == plain["motors"][motor]["drive"]
     assert done.drives["task_motion"]["defined"] and "task_motion" not in plain
     assert done.accuracy.record()["meets_target"] is None
+
+
+def test_a_search_that_misses_names_the_limits_it_stopped_at():
+    """Held at cad.sized's largest section (1.3x) and short of a 0.5 mm tolerance, the record
+    names each link at its largest section and, per motor, the stiffest gearbox level that still
+    drives the duty: the next stiffer one in the catalogue does not."""
+    settings = _settings(0.5, largest=1.3)
+    done = realize(DESIGN, settings)
+    assert done.accuracy.meets is False
+    links = [s for s in done.accuracy.stopped_at if "its section" in s]
+    assert len(links) == 4
+    assert sum("1.30x its section, cad.sized's largest section" in s for s in links) >= 2
+    carried = carrying(settings, done.tool_kg)
+    drives = replace(carried.drives, task_duty=_task_duty(DESIGN, carried))
+    levels = sorted(set(drives.stiffness_Nm_rad.tolist()))
+    gearbox = done.accuracy.stopped_at[-1]
+    for motor in (1, 2):
+        named = re.search(rf"([\d,]+) N m/rad for motor {motor}", gearbox)
+        least = 0.0 if named is None else float(named.group(1).replace(",", ""))
+        stiffer = [k for k in levels if k > least]
+        if not stiffer:
+            continue
+        demand = (stiffer[0], 0.0) if motor == 1 else (0.0, stiffer[0])
+        report = replace(drives, min_stiffness_Nm_rad=demand).report(DESIGN)
+        assert not report["motors"][f"motor{motor}"]["has_drive"]
+
+
+def test_the_printer_is_named_when_it_holds_a_link():
+    """A printer 5 % larger than the links' boxes at their sections holds every link below
+    cad.sized's largest section; the record names the printer, and a link 1 % beyond the factor
+    it states no longer fits."""
+    from qsm.embodiment.parts.printing import box_fits, link_boxes_mm
+    from qsm.realization.accuracy.accuracy_sizing import PRINT_MARGIN_MM
+
+    base = _settings(0.5, largest=2.0)
+    boxes = link_boxes_mm(DESIGN[None], None, base.strength.cad)[0]
+    volume = tuple((1.05 * boxes.max(axis=0) + PRINT_MARGIN_MM).tolist())
+    settings = replace(base, accuracy=replace(base.accuracy, build_volume_mm=volume))
+    done = realize(DESIGN, settings)
+    held = [s for s in done.accuracy.stopped_at if "printer's" in s]
+    assert held
+    for phrase in held:
+        name = phrase.removeprefix("the ").split(" at ")[0].replace(" ", "_")
+        factor = float(phrase.split(" at ")[1].split("x")[0])
+        k = ["lower_arm", "crank", "coupler", "upper_arm"].index(name)
+        cad = base.strength.cad.scaled(1.01 * factor)
+        grown = link_boxes_mm(DESIGN[None], None, cad)[0, k]
+        assert not box_fits(grown, np.asarray(volume) - PRINT_MARGIN_MM)

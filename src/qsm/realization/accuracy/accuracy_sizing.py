@@ -59,14 +59,15 @@ STRUCTURE_SHARE = 0.7
 class AccuracyChoice:
     """What the tolerance asks of a design: each link's section ``scale`` (4,) on the configured
     one, each motor's least gearbox stiffness (N m/rad; 0: any), the structural error (mm) it
-    gives, the ``target_mm`` it had to meet, and whether it meets it (None: not built for the
-    tolerance)."""
+    gives, the ``target_mm`` it had to meet, whether it meets it (None: not built for the
+    tolerance) and, when it does not, the limits the search stopped at (:func:`limits_reached`)."""
 
     scale: NDArray[np.float64]
     min_stiffness_Nm_rad: tuple[float, float]
     structure_mm: float
     target_mm: float
     meets: bool | None
+    stopped_at: tuple[str, ...] = ()
 
     def record(self) -> dict[str, Any]:
         """JSON-ready account: the share and target, the structural error (None: not computed),
@@ -79,6 +80,7 @@ class AccuracyChoice:
             "meets_target": self.meets,
             "section_scale": dict(zip(LINK_NAMES, self.scale.tolist(), strict=True)),
             "min_gearbox_stiffness_Nm_rad": list(self.min_stiffness_Nm_rad),
+            "stopped_at": list(self.stopped_at),
         }
 
 
@@ -170,6 +172,40 @@ def growth_limit(
     return upper
 
 
+def limits_reached(
+    design: NDArray[np.float64],
+    choice: AccuracyChoice,
+    upper: NDArray[np.float64],
+    cad: CadSettings,
+    accuracy: AccuracySettings,
+    stiffest: Sequence[float],
+) -> tuple[str, ...]:
+    """What stopped the search of ``choice`` (its sections at ``upper`` (4,), the largest
+    :func:`growth_limit` gives): each link held at its largest section, with the bound that sets
+    it (``cad.sized``'s largest section, the link's length, or the printer's build volume) and
+    its number, and the ``stiffest`` (2,) gearbox stiffness (N m/rad) it tried per motor."""
+    fit = fit_limit(design, cad) * (1 - 1e-9)
+    out = []
+    for k, name in enumerate(LINK_NAMES):
+        if choice.scale[k] < upper[k] * (1 - 1e-9):
+            continue
+        if upper[k] < min(accuracy.max_section_scale, fit[k]) * (1 - 1e-6):
+            box = " x ".join(f"{v:g}" for v in accuracy.build_volume_mm)
+            why = f"the most the printer's {box} mm build volume takes"
+        elif fit[k] < accuracy.max_section_scale:
+            why = "the most its length takes"
+        else:
+            why = "cad.sized's largest section"
+        out.append(f"the {name.replace('_', ' ')} at {upper[k]:.2f}x its section, {why}")
+    least = [f"{k:,.0f} N m/rad for motor {i}" for i, k in enumerate(stiffest, 1) if k]
+    out.append(
+        f"gearboxes of at least {' and '.join(least)}, the stiffest among drives that meet the duty"
+        if least
+        else "the lightest drives for the duty: the catalogue has no stiffer ones that meet it"
+    )
+    return tuple(out)
+
+
 def accuracy_choice(
     design: NDArray[np.float64],
     base: NDArray[np.float64],
@@ -196,10 +232,12 @@ def accuracy_choice(
     levels = [0.0, *sorted(set(drives.stiffness_Nm_rad.tolist()))[1:]]
     lightest: tuple[float, AccuracyChoice] | None = None
     nearest = AccuracyChoice(base, (0.0, 0.0), math.inf, target, False)
+    stiffest = [0.0, 0.0]
     for least in product(levels, levels):
         report = replace(drives, min_stiffness_Nm_rad=least).report(design, base[None])
         if not report["has_drives"]:
             continue
+        stiffest = np.maximum(stiffest, least).tolist()
 
         def error(f: float, report: dict = report) -> float:
             scale = np.minimum(f * base, upper)
@@ -222,7 +260,10 @@ def accuracy_choice(
         mass += sum(m["drive"]["mass_kg"] for m in report["motors"].values())
         if lightest is None or mass < lightest[0]:
             lightest = (mass, choice)
-    return nearest if lightest is None else lightest[1]
+    if lightest is not None:
+        return lightest[1]
+    limits = limits_reached(design, nearest, upper, strength.cad, accuracy, stiffest)
+    return replace(nearest, stopped_at=limits)
 
 
 def as_realised(

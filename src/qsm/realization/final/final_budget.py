@@ -14,6 +14,7 @@ from qsm.physics.cad import MassProperties
 from qsm.physics.kinematics import LINK_NAMES
 from qsm.physics.task_points import visited_points
 from qsm.realization.accuracy.accuracy_budget import with_base
+from qsm.realization.accuracy.accuracy_sizing import STRUCTURE_SHARE, AccuracyChoice
 from qsm.realization.selection.pipeline import Realization, RealizationSettings, budget_of
 
 
@@ -82,5 +83,25 @@ def final_record(
     record = dict(choice)
     if cycle is not None:
         record["cycle"] = dict(cycle)
+    budget["would_meet"] = sizing_note(done.accuracy, budget) + budget["would_meet"]
     record["stiffness"] = budget | {"built_for_tolerance": done.accuracy.record()}
     return record
+
+
+def sizing_note(sized: AccuracyChoice, budget: Mapping[str, Any]) -> list[str]:
+    """Where the final ``budget`` misses the tolerance that the realisation ``sized`` the arm
+    for: the limits its search stopped at, with their numbers, or (when it met its target on
+    its own model) the two figures that disagree; nothing where the budget meets it or the arm
+    was not sized for it."""
+    if budget["meets_requirements"] or sized.meets is None:
+        return []
+    if sized.stopped_at:
+        return ["more than the sizing may give: it stopped at " + "; ".join(sized.stopped_at)]
+    error = budget["worst"]["error_budget_mm"]
+    return [
+        f"the sizing met its target on its own model ({sized.structure_mm:.2f} mm of "
+        f"structural error, within {sized.target_mm:.2f} mm, {STRUCTURE_SHARE:.0%} of the "
+        f"tolerance, at the duty's load and the plates' stiffness floor), but the arm as printed "
+        f"errs {error:.2f} mm with the cycle's load, the tracking and the base: the share this "
+        f"task leaves for those terms is too small"
+    ]

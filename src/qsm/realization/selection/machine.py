@@ -33,7 +33,7 @@ from qsm.realization.selection.pipeline import (
 )
 
 #: The record's version: a reader refuses a record of another.
-VERSION = 2
+VERSION = 3
 
 
 def _finite_or_none(value: float) -> float | None:
@@ -79,6 +79,7 @@ def _accuracy_record(choice: AccuracyChoice) -> dict[str, Any]:
         "structure_mm": _finite_or_none(choice.structure_mm),
         "target_mm": _finite_or_none(choice.target_mm),
         "meets_target": choice.meets,
+        "stopped_at": list(choice.stopped_at),
     }
 
 
@@ -90,6 +91,7 @@ def _accuracy_of(data: Mapping[str, Any]) -> AccuracyChoice:
         structure_mm=_nan_if_none(data["structure_mm"]),
         target_mm=_nan_if_none(data["target_mm"]),
         meets=data["meets_target"],
+        stopped_at=tuple(data["stopped_at"]),
     )
 
 
