@@ -51,17 +51,6 @@ BASE_PLATE_MM = 15.0
 BASE_SHARE = 0.02
 #: Room (mm) between the links' lowest point and the base plate, and around each drive.
 CLEARANCE_MM = 10.0
-#: ISO 273 medium-series clearance holes (mm) by thread.
-CLEARANCE_HOLE_MM = {
-    "M3": 3.4,
-    "M4": 4.5,
-    "M5": 5.5,
-    "M6": 6.6,
-    "M8": 9.0,
-    "M10": 11.0,
-    "M12": 13.5,
-    "M16": 17.5,
-}
 G = 9.81
 
 
@@ -177,11 +166,6 @@ def lowest_point_mm(joints: dict[str, NDArray], radii: dict[str, dict[str, float
             y = np.asarray(joints[joint])[..., 1] * 1e3 - r
             low = max(low, float(-np.nanmin(y)))
     return low
-
-
-def clearance_hole_mm(thread: str) -> float:
-    """ISO 273 medium clearance hole (mm) of ``thread``."""
-    return CLEARANCE_HOLE_MM.get(thread, math.ceil(float(thread[1:]) * 1.1))
 
 
 def table_screws(

@@ -1,7 +1,8 @@
 """Standard fasteners of the kit, from the tables in ``data/`` (each file names its standard and
-source): ISO 4762 socket head cap screws, ISO 7379 shoulder screws, ISO 7089 washers and ISO 10511
-thin lock nuts. A screw's length is the shortest preferred length that spans its grip and, where
-it ends in a nut, the washer and the nut; where it ends in a tapped hole, 1.5 d of engagement.
+source): ISO 4762 socket head cap screws, ISO 7379 shoulder screws, ISO 7089 washers, ISO 10511
+thin lock nuts and the ISO 2936 keys that turn them. A screw's length is the shortest preferred
+length that spans its grip and, where it ends in a nut, the washer and the nut; where it ends in
+a tapped hole, 1.5 d of engagement. Tightening torques follow VDI 2230-1:2015.
 """
 
 from __future__ import annotations
@@ -15,6 +16,30 @@ from pathlib import Path
 DATA = Path(__file__).parent / "data"
 #: Thread engagement of a screw in a tapped metal part, in diameters.
 TAPPED_ENGAGEMENT = 1.5
+#: Friction coefficient in the thread and under the head (VDI 2230-1:2015 table A5: steel,
+#: zinc plated, dry or lightly oiled, 0.10-0.16).
+FRICTION = 0.12
+#: Share of the yield strength the tightening may use in the thread's combined stress (VDI
+#: 2230-1:2015, nu = 0.9).
+YIELD_SHARE = 0.9
+
+
+#: ISO 273 medium-series clearance holes (mm) by thread.
+CLEARANCE_HOLE_MM = {
+    "M3": 3.4,
+    "M4": 4.5,
+    "M5": 5.5,
+    "M6": 6.6,
+    "M8": 9.0,
+    "M10": 11.0,
+    "M12": 13.5,
+    "M16": 17.5,
+}
+
+
+#: Hexagon socket size s (mm) of ISO 4026-4029 set screws by thread: the FreeCAD Fasteners
+#: Workbench data (github.com/shaise/FreeCAD_FastenersWB, FsData/iso4026def.csv at 918dc6a).
+SET_SCREW_KEY_MM = {"M3": 1.5, "M4": 2.0, "M5": 2.5, "M6": 3.0, "M8": 4.0}
 
 
 class FastenerError(ValueError):
@@ -97,6 +122,11 @@ def cap_screw(
         return Fastener("DIN 976-1", f"{thread} x {length:g}", thread, d, length, purpose)
 
 
+def clearance_hole_mm(thread: str) -> float:
+    """ISO 273 medium clearance hole (mm) of ``thread``."""
+    return CLEARANCE_HOLE_MM.get(thread, math.ceil(float(thread[1:]) * 1.1))
+
+
 def screw_head_mm(thread: str) -> tuple[float, float]:
     """Head diameter and height (mm) of the ISO 4762 screw of ``thread``."""
     row = _row("iso4762", "thread", thread)
@@ -157,3 +187,53 @@ def insert_threads() -> list[str]:
 def nut_across_corners_mm(thread: str) -> float:
     """Across corners (mm) of the ISO 10511 nut of ``thread``: its across flats / cos 30."""
     return float(_row("iso10511", "thread", thread)["across_flats_mm"]) / math.cos(math.pi / 6)
+
+
+@dataclass(frozen=True)
+class HexKey:
+    """An ISO 2936 L-shaped hexagon key: its size across flats, long and short arm (mm)."""
+
+    key_mm: float
+    long_arm_mm: float
+    short_arm_mm: float
+
+    @property
+    def name(self) -> str:
+        """The order line."""
+        return f"ISO 2936 hexagon key {self.key_mm:g} mm"
+
+
+def hex_key(fastener: Fastener) -> HexKey:
+    """The ISO 2936 key that turns ``fastener`` (an ISO 4762 cap screw, an ISO 4029 set screw,
+    or an ISO 7379 shoulder screw by its shoulder); a DIN 976-1 rod's nut takes a spanner
+    instead (FastenerError)."""
+    if fastener.standard == "ISO 4762":
+        size = _row("iso4762", "thread", fastener.thread)["key_mm"]
+    elif fastener.standard == "ISO 4029":
+        size = f"{SET_SCREW_KEY_MM[fastener.thread]:g}"
+    elif fastener.standard == "ISO 7379":
+        size = _row("iso7379", "shoulder_d_mm", f"{fastener.d_mm:g}")["key_mm"]
+    else:
+        raise FastenerError(f"{fastener.name} takes no hexagon key")
+    row = _row("iso2936", "key_mm", size)
+    return HexKey(float(size), float(row["long_arm_mm"]), float(row["short_arm_mm"]))
+
+
+def tightening_torque_Nm(
+    thread: str, hole_mm: float, clamp_limit_N: float = math.inf
+) -> tuple[float, float]:
+    """The tightening torque (N m) of the class 8.8 ISO 4762 screw of ``thread`` seated over a
+    hole of ``hole_mm``, and its preload (N): the preload that uses :data:`YIELD_SHARE` of the
+    yield strength under tension and the thread's torsion (VDI 2230-1:2015, R7), at most
+    ``clamp_limit_N`` (what the clamped part bears, e.g. a printed plate under a washer), turned
+    into a torque by ``F (0.16 P + 0.58 d2 mu + mu D_Km / 2)`` (R13) with :data:`FRICTION`."""
+    row = _row("iso4762", "thread", thread)
+    d, p = float(row["d_mm"]), float(row["pitch_mm"])
+    d2, d3 = d - 0.64952 * p, d - 1.22687 * p
+    d0, area = (d2 + d3) / 2, float(row["stress_area_mm2"])
+    twist = 1.5 * d2 / d0 * (p / (math.pi * d2) + 1.155 * FRICTION)
+    preload = YIELD_SHARE * float(row["yield_MPa"]) * area / math.sqrt(1 + 3 * twist**2)
+    preload = min(preload, clamp_limit_N)
+    bearing_d = (float(row["head_d_mm"]) + hole_mm) / 2
+    torque = preload * (0.16 * p + 0.58 * d2 * FRICTION + FRICTION * bearing_d / 2) / 1e3
+    return torque, preload

@@ -13,11 +13,17 @@ that length. Bending ``32 F a / (pi d^3)`` and shear ``4 F / (pi d^2)`` (von Mis
 **Hubs (A).** A steel hub (C45, :data:`HUB_YIELD_MPA`) per drive: a flange bolted to its link,
 which it centres with a spigot in the link's bore at A, by six screws on the
 largest bolt circle that keeps each hole :data:`EDGE_DISTANCE` diameters from the boss's edge,
-and a boss that reaches through the cheek to the drive. The screws come from the hub's side
-into heat-set inserts pressed into the link, so nothing stands out of its far face (where the
-coupler passes over A); the inserts carry the drive's peak torque in bearing on the printed
-plate: ``T / (6 r D L)`` within the link material's allowable, D and L the insert's hole and
-length. A shaft
+and a boss that reaches through the cheek to the drive. Where the hub is bolted to a drive's
+output flange, the hub goes on after the drive and the link after the hub's own screws, so the
+link's screws come from the link's far face through clearance holes into threads tapped in the
+hub's steel flange (:func:`hub_screws_through_link`); each shank bears on the printed plate,
+``T / (6 r d t)``. Where a shaft drives the hub, hub and link are bolted together first and
+slid onto the shaft, so the screws come from the hub's side into heat-set inserts pressed into
+the link and nothing stands out of its far face (:func:`hub_screws`); the inserts carry the
+torque in bearing on the printed plate, ``T / (6 r D L)``, D and L the insert's hole and
+length; an ISO 4029 cup-point set screw through the hub's boss onto the shaft holds the hub
+along it (:func:`set_screw`). Either bearing stress stays within the link material's
+allowable. A shaft
 output drives the hub through a DIN 6885 form A key (pressure ``2 T / (d (h - t1) (l - b))``
 with ``h - t1 = 0.4 h`` in the hub and l the shaft's length in the hub, within the hub's yield
 over the safety factor); a flange output is bolted to the hub's boss with its own pattern, the
@@ -81,19 +87,26 @@ class Plate:
 
 
 def pin(
-    joint: str, bearing: dict[str, Any], seat: Plate, other: Plate, required_sf: float
+    joint: str,
+    bearing: dict[str, Any],
+    seat: Plate,
+    other: Plate,
+    required_sf: float,
+    spacers: int = 1,
 ) -> dict[str, Any]:
     """The shoulder screw of ``joint`` through the ``bearing`` (``d_mm``, ``B_mm``,
-    ``peak_force_N``), pressed flush with ``seat``'s face toward ``other``, and the bore of
-    ``other``, and its check; the shoulder's length beyond the grip is filled with spacers."""
+    ``peak_force_N``), pressed flush with ``seat``'s face toward ``other``, ``spacers``
+    washers and the bore of ``other``, and its check; the shoulder's length beyond the grip is
+    filled with spacers."""
     d, force = float(bearing["d_mm"]), float(bearing["peak_force_N"])
     washer = _spacer(d)
-    grip = seat.thickness_mm + washer[2] + other.thickness_mm
+    gap = spacers * washer[2]
+    grip = seat.thickness_mm + gap + other.thickness_mm
     screw = fs.shoulder_screw(d, grip, f"pin of joint {joint}")
     thread = screw.thread if screw else _pin_thread(d)
     fill = int((screw.length_mm - grip) // washer[2]) if screw else 0
     bore_mm = force / (other.allowable_MPa * d)  # printed length that carries F
-    arm = float(bearing["B_mm"]) / 2 + washer[2] + bore_mm / 2
+    arm = float(bearing["B_mm"]) / 2 + gap + bore_mm / 2
     bending = 32 * force * arm / (math.pi * d**3)
     shear = 4 * force / (math.pi * d**2)
     von_mises = math.hypot(bending, math.sqrt(3) * shear)
@@ -106,6 +119,8 @@ def pin(
         "shoulder_d_mm": d,
         "grip_mm": grip,
         "spacer": f"ISO 7089 {washer[3]}",
+        "spacers": spacers,
+        "spacers_mm": gap,
         "fill_spacers": fill,
         "nut": f"ISO 10511 {thread}",
         "peak_force_N": force,
@@ -150,6 +165,7 @@ def hub_screws(plate: Plate, spigot_mm: float, torque_Nm: float) -> dict[str, An
         "insert": None,
         "hole_mm": 0.0,
         "holds": False,
+        "side": "hub",
     }
     for thread in fs.insert_threads():
         length, hole, name = fs.insert(thread)
@@ -170,10 +186,49 @@ def hub_screws(plate: Plate, spigot_mm: float, torque_Nm: float) -> dict[str, An
             "insert": name,
             "hole_mm": hole,
             "holds": bearing <= plate.allowable_MPa,
+            "side": "hub",
         }
         if result["holds"]:
             break
     return result
+
+
+def hub_screws_through_link(
+    plate: Plate, spigot_mm: float, torque_Nm: float, tip_mm: float
+) -> dict[str, Any]:
+    """The smallest thread of six ISO 4762 screws from ``plate``'s far face through clearance
+    holes (ISO 273 medium) into threads tapped through the hub's flange (:data:`FLANGE_MM`, at
+    least 1.5 d of it), on the largest bolt circle that keeps each hole :data:`EDGE_DISTANCE`
+    diameters from the edge of the boss (and clear of a spigot of ``spigot_mm``), whose shanks
+    carry ``torque_Nm`` in bearing on the printed plate, ``T / (6 r d t)``; a screw's end stands
+    at most ``tip_mm`` beyond the flange. The last tried when none holds (``holds`` False)."""
+    result: dict[str, Any] = {"thread": "", "pcd_mm": 0.0, "bearing_MPa": math.inf,
+                              "screw": None, "insert": None, "hole_mm": 0.0, "holds": False,
+                              "side": "link"}  # fmt: skip
+    for row in fs.table("iso4762"):
+        thread, d = row["thread"], float(row["d_mm"])
+        hole = fs.clearance_hole_mm(thread)
+        r = plate.boss_mm - EDGE_DISTANCE * hole
+        if r - hole < spigot_mm / 2 + 2.0 or fs.TAPPED_ENGAGEMENT * d > FLANGE_MM:
+            break
+        grip = plate.thickness_mm + fs.washer_mm(thread)[2]
+        screw = fs.cap_screw(thread, grip, True, "link to hub", FLANGE_MM + tip_mm)
+        if screw.standard != "ISO 4762":
+            continue
+        bearing = torque_Nm * 1e3 / (HUB_SCREWS * r * d * plate.thickness_mm)
+        result |= {"thread": thread, "pcd_mm": 2 * r, "bearing_MPa": bearing, "screw": screw,
+                   "hole_mm": hole, "holds": bearing <= plate.allowable_MPa}  # fmt: skip
+        if result["holds"]:
+            break
+    return result
+
+
+def set_screw(drive: DriveInterface) -> str:
+    """The ISO 4029 cup-point set screw through a shaft hub's wall (:data:`HUB_WALL_MM`) onto
+    the shaft: the largest thread the wall takes, M3 to M8."""
+    fits = [t for t in ("M3", "M4", "M5", "M6", "M8") if float(t[1:]) <= HUB_WALL_MM]
+    thread = fits[-1] if fits else "M3"
+    return f"ISO 4029 {thread} x {max(4, int(drive.shaft_d_mm // 3)):g}"
 
 
 def hub_boss_mm(drive: DriveInterface) -> float:
@@ -220,12 +275,15 @@ def hub(
         pressure = 2 * torque_Nm * 1e3 / (drive.shaft_d_mm * 0.4 * h * bearing)
         out["key"] = {"w_mm": w, "h_mm": h, "length_mm": engaged, "pressure_MPa": pressure}
         out["key_safety_factor"] = HUB_YIELD_MPA / pressure
+        out["set_screw"] = set_screw(drive)
+        out["retention"] = f"{out['set_screw']} cup point on the shaft, across the key"
         holds = holds and out["key_safety_factor"] >= required_sf
     else:
         out["flange"] = f"{drive.flange_bolts} x {drive.flange_thread} on {drive.flange_pcd_mm:g}"
         head_h = fs.screw_head_mm(drive.flange_thread)[1]
         grip = boss_length_mm + FLANGE_MM - head_h  # heads counterbored into the hub's flange
         out["flange_screw"] = fs.cap_screw(drive.flange_thread, grip, True, "").name
+        out["retention"] = f"the {out['flange']} screws on the drive's output flange"
     out["holds"] = holds
     return out
 

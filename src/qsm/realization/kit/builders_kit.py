@@ -12,6 +12,7 @@ peak force at the tool.
 
 from __future__ import annotations
 
+import math
 import re
 from dataclasses import dataclass
 from typing import Any, NamedTuple
@@ -29,6 +30,9 @@ from qsm.physics.kinematics import pose
 from qsm.realization.kit import kit_bom as kb
 from qsm.realization.kit import kit_layout as kl
 from qsm.realization.kit import kit_steps as ks
+from qsm.realization.kit.kit_assembly import HUB_LINKS as HUB_LINK_OF
+from qsm.realization.kit.kit_assembly import PIN_PLATES, kit_sequence
+from qsm.realization.kit.kit_sequence import record_of
 from qsm.realization.selection.pipeline import Realization
 from qsm.schema.defaults import default
 
@@ -40,13 +44,7 @@ ARRANGEMENT = re.sub(
     " ".join(bs.__doc__.split("**Arrangement.**")[1].split("**Check.**")[0].split()),
 )
 #: The links the hubs turn: motor 1's, motor 2's.
-HUB_LINKS = ("lower_arm", "crank")
-#: The seat plate and the pin plate at each pin joint.
-PIN_PLATES = {
-    "B": ("lower_arm", "upper_arm"),
-    "C": ("crank", "coupler"),
-    "D": ("coupler", "upper_arm"),
-}
+HUB_LINKS = tuple(HUB_LINK_OF.values())
 
 
 @dataclass(frozen=True)
@@ -142,11 +140,12 @@ def lowest_point_mm(done: Realization, parts: dict[str, LinkPart], s: KitSetting
 
 #: What stands out of a plate into a neighbour's layer at a pin (the side the pin's head or nut
 #: is on, :mod:`qsm.embodiment.kit.joints`): (joint, head or nut, the link whose layer it is in).
+#: The last entry: the pin joint whose spacers stand between the two layers.
 PROTRUSIONS = (
-    ("B", "head", "coupler"),
-    ("D", "head", "lower_arm"),
-    ("D", "nut", "crank"),
-    ("C", "head", "upper_arm"),
+    ("B", "head", "coupler", "D"),
+    ("D", "head", "lower_arm", "B"),
+    ("D", "nut", "crank", "C"),
+    ("C", "head", "upper_arm", "D"),
 )
 #: Each link's spine: the joints whose segments, widened by its largest boss, hold it.
 SPINES = {"lower_arm": ("AB",), "crank": ("AC",), "coupler": ("CD",), "upper_arm": ("DB", "BE")}
@@ -159,35 +158,96 @@ def segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.linalg.norm(ap - t[..., None] * ab, axis=-1)
 
 
+def _protrusion_mm(pin: dict[str, Any], end: str) -> tuple[float, float]:
+    """A pin's head or nut (on its washer; a made pin has a nut at each end): its radius and
+    how far it stands out of its plate (mm)."""
+    thread = pin["nut"].split()[-1]
+    if end == "head" and pin["screw"]:
+        d, h = fs.shoulder_head_mm(pin["shoulder_d_mm"])
+        return d / 2, h
+    size = max(fs.nut_across_corners_mm(thread), fs.washer_mm(thread)[1]) / 2
+    return size, fs.washer_mm(thread)[2] + fs.nut_height_mm(thread)
+
+
 def clearances(
     done: Realization, parts: dict[str, LinkPart], pins: dict[str, Any], s: KitSettings
 ) -> list[dict[str, Any]]:
-    """For each pin's head or nut that stands into a neighbour's layer (:data:`PROTRUSIONS`),
+    """For each pin's head or nut that stands toward a neighbour's layer (:data:`PROTRUSIONS`),
     its least distance (mm) over the operating range from that link (the segments of its spine
     widened by its largest boss), against the head's or the nut's and washer's radius and
-    1 mm."""
+    1 mm; where that fails, the spacers between the two layers (``spacers_mm``) must pass its
+    height and 1 mm, so that the neighbour runs beside it."""
     joints, radii = _sweep(done, s), _radii(parts)
     out = []
-    for joint, end, link in PROTRUSIONS:
-        pin = pins[joint]
-        thread = pin["nut"].split()[-1]
-        if end == "head" and pin["screw"]:
-            size = fs.shoulder_head_mm(pin["shoulder_d_mm"])[0] / 2
-        else:  # a nut on its washer (a made pin has a nut at each end)
-            size = max(fs.nut_across_corners_mm(thread), fs.washer_mm(thread)[1]) / 2
+    for joint, end, link, gap_joint in PROTRUSIONS:
+        size, height = _protrusion_mm(pins[joint], end)
         gap = np.min(
             [segment_distance(joints[joint], joints[a], joints[b]) for a, b in SPINES[link]], axis=0
         ) - max(radii[link].values())
         least = float(np.nanmin(gap))
-        out.append(
-            {
-                "what": f"pin {joint}'s {end}",
-                "into": link,
-                "clearance_mm": least,
-                "needed_mm": size + 1.0,
-                "holds": least >= size + 1.0,
-            }
-        )
+        spacers = pins[gap_joint]["spacers_mm"]
+        out.append({"what": f"pin {joint}'s {end}", "into": link, "clearance_mm": least,
+                    "needed_mm": size + 1.0, "height_mm": height, "spacers_mm": spacers,
+                    "holds": least >= size + 1.0 or spacers >= height + 1.0})  # fmt: skip
+    return out
+
+
+#: Per motor: the link whose layer its hub's link-side screw heads stand into, and the pin
+#: joint whose spacers stand between the two layers.
+HEAD_NEIGHBOURS = (("upper_arm", "B"), ("coupler", "C"))
+
+
+def hub_head_clearances(
+    done: Realization,
+    parts: dict[str, LinkPart],
+    screws: list[dict[str, Any]],
+    pins: dict[str, Any],
+    s: KitSettings,
+) -> list[dict[str, Any]]:
+    """For each hub whose screws come from its link's far face, the least distance (mm) over
+    the operating range of the neighbouring layer's link (:data:`HEAD_NEIGHBOURS`, its spine
+    widened by its largest boss) from A, against the heads' circle (half the bolt circle, half
+    the larger of head and washer, and 1 mm); where that fails, the spacers between the layers
+    must pass the heads' height and 1 mm."""
+    joints, radii = _sweep(done, s), _radii(parts)
+    out = []
+    for k, (screw, (link, gap_joint)) in enumerate(zip(screws, HEAD_NEIGHBOURS, strict=True), 1):
+        if screw["side"] != "link" or not screw["thread"]:
+            continue
+        th = screw["thread"]
+        head = max(fs.screw_head_mm(th)[0], fs.washer_mm(th)[1])
+        height = fs.screw_head_mm(th)[1] + fs.washer_mm(th)[2]
+        needed = screw["pcd_mm"] / 2 + head / 2 + 1.0
+        gap = np.min(
+            [segment_distance(joints["A"], joints[a], joints[b]) for a, b in SPINES[link]], axis=0
+        ) - max(radii[link].values())
+        least, spacers = float(np.nanmin(gap)), pins[gap_joint]["spacers_mm"]
+        out.append({"what": f"hub {k}'s screw heads", "into": link, "clearance_mm": least,
+                    "needed_mm": needed, "height_mm": height, "spacers_mm": spacers,
+                    "holds": least >= needed or spacers >= height + 1.0})  # fmt: skip
+    return out
+
+
+def spacer_counts(
+    done: Realization,
+    parts: dict[str, LinkPart],
+    pins: dict[str, Any],
+    screws: list[dict[str, Any]],
+    s: KitSettings,
+) -> dict[str, int]:
+    """The spacer washers each pin joint needs between its plates: one, or as many as lift the
+    next layer clear of a pin's head or nut, or a hub's screw heads, that its link does not
+    clear in the plane (:func:`clearances`, :func:`hub_head_clearances`)."""
+    out = dict.fromkeys(pins, 1)
+    gaps = [g for *_, g in PROTRUSIONS] + [
+        g for (_, g), sc in zip(HEAD_NEIGHBOURS, screws, strict=True)
+        if sc["side"] == "link" and sc["thread"]
+    ]  # fmt: skip
+    found = clearances(done, parts, pins, s) + hub_head_clearances(done, parts, screws, pins, s)
+    for c, gap_joint in zip(found, gaps, strict=True):
+        if c["clearance_mm"] < c["needed_mm"]:
+            washer = fs.washer_mm(pins[gap_joint]["spacer"].split()[-1])[2]
+            out[gap_joint] = max(out[gap_joint], math.ceil((c["height_mm"] + 1.0) / washer))
     return out
 
 
@@ -207,22 +267,37 @@ def _safety(done: Realization) -> float:
     return max(float(v["required_safety_factor"]) for v in done.strength["links"].values())
 
 
-def _pins(done: Realization, plates: dict[str, dict[str, jt.Plate]]) -> dict[str, Any]:
-    """The shoulder screws of B, C and D (:func:`qsm.embodiment.kit.joints.pin`)."""
+def _pins(
+    done: Realization, plates: dict[str, dict[str, jt.Plate]], spacers: dict[str, int] | None
+) -> dict[str, Any]:
+    """The shoulder screws of B, C and D (:func:`qsm.embodiment.kit.joints.pin`), each with its
+    number of spacer washers between its plates (None: one)."""
+    n = spacers or {}
     return {
-        j: jt.pin(j, _bearing(done, j), plates[a][j], plates[b][j], _safety(done))
+        j: jt.pin(j, _bearing(done, j), plates[a][j], plates[b][j], _safety(done), n.get(j, 1))
         for j, (a, b) in PIN_PLATES.items()
     }
+
+
+#: How far (mm) a link-side hub screw's end may stand beyond the hub's flange, toward the cheek:
+#: the least gap between flange and cheek (10 mm) less 2 mm.
+HUB_SCREW_TIP_MM = 8.0
 
 
 def _hub_screws(
     plates: dict[str, dict[str, jt.Plate]], drives: list[dict[str, Any]], spigot: float
 ) -> list[dict[str, Any]]:
-    """Each hub's screws to its link (:func:`qsm.embodiment.kit.joints.hub_screws`)."""
-    return [
-        jt.hub_screws(plates[link]["A"], spigot, d["torque_limit_Nm"])
-        for link, d in zip(HUB_LINKS, drives, strict=True)
-    ]
+    """Each hub's screws to its link: from the link's far face into the hub's tapped flange
+    where the drive has an output flange (the hub goes on after the drive), else from the
+    hub's side into inserts (:mod:`qsm.embodiment.kit.joints`)."""
+    out = []
+    for link, d in zip(HUB_LINKS, drives, strict=True):
+        plate, torque = plates[link]["A"], d["torque_limit_Nm"]
+        if d["interface"].output == "flange":
+            out.append(jt.hub_screws_through_link(plate, spigot, torque, HUB_SCREW_TIP_MM))
+        else:
+            out.append(jt.hub_screws(plate, spigot, torque))
+    return out
 
 
 def _stack(
@@ -232,11 +307,11 @@ def _stack(
     :mod:`qsm.embodiment.kit.base`), each link's offset from its cheek's face, and the gap
     between a cheek and its link: a hub's flange and its screws' washers and heads."""
     t = {n: 1e3 * p.section.thickness_m for n, p in parts.items()}
-    spacer = {j: fs.washer_mm(p["spacer"].split()[-1])[2] for j, p in pins.items()}
+    spacer = {j: p["spacers_mm"] for j, p in pins.items()}
     heads = [
         fs.washer_mm(s["thread"])[2] + fs.screw_head_mm(s["thread"])[1] + 2.0
         for s in screws
-        if s["thread"]
+        if s["thread"] and s["side"] == "hub"
     ]
     gap = jt.FLANGE_MM + max([10.0, *heads])  # the hub's flange and its screws' heads
 
@@ -431,8 +506,9 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     realisation chose and carried (``done.tool_flange``). Its ``parts`` are those with the hubs'
     screw holes."""
     plates, drives = _plates(done, parts), _drives(done, settings)
-    pins = _pins(done, plates)
     screws = _hub_screws(plates, drives, float(_bearing(done, "A")["d_mm"]))
+    pins = _pins(done, plates, None)
+    pins = _pins(done, plates, spacer_counts(done, parts, pins, screws, settings))
     stack = _stack(parts, pins, screws)
     l1, _, _, _, ee_x, ee_y = done.design
     reach = 1e3 * (l1 + float(np.hypot(ee_x, ee_y)))
@@ -451,6 +527,7 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     geometry = kl.kit_geometry(done.design, holed, stack, cheeks, drives, hubs, flange, angles)
     lines = kb.fastener_lines(pins, hubs, cheeks, drives, flange, table)
     clear = clearances(done, parts, pins, settings)
+    clear += hub_head_clearances(done, parts, screws, pins, settings)
     checks = _checks(pins, hubs, cheeks, table, flange, clear)
     record = {
         "holds": all(checks.values()),
@@ -473,9 +550,29 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
         "stack_mm": stack,
         "layout": geometry,
     }
-    record["assembly_steps"] = ks.assembly_steps(record, lines, done.strength["bearings"])
-    record["step_of"] = ks.STEP_OF
+    _with_sequence(record, done, holed, settings)
     return Kit(record, kb.made_rows(geometry) + kb.fastener_rows(lines), holed)
+
+
+def _with_sequence(
+    record: dict[str, Any], done: Realization, parts: dict[str, LinkPart], s: KitSettings
+) -> None:
+    """``record`` with its assembly sequence (:mod:`qsm.realization.kit.kit_assembly`), the
+    steps as a person reads them, each part's step, and the sequence's check and problem."""
+    allow = {k: float(v["allowable_MPa"]) for k, v in done.strength["links"].items()}
+    found = kit_sequence(
+        record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow,
+        done.strength["bearings"],
+    )  # fmt: skip
+    sequence = record_of(found)
+    record["assembly_sequence"] = sequence
+    record["assembly_steps"] = ks.assembly_steps(sequence)
+    record["step_of"] = ks.step_of(sequence)
+    record["checks"]["assembly sequence"] = found.exists
+    if not found.exists:
+        record["problems"].append("no order of assembly reaches every part and screw: " +
+                                  "; ".join(found.blocked))  # fmt: skip
+    record["holds"] = all(record["checks"].values())
 
 
 def _interface_record(drive: dict[str, Any]) -> dict[str, Any]:

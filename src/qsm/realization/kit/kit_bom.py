@@ -33,7 +33,7 @@ def _pin_lines(pins: dict[str, Any]) -> list[tuple[str, int, str]]:
             (pin["screw"] or f"made: {pin['made']}", 1, f"pin {j}"),
             (
                 pin["spacer"],
-                1 + pin["fill_spacers"],
+                pin["spacers"] + pin["fill_spacers"],
                 f"between the plates at {j}, and filling its shoulder",
             ),
             (f"ISO 7089 {thread}", 1, f"under the nut at {j}"),
@@ -43,25 +43,28 @@ def _pin_lines(pins: dict[str, Any]) -> list[tuple[str, int, str]]:
 
 
 def _hub_lines(hub: dict[str, Any], iface: Any) -> list[tuple[str, int, str]]:
-    """A hub's screws to its link (with washers, into heat-set inserts) and its drive's key or
-    flange screws."""
+    """A hub's screws to its link (with washers: from the link's far face into the hub's
+    tapped flange, or from the hub's side into heat-set inserts) and its drive's key and set
+    screw, or flange screws."""
     k, screws = hub["motor"], hub["link_screws"]
     lines: list[tuple[str, int, str]] = []
     if screws["screw"]:
         th = screws["thread"]
         lines += screw_lines(screws["screw"], jt.HUB_SCREWS, f"hub {k} to the {hub['link']}")
-        lines += [
-            (f"ISO 7089 {th}", jt.HUB_SCREWS, f"hub {k}: under the heads"),
-            (
-                f"{screws['insert']} heat-set insert",
-                jt.HUB_SCREWS,
-                f"hub {k}: in the {hub['link']}, from the hub's side",
-            ),
-        ]
+        lines.append((f"ISO 7089 {th}", jt.HUB_SCREWS, f"hub {k}: under the heads"))
+        if screws["side"] == "hub":
+            lines.append(
+                (
+                    f"{screws['insert']} heat-set insert",
+                    jt.HUB_SCREWS,
+                    f"hub {k}: in the {hub['link']}, from the hub's side",
+                )
+            )
     if iface.output == "shaft":
         key = hub["key"]
         name = f"DIN 6885 A {key['w_mm']:g} x {key['h_mm']:g} x {key['length_mm']:g}"
         lines.append((name, 1, f"drive {k} to hub {k}"))
+        lines.append((hub["set_screw"], 1, f"hub {k} on drive {k}'s shaft"))
     else:
         lines += screw_lines(
             hub["flange_screw"], iface.flange_bolts, f"hub {k} to drive {k}'s output flange"

@@ -123,7 +123,7 @@ def base_plate(cheeks: list[dict[str, Any]], z: tuple[float, float], h: float, t
     middles = (z[0] + cheeks[0]["thickness_mm"] / 2, z[1] - cheeks[1]["thickness_mm"] / 2)
     for c, zc in zip(cheeks, middles, strict=True):
         screw = c["fixing"]["screw"]
-        hole = bs.clearance_hole_mm(screw.split()[2] if screw else "M6")
+        hole = fs.clearance_hole_mm(screw.split()[2] if screw else "M6")
         span = c["width_mm"] / 2 - 10
         holes += [circle(x, zc, hole) for x in (-span, 0.0, span)]
     return {
@@ -188,7 +188,7 @@ def kit_geometry(
     plates = link_plates(design, parts, stack, angles)
     for k, (c, z0) in enumerate(zip(cheeks, (-t1, end), strict=True), 1):
         iface = drives[k - 1]["interface"]
-        plates[f"cheek_{k}"] = cheek_plate(c, iface, bs.clearance_hole_mm(iface.mount_thread), z0)
+        plates[f"cheek_{k}"] = cheek_plate(c, iface, fs.clearance_hole_mm(iface.mount_thread), z0)
     plates["base_plate"] = base_plate(cheeks, (-t1, end + t2), cheeks[0]["height_mm"],
                                       bs.BASE_PLATE_MM)  # fmt: skip
     faces = {1: (stack["lower_arm"], -1, -t1), 2: (stack["crank_end"], 1, end + t2)}

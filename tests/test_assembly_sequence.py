@@ -1,0 +1,198 @@
+"""The kit's assembly sequence (qsm.realization.kit.kit_sequence, kit_assembly, kit_solids): the
+sort and its cycles, prisms that touch or pass through holes, tightening torques against a
+published table, the hub screws' interface by hand, the spacers that lift a layer clear of a
+pin's head, and the default-like arm's sequence checked again by sampling points."""
+
+from __future__ import annotations
+
+import copy
+import math
+
+import numpy as np
+import pytest
+import shapely
+
+from qsm import load_config
+from qsm.config.settings.realization import realization_of
+from qsm.embodiment.kit import fasteners as fs
+from qsm.embodiment.kit import joints as jt
+from qsm.realization.kit.builders_kit import KitSettings, builders_kit, with_hub_holes
+from qsm.realization.kit.kit_assembly import kit_sequence
+from qsm.realization.kit.kit_sequence import Precedence, Step, Tool, order
+from qsm.realization.kit.kit_solids import Prism, disc
+from qsm.realization.selection.pipeline import realize
+
+DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
+HAND = Tool("hand", "by hand")
+
+
+def _step(key: str) -> Step:
+    return Step(key, key, (key,), (), (0.0, 0.0, 1.0), HAND)
+
+
+def test_the_sort_keeps_every_relation_and_names_a_cycle():
+    steps = [_step(k) for k in "abcd"]
+    relations = [Precedence("c", "a", "x"), Precedence("a", "b", "y"), Precedence("d", "b", "z")]
+    done, cycle = order(steps, relations)
+    at = {s.key: i for i, s in enumerate(done)}
+    assert not cycle and len(done) == 4
+    assert all(at[r.first] < at[r.then] for r in relations)
+    done, cycle = order(steps, [*relations, Precedence("b", "c", "w")])
+    assert len(done) < 4
+    assert set(cycle) == {
+        "'c' must come before 'a' (x)",
+        "'a' must come before 'b' (y)",
+        "'b' must come before 'c' (w)",
+    }
+
+
+def test_prisms_that_touch_do_not_meet_and_a_key_passes_a_hole():
+    plate = Prism("z", shapely.box(0, 0, 100, 50).difference(disc(20, 20, 10)), 0.0, 10.0)
+    assert not plate.meets(Prism("z", shapely.box(0, 0, 100, 50), 10.0, 20.0))  # stacked
+    assert not plate.meets(Prism("z", shapely.box(100, 0, 150, 50), 0.0, 10.0))  # side by side
+    assert plate.meets(Prism("z", shapely.box(90, 0, 150, 50), 5.0, 15.0))
+    assert not plate.meets(Prism("z", disc(20, 20, 8), -50.0, 50.0))  # through the hole
+    assert plate.meets(Prism("z", disc(20, 20, 12), -50.0, 50.0))
+    swept = Prism("z", disc(50, 25, 8), 20.0, 30.0).swept((0.0, 0.0, 1.0), 15.0)
+    assert swept.meets(plate)  # it came down through the plate
+
+
+@pytest.mark.parametrize(
+    ("thread", "published_Nm"), [("M3", 1.27), ("M5", 5.9), ("M8", 24.6), ("M12", 84.0)]
+)
+def test_tightening_torques_agree_with_a_published_table(thread, published_Nm):
+    """A maker's table for class 8.8 at 90 % of Rp0.2 and a friction of 0.12 (hexagon head
+    screws; a socket head bears on a slightly larger circle): within 8 %."""
+    torque, _ = fs.tightening_torque_Nm(thread, fs.clearance_hole_mm(thread))
+    assert torque == pytest.approx(published_Nm, rel=0.08)
+
+
+def test_a_printed_plate_limits_the_preload_and_so_the_torque():
+    full, preload = fs.tightening_torque_Nm("M5", 5.5)
+    limited, limit = fs.tightening_torque_Nm("M5", 5.5, 500.0)
+    assert limit == 500.0 < preload
+    assert limited == pytest.approx(full * 500.0 / preload, rel=1e-12)  # linear in the preload
+
+
+def test_link_side_hub_screws_by_hand():
+    plate = jt.Plate("lower_arm", 37.5, 15.5, 46.85)
+    s = jt.hub_screws_through_link(plate, 17.0, 83.2, 8.0)
+    d, hole = float(s["thread"][1:]), fs.clearance_hole_mm(s["thread"])
+    r = plate.boss_mm - jt.EDGE_DISTANCE * hole
+    assert s["pcd_mm"] == pytest.approx(2 * r)
+    assert s["bearing_MPa"] == pytest.approx(83.2e3 / (6 * r * d * 37.5))
+    assert fs.TAPPED_ENGAGEMENT * d <= jt.FLANGE_MM
+    screw = s["screw"]
+    grip = 37.5 + fs.washer_mm(s["thread"])[2]
+    assert grip + fs.TAPPED_ENGAGEMENT * d <= screw.length_mm <= grip + jt.FLANGE_MM + 8.0
+    assert s["holds"] and s["side"] == "link"
+
+
+@pytest.fixture(scope="module")
+def kit():
+    settings = realization_of(load_config())
+    done = realize(DESIGN, settings)
+    return done, builders_kit(done, done.parts, KitSettings())
+
+
+def _sequence(done, record):
+    parts = with_hub_holes(done.parts, record["hubs"])
+    allow = {k: float(v["allowable_MPa"]) for k, v in done.strength["links"].items()}
+    s = KitSettings()
+    bearings = done.strength["bearings"]
+    return kit_sequence(record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow, bearings)
+
+
+def test_the_kit_has_a_sequence_with_a_tool_for_every_screw(kit):
+    _, made = kit
+    record = made.record
+    assert record["checks"]["assembly sequence"] and record["assembly_sequence"]["exists"]
+    steps = record["assembly_sequence"]["steps"]
+    placed = {p for s in steps for p in s["places"]}
+    assert set(record["layout"]["plates"]) | set(record["layout"]["turned"]) <= placed
+    for s in steps:
+        if "Bolt" in s["text"] or "ISO 7379" in s["text"]:
+            assert s["tool"].startswith("ISO 2936") and s["torque_Nm"] > 0
+    assert len(record["assembly_steps"]) == len(steps)
+    assert record["step_of"]["hub_1"] < record["step_of"]["lower_arm"]
+
+
+def _inside(point: np.ndarray, prisms) -> bool:
+    """Whether a point (x, y, z) mm lies inside any of ``prisms`` (by containment)."""
+    for p in prisms:
+        along, across = (point[2], point[:2]) if p.axis == "z" else (point[1], point[[0, 2]])
+        if p.lo + 0.1 < along < p.hi - 0.1 and p.shape.contains(shapely.Point(*across)):
+            return True
+    return False
+
+
+def test_every_key_path_is_free_of_the_parts_placed_before_its_step(kit):
+    """An independent check by points: along each screw step's key paths at its chosen pose,
+    sampled every 2 mm on the key's axis, no point is inside a part placed before the step
+    (all reach alternatives of the step's pose are tried; one must be free)."""
+    from qsm.realization.kit.kit_assembly import placed_solids, poses
+
+    done, made = kit
+    record = made.record
+    found = _sequence(done, record)
+    parts = with_hub_holes(done.parts, record["hubs"])
+    s = KitSettings()
+    angles = poses(done.design, record["layout"]["pose_deg"], s.theta1_deg, s.theta2_min_deg)
+    placed = [placed_solids(record, done.design, parts, a) for a in angles]
+    before: list[str] = []
+    checked = 0
+    for step in found.steps:
+        pose = found.poses[step.key]
+        solids = {n: placed[pose][n] for n in before if n in placed[pose]}
+        if step.group:
+            solids = {n: v for n, v in solids.items() if n in ("cheek_2", "drive_2")}
+        free = []
+        for p_, prisms in step.reach:
+            if p_ != pose or step.tool.kind != "hexagon key":
+                continue
+            points = [
+                np.array([*pr.shape.centroid.coords[0], z])
+                if pr.axis == "z"
+                else np.array([pr.shape.centroid.x, z, pr.shape.centroid.y])
+                for pr in prisms[::2] if pr.axis in ("z", "y")
+                for z in np.arange(pr.lo, pr.hi, 2.0)
+            ]  # fmt: skip
+            free.append(not any(_inside(pt, [q for v in solids.values() for q in v])
+                                for pt in points))  # fmt: skip
+        if free:
+            checked += 1
+            assert any(free), step.key
+        before += list(step.places)
+    assert checked >= 8
+
+
+def test_hub_screws_from_the_hub_side_leave_no_order(kit):
+    """Hub 1 bolted to its drive's flange with its link's screws from the hub's side (as the
+    kit had them): the keys reach them only through the cheek and the drive, which the hub
+    needs first, and the sequence names that cycle."""
+    done, made = kit
+    record = copy.deepcopy(made.record)
+    if record["drives"][0]["output"] != "flange":
+        pytest.skip("motor 1's drive has a shaft here")
+    record["hubs"][0]["link_screws"] |= {"side": "hub", "thread": "M4",
+                                         "screw": "ISO 4762 M4 x 16"}  # fmt: skip
+    found = _sequence(done, record)
+    assert not found.exists
+    text = " ".join(found.blocked)
+    assert "'hub 1 screws' must come before" in text
+    assert any(part in text for part in ("cheek_1", "drive_1", "hub_1"))
+
+
+def test_a_head_the_next_layer_cannot_clear_gets_spacers():
+    """Pin B's head stands 5.5 mm out of the upper arm; where the coupler passes over it, the
+    joint between the upper arm and the coupler (D) takes enough 1.6 mm washers to lift the
+    coupler past the head and 1 mm, and pin D's grip and bending arm grow by them."""
+    bearing = {"d_mm": 6.0, "B_mm": 6.0, "peak_force_N": 400.0}
+    seat, other = jt.Plate("coupler", 37.5, 15.5, 40.0), jt.Plate("upper_arm", 32.5, 15.5, 40.0)
+    one = jt.pin("D", bearing, seat, other, 2.0)
+    washer = fs.washer_mm(one["spacer"].split()[-1])[2]
+    n = math.ceil((fs.shoulder_head_mm(8.0)[1] + 1.0) / washer)
+    more = jt.pin("D", bearing, seat, other, 2.0, n)
+    assert more["spacers_mm"] == pytest.approx(n * washer)
+    assert more["grip_mm"] - one["grip_mm"] == pytest.approx((n - 1) * washer)
+    assert more["bending_arm_mm"] - one["bending_arm_mm"] == pytest.approx((n - 1) * washer)
