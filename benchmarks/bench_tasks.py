@@ -125,6 +125,7 @@ def row(work: Path, name: str) -> dict[str, Any]:
         },
         "embodiment": embodiment(selected, topology, payload),
         "machine": machine_of(json.loads((res / "realization/machine.json").read_text()), selected),
+        "kit": kit_of(json.loads((res / "realization/kit/kit.json").read_text())),
         "infill": {
             k: json.loads((res / f"optimization/{k}/infill.json").read_text())["rounds"]
             for k in fronts
@@ -166,6 +167,19 @@ def machine_of(machine: dict[str, Any], selected: dict[str, Any]) -> dict[str, A
         "placing_error_mm": (budget.get("worst") or {}).get("error_budget_mm"),
         "tolerance_mm": budget.get("tolerance_mm"),
         "verdict": selected.get("verdict"),
+    }
+
+
+def kit_of(kit: dict[str, Any]) -> dict[str, Any]:
+    """The kit: whether it holds, its problems, whether an assembly order exists and its
+    steps, and the base's error at the tool (mm)."""
+    sequence = kit.get("assembly_sequence", {})
+    return {
+        "holds": kit["holds"],
+        "problems": kit["problems"],
+        "sequence_exists": sequence.get("exists"),
+        "steps": len(sequence.get("steps", [])),
+        "base_mm": kit["base"]["tool_error_mm"],
     }
 
 

@@ -196,3 +196,16 @@ def test_a_head_the_next_layer_cannot_clear_gets_spacers():
     assert more["spacers_mm"] == pytest.approx(n * washer)
     assert more["grip_mm"] - one["grip_mm"] == pytest.approx((n - 1) * washer)
     assert more["bending_arm_mm"] - one["bending_arm_mm"] == pytest.approx((n - 1) * washer)
+
+
+def test_shims_close_a_pin_s_axial_float():
+    """The shoulder's length is the grip, the fill washers, the shims and what float is left,
+    and that is below the shims' 0.1 mm step."""
+    bearing = {"d_mm": 6.0, "B_mm": 6.0, "peak_force_N": 400.0}
+    seat, other = jt.Plate("crank", 37.5, 15.5, 40.0), jt.Plate("coupler", 37.5, 15.5, 40.0)
+    pin = jt.pin("C", bearing, seat, other, 2.0)
+    washer = fs.washer_mm(pin["spacer"].split()[-1])[2]
+    length = float(pin["screw"].split(" x ")[1].split()[0])
+    parts = pin["grip_mm"] + pin["fill_spacers"] * washer + pin["shims_mm"]
+    assert length == pytest.approx(parts + pin["axial_float_mm"])
+    assert 0.0 <= pin["axial_float_mm"] < jt.SHIM_MM

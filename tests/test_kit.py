@@ -93,10 +93,28 @@ def test_the_cheek_s_root_stress_by_hand_and_its_width_for_the_tolerance():
         + (400 + 3 * 9.81) / (b * t)
     )
     assert bs.root_stress_MPa(load, h, b, t) == pytest.approx(by_hand)
-    part = bs.cheek(load, h, b, 2.0, 800.0, t, allow_mm=0.05)
+    part = bs.cheek(load, h, b, 2.0, (800.0, 0.0), t, (0.05, 1.0))
     assert part["tool_error_mm"] <= 0.05 + 1e-9 and part["width_mm"] > b
-    narrower = bs.cheek(load, h, part["width_mm"] - 5, 2.0, 800.0, t, allow_mm=1e3)
+    narrower = bs.cheek(load, h, part["width_mm"] - 5, 2.0, (800.0, 0.0), t, (1e3, 1.0))
     assert narrower["tool_error_mm"] > 0.05
+
+
+def test_the_cheek_s_tilt_across_its_thickness_agrees_with_the_frame_model():
+    """The moment F e + m g c at the top of the cheek, bent across its thickness: the frame
+    model's beam with I = b t^3 / 12 gives the top's turn and move along the axis; the tool moves
+    by the move, plus the turn times its reach and its distance along the axis."""
+    load = bs.CheekLoad(400.0, 30.0, 3.0, 40.0, 30.0)
+    h, b, t = 300.0, 150.0, 10.0
+    e = bs.ALUMINIUM["E_MPa"]
+    k = beam_stiffness(np.array([0.0, 0.0]), np.array([0.0, h]), e * b * t, e * b * t**3 / 12, 0.0)
+    moment = 400.0 * (30.0 + t / 2) + 3.0 * 9.81 * (40.0 + t / 2)
+    tip = np.linalg.solve(k[3:, 3:], np.array([0.0, 0.0, moment]))
+    angle, along = bs.tilt(load, h, b, t)
+    assert angle == pytest.approx(tip[2], rel=1e-9)
+    assert along == pytest.approx(abs(tip[0]), rel=1e-9)
+    part = bs.cheek(load, h, b, 2.0, (800.0, 60.0), t, (1e3, 1.0))
+    assert part["tilt_error_mm"] == pytest.approx(along + angle * 860.0, rel=1e-12)
+    assert part["tilt_error_mm"] > part["allowed_tilt_error_mm"]  # 10 mm is too thin here
 
 
 def test_interfaces_from_the_catalogue_and_what_is_assumed_named(tmp_path):

@@ -150,10 +150,11 @@ def test_a_printed_part_too_large_for_the_printer_is_not_ready() -> None:
 
     links = {key: {"holds": True} for key in LINK_NAMES}
     strength = {"links": links, "bearings": {}, "holds_loads": True}
-    printer = {key: {"box_mm": [20.0, 50.0, 300.0], "fits": True} for key in LINK_NAMES}
-    printer["coupler"] = {"box_mm": [32.0, 80.0, 630.0], "fits": False}
+    whole = {"fits": True, "watertight": True}
+    printer = {key: {"box_mm": [20.0, 50.0, 300.0]} | whole for key in LINK_NAMES}
+    printer["coupler"] = {"box_mm": [32.0, 80.0, 630.0], "fits": False, "watertight": True}
     topology = {"links": {}, "parts": {"printer": printer}}
-    ok = {"links": {}, "parts": {"printer": {"coupler": {"box_mm": [1, 2, 3], "fits": True}}}}
+    ok = {"links": {}, "parts": {"printer": {"coupler": {"box_mm": [1, 2, 3]} | whole}}}
     assert build_verdict({"printable": True, "strength": strength}, ok, {"passed": True})[0]
     ready, problems = build_verdict(
         {"printable": True, "strength": strength}, topology, {"passed": True}
@@ -164,3 +165,27 @@ def test_a_printed_part_too_large_for_the_printer_is_not_ready() -> None:
         {"printable": False, "strength": strength}, topology, {"passed": True}
     )
     assert len(problems) == 1 and problems[0].startswith("not printable")
+
+
+def test_a_mesh_with_a_hole_is_mended_and_one_that_stays_open_is_not_ready() -> None:
+    """A box with one face removed is open; trimesh's repairs close it. A printed part whose
+    mesh stays open makes the run NOT READY, naming the part."""
+    from qsm.realization.selection.outputs import watertight
+    from qsm.report.headline import build_verdict
+
+    box = trimesh.creation.box((1.0, 2.0, 3.0))
+    box.update_faces(np.arange(1, len(box.faces)))
+    assert not box.is_watertight
+    assert watertight(box) and box.volume == pytest.approx(6.0)
+    links = {key: {"holds": True} for key in LINK_NAMES}
+    strength = {"links": links, "bearings": {}, "holds_loads": True}
+    printer = {"crank": {"box_mm": [1, 2, 3], "fits": True, "watertight": False}}
+    _, problems = build_verdict(
+        {"printable": True, "strength": strength},
+        {"links": {}, "parts": {"printer": printer}},
+        {"passed": True},
+    )
+    assert problems == [
+        "the crank's STL is not watertight after trimesh's repairs: a slicer may not print it "
+        "as drawn"
+    ]

@@ -58,6 +58,12 @@ def build_verdict(
                 f"{checked[0]:.1f} x {checked[1]:.1f} mm, but its part, drawing and BOM are "
                 f"drawn at {built[0]:.1f} x {built[1]:.1f} mm"
             )
+    for link, r in topology.get("parts", {}).get("printer", {}).items():
+        if not r["watertight"]:
+            problems.append(
+                f"the {link.replace('_', ' ')}'s STL is not watertight after trimesh's repairs: "
+                "a slicer may not print it as drawn"
+            )
     if selected["printable"]:  # checked on the configured section: the parts as drawn too
         for link, r in topology.get("parts", {}).get("printer", {}).items():
             if not r["fits"]:

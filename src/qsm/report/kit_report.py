@@ -18,15 +18,16 @@ KIT_FILES = (
 def _cheek_rows(kit: Mapping[str, Any]) -> list[str]:
     rows = [
         "| cheek | drive | plate (mm) | height (mm) | root stress (MPa) | safety factor "
-        "| tool error (mm) | fixing |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- |",
+        "| tool error in the plane (mm) | tilt (mrad), its tool error (mm) | fixing |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
     for c in kit["base"]["cheeks"]:
         rows.append(
             f"| {c['motor']} | {c['drive']} | {c['width_mm']:g} x {c['thickness_mm']:g} "
             f"| {c['height_mm']:.0f} | {c['root_stress_MPa']:.1f} (yield {c['yield_MPa']:g}) "
             f"| {c['safety_factor']:.1f} ({c['required_safety_factor']:g} required) "
-            f"| {c['tool_error_mm']:.3f} | 3 x {c['fixing']['screw']} |"
+            f"| {c['tool_error_mm']:.3f} | {1e3 * c['tilt_rad']:.2f}, {c['tilt_error_mm']:.3f} "
+            f"({c['allowed_tilt_error_mm']:.3f} allowed) | 3 x {c['fixing']['screw']} |"
         )
     return rows
 
@@ -79,8 +80,8 @@ def kit_markdown(kit: Mapping[str, Any]) -> str:
         "",
         f"**Base.** The links reach {kit['base']['links_lowest_mm']:.0f} mm below A over the "
         f"operating range; the cheeks are cut from {kit['base']['material']['name']} and move "
-        f"the tool by {kit['base']['tool_error_mm']:.2f} mm in all (the accuracy budget's base "
-        "term).",
+        f"the tool by {kit['base']['tool_error_mm']:.2f} mm in all, in the plane and from their "
+        "tilt across their thickness (the accuracy budget's base term).",
         "",
         *_cheek_rows(kit),
         "",

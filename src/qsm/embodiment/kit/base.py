@@ -19,8 +19,14 @@ plate's yield over the links' required safety factor; the thinnest plate of
 thickness, tapped into its bottom edge) is taken. Its stiffness: the top's deflection in the
 plane ``F h^3 / (3 E I) + T h^2 / (2 E I)`` and its turn about z ``(F h^2 / 2 + T h) / (E I)``, I =
 t b^3 / 12, which moves the tool by the turn times the reach. Each cheek is made wide enough
-that this stays within :data:`BASE_SHARE` of the tolerance, half of it each; the accuracy budget
-counts the two cheeks' sum as its ``base`` term.
+that this stays within :data:`BASE_SHARE` of the tolerance, half of it each. Across its
+thickness the moment ``F e + m g c`` tilts the top by ``M h / (E I)`` and moves it along the
+axis by ``M h^2 / (2 E I)``, I = b t^3 / 12 (:func:`tilt`): the tool moves along the axis by
+that move and the tilt times the reach, and in the plane by the tilt times its distance from
+the cheek along the axis; their sum is held to :data:`TILT_SHARE` of the tolerance, half each,
+by the cheek's thickness. The accuracy budget counts both cheeks' errors, in the plane and from
+the tilt, as its ``base`` term (the move along the axis added as if it were in the plane: a
+bound on the distance).
 """
 
 from __future__ import annotations
@@ -49,6 +55,10 @@ PLATE_STOCK_MM = (6.0, 8.0, 10.0, 12.0, 15.0, 20.0, 25.0, 30.0)
 BASE_PLATE_MM = 15.0
 #: Share of the placing tolerance the base may take at the tool (both cheeks together).
 BASE_SHARE = 0.02
+#: Share of the placing tolerance the cheeks' tilt across their thickness may take at the tool
+#: (both together): its move along the axis and, through the tool's offset along the axis from
+#: the cheek, in the plane.
+TILT_SHARE = 0.1
 #: Room (mm) between the links' lowest point and the base plate, and around each drive.
 CLEARANCE_MM = 10.0
 G = 9.81
@@ -89,25 +99,39 @@ def top_motion(load: CheekLoad, h: float, b: float, t: float) -> tuple[float, fl
     return f * h**3 / (3 * ei) + m * h**2 / (2 * ei), (f * h**2 / 2 + m * h) / ei
 
 
+def tilt(load: CheekLoad, h: float, b: float, t: float) -> tuple[float, float]:
+    """The cheek top's tilt across its thickness (rad) and its move along the axis (mm) under
+    the moment ``F e + m g c`` (:func:`out_of_plane_Nmm`), the same over its height:
+    ``M h / (E I)`` and ``M h^2 / (2 E I)``, I = b t^3 / 12."""
+    ei = ALUMINIUM["E_MPa"] * b * t**3 / 12
+    m = out_of_plane_Nmm(load, t)
+    return m * h / ei, m * h**2 / (2 * ei)
+
+
 def cheek(
     load: CheekLoad,
     h: float,
     b: float,
     required_sf: float,
-    reach_mm: float,
+    reach: tuple[float, float],
     t: float,
-    allow_mm: float,
+    allow: tuple[float, float],
 ) -> dict:
     """The cheek of thickness ``t`` (mm) at height ``h``: at least ``b`` wide, and as wide as
-    keeps its tool error (deflection plus turn times ``reach_mm``) within ``allow_mm``; its
-    stress under ``load`` against yield over ``required_sf``, and its stiffness."""
+    keeps its tool error (deflection plus turn times the reach ``reach[0]``, mm) within
+    ``allow[0]`` (mm); its stress under ``load`` against yield over ``required_sf``, its
+    stiffness, and its tilt's error at the tool (the top's move along the axis, plus the tilt
+    times the reach and times the tool's distance ``reach[1]`` (mm) from the cheek along the
+    axis), against ``allow[1]``."""
     deflection, turn = top_motion(load, h, b, t)
-    error = deflection + turn * reach_mm
-    if error > allow_mm:  # both terms fall with b^3
-        b = math.ceil(b * (error / allow_mm) ** (1 / 3))
+    error = deflection + turn * reach[0]
+    if error > allow[0]:  # both terms fall with b^3
+        b = math.ceil(b * (error / allow[0]) ** (1 / 3))
         deflection, turn = top_motion(load, h, b, t)
     sigma = root_stress_MPa(load, h, b, t)
     sf = ALUMINIUM["yield_MPa"] / sigma
+    angle, along = tilt(load, h, b, t)
+    tilted = along + angle * (reach[0] + reach[1])
     return {
         "thickness_mm": t,
         "width_mm": b,
@@ -119,8 +143,12 @@ def cheek(
         "holds": sf >= required_sf,
         "deflection_at_A_mm": deflection,
         "turn_at_A_rad": turn,
-        "tool_error_mm": deflection + turn * reach_mm,
-        "allowed_tool_error_mm": allow_mm,
+        "tool_error_mm": deflection + turn * reach[0],
+        "allowed_tool_error_mm": allow[0],
+        "tilt_rad": angle,
+        "top_along_axis_mm": along,
+        "tilt_error_mm": tilted,
+        "allowed_tilt_error_mm": allow[1],
         "loads": {
             "force_N": load.force_N,
             "torque_Nm": load.torque_Nm,

@@ -50,6 +50,9 @@ HUB_YIELD_MPA = 340.0
 #: Yield strength (MPa) of a made pin where no ISO 7379 screw fits: 42CrMo4+QT, EN 10083-3
 #: (16 < d <= 40 mm).
 PIN_YIELD_MPA = 750.0
+#: Steps (mm) of the DIN 988 shim rings that close a pin's axial float (the rings come 0.1 mm
+#: thick and up; DIN 988:1990): what float they leave is at most this.
+SHIM_MM = 0.1
 #: Screws joining a hub to its link.
 HUB_SCREWS = 6
 #: Thickness (mm) of a hub's flange.
@@ -97,7 +100,8 @@ def pin(
     """The shoulder screw of ``joint`` through the ``bearing`` (``d_mm``, ``B_mm``,
     ``peak_force_N``), pressed flush with ``seat``'s face toward ``other``, ``spacers``
     washers and the bore of ``other``, and its check; the shoulder's length beyond the grip is
-    filled with spacers."""
+    filled with spacers, and the float they leave with DIN 988 shim rings to below
+    :data:`SHIM_MM`."""
     d, force = float(bearing["d_mm"]), float(bearing["peak_force_N"])
     washer = _spacer(d)
     gap = spacers * washer[2]
@@ -105,6 +109,8 @@ def pin(
     screw = fs.shoulder_screw(d, grip, f"pin of joint {joint}")
     thread = screw.thread if screw else _pin_thread(d)
     fill = int((screw.length_mm - grip) // washer[2]) if screw else 0
+    float_mm = screw.length_mm - grip - fill * washer[2] if screw else 0.0
+    shims = math.floor(float_mm / SHIM_MM + 1e-9) * SHIM_MM
     bore_mm = force / (other.allowable_MPa * d)  # printed length that carries F
     arm = float(bearing["B_mm"]) / 2 + gap + bore_mm / 2
     bending = 32 * force * arm / (math.pi * d**3)
@@ -122,6 +128,10 @@ def pin(
         "spacers": spacers,
         "spacers_mm": gap,
         "fill_spacers": fill,
+        "shims_mm": shims,
+        "shim": f"DIN 988 shim rings {d:g} mm bore, {shims:.1f} mm in all" if shims else None,
+        "axial_float_mm": float_mm - shims,
+        "max_axial_float_mm": SHIM_MM,
         "nut": f"ISO 10511 {thread}",
         "peak_force_N": force,
         "bending_arm_mm": arm,

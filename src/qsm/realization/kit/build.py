@@ -87,7 +87,7 @@ def build_links(
     torques = torques_before_after(done.design, cad, carried_kg, duty, props, done.scale)
     checks = _write_stls(done.parts, parts, held, Path(folder), volume_mm)
     written["printer"] = {  # the parts to print against the printer, as drawn
-        name: {"box_mm": c["box_mm"], "fits": c["fits_build_volume"]}
+        name: {"box_mm": c["box_mm"], "fits": c["fits_build_volume"], "watertight": c["watertight"]}
         for name, c in checks["after"].items()
     }
     summary = {name: link.summary() for name, link in result.links.items()}

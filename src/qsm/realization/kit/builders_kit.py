@@ -344,10 +344,13 @@ def _cheeks(
     tolerance_mm: float,
 ) -> list[dict[str, Any]]:
     """Both cheeks: sizes, holes and checks (:mod:`qsm.embodiment.kit.base`), each moving the
-    tool by at most half the base's share of ``tolerance_mm``; the thinnest plate that holds
-    and takes its fixing screws (the thickest when none does)."""
+    tool in the plane by at most half the base's share of ``tolerance_mm``; the thinnest plate
+    that holds, takes its fixing screws and keeps its tilt's error at the tool within half the
+    tilt's share (the thickest when none does)."""
     force = float(done.strength["bearings"]["A"]["peak_force_N"])
-    allow, sf = bs.BASE_SHARE * tolerance_mm / 2, _safety(done)
+    allow = (bs.BASE_SHARE * tolerance_mm / 2, bs.TILT_SHARE * tolerance_mm / 2)
+    sf = _safety(done)
+    tool_z = stack["upper_arm"] - jt.ADAPTER_MM - 1e3 * done.tool_flange.get("offset_m", 0.0)
     h = max(drop_mm, *(d["interface"].body_d_mm / 2 for d in drives)) + bs.CLEARANCE_MM
     out = []
     for k, drive in enumerate(drives, 1):
@@ -361,9 +364,11 @@ def _cheeks(
             stack[f"offset_{k}"],
         )
         for t in bs.PLATE_STOCK_MM:
-            part = bs.cheek(load, h, b, sf, reach_mm, t, allow)
+            mid = -t / 2 if k == 1 else stack["cheek_2"] + t / 2
+            part = bs.cheek(load, h, b, sf, (reach_mm, abs(tool_z - mid)), t, allow)
             fixing = bs.fixing_screws(load, part, sf)
-            if part["holds"] and fixing["holds"]:
+            steady = part["tilt_error_mm"] <= part["allowed_tilt_error_mm"]
+            if part["holds"] and fixing["holds"] and steady:
                 break
         out.append(
             part
@@ -539,7 +544,7 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
         "pins": pins,
         "hubs": hubs,
         "base": {
-            "tool_error_mm": sum(c["tool_error_mm"] for c in cheeks),
+            "tool_error_mm": sum(c["tool_error_mm"] + c["tilt_error_mm"] for c in cheeks),
             "cheeks": [{k: v for k, v in c.items() if k != "load"} for c in cheeks],
             "table_screws": table,
             "links_lowest_mm": drop,

@@ -409,8 +409,9 @@ def pin_step(
     tool = Tool("hexagon key and open spanner", _key(screw).name if screw else "spanners",
                 round(_torque(thread, allow), 2))  # fmt: skip
     return Step(f"pin {j}", f"Join the {b} to the {a} at {j}: {name} through the {b}, the "
-                f"{pin['spacers']} x {pin['spacer']} spacer and the bearing; {pin['nut']} on an "
-                "ISO 7089 washer.",
+                f"{pin['spacers']} x {pin['spacer']} spacer and the bearing"
+                + (f", {pin['shim']} beside it" if pin["shim"] else "")
+                + f"; {pin['nut']} on an ISO 7089 washer.",
                 (), needs, _z(-up), tool, tuple(reach))  # fmt: skip
 
 

@@ -39,6 +39,8 @@ def _pin_lines(pins: dict[str, Any]) -> list[tuple[str, int, str]]:
             (f"ISO 7089 {thread}", 1, f"under the nut at {j}"),
             (pin["nut"], 1, f"{j}"),
         ]
+        if pin["shim"]:
+            lines.append((pin["shim"], 1, f"closing the axial float at {j}"))
     return lines
 
 

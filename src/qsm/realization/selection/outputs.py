@@ -55,8 +55,9 @@ def export_stls(
 ) -> dict[str, dict[str, Any]]:
     """Write each mesh (metres) as ``<name>.stl`` in millimetres and check it.
 
-    Returns per link: path, watertight, the sorted box (mm) and whether it fits ``volume_mm`` in
-    some axis-aligned orientation (:func:`qsm.embodiment.parts.printing.box_fits`).
+    Returns per link: path, watertight (a mesh that is not is mended first, :func:`watertight`,
+    and ``repaired`` says so), the sorted box (mm) and whether it fits ``volume_mm`` in some
+    axis-aligned orientation (:func:`qsm.embodiment.parts.printing.box_fits`).
     """
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
@@ -64,16 +65,29 @@ def export_stls(
     for name, mesh in meshes.items():
         mm = mesh.copy()
         mm.apply_scale(1000.0)
+        repaired = not mm.is_watertight and watertight(mm)
         path = out / f"{name}.stl"
         mm.export(path)
         box = sorted(float(v) for v in mm.extents)
         checks[name] = {
             "path": str(path),
             "watertight": bool(mm.is_watertight),
+            "repaired": repaired,
             "box_mm": box,
             "fits_build_volume": box_fits(box, volume_mm),
         }
     return checks
+
+
+def watertight(mesh: trimesh.Trimesh) -> bool:
+    """Mend ``mesh`` in place with trimesh's repairs (vertices merged, degenerate and
+    duplicate faces dropped, holes filled, normals fixed); whether it is watertight after."""
+    mesh.merge_vertices()
+    mesh.update_faces(mesh.nondegenerate_faces())
+    mesh.update_faces(mesh.unique_faces())
+    trimesh.repair.fill_holes(mesh)
+    trimesh.repair.fix_normals(mesh)
+    return bool(mesh.is_watertight)
 
 
 def torques_markdown(torques: Mapping[str, Mapping[str, float]]) -> str:
