@@ -209,3 +209,24 @@ def test_shims_close_a_pin_s_axial_float():
     parts = pin["grip_mm"] + pin["fill_spacers"] * washer + pin["shims_mm"]
     assert length == pytest.approx(parts + pin["axial_float_mm"])
     assert 0.0 <= pin["axial_float_mm"] < jt.SHIM_MM
+
+
+def test_the_nut_ends_facing_the_cheeks_clear_them_and_each_solid_names_its_frame(kit):
+    """B's nut end on the lower arm and C's on the crank (the spacers filling the shoulder, the
+    shims, then the farther of the nut on its washer and the thread's end) stand in the gap to
+    the cheeks with 1 mm to spare; every solid of the layout names the link that carries it."""
+    _, made = kit
+    record = made.record
+    gap = record["stack_mm"]["gap"]
+    for j in ("B", "C"):
+        pin = record["pins"][j]
+        thread = pin["nut"].split()[-1]
+        washer = fs.washer_mm(pin["spacer"].split()[-1])[2]
+        nut = fs.washer_mm(thread)[2] + fs.nut_height_mm(thread)
+        end = max(nut, fs.shoulder_thread_mm(pin["shoulder_d_mm"])) if pin["screw"] else nut
+        beyond = pin["fill_spacers"] * washer + pin["shims_mm"] + pin["axial_float_mm"]
+        assert gap >= (beyond if pin["screw"] else 0.0) + end + 1.0 - 1e-9
+    layout = record["layout"]
+    assert set(layout["moves_with"]) == set(layout["plates"]) | set(layout["turned"])
+    assert layout["moves_with"]["hub_1"] == "lower_arm"
+    assert layout["moves_with"]["cheek_2"] == "base"

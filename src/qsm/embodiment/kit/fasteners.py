@@ -167,6 +167,11 @@ def shoulder_yield_MPa(shoulder_d_mm: float) -> float:
     return float(table("iso7379")[0]["yield_MPa"])
 
 
+def shoulder_thread_mm(shoulder_d_mm: float) -> float:
+    """Length (mm) of the ISO 7379 screw's thread beyond its shoulder."""
+    return float(_row("iso7379", "shoulder_d_mm", f"{shoulder_d_mm:g}")["thread_length_mm"])
+
+
 def shoulder_head_mm(shoulder_d_mm: float) -> tuple[float, float]:
     """Head diameter and height (mm) of the ISO 7379 screw of ``shoulder_d_mm``."""
     row = _row("iso7379", "shoulder_d_mm", f"{shoulder_d_mm:g}")

@@ -140,6 +140,9 @@ def lowest_point_mm(done: Realization, parts: dict[str, LinkPart], s: KitSetting
 
 #: What stands out of a plate into a neighbour's layer at a pin (the side the pin's head or nut
 #: is on, :mod:`qsm.embodiment.kit.joints`): (joint, head or nut, the link whose layer it is in).
+#: The pins whose nut ends face a cheek across the gap between it and the outer links (B's
+#: on the lower arm toward cheek 1, C's on the crank toward cheek 2): the gap passes them by 1 mm.
+OUTER_NUTS = ("B", "C")
 #: The last entry: the pin joint whose spacers stand between the two layers.
 PROTRUSIONS = (
     ("B", "head", "coupler", "D"),
@@ -159,14 +162,22 @@ def segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
 
 
 def _protrusion_mm(pin: dict[str, Any], end: str) -> tuple[float, float]:
-    """A pin's head or nut (on its washer; a made pin has a nut at each end): its radius and
-    how far it stands out of its plate (mm)."""
+    """A pin's head, or its nut end: its radius and how far it stands out of its plate (mm).
+    The nut end is the spacers filling the shoulder, the shims and the float left, then the
+    farther of the nut on its washer and the screw's thread end (a made pin: a nut at each
+    end)."""
     thread = pin["nut"].split()[-1]
+    d = pin["shoulder_d_mm"]
     if end == "head" and pin["screw"]:
-        d, h = fs.shoulder_head_mm(pin["shoulder_d_mm"])
-        return d / 2, h
+        head_d, h = fs.shoulder_head_mm(d)
+        return head_d / 2, h
     size = max(fs.nut_across_corners_mm(thread), fs.washer_mm(thread)[1]) / 2
-    return size, fs.washer_mm(thread)[2] + fs.nut_height_mm(thread)
+    nut = fs.washer_mm(thread)[2] + fs.nut_height_mm(thread)
+    if not pin["screw"]:
+        return size, nut
+    fill = pin["fill_spacers"] * fs.washer_mm(pin["spacer"].split()[-1])[2]
+    beyond = fill + pin["shims_mm"] + pin["axial_float_mm"]
+    return size, beyond + max(nut, fs.shoulder_thread_mm(d))
 
 
 def clearances(
@@ -305,7 +316,8 @@ def _stack(
 ) -> dict[str, float]:
     """The plates' z (mm) from cheek 1's inner face (the arrangement of
     :mod:`qsm.embodiment.kit.base`), each link's offset from its cheek's face, and the gap
-    between a cheek and its link: a hub's flange and its screws' washers and heads."""
+    between a cheek and its link: a hub's flange and its screws' washers and heads, and at least
+    the nut ends of :data:`OUTER_NUTS` and 1 mm."""
     t = {n: 1e3 * p.section.thickness_m for n, p in parts.items()}
     spacer = {j: p["spacers_mm"] for j, p in pins.items()}
     heads = [
@@ -314,7 +326,8 @@ def _stack(
         if s["thread"] and s["side"] == "hub"
     ]
     gap = jt.FLANGE_MM + max([10.0, *heads])  # the hub's flange and its screws' heads
-
+    ends = [_protrusion_mm(pins[j], "nut")[1] + 1.0 for j in OUTER_NUTS]
+    gap = max(gap, *ends)  # B's and C's nut ends face the cheeks
     z = {"lower_arm": gap}
     z["upper_arm"] = z["lower_arm"] + t["lower_arm"] + spacer["B"]
     z["coupler"] = z["upper_arm"] + t["upper_arm"] + spacer["D"]

@@ -31,6 +31,10 @@ def _rings(polygon: shapely.Polygon, scale: float = 1e3) -> dict[str, Any]:
     }
 
 
+#: The links, each a frame that carries its plate (and hub 1, hub 2 or the tool flange).
+LINK_FRAMES = ("lower_arm", "crank", "coupler", "upper_arm")
+
+
 def _link_frames(design: np.ndarray, t1: float, t2: float) -> dict[str, tuple]:
     """Each link frame's origin (m) and x-axis angle (rad) at motor angles ``t1``, ``t2``."""
     p = pose(design, t1, t2)
@@ -182,7 +186,8 @@ def kit_geometry(
 ) -> dict[str, Any]:
     """Every part placed, mm: the plates (links at motor ``angles``, cheeks, base plate), and
     along z the hubs (flange on the link, boss to the drive), the drives' envelopes outside the
-    cheeks and the tool flange's disc against the upper arm at E."""
+    cheeks and the tool flange's disc against the upper arm at E; ``moves_with`` names the link
+    whose frame carries each part (``base``: it stands still)."""
     t1, t2 = cheeks[0]["thickness_mm"], cheeks[1]["thickness_mm"]
     end = stack["cheek_2"]
     plates = link_plates(design, parts, stack, angles)
@@ -204,4 +209,8 @@ def kit_geometry(
         e = np.asarray(pose(design, *angles).E) * 1e3
         z_e = stack["upper_arm"] - jt.ADAPTER_MM
         out["tool_flange"] = turned([(flange["face_d_mm"], z_e, stack["upper_arm"])], 0.0, e)
-    return {"plates": plates, "turned": out, "pose_deg": np.degrees(angles).tolist()}
+    carried = {"hub_1": "lower_arm", "hub_2": "crank", "tool_flange": "upper_arm"}
+    moves = {name: name if name in LINK_FRAMES else carried.get(name, "base")
+             for name in [*plates, *out]}  # fmt: skip
+    return {"plates": plates, "turned": out, "pose_deg": np.degrees(angles).tolist(),
+            "moves_with": moves}  # fmt: skip
