@@ -230,3 +230,21 @@ def test_the_nut_ends_facing_the_cheeks_clear_them_and_each_solid_names_its_fram
     assert set(layout["moves_with"]) == set(layout["plates"]) | set(layout["turned"])
     assert layout["moves_with"]["hub_1"] == "lower_arm"
     assert layout["moves_with"]["cheek_2"] == "base"
+
+
+def test_a_set_screw_past_the_shaft_s_end_is_found_by_hand():
+    """Motor 2's drive face on a 30 mm cheek whose inner face is at z = 200, so at 230; hub 2's
+    flange ends at 150 + 8 = 158 and its M4 set screw sits at (158 + 200) / 2 = 179. A 24 mm
+    shaft ends at 206, 29 mm short of the screw's far edge (177); a 60 mm one at 170, 7 mm
+    past it."""
+    from types import SimpleNamespace
+
+    from qsm.realization.kit.builders_kit import set_screw_reach_mm
+
+    hub = {"motor": 2, "set_screw": "ISO 4029 M4 x 4"}
+    stack = {"cheek_2": 200.0, "crank_end": 150.0, "lower_arm": 18.0}
+    cheeks = [{"thickness_mm": 10.0}, {"thickness_mm": 30.0}]
+    short = {"interface": SimpleNamespace(shaft_length_mm=24.0)}
+    assert set_screw_reach_mm(hub, short, stack, cheeks) == pytest.approx(-29.0)
+    long = {"interface": SimpleNamespace(shaft_length_mm=60.0)}
+    assert set_screw_reach_mm(hub, long, stack, cheeks) == pytest.approx(7.0)

@@ -394,8 +394,8 @@ def with_base(budget: dict[str, Any], base_mm: float, settings: AccuracySettings
         budget["would_meet"]
         if budget["would_meet"] or ok
         else [
-            f"a stiffer base: its {base_mm:.2f} mm at the tool (the builder's kit's cheeks, sized "
-            f"for 2 % of the tolerance) is what the budget cannot take"
+            f"a stiffer base: its {base_mm:.2f} mm at the tool (the builder's kit's cheeks, in "
+            f"the plane and from their tilt) is what the budget cannot take"
         ]
     )
     return budget | {

@@ -95,6 +95,8 @@ def sizing_note(sized: AccuracyChoice, budget: Mapping[str, Any]) -> list[str]:
     was not sized for it."""
     if budget["meets_requirements"] or sized.meets is None:
         return []
+    if not sized.meets and not sized.stopped_at:  # a point out of reach: the budget says so
+        return []
     if sized.stopped_at:
         return ["more than the sizing may give: it stopped at " + "; ".join(sized.stopped_at)]
     error = budget["worst"]["error_budget_mm"]

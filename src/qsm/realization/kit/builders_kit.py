@@ -533,6 +533,9 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     drop = lowest_point_mm(done, parts, settings)
     cheeks = _cheeks(done, drives, drop, stack, reach, settings.tolerance_mm)
     hubs = _hubs(done, plates, drives, screws, stack, cheeks)
+    for hub, drive in zip(hubs, drives, strict=True):
+        if "set_screw" in hub:
+            hub["set_screw_on_shaft_mm"] = set_screw_reach_mm(hub, drive, stack, cheeks)
     flange = done.tool_flange
     table = bs.table_screws(
         [c["load"] for c in cheeks],
@@ -587,10 +590,38 @@ def _with_sequence(
     record["assembly_steps"] = ks.assembly_steps(sequence)
     record["step_of"] = ks.step_of(sequence)
     record["checks"]["assembly sequence"] = found.exists
+    for hub in record["hubs"]:
+        reach = hub.get("set_screw_on_shaft_mm")
+        if reach is not None:
+            record["checks"][f"hub {hub['motor']} set screw"] = reach >= 0
+            if reach < 0:
+                record["problems"].append(
+                    f"drive {hub['motor']}'s shaft ends {-reach:.1f} mm short of hub "
+                    f"{hub['motor']}'s set screw (in the gap between the hub's flange and the "
+                    "cheek), so nothing holds the hub along the shaft"
+                )
     if not found.exists:
         record["problems"].append("no order of assembly reaches every part and screw: " +
                                   "; ".join(found.blocked))  # fmt: skip
     record["holds"] = all(record["checks"].values())
+
+
+def set_screw_reach_mm(
+    hub: dict[str, Any], drive: dict[str, Any], stack: dict[str, float], cheeks: list[dict]
+) -> float:
+    """How far (mm) the drive's shaft reaches past a shaft hub's set screw, which sits halfway
+    across the gap between the hub's flange and the cheek (where a key reaches it): the shaft
+    runs its length from the drive's face on the cheek's outer face; negative where it ends
+    short of the screw's far edge."""
+    k, iface = hub["motor"], drive["interface"]
+    t = cheeks[k - 1]["thickness_mm"]
+    inner = 0.0 if k == 1 else stack["cheek_2"]
+    link_face = stack["lower_arm"] if k == 1 else stack["crank_end"]
+    toward = -1.0 if k == 1 else 1.0  # along z from the link to the drive
+    face = inner + toward * t
+    screw_z = (link_face + toward * jt.FLANGE_MM + inner) / 2
+    d = float(hub["set_screw"].split()[2][1:])
+    return toward * (screw_z - (face - toward * iface.shaft_length_mm)) - d / 2
 
 
 def _interface_record(drive: dict[str, Any]) -> dict[str, Any]:

@@ -230,7 +230,7 @@ def mount_step(record: dict[str, Any], k: int, needs: tuple, group: str = "") ->
     reach = ((0, keys_on(points, top, -TOWARD[k], screw)),)
     return Step(f"drive {k} screws", f"Bolt drive {k} ({iface['drive']}) to cheek {k}: "
                 f"{iface['mount_bolts']} x {screw} from the cheek's inner face.", (), needs,
-                _z(-TOWARD[k]), _screw_tool(screw), reach, group)  # fmt: skip
+                _z(TOWARD[k]), _screw_tool(screw), reach, group)  # fmt: skip
 
 
 def link_screw_step(record: dict[str, Any], k: int, angles, needs: tuple, allow_MPa: float) -> Step:
@@ -256,7 +256,7 @@ def link_screw_step(record: dict[str, Any], k: int, angles, needs: tuple, allow_
     )
     return Step(f"hub {k} screws", f"Bolt hub {k} and the {link.replace('_', ' ')} together, "
                 f"{where}: {jt.HUB_SCREWS} x {s['screw']}, with ISO 7089 {s['thread']} washers.",
-                (), needs, _z(sign), _screw_tool(s["screw"], allow_MPa), reach)  # fmt: skip
+                (), needs, _z(-sign), _screw_tool(s["screw"], allow_MPa), reach)  # fmt: skip
 
 
 def flange_drive_steps(
@@ -290,7 +290,7 @@ def flange_drive_steps(
              Tool("hand", "by hand"), _placing(f"hub_{k}", placed, toward, STROKE_MM)),
         Step(f"hub {k} to drive", f"Bolt hub {k} to drive {k}'s flange: "
              f"{iface['flange_bolts']} x {flange}, heads in the hub's counterbores.", (),
-             (f"hub {k}",), away, _screw_tool(flange), reach),
+             (f"hub {k}",), toward, _screw_tool(flange), reach),
         Step(link, f"Put the {link.replace('_', ' ')} on hub {k}'s spigot.", (link,),
              (f"hub {k}",), toward, Tool("hand", "by hand"),
              _placing(link, placed, toward, STROKE_MM), aside=pinned_to(link)),

@@ -44,11 +44,12 @@ class Tool:
 @dataclass(frozen=True)
 class Step:
     """One assembly step: ``key`` (unique), the ``text`` a person reads, the parts it
-    ``places`` (the layout's names), the steps it ``needs`` first, the unit ``direction`` it
-    moves in (x, y, z), its ``tool``, the ``reach`` alternatives (pose index, the prisms that
-    must be free), the ``group``: the key of the step that places the module it is made in
-    on the bench ("": on the arm), and the parts it may be swung ``aside`` of on its way in (the
-    links it is pinned to later: until the pin is in, either turns freely)."""
+    ``places`` (the layout's names), the steps it ``needs`` first, the unit ``direction`` (x, y,
+    z) its part or screw moves in (a key comes from the other side), its ``tool``, the
+    ``reach`` alternatives (pose index, the prisms that must be free), the ``group``: the key of
+    the step that places the module it is made in on the bench ("": on the arm), and the parts
+    it may be swung ``aside`` of on its way in (the links it is pinned to later: until the pin
+    is in, either turns freely)."""
 
     key: str
     text: str

@@ -13,7 +13,7 @@ def assembly_steps(sequence: dict[str, Any]) -> list[str]:
     out = []
     for s in sequence["steps"]:
         tool = "" if s["tool"] == "by hand" else f" Tool: {s['tool']}"
-        torque = "" if s["torque_Nm"] is None else f", {s['torque_Nm']:.2g} N m"
+        torque = "" if s["torque_Nm"] is None else f", {s['torque_Nm']:.3g} N m"
         bench = "On the bench: " if s["on_the_bench"] else ""
         out.append(f"{bench}{s['text']}{tool}{torque}{'.' if tool else ''}")
     return out
