@@ -23,8 +23,6 @@ from shapely import affinity
 TOUCH_MM = 0.05
 #: Overlap (mm^2) across an axis below which two prisms only touch.
 TOUCH_MM2 = 0.01
-#: Where the axes point: a prism along ``z`` has its shape in (x, y); along ``y``, in (x, z).
-AXES = ("z", "y")
 
 
 @dataclass(frozen=True)
@@ -93,7 +91,7 @@ def turned_prisms(part: Mapping[str, Any]) -> tuple[Prism, ...]:
     """A turned part of the layout, one prism per cylinder step, its bore cut out."""
     x, y = part["at_mm"]
     return tuple(
-        Prism("z", disc(x, y, d, part["bore_mm"] if d > part["bore_mm"] else 0.0), a, b)
+        Prism("z", disc(x, y, d, part["bore_mm"]), a, b)
         for d, a, b in part["steps"]
         if d > part["bore_mm"]
     )
