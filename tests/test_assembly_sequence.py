@@ -243,8 +243,34 @@ def test_a_set_screw_past_the_shaft_s_end_is_found_by_hand():
 
     hub = {"motor": 2, "set_screw": "ISO 4029 M4 x 4"}
     stack = {"cheek_2": 200.0, "crank_end": 150.0, "lower_arm": 18.0}
-    cheeks = [{"thickness_mm": 10.0}, {"thickness_mm": 30.0}]
+    cheeks = [{"pocket": {"web_mm": 10.0}}, {"pocket": {"web_mm": 30.0}}]
     short = {"interface": SimpleNamespace(shaft_length_mm=24.0)}
     assert set_screw_reach_mm(hub, short, stack, cheeks) == pytest.approx(-29.0)
     long = {"interface": SimpleNamespace(shaft_length_mm=60.0)}
     assert set_screw_reach_mm(hub, long, stack, cheeks) == pytest.approx(7.0)
+    cheeks[1]["pocket"]["web_mm"] = 6.0  # a 24 mm pocket: the face at 206, the shaft's end at 182
+    assert set_screw_reach_mm(hub, short, stack, cheeks) == pytest.approx(-5.0)
+
+
+def test_a_pocket_brings_a_short_shaft_past_its_set_screw():
+    """A 12 x 24 mm shaft, a 30 mm cheek 20 mm from its link: the screw sits (20 - 8) / 2 = 6
+    mm in from the cheek, so the shaft must run 30 + 6 + d / 2 + 1 mm from the outer face; the
+    pocket takes the rest, to 0.5 mm, and the shaft then ends 1 to 1.5 mm past the screw's far
+    edge. A 6 mm cheek needs none; a 60 mm gap would leave less than the least web."""
+    from types import SimpleNamespace
+
+    from qsm.embodiment.kit import base as bs
+    from qsm.realization.kit.builders_kit import _pocket, set_screw_reach_mm
+
+    iface = SimpleNamespace(output="shaft", shaft_d_mm=12.0, shaft_length_mm=24.0, body_d_mm=48.0)
+    d = float(jt.set_screw(iface).split()[2][1:])
+    pocket = _pocket(iface, 30.0, 20.0)
+    assert pocket.depth_mm == pytest.approx(math.ceil(2 * (30 + 6 + d / 2 + 1 - 24)) / 2)
+    assert pocket.d_mm == pytest.approx(48 * math.sqrt(2) + 1, abs=0.05)
+    stack = {"cheek_2": 200.0, "crank_end": 180.0}
+    cheeks = [{}, {"pocket": {"web_mm": 30.0 - pocket.depth_mm}}]
+    hub = {"motor": 2, "set_screw": jt.set_screw(iface)}
+    reach = set_screw_reach_mm(hub, {"interface": iface}, stack, cheeks)
+    assert 1.0 <= reach <= 1.5
+    assert _pocket(iface, 6.0, 20.0).depth_mm == 0
+    assert _pocket(iface, 30.0, 60.0).depth_mm == 30.0 - bs.MIN_WEB_MM

@@ -117,6 +117,38 @@ def test_the_cheek_s_tilt_across_its_thickness_agrees_with_the_frame_model():
     assert part["tilt_error_mm"] > part["allowed_tilt_error_mm"]  # 10 mm is too thin here
 
 
+def test_a_pocketed_cheek_s_tilt_and_stress_agree_with_two_beams_and_two_strips():
+    """A 60 mm pocket: the frame model's two beams (the full section from the root to D / 2
+    below A, the strips beside the pocket, I = (b - D) t^3 / 12, over the last D / 2) give the
+    top's turn and move along the axis; at the pocket's lowest edge the in-plane moment F D / 2
+    + T bends the two 20 mm strips (parallel axes), the out-of-plane one bends them across."""
+    load = bs.CheekLoad(1000.0, 10.0, 1.0, 30.0, 20.0)
+    h, b, t, d = 150.0, 100.0, 20.0, 60.0
+    e = bs.ALUMINIUM["E_MPa"]
+    k = np.zeros((9, 9))
+    for (y0, y1), width, at in (((0, h - d / 2), b, 0), ((h - d / 2, h), b - d, 3)):
+        ends = np.array([0.0, y0]), np.array([0.0, y1])
+        k[at : at + 6, at : at + 6] += beam_stiffness(
+            *ends, e * width * t, e * width * t**3 / 12, 0.0
+        )
+    moment = 1000.0 * (20.0 + t / 2) + 1.0 * 9.81 * (30.0 + t / 2)
+    tip = np.linalg.solve(k[3:, 3:], np.array([0.0, 0.0, 0.0, 0.0, 0.0, moment]))
+    angle, along = bs.tilt(load, h, b, t, bs.Pocket(d, 12.0))
+    assert angle == pytest.approx(tip[5], rel=1e-9)
+    assert along == pytest.approx(abs(tip[3]), rel=1e-9)
+    w = (b - d) / 2
+    strips = 2 * (t * w**3 / 12 + t * w * (d / 2 + w / 2) ** 2)
+    by_hand = (
+        (1000.0 * d / 2 + 10e3) * (b / 2) / strips
+        + moment * (t / 2) / ((b - d) * t**3 / 12)
+        + (1000.0 + 9.81) / ((b - d) * t)
+    )
+    assert bs.pocket_stress_MPa(load, b, t, bs.Pocket(d, 12.0)) == pytest.approx(by_hand)
+    assert bs.pocket_stress_MPa(load, b, t, bs.Pocket()) == 0.0
+    part = bs.cheek(load, h, 70.0, 2.0, (800.0, 0.0), t, (1e3, 1e3), bs.Pocket(d, 12.0))
+    assert part["width_mm"] == d + 20 and part["pocket"]["web_mm"] == t - 12.0
+
+
 def test_interfaces_from_the_catalogue_and_what_is_assumed_named(tmp_path):
     rows = read_interfaces()
     assert rows["TM_AK80-6_GB"].output == "flange" and rows["TM_AK80-6_GB"].flange_bolts == 6

@@ -59,6 +59,8 @@ BASE_SHARE = 0.02
 #: (both together): its move along the axis and, through the tool's offset along the axis from
 #: the cheek, in the plane.
 TILT_SHARE = 0.1
+#: Least web (mm) a pocket leaves in a cheek under a drive's face.
+MIN_WEB_MM = 6.0
 #: Room (mm) between the links' lowest point and the base plate, and around each drive.
 CLEARANCE_MM = 10.0
 G = 9.81
@@ -75,6 +77,14 @@ class CheekLoad:
     drive_kg: float
     overhang_mm: float
     offset_mm: float
+
+
+@dataclass(frozen=True)
+class Pocket:
+    """A pocket in a cheek's outer face about A: its diameter and depth (mm); none when 0."""
+
+    d_mm: float = 0.0
+    depth_mm: float = 0.0
 
 
 def root_stress_MPa(load: CheekLoad, h: float, b: float, t: float) -> float:
@@ -99,13 +109,32 @@ def top_motion(load: CheekLoad, h: float, b: float, t: float) -> tuple[float, fl
     return f * h**3 / (3 * ei) + m * h**2 / (2 * ei), (f * h**2 / 2 + m * h) / ei
 
 
-def tilt(load: CheekLoad, h: float, b: float, t: float) -> tuple[float, float]:
+def pocket_stress_MPa(load: CheekLoad, b: float, t: float, pocket: Pocket) -> float:
+    """The cheek's largest stress (MPa) at its pocket's lowest edge, ``D / 2`` below A, on the
+    two full-thickness strips beside the pocket (module docs); 0 without a pocket."""
+    d = pocket.d_mm
+    if pocket.depth_mm <= 0:
+        return 0.0
+    in_plane = (load.force_N * d / 2 + load.torque_Nm * 1e3) * 6 * b / (t * (b**3 - d**3))
+    out_of_plane = 6 * out_of_plane_Nmm(load, t) / ((b - d) * t**2)
+    return in_plane + out_of_plane + (load.force_N + load.drive_kg * G) / ((b - d) * t)
+
+
+def tilt(
+    load: CheekLoad, h: float, b: float, t: float, pocket: Pocket = Pocket()
+) -> tuple[float, float]:
     """The cheek top's tilt across its thickness (rad) and its move along the axis (mm) under
     the moment ``F e + m g c`` (:func:`out_of_plane_Nmm`), the same over its height:
-    ``M h / (E I)`` and ``M h^2 / (2 E I)``, I = b t^3 / 12."""
-    ei = ALUMINIUM["E_MPa"] * b * t**3 / 12
-    m = out_of_plane_Nmm(load, t)
-    return m * h / ei, m * h**2 / (2 * ei)
+    ``M h / (E I)`` and ``M h^2 / (2 E I)``, I = b t^3 / 12; over a ``pocket``'s lower half
+    (``D / 2`` below A) I is the strips' ``(b - D) t^3 / 12``."""
+    m, e = out_of_plane_Nmm(load, t), ALUMINIUM["E_MPa"]
+    curve = m / (e * b * t**3 / 12)
+    angle, along = curve * h, curve * h**2 / 2
+    if pocket.depth_mm > 0:
+        extra = m / (e * (b - pocket.d_mm) * t**3 / 12) - curve
+        band = min(pocket.d_mm / 2, h)
+        angle, along = angle + extra * band, along + extra * band**2 / 2
+    return angle, along
 
 
 def cheek(
@@ -116,21 +145,25 @@ def cheek(
     reach: tuple[float, float],
     t: float,
     allow: tuple[float, float],
+    pocket: Pocket = Pocket(),
 ) -> dict:
-    """The cheek of thickness ``t`` (mm) at height ``h``: at least ``b`` wide, and as wide as
-    keeps its tool error (deflection plus turn times the reach ``reach[0]``, mm) within
-    ``allow[0]`` (mm); its stress under ``load`` against yield over ``required_sf``, its
-    stiffness, and its tilt's error at the tool (the top's move along the axis, plus the tilt
-    times the reach and times the tool's distance ``reach[1]`` (mm) from the cheek along the
-    axis), against ``allow[1]``."""
+    """The cheek of thickness ``t`` (mm) at height ``h``: at least ``b`` wide (and the
+    ``pocket`` and 10 mm each side), and as wide as keeps its tool error (deflection plus turn
+    times the reach ``reach[0]``, mm) within ``allow[0]`` (mm); its stress under ``load`` (at
+    the root and the pocket) against yield over ``required_sf``, its stiffness, and its tilt's
+    error at the tool (the top's move along the axis, plus the tilt times the reach and times
+    the tool's distance ``reach[1]`` (mm) from the cheek along the axis), against
+    ``allow[1]``."""
+    if pocket.depth_mm > 0:
+        b = max(b, math.ceil(pocket.d_mm + 20.0))
     deflection, turn = top_motion(load, h, b, t)
     error = deflection + turn * reach[0]
     if error > allow[0]:  # both terms fall with b^3
         b = math.ceil(b * (error / allow[0]) ** (1 / 3))
         deflection, turn = top_motion(load, h, b, t)
-    sigma = root_stress_MPa(load, h, b, t)
+    sigma = max(root_stress_MPa(load, h, b, t), pocket_stress_MPa(load, b, t, pocket))
     sf = ALUMINIUM["yield_MPa"] / sigma
-    angle, along = tilt(load, h, b, t)
+    angle, along = tilt(load, h, b, t, pocket)
     tilted = along + angle * (reach[0] + reach[1])
     return {
         "thickness_mm": t,
@@ -149,6 +182,7 @@ def cheek(
         "top_along_axis_mm": along,
         "tilt_error_mm": tilted,
         "allowed_tilt_error_mm": allow[1],
+        "pocket": {"d_mm": pocket.d_mm, "depth_mm": pocket.depth_mm, "web_mm": t - pocket.depth_mm},
         "loads": {
             "force_N": load.force_N,
             "torque_Nm": load.torque_Nm,

@@ -369,16 +369,17 @@ def _cheeks(
     for k, drive in enumerate(drives, 1):
         iface = drive["interface"]
         bore, b = _cheek_size(iface)
-        load = bs.CheekLoad(
-            force,
-            drive["torque_limit_Nm"],
-            drive["mass_kg"],
-            iface.body_length_mm / 2,
-            stack[f"offset_{k}"],
-        )
         for t in bs.PLATE_STOCK_MM:
+            pocket = _pocket(iface, t, stack["gap"])
+            load = bs.CheekLoad(
+                force,
+                drive["torque_limit_Nm"],
+                drive["mass_kg"],
+                iface.body_length_mm / 2 - pocket.depth_mm,
+                stack[f"offset_{k}"],
+            )
             mid = -t / 2 if k == 1 else stack["cheek_2"] + t / 2
-            part = bs.cheek(load, h, b, sf, (reach_mm, abs(tool_z - mid)), t, allow)
+            part = bs.cheek(load, h, b, sf, (reach_mm, abs(tool_z - mid)), t, allow, pocket)
             fixing = bs.fixing_screws(load, part, sf)
             steady = part["tilt_error_mm"] <= part["allowed_tilt_error_mm"]
             if part["holds"] and fixing["holds"] and steady:
@@ -388,6 +389,21 @@ def _cheeks(
             | {"motor": k, "bore_mm": bore, "drive": drive["name"], "fixing": fixing, "load": load}
         )
     return out
+
+
+def _pocket(iface: DriveInterface, t: float, gap: float) -> bs.Pocket:
+    """The pocket (:class:`qsm.embodiment.kit.base.Pocket`) a shaft drive sits in, in a cheek
+    ``t`` mm thick ``gap`` mm from its link: deep enough (to 0.5 mm) that the shaft reaches 1 mm
+    past the hub's set screw (:func:`set_screw_reach_mm`), and at most down to the least web;
+    as wide as the drive's body or its diagonal, and 1 mm. None for a flange drive."""
+    if iface.output != "shaft":
+        return bs.Pocket()
+    d = float(jt.set_screw(iface).split()[2][1:])
+    short = t + (gap - jt.FLANGE_MM) / 2 + d / 2 + 1.0 - iface.shaft_length_mm
+    depth = min(math.ceil(2 * max(short, 0.0)) / 2, t - bs.MIN_WEB_MM)
+    if depth <= 0:
+        return bs.Pocket()
+    return bs.Pocket(round(iface.body_d_mm * math.sqrt(2) + 1.0, 1), depth)
 
 
 def _hubs(
@@ -403,8 +419,8 @@ def _hubs(
     bearing = _bearing(done, "A")
     force, spigot = float(bearing["peak_force_N"]), float(bearing["d_mm"])
     boss = {
-        1: stack["lower_arm"] - jt.FLANGE_MM + cheeks[0]["thickness_mm"],
-        2: stack["cheek_2"] - stack["crank_end"] - jt.FLANGE_MM + cheeks[1]["thickness_mm"],
+        1: stack["lower_arm"] - jt.FLANGE_MM + cheeks[0]["pocket"]["web_mm"],
+        2: stack["cheek_2"] - stack["crank_end"] - jt.FLANGE_MM + cheeks[1]["pocket"]["web_mm"],
     }
     out = []
     for k, (link, d, s) in enumerate(zip(HUB_LINKS, drives, screws, strict=True), 1):
@@ -611,10 +627,10 @@ def set_screw_reach_mm(
 ) -> float:
     """How far (mm) the drive's shaft reaches past a shaft hub's set screw, which sits halfway
     across the gap between the hub's flange and the cheek (where a key reaches it): the shaft
-    runs its length from the drive's face on the cheek's outer face; negative where it ends
-    short of the screw's far edge."""
+    runs its length from the drive's face on the cheek's web (its outer face, or its pocket's
+    floor); negative where it ends short of the screw's far edge."""
     k, iface = hub["motor"], drive["interface"]
-    t = cheeks[k - 1]["thickness_mm"]
+    t = cheeks[k - 1]["pocket"]["web_mm"]
     inner = 0.0 if k == 1 else stack["cheek_2"]
     link_face = stack["lower_arm"] if k == 1 else stack["crank_end"]
     toward = -1.0 if k == 1 else 1.0  # along z from the link to the drive

@@ -223,7 +223,7 @@ def _per_pose(angles, k: int, build) -> tuple:
 def mount_step(record: dict[str, Any], k: int, needs: tuple, group: str = "") -> Step:
     """Drive ``k``'s mounting screws through its cheek, heads on the cheek's inner face."""
     iface, cheek = record["drives"][k - 1], record["base"]["cheeks"][k - 1]
-    screw = fs.cap_screw(iface["mount_thread"], cheek["thickness_mm"], True, "").name
+    screw = fs.cap_screw(iface["mount_thread"], cheek["pocket"]["web_mm"], True, "").name
     start = math.radians(45.0 if iface["mount_bolts"] == 4 else 0.0)
     points = ring(iface["mount_pcd_mm"], iface["mount_bolts"], start)
     top = _faces(record, k)[2] - TOWARD[k] * fs.screw_head_mm(iface["mount_thread"])[1]

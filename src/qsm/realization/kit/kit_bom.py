@@ -87,7 +87,7 @@ def fastener_lines(
     for hub, drive, c in zip(hubs, drives, cheeks, strict=True):
         k, iface = hub["motor"], drive["interface"]
         lines += _hub_lines(hub, iface)
-        mount = fs.cap_screw(iface.mount_thread, c["thickness_mm"], True, "")
+        mount = fs.cap_screw(iface.mount_thread, c["pocket"]["web_mm"], True, "")
         lines += screw_lines(mount.name, iface.mount_bolts, f"drive {k} to cheek {k}")
         if c["fixing"]["screw"]:
             th = c["fixing"]["screw"].split()[2]
@@ -146,9 +146,15 @@ def _fastener_material(name: str) -> str:
 
 
 def _plate_mass_kg(plate: dict[str, Any], density: float) -> float:
-    """Mass (kg) of a placed plate: its outline less its holes times its thickness."""
+    """Mass (kg) of a placed plate: its outline less its holes times its thickness, less a
+    cheek's pocket (about its origin)."""
     poly = shapely.Polygon(plate["outline"], plate["holes"])
-    return poly.area * plate["thickness_mm"] * density * 1e-9
+    volume = poly.area * plate["thickness_mm"]
+    pocket = plate.get("pocket") or {}
+    if pocket.get("depth_mm", 0.0) > 0:
+        disc = shapely.Point(0, 0).buffer(pocket["d_mm"] / 2, 64)
+        volume -= poly.intersection(disc).area * pocket["depth_mm"]
+    return volume * density * 1e-9
 
 
 def _turned_kg(part: dict[str, Any]) -> float:

@@ -52,12 +52,19 @@ def _wire(points: list[list[float]]) -> TopoDS_Wire:
 
 
 def plate_solid(plate: dict[str, Any]) -> TopoDS_Shape:
-    """A plate's solid (mm) in its own frame: the outline less the holes, extruded along +z."""
+    """A plate's solid (mm) in its own frame: the outline less the holes, extruded along +z,
+    less its ``pocket`` (a cheek's, about its origin) where it has one."""
     ring = shapely.geometry.polygon.orient(shapely.Polygon(plate["outline"], plate["holes"]))
     face = BRepBuilderAPI_MakeFace(_wire(list(ring.exterior.coords)[:-1]), True)
     for hole in ring.interiors:  # clockwise: the face's inner wires
         face.Add(_wire(list(hole.coords)[:-1]))
-    return BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, plate["thickness_mm"])).Shape()
+    solid = BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, plate["thickness_mm"])).Shape()
+    pocket = plate.get("pocket") or {}
+    if pocket.get("depth_mm", 0.0) <= 0:
+        return solid
+    floor = gp_Ax2(gp_Pnt(0, 0, pocket["z0_mm"]), gp_Dir(0, 0, 1))
+    cut = BRepPrimAPI_MakeCylinder(floor, pocket["d_mm"] / 2, pocket["depth_mm"]).Shape()
+    return BRepAlgoAPI_Cut(solid, cut).Shape()
 
 
 def turned_solid(part: dict[str, Any]) -> TopoDS_Shape:
@@ -132,7 +139,8 @@ def write_step(layout: dict[str, Any], folder: str | Path) -> dict[str, str]:
 
 def write_dxf(layout: dict[str, Any], folder: str | Path) -> dict[str, str]:
     """``folder/<plate>.dxf`` (mm): the outline on layer OUTLINE, every hole and opening on
-    layer HOLES, as closed polylines; returns the paths by name."""
+    layer HOLES, as closed polylines, and a cheek's pocket as a circle on a layer named with
+    its depth (``POCKET_<depth>MM_DEEP``); returns the paths by name."""
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     paths = {}
@@ -144,6 +152,11 @@ def write_dxf(layout: dict[str, Any], folder: str | Path) -> dict[str, str]:
         msp.add_lwpolyline(plate["outline"], close=True, dxfattribs={"layer": "OUTLINE"})
         for hole in plate["holes"]:
             msp.add_lwpolyline(hole, close=True, dxfattribs={"layer": "HOLES"})
+        pocket = plate.get("pocket") or {}
+        if pocket.get("depth_mm", 0.0) > 0:
+            name_depth = f"POCKET_{pocket['depth_mm']:g}MM_DEEP".replace(".", "_")
+            doc.layers.add(name_depth, color=3)
+            msp.add_circle((0.0, 0.0), pocket["d_mm"] / 2, dxfattribs={"layer": name_depth})
         paths[name] = str(out / f"{name}.dxf")
         doc.saveas(paths[name])
     return paths

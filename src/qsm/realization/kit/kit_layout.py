@@ -92,7 +92,8 @@ def cheek_plate(part: dict[str, Any], iface: DriveInterface, hole: float, z0: fl
     """Cheek ``part`` (its sizes, mm) as a placed plate: a bar of the cheek's width from the
     base plate up to A, rounded about A, with the central bore, the drive's mounting holes
     (``hole`` mm, a square pattern of 4 turned by 45 degrees); its three fixing screws are
-    tapped into its bottom edge (``tapped_bottom``)."""
+    tapped into its bottom edge (``tapped_bottom``); a ``pocket`` about A (diameter and depth,
+    mm) in its outer face, from ``pocket["z0_mm"]`` to ``pocket["z1_mm"]`` in its own frame."""
     b, h, t = part["width_mm"], part["height_mm"], part["thickness_mm"]
     body = shapely.union(shapely.box(-b / 2, -h, b / 2, 0.0), shapely.Point(0, 0).buffer(b / 2, 32))
     start = 45.0 if iface.mount_bolts == 4 else 0.0
@@ -107,7 +108,16 @@ def cheek_plate(part: dict[str, Any], iface: DriveInterface, hole: float, z0: fl
         "normal": [0.0, 0.0, 1.0],
         "kind": "cut",
         "tapped_bottom": {"count": 3, "screw": part["fixing"]["screw"]},
+        "pocket": _pocket_of(part, outer_low=z0 < 0),
     }
+
+
+def _pocket_of(part: dict[str, Any], outer_low: bool) -> dict[str, float]:
+    """A cheek's pocket (diameter, depth, and its span across the plate in the plate's own
+    frame, mm), in the outer face: the low one (``outer_low``) or the high one."""
+    d, depth, t = part["pocket"]["d_mm"], part["pocket"]["depth_mm"], part["thickness_mm"]
+    z = (0.0, depth) if outer_low else (t - depth, t)
+    return {"d_mm": d, "depth_mm": depth, "z0_mm": z[0], "z1_mm": z[1]}
 
 
 def base_plate_size(cheeks: list[dict[str, Any]], stack: dict[str, float]) -> tuple[float, float]:
@@ -196,14 +206,15 @@ def kit_geometry(
         plates[f"cheek_{k}"] = cheek_plate(c, iface, fs.clearance_hole_mm(iface.mount_thread), z0)
     plates["base_plate"] = base_plate(cheeks, (-t1, end + t2), cheeks[0]["height_mm"],
                                       bs.BASE_PLATE_MM)  # fmt: skip
-    faces = {1: (stack["lower_arm"], -1, -t1), 2: (stack["crank_end"], 1, end + t2)}
+    p1, p2 = (c["pocket"]["depth_mm"] for c in cheeks)
+    faces = {1: (stack["lower_arm"], -1, -t1 + p1), 2: (stack["crank_end"], 1, end + t2 - p2)}
     out = {}
     for hub in hubs:
         k, iface = hub["motor"], drives[hub["motor"] - 1]["interface"]
         bore = iface.shaft_d_mm if iface.output == "shaft" else 0.0
         out[f"hub_{k}"] = turned(_hub_steps(hub, *faces[k]), bore)
-        z = (-t1 - iface.body_length_mm, -t1) if k == 1 else (end + t2, end + t2 +
-                                                              iface.body_length_mm)  # fmt: skip
+        face = faces[k][2]
+        z = (face - iface.body_length_mm, face) if k == 1 else (face, face + iface.body_length_mm)
         out[f"drive_{k}"] = turned([(iface.body_d_mm, *z)])
     if flange.get("pattern"):
         e = np.asarray(pose(design, *angles).E) * 1e3

@@ -87,6 +87,20 @@ def plate_prism(plate: Mapping[str, Any]) -> Prism:
     return Prism("y", moved, oy - t, oy)  # the base plate: down from its origin
 
 
+def plate_prisms(plate: Mapping[str, Any]) -> tuple[Prism, ...]:
+    """A placed plate as its prism, or, with a ``pocket`` (a cheek's, along z), as the plate
+    less the pocket's span and, across the pocket's span, the plate less the pocket's disc."""
+    whole = plate_prism(plate)
+    pocket = plate.get("pocket") or {}
+    if pocket.get("depth_mm", 0.0) <= 0:
+        return (whole,)
+    lo = whole.lo + pocket["z0_mm"]
+    hi = whole.lo + pocket["z1_mm"]
+    rim = whole.shape.difference(disc(plate["origin"][0], plate["origin"][1], pocket["d_mm"]))
+    rest = (whole.lo, lo) if pocket["z0_mm"] > 0 else (hi, whole.hi)
+    return Prism("z", whole.shape, *rest), Prism("z", rim, lo, hi)
+
+
 def turned_prisms(part: Mapping[str, Any]) -> tuple[Prism, ...]:
     """A turned part of the layout, one prism per cylinder step, its bore cut out."""
     x, y = part["at_mm"]
@@ -100,7 +114,7 @@ def turned_prisms(part: Mapping[str, Any]) -> tuple[Prism, ...]:
 def solids(layout: Mapping[str, Any]) -> dict[str, tuple[Prism, ...]]:
     """Every part of a kit ``layout`` (:func:`qsm.realization.kit.kit_layout.kit_geometry`) as
     its prisms, by its name."""
-    out = {name: (plate_prism(p),) for name, p in layout["plates"].items()}
+    out = {name: plate_prisms(p) for name, p in layout["plates"].items()}
     out |= {name: turned_prisms(t) for name, t in layout["turned"].items()}
     return out
 
