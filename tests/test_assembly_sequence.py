@@ -274,3 +274,29 @@ def test_a_pocket_brings_a_short_shaft_past_its_set_screw():
     assert 1.0 <= reach <= 1.5
     assert _pocket(iface, 6.0, 20.0).depth_mm == 0
     assert _pocket(iface, 30.0, 60.0).depth_mm == 30.0 - bs.MIN_WEB_MM
+
+
+def test_the_kit_names_its_fits_and_checks_each_bearing_seat(kit):
+    """Every joint bearing's seat (P7 on an ISO 492 Normal ring: always an interference), its
+    shoulder (f9: always a clearance) and each hub's spigot are in ``kit.json`` with their
+    classes, and each seat is a check of the kit. A thin boss's hoop stress tends to delta E /
+    D (about 3.5 MPa here); over an allowable of 2 MPa the seat fails, and the kit's words say
+    so with the numbers."""
+    from qsm.embodiment.kit import fits as ft
+    from qsm.realization.kit.builders_kit import _seat_problems
+
+    done, record = kit[0], kit[1].record
+    fits = record["fits"]
+    seats = [f for f in fits if f["hole"] == "P7"]
+    assert len(seats) == 3 and all(f["kind"] == "interference" for f in seats)
+    assert all(record["checks"][f"bearing {j}'s seat"] for j in "BCD")
+    shoulders = [f for f in fits if f["shaft"] == "f9"]
+    assert len(shoulders) == 6 and all(f["min_clearance_um"] > 0 for f in shoulders)
+    assert sum("spigot" in f["what"] for f in fits) == 2
+    bearing = done.strength["bearings"]["B"]
+    thin = ft.joint_fits("B", bearing, ("lower_arm", 1.02 * bearing["D_mm"], 2.0), 2200.0, 0.35)
+    delta_e_over_d = -thin[0]["min_clearance_um"] * 1e-3 * 2200.0 / bearing["D_mm"]
+    assert thin[0]["hoop_stress_MPa"] == pytest.approx(delta_e_over_d, rel=0.02)
+    assert not thin[0]["holds"]
+    (words,) = _seat_problems([thin[0]])
+    assert f"{thin[0]['hoop_stress_MPa']:.1f} MPa (2.0 MPa allowed)" in words

@@ -23,6 +23,7 @@ import shapely
 from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.kit import base as bs
 from qsm.embodiment.kit import fasteners as fs
+from qsm.embodiment.kit import fits as ft
 from qsm.embodiment.kit import joints as jt
 from qsm.embodiment.kit.interfaces import DriveInterface, interface_of
 from qsm.embodiment.parts.link_parts import LinkPart
@@ -566,11 +567,15 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     clear = clearances(done, parts, pins, settings)
     clear += hub_head_clearances(done, parts, screws, pins, settings)
     checks = _checks(pins, hubs, cheeks, table, flange, clear)
+    fits = _fits(done, plates, hubs, drives)
+    seats = [f for f in fits if "held" in f]
+    checks |= {f"bearing {f['joint']}'s seat": f["holds"] for f in seats}
     record = {
         "holds": all(checks.values()),
         "checks": checks,
-        "problems": _problems(pins, hubs, cheeks, table, flange, clear),
+        "problems": _problems(pins, hubs, cheeks, table, flange, clear) + _seat_problems(seats),
         "clearances": clear,
+        "fits": fits,
         "not_checked": [h["output_bearing"]["note"] for h in hubs],
         "drives": [_interface_record(d) for d in drives],
         "pins": pins,
@@ -589,6 +594,42 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     }
     _with_sequence(record, done, holed, settings)
     return Kit(record, kb.made_rows(geometry) + kb.fastener_rows(lines), holed)
+
+
+def _fits(
+    done: Realization,
+    plates: dict[str, dict[str, jt.Plate]],
+    hubs: list[dict[str, Any]],
+    drives: list[dict[str, Any]],
+) -> list[dict[str, Any]]:
+    """The kit's fits (:mod:`qsm.embodiment.kit.fits`): each joint bearing's seat in its
+    printed plate and its pin's shoulder, and each hub's spigot and bore."""
+    material = done.strength_check.material
+    e, nu = material.youngs_modulus_pa * 1e-6, material.poisson_ratio
+    out = []
+    for j, (seat, _) in PIN_PLATES.items():
+        plate = plates[seat][j]
+        boss = (seat, 2 * plate.boss_mm, plate.allowable_MPa)
+        out += ft.joint_fits(j, done.strength["bearings"][j], boss, e, nu)
+    for hub, drive in zip(hubs, drives, strict=True):
+        shaft = drive["interface"].shaft_d_mm if drive["interface"].output == "shaft" else 0.0
+        out += ft.hub_fits(hub["motor"], hub["link"], hub["spigot_d_mm"], shaft)
+    return out
+
+
+def _seat_problems(seats: list[dict[str, Any]]) -> list[str]:
+    """What a failed bearing seat says: the ring loose at its least interference, or the
+    printed boss over its allowable at its largest."""
+    out = []
+    for f in seats:
+        if not f["held"]:
+            out.append(f"{f['what']} ({f['hole']}) may be {f['max_clearance_um']:.0f} um loose")
+        elif not f["holds"]:
+            out.append(
+                f"{f['what']} ({f['hole']}) stresses the printed boss to "
+                f"{f['hoop_stress_MPa']:.1f} MPa ({f['allowable_MPa']:.1f} MPa allowed)"
+            )
+    return out
 
 
 def _with_sequence(
