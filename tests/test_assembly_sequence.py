@@ -300,3 +300,34 @@ def test_the_kit_names_its_fits_and_checks_each_bearing_seat(kit):
     assert not thin[0]["holds"]
     (words,) = _seat_problems([thin[0]])
     assert f"{thin[0]['hoop_stress_MPa']:.1f} MPa (2.0 MPa allowed)" in words
+
+
+def test_the_gap_to_a_link_s_true_outline_agrees_with_the_placed_plates(kit):
+    """The least distance from a joint to a neighbouring link's outline over the operating
+    range, against the layout's own placing of the plate (its frames, one pose at a time) on
+    every 6th pose of the grid, which can only find a larger least distance."""
+    from shapely import affinity
+
+    from qsm.physics.kinematics import pose
+    from qsm.realization.kit.builders_kit import outline_gap_mm
+    from qsm.realization.kit.kit_layout import _link_frames
+
+    done, s = kit[0], KitSettings()
+    t1s = np.radians(np.linspace(*s.theta1_deg, 61))[::6]
+    for joint, link in (("B", "coupler"), ("C", "upper_arm"), ("A", "upper_arm")):
+        outline = shapely.Polygon(done.parts[link].polygon.exterior.coords)
+        brute = np.inf
+        for t1 in t1s:
+            for frac in np.linspace(0.0, 1.0, 61)[::6]:
+                t2 = np.radians(s.theta2_min_deg) + frac * (t1 - np.radians(s.theta2_min_deg))
+                p = pose(done.design, t1, t2)
+                if not bool(p.closes):
+                    continue
+                (x0, y0), a = _link_frames(done.design, t1, t2)[link]
+                c, sn = np.cos(a), np.sin(a)
+                placed = affinity.affine_transform(outline, [c, -sn, sn, c, x0, y0])
+                at = np.zeros(2) if joint == "A" else np.asarray(getattr(p, joint))
+                brute = min(brute, 1e3 * placed.distance(shapely.Point(*at)))
+        gap = outline_gap_mm(done, done.parts, s, link, joint)
+        assert gap <= brute + 1e-9
+        assert gap == pytest.approx(brute, abs=0.15 * brute + 2.0)

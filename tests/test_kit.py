@@ -235,11 +235,3 @@ def test_a_hub_s_key_bears_over_its_engaged_length_less_its_width():
     screw_length = float(screws["screw"].designation.split()[-1])
     grip = jt.FLANGE_MM + fs.washer_mm(screws["thread"])[2]
     assert grip + 1.5 * float(screws["thread"][1:]) <= screw_length <= grip + 30.0 - 1.0
-
-
-def test_the_distance_to_a_link_s_spine_by_hand():
-    from qsm.realization.kit.builders_kit import segment_distance
-
-    a, b = np.array([0.0, 0.0]), np.array([100.0, 0.0])
-    points = np.array([[50.0, 30.0], [-30.0, 40.0], [130.0, 0.0]])
-    assert segment_distance(points, a, b) == pytest.approx([30.0, 50.0, 30.0])

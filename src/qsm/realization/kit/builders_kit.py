@@ -151,15 +151,34 @@ PROTRUSIONS = (
     ("D", "nut", "crank", "C"),
     ("C", "head", "upper_arm", "D"),
 )
-#: Each link's spine: the joints whose segments, widened by its largest boss, hold it.
-SPINES = {"lower_arm": ("AB",), "crank": ("AC",), "coupler": ("CD",), "upper_arm": ("DB", "BE")}
+#: Each link frame's origin joint (the frame's x axis as in
+#: :func:`qsm.realization.kit.kit_layout.link_plates`: the lower arm at theta1, the crank at
+#: theta2, the coupler along C-D, the upper arm at phi).
+FRAME_ORIGINS = {"lower_arm": "A", "crank": "A", "coupler": "C", "upper_arm": "B"}
 
 
-def segment_distance(p: np.ndarray, a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Distance (mm) from points ``p`` to segments ``a``-``b`` (..., 2)."""
-    ab, ap = b - a, p - a
-    t = np.clip((ap * ab).sum(-1) / np.maximum((ab * ab).sum(-1), 1e-12), 0.0, 1.0)
-    return np.linalg.norm(ap - t[..., None] * ab, axis=-1)
+def outline_gap_mm(
+    done: Realization, parts: dict[str, LinkPart], s: KitSettings, link: str, joint: str
+) -> float:
+    """The least distance (mm) over the operating range (:func:`_sweep`) from ``joint`` to the
+    ``link``'s true outline (its plate filled in: a head passes under no opening), 0 where
+    the outline passes over it; poses where the loop does not close are left out."""
+    t1 = np.radians(np.linspace(*s.theta1_deg, 61))[:, None]
+    t2 = np.radians(s.theta2_min_deg) + np.linspace(0.0, 1.0, 61)[None, :] * (
+        t1 - np.radians(s.theta2_min_deg)
+    )
+    t1 = np.broadcast_to(t1, t2.shape)
+    p = pose(done.design, t1, t2)
+    at = {j: 1e3 * np.asarray(getattr(p, j)) for j in "BCD"} | {"A": np.zeros((*t1.shape, 2))}
+    cd = at["D"] - at["C"]
+    angle = {"lower_arm": t1, "crank": t2, "coupler": np.arctan2(cd[..., 1], cd[..., 0]),
+             "upper_arm": np.asarray(p.phi)}[link]  # fmt: skip
+    rel = at[joint] - at[FRAME_ORIGINS[link]]
+    c, sn = np.cos(angle), np.sin(angle)
+    local = np.stack([c * rel[..., 0] + sn * rel[..., 1], -sn * rel[..., 0] + c * rel[..., 1]], -1)
+    local = local[np.asarray(p.closes) & np.isfinite(local).all(-1)]
+    outline = shapely.Polygon(np.asarray(parts[link].polygon.exterior.coords) * 1e3)
+    return float(np.min(shapely.distance(outline, shapely.points(local))))
 
 
 def _protrusion_mm(pin: dict[str, Any], end: str) -> tuple[float, float]:
@@ -185,18 +204,14 @@ def clearances(
     done: Realization, parts: dict[str, LinkPart], pins: dict[str, Any], s: KitSettings
 ) -> list[dict[str, Any]]:
     """For each pin's head or nut that stands toward a neighbour's layer (:data:`PROTRUSIONS`),
-    its least distance (mm) over the operating range from that link (the segments of its spine
-    widened by its largest boss), against the head's or the nut's and washer's radius and
-    1 mm; where that fails, the spacers between the two layers (``spacers_mm``) must pass its
+    its least distance (mm) over the operating range from that link's true outline
+    (:func:`outline_gap_mm`), against the head's or the nut's and washer's radius and 1 mm;
+    where that fails, the spacers between the two layers (``spacers_mm``) must pass its
     height and 1 mm, so that the neighbour runs beside it."""
-    joints, radii = _sweep(done, s), _radii(parts)
     out = []
     for joint, end, link, gap_joint in PROTRUSIONS:
         size, height = _protrusion_mm(pins[joint], end)
-        gap = np.min(
-            [segment_distance(joints[joint], joints[a], joints[b]) for a, b in SPINES[link]], axis=0
-        ) - max(radii[link].values())
-        least = float(np.nanmin(gap))
+        least = outline_gap_mm(done, parts, s, link, joint)
         spacers = pins[gap_joint]["spacers_mm"]
         out.append({"what": f"pin {joint}'s {end}", "into": link, "clearance_mm": least,
                     "needed_mm": size + 1.0, "height_mm": height, "spacers_mm": spacers,
@@ -217,11 +232,10 @@ def hub_head_clearances(
     s: KitSettings,
 ) -> list[dict[str, Any]]:
     """For each hub whose screws come from its link's far face, the least distance (mm) over
-    the operating range of the neighbouring layer's link (:data:`HEAD_NEIGHBOURS`, its spine
-    widened by its largest boss) from A, against the heads' circle (half the bolt circle, half
-    the larger of head and washer, and 1 mm); where that fails, the spacers between the layers
-    must pass the heads' height and 1 mm."""
-    joints, radii = _sweep(done, s), _radii(parts)
+    the operating range of the neighbouring layer's link (:data:`HEAD_NEIGHBOURS`, its true
+    outline: :func:`outline_gap_mm`) from A, against the heads' circle (half the bolt circle,
+    half the larger of head and washer, and 1 mm); where that fails, the spacers between the
+    layers must pass the heads' height and 1 mm."""
     out = []
     for k, (screw, (link, gap_joint)) in enumerate(zip(screws, HEAD_NEIGHBOURS, strict=True), 1):
         if screw["side"] != "link" or not screw["thread"]:
@@ -230,10 +244,8 @@ def hub_head_clearances(
         head = max(fs.screw_head_mm(th)[0], fs.washer_mm(th)[1])
         height = fs.screw_head_mm(th)[1] + fs.washer_mm(th)[2]
         needed = screw["pcd_mm"] / 2 + head / 2 + 1.0
-        gap = np.min(
-            [segment_distance(joints["A"], joints[a], joints[b]) for a, b in SPINES[link]], axis=0
-        ) - max(radii[link].values())
-        least, spacers = float(np.nanmin(gap)), pins[gap_joint]["spacers_mm"]
+        least = outline_gap_mm(done, parts, s, link, "A")
+        spacers = pins[gap_joint]["spacers_mm"]
         out.append({"what": f"hub {k}'s screw heads", "into": link, "clearance_mm": least,
                     "needed_mm": needed, "height_mm": height, "spacers_mm": spacers,
                     "holds": least >= needed or spacers >= height + 1.0})  # fmt: skip
