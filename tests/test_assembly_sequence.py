@@ -6,6 +6,7 @@ pin's head, and the default-like arm's sequence checked again by sampling points
 from __future__ import annotations
 
 import copy
+import itertools
 import math
 
 import numpy as np
@@ -19,7 +20,7 @@ from qsm.embodiment.kit import joints as jt
 from qsm.realization.kit.builders_kit import KitSettings, builders_kit, with_hub_holes
 from qsm.realization.kit.kit_assembly import kit_sequence
 from qsm.realization.kit.kit_sequence import Precedence, Step, Tool, order
-from qsm.realization.kit.kit_solids import Prism, disc
+from qsm.realization.kit.kit_solids import Prism, blockers, disc
 from qsm.realization.selection.pipeline import realize
 
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
@@ -55,6 +56,23 @@ def test_prisms_that_touch_do_not_meet_and_a_key_passes_a_hole():
     assert plate.meets(Prism("z", disc(20, 20, 12), -50.0, 50.0))
     swept = Prism("z", disc(50, 25, 8), 20.0, 30.0).swept((0.0, 0.0, 1.0), 15.0)
     assert swept.meets(plate)  # it came down through the plate
+
+
+def test_a_key_turned_short_arm_in_reaches_a_head_its_long_arm_cannot():
+    """A socket 40 mm above a cheek's face (z = 0), a 5 mm key (long arm 85, short 28): long
+    arm first it passes through the cheek; short arm first it ends 12 mm above the face, and
+    its handle (5 / 0.866 + 1 mm thick) turns in the plane clear of the cheek, but not of a
+    plate beside the head on the handle's side."""
+    from qsm.realization.kit.kit_sequence import key_path, short_key_path
+
+    key = fs.HexKey(5.0, 85.0, 28.0)
+    cheek = {"cheek": (Prism("z", shapely.box(-100, -100, 100, 100), -30.0, 0.0),)}
+    assert blockers(key_path(0.0, 0.0, 40.0, -1.0, key), cheek) == ["cheek"]
+    for turn in range(4):
+        assert blockers(short_key_path(0.0, 0.0, 40.0, -1.0, key, turn * math.pi / 2), cheek) == []
+    beside = {"plate": (Prism("z", shapely.box(20, -10, 60, 10), 0.0, 10.0),)}
+    assert blockers(short_key_path(0.0, 0.0, 40.0, -1.0, key, 0.0), beside) == ["plate"]
+    assert blockers(short_key_path(0.0, 0.0, 40.0, -1.0, key, math.pi), beside) == []
 
 
 @pytest.mark.parametrize(
@@ -331,3 +349,68 @@ def test_the_gap_to_a_link_s_true_outline_agrees_with_the_placed_plates(kit):
         gap = outline_gap_mm(done, done.parts, s, link, joint)
         assert gap <= brute + 1e-9
         assert gap == pytest.approx(brute, abs=0.15 * brute + 2.0)
+
+
+def _overlaps(solids: dict, moves: dict, frames: tuple, pairs: set | None = None) -> dict:
+    """The pairs of ``solids`` (build123d, read back from the STEP) that share more than 1 mm^3
+    once each is moved with its link (``moves``) from the frames ``frames[0]`` to
+    ``frames[1]``; only ``pairs`` where given."""
+    from build123d import Pos, Rot
+
+    placed = {}
+    for name, solid in solids.items():
+        link = moves[name]
+        if link == "base":
+            placed[name] = solid
+            continue
+        (x0, y0), a = frames[0][link]
+        (x1, y1), b = frames[1][link]
+        move = (
+            Pos(1e3 * x1, 1e3 * y1, 0) * Rot(0, 0, np.degrees(b - a)) * Pos(-1e3 * x0, -1e3 * y0, 0)
+        )
+        placed[name] = move * solid
+    boxes = {n: s.bounding_box() for n, s in placed.items()}
+    out = {}
+    for a, b in pairs or itertools.combinations(placed, 2):
+        if not boxes[a].overlaps(boxes[b]):
+            continue
+        common = placed[a].intersect(placed[b]) or []
+        volume = sum(part.volume for part in common)
+        if volume > 1.0:
+            out[(a, b)] = volume
+    return out
+
+
+def test_the_assembly_step_read_back_has_no_overlap_at_six_poses(kit, tmp_path):
+    """``assembly.step`` read back with build123d (not the writer's code), each solid moved with
+    the link ``moves_with`` names: at six poses over the operating range (the corners and the
+    middle of theta1, near the two ends of theta2's span) no two solids share more than 1
+    mm^3 (solids that move together are checked once, at the layout's pose). Hub 1 moved 5 mm
+    into the lower arm's layer does, so the check can see one."""
+    from build123d import Pos, import_step
+
+    from qsm.physics.kinematics import pose
+    from qsm.realization.kit.kit_files import write_step
+    from qsm.realization.kit.kit_layout import _link_frames
+
+    done, record = kit[0], kit[1].record
+    layout, s = record["layout"], KitSettings()
+    solids = {c.label: c for c in import_step(write_step(layout, tmp_path)["assembly"]).children}
+    assert set(solids) == set(layout["moves_with"])
+    start = _link_frames(done.design, *np.radians(layout["pose_deg"]))
+    moves = layout["moves_with"]
+    moving = {(a, b) for a, b in itertools.combinations(solids, 2) if moves[a] != moves[b]}
+    assert not _overlaps(solids, moves, (start, start))
+    poses = 0
+    for t1 in np.radians(np.linspace(*s.theta1_deg, 3)):
+        for frac in (0.15, 0.85):
+            t2 = np.radians(s.theta2_min_deg) + frac * (t1 - np.radians(s.theta2_min_deg))
+            if bool(pose(done.design, t1, t2).closes):
+                poses += 1
+                frames = (start, _link_frames(done.design, t1, t2))
+                assert not _overlaps(solids, moves, frames, moving), (t1, t2)
+    assert poses == 6
+    solids["hub_1"] = Pos(0, 0, 5.0) * solids["hub_1"]
+    assert ("lower_arm", "hub_1") in _overlaps(
+        solids, moves, (start, start), {("lower_arm", "hub_1")}
+    )

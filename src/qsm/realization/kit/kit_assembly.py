@@ -37,6 +37,7 @@ from qsm.realization.kit.kit_sequence import (
     Tool,
     key_path,
     sequence,
+    short_key_path,
     spanner_slab,
 )
 from qsm.realization.kit.kit_solids import Prism, disc, plate_prism, solids
@@ -379,6 +380,18 @@ def _pin_faces(record: dict[str, Any], j: str) -> tuple[float, float, float, flo
     return head, 1.0 if up else -1.0, nut, -1.0 if up else 1.0
 
 
+def _pin_keys(x: float, y: float, head_z: float, up: float, pin: dict[str, Any]) -> list:
+    """The ways a key can turn pin ``pin``'s head at (x, y) mm: its long arm in the socket
+    along the axis, or its short arm in it and the long arm as a handle in the plane, in four
+    directions (none for a made pin)."""
+    if pin["screw"] is None:
+        return [()]
+    key = _key(pin["screw"])
+    top = head_z + up * fs.shoulder_head_mm(pin["shoulder_d_mm"])[1]
+    short = [short_key_path(x, y, top, up, key, t * math.pi / 2) for t in range(4)]
+    return [key_path(x, y, top, up, key), *short]
+
+
 def pin_step(
     record: dict[str, Any], j: str, design, angles, allow: float, needs: tuple[str, ...]
 ) -> Step:
@@ -394,16 +407,10 @@ def pin_step(
     reach = []
     for i, a in enumerate(angles):
         x, y = (1e3 * np.asarray(getattr(pose(design, *a), j))).tolist()
-        keys = (
-            ()
-            if screw is None
-            else key_path(
-                x, y, head_z + up * fs.shoulder_head_mm(pin["shoulder_d_mm"])[1], up, _key(screw)
-            )
-        )
-        for turn in range(4):
-            slab = spanner_slab(x, y, nut_z, nut_z + down * nut_h, across, turn * math.pi / 2)
-            reach.append((i, (*keys, slab)))
+        for keys in _pin_keys(x, y, head_z, up, pin):
+            for turn in range(4):
+                slab = spanner_slab(x, y, nut_z, nut_z + down * nut_h, across, turn * math.pi / 2)
+                reach.append((i, (*keys, slab)))
     a, b = (n.replace("_", " ") for n in PIN_PLATES[j])
     name = screw or pin["made"]
     tool = Tool("hexagon key and open spanner", _key(screw).name if screw else "spanners",

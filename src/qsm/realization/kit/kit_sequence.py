@@ -183,13 +183,32 @@ def key_path(x: float, y: float, z: float, sign: float, key: Any) -> tuple[Prism
     return arm, turn
 
 
+def short_key_path(
+    x: float, y: float, z: float, sign: float, key: Any, angle: float
+) -> tuple[Prism, ...]:
+    """An ISO 2936 key turned the other way: its short arm in a socket whose top is at (x, y,
+    z) mm, along ``sign`` z, and its long arm as a handle in the plane at the short arm's end,
+    out at ``angle`` rad (turned in strokes about it)."""
+    corners = key.key_mm / 0.866 + 1.0
+    end = z + sign * key.short_arm_mm
+    arm = Prism("z", disc(x, y, corners), min(z, end), max(z, end))
+    return arm, spanner_slab(x, y, end, end + sign * corners, corners, angle, 0.0, key.long_arm_mm)
+
+
 def spanner_slab(
-    x: float, y: float, z0: float, z1: float, across: float, angle: float, start: float = 0.0
+    x: float,
+    y: float,
+    z0: float,
+    z1: float,
+    across: float,
+    angle: float,
+    start: float = 0.0,
+    length: float = 100.0,
 ) -> Prism:
     """A tool's room in the plane at (x, y) mm between ``z0`` and ``z1``: a strip ``across``
-    wide, from ``start`` to ``start`` + 100 mm out at ``angle`` rad (an open spanner on a nut,
-    a key to a set screw in a boss of radius ``start``)."""
-    strip = shapely.box(start, -across / 2, start + 100.0, across / 2)
+    wide, from ``start`` to ``start`` + ``length`` mm out at ``angle`` rad (an open spanner on
+    a nut, a key to a set screw in a boss of radius ``start``, a key's handle)."""
+    strip = shapely.box(start, -across / 2, start + length, across / 2)
     strip = affinity.rotate(strip, angle, origin=(0, 0), use_radians=True)
     return Prism("z", affinity.translate(strip, x, y), min(z0, z1), max(z0, z1))
 
