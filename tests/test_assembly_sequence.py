@@ -8,6 +8,7 @@ from __future__ import annotations
 import copy
 import itertools
 import math
+import re
 
 import numpy as np
 import pytest
@@ -245,7 +246,7 @@ def test_the_nut_ends_facing_the_cheeks_clear_them_and_each_solid_names_its_fram
         beyond = pin["fill_spacers"] * washer + pin["shims_mm"] + pin["axial_float_mm"]
         assert gap >= (beyond if pin["screw"] else 0.0) + end + 1.0 - 1e-9
     layout = record["layout"]
-    assert set(layout["moves_with"]) == set(layout["plates"]) | set(layout["turned"])
+    assert set(layout["moves_with"]) == {*layout["plates"], *layout["turned"], *layout["hardware"]}
     assert layout["moves_with"]["hub_1"] == "lower_arm"
     assert layout["moves_with"]["cheek_2"] == "base"
 
@@ -352,41 +353,50 @@ def test_the_gap_to_a_link_s_true_outline_agrees_with_the_placed_plates(kit):
 
 
 def _overlaps(solids: dict, moves: dict, frames: tuple, pairs: set | None = None) -> dict:
-    """The pairs of ``solids`` (build123d, read back from the STEP) that share more than 1 mm^3
-    once each is moved with its link (``moves``) from the frames ``frames[0]`` to
+    """The pairs of ``solids`` (OpenCASCADE shapes read back from the STEP) that share more
+    than 1 mm^3 once each is moved with its link (``moves``) from the frames ``frames[0]`` to
     ``frames[1]``; only ``pairs`` where given."""
-    from build123d import Pos, Rot
+    from OCP.Bnd import Bnd_Box
+    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
+    from OCP.BRepBndLib import BRepBndLib
+    from OCP.BRepGProp import BRepGProp
+    from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
+    from OCP.GProp import GProp_GProps
+    from OCP.TopLoc import TopLoc_Location
 
-    placed = {}
-    for name, solid in solids.items():
-        link = moves[name]
-        if link == "base":
-            placed[name] = solid
-            continue
-        (x0, y0), a = frames[0][link]
-        (x1, y1), b = frames[1][link]
-        move = (
-            Pos(1e3 * x1, 1e3 * y1, 0) * Rot(0, 0, np.degrees(b - a)) * Pos(-1e3 * x0, -1e3 * y0, 0)
-        )
-        placed[name] = move * solid
-    boxes = {n: s.bounding_box() for n, s in placed.items()}
+    pairs = pairs or set(itertools.combinations(solids, 2))
+    placed, boxes = {}, {}
+    for name in {n for pair in pairs for n in pair}:
+        shape, link = solids[name], moves[name]
+        if link != "base":
+            (x0, y0), a = frames[0][link]
+            (x1, y1), b = frames[1][link]
+            there, turn, back = gp_Trsf(), gp_Trsf(), gp_Trsf()
+            back.SetTranslation(gp_Vec(-1e3 * x0, -1e3 * y0, 0.0))
+            turn.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), b - a)
+            there.SetTranslation(gp_Vec(1e3 * x1, 1e3 * y1, 0.0))
+            shape = shape.Moved(TopLoc_Location(there.Multiplied(turn.Multiplied(back))))
+        placed[name], boxes[name] = shape, Bnd_Box()
+        BRepBndLib.Add_s(shape, boxes[name])
     out = {}
-    for a, b in pairs or itertools.combinations(placed, 2):
-        if not boxes[a].overlaps(boxes[b]):
+    for a, b in sorted(pairs):
+        if boxes[a].IsOut(boxes[b]):
             continue
-        common = placed[a].intersect(placed[b]) or []
-        volume = sum(part.volume for part in common)
-        if volume > 1.0:
-            out[(a, b)] = volume
+        props = GProp_GProps()
+        BRepGProp.VolumeProperties_s(BRepAlgoAPI_Common(placed[a], placed[b]).Shape(), props)
+        if props.Mass() > 1.0:
+            out[(a, b)] = props.Mass()
     return out
 
 
 def test_the_assembly_step_read_back_has_no_overlap_at_six_poses(kit, tmp_path):
     """``assembly.step`` read back with build123d (not the writer's code), each solid moved with
     the link ``moves_with`` names: at six poses over the operating range (the corners and the
-    middle of theta1, near the two ends of theta2's span) no two solids share more than 1
-    mm^3 (solids that move together are checked once, at the layout's pose). Hub 1 moved 5 mm
-    into the lower arm's layer does, so the check can see one."""
+    middle of theta1, near the two ends of theta2's span) no two solids, parts and hardware,
+    share more than 1 mm^3 (solids that move together are checked once, at the layout's pose,
+    where only the drives' mounting screws enter another solid: the drives' envelopes, at
+    their tapped faces). Hub 1 moved 5 mm into the lower arm's layer overlaps, so the check can
+    see one."""
     from build123d import Pos, import_step
 
     from qsm.physics.kinematics import pose
@@ -395,12 +405,19 @@ def test_the_assembly_step_read_back_has_no_overlap_at_six_poses(kit, tmp_path):
 
     done, record = kit[0], kit[1].record
     layout, s = record["layout"], KitSettings()
-    solids = {c.label: c for c in import_step(write_step(layout, tmp_path)["assembly"]).children}
+    named = {re.sub(r"[ .]", "_", n): n for n in layout["moves_with"]}  # build123d's labels
+    read = import_step(write_step(layout, tmp_path)["assembly"]).children
+    solids = {named[c.label]: c.wrapped for c in read}
     assert set(solids) == set(layout["moves_with"])
+    assert any(n.startswith("ISO 4762 ") and n.endswith(", 1 of 6") for n in solids)
     start = _link_frames(done.design, *np.radians(layout["pose_deg"]))
     moves = layout["moves_with"]
-    moving = {(a, b) for a, b in itertools.combinations(solids, 2) if moves[a] != moves[b]}
-    assert not _overlaps(solids, moves, (start, start))
+    moving = {(a, b) for a, b in itertools.combinations(sorted(solids), 2) if moves[a] != moves[b]}
+    tapped = {  # the drives' mounting screws in their tapped faces (the drives are envelopes)
+        (f"drive_{k}", n) for k in (1, 2) for n in solids
+        if n.startswith("ISO 4762 ") and f", drive {k} to cheek {k}, " in n
+    }  # fmt: skip
+    assert set(_overlaps(solids, moves, (start, start))) == tapped
     poses = 0
     for t1 in np.radians(np.linspace(*s.theta1_deg, 3)):
         for frac in (0.15, 0.85):
@@ -410,7 +427,7 @@ def test_the_assembly_step_read_back_has_no_overlap_at_six_poses(kit, tmp_path):
                 frames = (start, _link_frames(done.design, t1, t2))
                 assert not _overlaps(solids, moves, frames, moving), (t1, t2)
     assert poses == 6
-    solids["hub_1"] = Pos(0, 0, 5.0) * solids["hub_1"]
+    solids["hub_1"] = (Pos(0, 0, 5.0) * read[[c.label for c in read].index("hub_1")]).wrapped
     assert ("lower_arm", "hub_1") in _overlaps(
         solids, moves, (start, start), {("lower_arm", "hub_1")}
     )

@@ -475,9 +475,10 @@ def test_the_design_to_build(run):
 
 def test_the_builders_kit_reopens_and_adds_up(run):
     """Every STEP file of the kit reopens in the CAD kernel as one closed solid, the assembly
-    as one solid per part (and drive envelope); every DXF reads back with ezdxf, with one
-    outline and the plate's holes and openings; the BOM lists every fastener of the kit with
-    quantities that add up; the budget counts the base; the summary numbers the steps."""
+    as one solid per part, drive envelope and piece of hardware; every DXF reads back with
+    ezdxf, with one outline and the plate's holes and openings; the BOM lists every fastener
+    of the kit with quantities that add up; the budget counts the base; the summary numbers
+    the steps."""
     import ezdxf
     from build123d import import_step
 
@@ -486,7 +487,8 @@ def test_the_builders_kit_reopens_and_adds_up(run):
     layout = kit["layout"]
     for path in (kit_dir / "step").glob("*.step"):
         shape = import_step(path)
-        expected = len(layout["plates"]) + len(layout["turned"]) if path.stem == "assembly" else 1
+        parts = len(layout["plates"]) + len(layout["turned"]) + len(layout["hardware"])
+        expected = parts if path.stem == "assembly" else 1
         assert len(shape.solids()) == expected and shape.is_valid, path.name
     assert {p.stem for p in (kit_dir / "step").glob("*.step")} >= set(layout["plates"])
     for name, plate in layout["plates"].items():

@@ -29,6 +29,7 @@ from qsm.embodiment.kit.interfaces import DriveInterface, interface_of
 from qsm.embodiment.parts.link_parts import LinkPart
 from qsm.physics.kinematics import pose
 from qsm.realization.kit import kit_bom as kb
+from qsm.realization.kit import kit_hardware as kh
 from qsm.realization.kit import kit_layout as kl
 from qsm.realization.kit import kit_steps as ks
 from qsm.realization.kit.kit_assembly import HUB_LINKS as HUB_LINK_OF
@@ -647,8 +648,12 @@ def _seat_problems(seats: list[dict[str, Any]]) -> list[str]:
 def _with_sequence(
     record: dict[str, Any], done: Realization, parts: dict[str, LinkPart], s: KitSettings
 ) -> None:
-    """``record`` with its assembly sequence (:mod:`qsm.realization.kit.kit_assembly`), the
-    steps as a person reads them, each part's step, and the sequence's check and problem."""
+    """``record`` with its hardware's solids (:mod:`qsm.realization.kit.kit_hardware`), its
+    assembly sequence (:mod:`qsm.realization.kit.kit_assembly`), the steps as a person reads
+    them, each part's step, and the sequence's check and problem."""
+    solids, moves = kh.hardware(record, done.design, done.strength["bearings"])
+    record["layout"]["hardware"] = solids
+    record["layout"]["moves_with"] |= moves
     allow = {k: float(v["allowable_MPa"]) for k, v in done.strength["links"].items()}
     found = kit_sequence(
         record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow,

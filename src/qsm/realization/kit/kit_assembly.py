@@ -207,7 +207,7 @@ def cheek_screw_step(record: dict[str, Any], k: int, after: str) -> Step:
                 _screw_tool(screw), ((0, _y_keys(points, top, -1.0, screw)),))  # fmt: skip
 
 
-def _faces(record: dict[str, Any], k: int) -> tuple[float, float, float]:
+def link_faces(record: dict[str, Any], k: int) -> tuple[float, float, float]:
     """Motor ``k``'s link: its face toward the drive, its far face (z, mm), and its cheek's
     inner face."""
     stack, t = record["stack_mm"], record["layout"]["plates"][HUB_LINKS[k]]["thickness_mm"]
@@ -227,7 +227,7 @@ def mount_step(record: dict[str, Any], k: int, needs: tuple, group: str = "") ->
     screw = fs.cap_screw(iface["mount_thread"], cheek["pocket"]["web_mm"], True, "").name
     start = math.radians(45.0 if iface["mount_bolts"] == 4 else 0.0)
     points = ring(iface["mount_pcd_mm"], iface["mount_bolts"], start)
-    top = _faces(record, k)[2] - TOWARD[k] * fs.screw_head_mm(iface["mount_thread"])[1]
+    top = link_faces(record, k)[2] - TOWARD[k] * fs.screw_head_mm(iface["mount_thread"])[1]
     reach = ((0, keys_on(points, top, -TOWARD[k], screw)),)
     return Step(f"drive {k} screws", f"Bolt drive {k} ({iface['drive']}) to cheek {k}: "
                 f"{iface['mount_bolts']} x {screw} from the cheek's inner face.", (), needs,
@@ -240,7 +240,7 @@ def link_screw_step(record: dict[str, Any], k: int, angles, needs: tuple, allow_
     ``allow_MPa`` under the washers or the hub's flange)."""
     hub, link = record["hubs"][k - 1], HUB_LINKS[k]
     s = hub["link_screws"]
-    near, far, _ = _faces(record, k)
+    near, far, _ = link_faces(record, k)
     head = fs.washer_mm(s["thread"])[2] + fs.screw_head_mm(s["thread"])[1]
     if s["side"] == "link":
         top, sign = far - TOWARD[k] * head, -TOWARD[k]
@@ -267,7 +267,7 @@ def flange_drive_steps(
     the drive, link, and the link's screws into the hub's tapped flange; in place, or (``bench``:
     the module's name) on the bench, the module then brought onto the arm along the axis."""
     hub, link, iface = record["hubs"][k - 1], HUB_LINKS[k], record["drives"][k - 1]
-    near = _faces(record, k)[0]
+    near = link_faces(record, k)[0]
     flange = hub["flange_screw"]
     reach = _per_pose(
         angles,
@@ -329,7 +329,7 @@ def shaft_drive_steps(record: dict[str, Any], k: int, placed, angles, allow: flo
     hub, link, iface = record["hubs"][k - 1], HUB_LINKS[k], record["drives"][k - 1]
     module, away = f"drive module {k}", _z(-TOWARD[k])
     stroke = iface["shaft_length_mm"] + 2.0
-    near, _, inner = _faces(record, k)
+    near, _, inner = link_faces(record, k)
     thread = hub["set_screw"].split()[2]
     key = fs.hex_key(fs.Fastener("ISO 4029", "", thread, float(thread[1:]), 0.0, ""))
     mid = (near + TOWARD[k] * jt.FLANGE_MM + inner) / 2
@@ -369,7 +369,7 @@ def shaft_drive_steps(record: dict[str, Any], k: int, placed, angles, allow: flo
     ]  # fmt: skip
 
 
-def _pin_faces(record: dict[str, Any], j: str) -> tuple[float, float, float, float]:
+def pin_faces(record: dict[str, Any], j: str) -> tuple[float, float, float, float]:
     """Pin ``j``'s head face and direction (its plate's outer face, away from the seat), and
     its nut's face and direction (the seat's outer face), z mm."""
     seat, other = PIN_PLATES[j]
@@ -400,7 +400,7 @@ def pin_step(
     arm."""
     pin = record["pins"][j]
     screw = pin["screw"]
-    head_z, up, nut_z, down = _pin_faces(record, j)
+    head_z, up, nut_z, down = pin_faces(record, j)
     thread = pin["nut"].split()[-1]
     nut_h = fs.washer_mm(thread)[2] + fs.nut_height_mm(thread)
     across = fs.nut_across_corners_mm(thread) + 10.0

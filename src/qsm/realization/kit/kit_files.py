@@ -69,7 +69,7 @@ def plate_solid(plate: dict[str, Any]) -> TopoDS_Shape:
 
 def turned_solid(part: dict[str, Any]) -> TopoDS_Shape:
     """A turned part's solid (mm): its coaxial cylinders fused, along +z from its lowest, less
-    the bore through them."""
+    the bore through them and its ``holes`` (x, y about its axis, diameter, z from, z to)."""
     shape = None
     for d, a, b in part["steps"]:
         cylinder = BRepPrimAPI_MakeCylinder(
@@ -79,6 +79,9 @@ def turned_solid(part: dict[str, Any]) -> TopoDS_Shape:
     if part["bore_mm"] > 0:
         bore = BRepPrimAPI_MakeCylinder(part["bore_mm"] / 2, part["length_mm"]).Shape()
         shape = BRepAlgoAPI_Cut(shape, bore).Shape()
+    for x, y, d, a, b in part.get("holes", []):
+        at = gp_Ax2(gp_Pnt(x, y, a - part["z0_mm"]), gp_Dir(0, 0, 1))
+        shape = BRepAlgoAPI_Cut(shape, BRepPrimAPI_MakeCylinder(at, d / 2, b - a).Shape()).Shape()
     return shape
 
 
@@ -116,7 +119,8 @@ def _write(shapes: dict[str, TopoDS_Shape], path: str) -> None:
 
 def write_step(layout: dict[str, Any], folder: str | Path) -> dict[str, str]:
     """``folder/<part>.step`` for every plate and turned part, and ``folder/assembly.step``
-    with every part placed and the drives' envelopes; returns the paths by name."""
+    with every part placed, the drives' envelopes and the hardware
+    (:mod:`qsm.realization.kit.kit_hardware`); returns the paths by name."""
     out = Path(folder)
     out.mkdir(parents=True, exist_ok=True)
     paths, placed = {}, {}
@@ -132,6 +136,9 @@ def write_step(layout: dict[str, Any], folder: str | Path) -> dict[str, str]:
             _write({name: solid}, paths[name])
         x, y = part["at_mm"]
         placed[name] = _placed(solid, [x, y, part["z0_mm"]], [0, 0, 1], [1, 0, 0])
+    for name, part in layout.get("hardware", {}).items():
+        x, y = part["at_mm"]
+        placed[name] = _placed(turned_solid(part), [x, y, part["z0_mm"]], [0, 0, 1], [1, 0, 0])
     paths["assembly"] = str(out / "assembly.step")
     _write(placed, paths["assembly"])
     return paths

@@ -184,6 +184,21 @@ def _hub_steps(hub: dict[str, Any], link_face: float, toward: int, drive_face: f
     ]
 
 
+def _hub_holes(hub: dict[str, Any], link_face: float, toward: int, angle: float) -> list:
+    """The holes (x, y, diameter, z from, z to; mm) through a hub's flange for its link screws,
+    on their bolt circle turned with the link (``angle`` rad, the first 30 degrees from its
+    axis): tapped (the thread's diameter) where the screws come from the link, clearance holes
+    where they come from the hub."""
+    s = hub["link_screws"]
+    if not s["thread"]:
+        return []
+    d = float(s["thread"][1:]) if s["side"] == "link" else fs.clearance_hole_mm(s["thread"])
+    z = sorted((link_face, link_face + toward * jt.FLANGE_MM))
+    a = angle + math.radians(30) + 2 * math.pi * np.arange(jt.HUB_SCREWS) / jt.HUB_SCREWS
+    r = s["pcd_mm"] / 2
+    return [[r * math.cos(t), r * math.sin(t), d, *z] for t in a]
+
+
 def kit_geometry(
     design: np.ndarray,
     parts: dict[str, LinkPart],
@@ -212,7 +227,9 @@ def kit_geometry(
     for hub in hubs:
         k, iface = hub["motor"], drives[hub["motor"] - 1]["interface"]
         bore = iface.shaft_d_mm if iface.output == "shaft" else 0.0
-        out[f"hub_{k}"] = turned(_hub_steps(hub, *faces[k]), bore)
+        out[f"hub_{k}"] = turned(_hub_steps(hub, *faces[k]), bore) | {
+            "holes": _hub_holes(hub, faces[k][0], faces[k][1], angles[k - 1])
+        }
         face = faces[k][2]
         z = (face - iface.body_length_mm, face) if k == 1 else (face, face + iface.body_length_mm)
         out[f"drive_{k}"] = turned([(iface.body_d_mm, *z)])
