@@ -114,17 +114,21 @@ def _drive_name(drive: dict[str, Any]) -> str:
     return f"{drive['motor']} + {drive['gearbox']}" if drive else "no drive"
 
 
-def _sweep(done: Realization, s: KitSettings) -> dict[str, np.ndarray]:
-    """The joints' positions (mm, (61, 61, 2)) over the operating range (a 61 x 61 grid of
-    the motors' angles), NaN where the loop does not close."""
+def _grid(s: KitSettings) -> tuple[np.ndarray, np.ndarray]:
+    """The motors' angles (rad, (61, 61)) over the operating range."""
     t1 = np.radians(np.linspace(*s.theta1_deg, 61))[:, None]
     frac = np.linspace(0.0, 1.0, 61)[None, :]
     t2 = np.radians(s.theta2_min_deg) + frac * (t1 - np.radians(s.theta2_min_deg))
-    t1 = np.broadcast_to(t1, t2.shape)
-    p = pose(done.design, t1, t2)
+    return np.broadcast_to(t1, t2.shape), t2
+
+
+def _sweep(done: Realization, s: KitSettings) -> dict[str, np.ndarray]:
+    """The joints' positions (mm, (61, 61, 2)) over the operating range (:func:`_grid`), NaN
+    where the loop does not close."""
+    p = pose(done.design, *_grid(s))
     ok = p.closes[..., None]
     return {
-        "A": np.zeros((*t1.shape, 2)),
+        "A": np.zeros((*ok.shape[:-1], 2)),
         **{j: 1e3 * np.where(ok, getattr(p, j), np.nan) for j in "BCDE"},
     }
 
@@ -161,14 +165,10 @@ FRAME_ORIGINS = {"lower_arm": "A", "crank": "A", "coupler": "C", "upper_arm": "B
 def outline_gap_mm(
     done: Realization, parts: dict[str, LinkPart], s: KitSettings, link: str, joint: str
 ) -> float:
-    """The least distance (mm) over the operating range (:func:`_sweep`) from ``joint`` to the
+    """The least distance (mm) over the operating range (:func:`_grid`) from ``joint`` to the
     ``link``'s true outline (its plate filled in: a head passes under no opening), 0 where
     the outline passes over it; poses where the loop does not close are left out."""
-    t1 = np.radians(np.linspace(*s.theta1_deg, 61))[:, None]
-    t2 = np.radians(s.theta2_min_deg) + np.linspace(0.0, 1.0, 61)[None, :] * (
-        t1 - np.radians(s.theta2_min_deg)
-    )
-    t1 = np.broadcast_to(t1, t2.shape)
+    t1, t2 = _grid(s)
     p = pose(done.design, t1, t2)
     at = {j: 1e3 * np.asarray(getattr(p, j)) for j in "BCD"} | {"A": np.zeros((*t1.shape, 2))}
     cd = at["D"] - at["C"]

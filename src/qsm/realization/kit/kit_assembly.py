@@ -221,12 +221,19 @@ def _per_pose(angles, k: int, build) -> tuple:
     return tuple((i, build(a[k - 1])) for i, a in enumerate(angles))
 
 
-def mount_step(record: dict[str, Any], k: int, needs: tuple, group: str = "") -> Step:
-    """Drive ``k``'s mounting screws through its cheek, heads on the cheek's inner face."""
+def mount_screws(record: dict[str, Any], k: int) -> tuple[str, list[tuple[float, float]]]:
+    """Drive ``k``'s mounting screw (an order line, through its cheek's web) and where each
+    goes (mm about A: a square pattern of 4 turned by 45 degrees)."""
     iface, cheek = record["drives"][k - 1], record["base"]["cheeks"][k - 1]
     screw = fs.cap_screw(iface["mount_thread"], cheek["pocket"]["web_mm"], True, "").name
     start = math.radians(45.0 if iface["mount_bolts"] == 4 else 0.0)
-    points = ring(iface["mount_pcd_mm"], iface["mount_bolts"], start)
+    return screw, ring(iface["mount_pcd_mm"], iface["mount_bolts"], start)
+
+
+def mount_step(record: dict[str, Any], k: int, needs: tuple, group: str = "") -> Step:
+    """Drive ``k``'s mounting screws through its cheek, heads on the cheek's inner face."""
+    iface = record["drives"][k - 1]
+    screw, points = mount_screws(record, k)
     top = link_faces(record, k)[2] - TOWARD[k] * fs.screw_head_mm(iface["mount_thread"])[1]
     reach = ((0, keys_on(points, top, -TOWARD[k], screw)),)
     return Step(f"drive {k} screws", f"Bolt drive {k} ({iface['drive']}) to cheek {k}: "

@@ -26,6 +26,7 @@ from qsm.realization.kit.kit_assembly import (
     HUB_LINKS,
     PIN_PLATES,
     link_faces,
+    mount_screws,
     pin_faces,
     ring,
 )
@@ -170,13 +171,9 @@ def hub_hardware(record: dict[str, Any], k: int, link_angle: float) -> dict:
 
 def mount_hardware(record: dict[str, Any], k: int) -> dict:
     """Drive ``k``'s mounting screws, heads on its cheek's inner face, into the drive."""
-    iface, cheek = record["drives"][k - 1], record["base"]["cheeks"][k - 1]
-    screw = fs.cap_screw(iface["mount_thread"], cheek["pocket"]["web_mm"], True, "").name
-    start = math.radians(45.0 if iface["mount_bolts"] == 4 else 0.0)
-    points = ring(iface["mount_pcd_mm"], iface["mount_bolts"], start)
-    return _screws(
-        screw, points, link_faces(record, k)[2], -TOWARD[k], "base", f"drive {k} to cheek {k}"
-    )
+    screw, points = mount_screws(record, k)
+    where = f"drive {k} to cheek {k}"
+    return _screws(screw, points, link_faces(record, k)[2], -TOWARD[k], "base", where)
 
 
 def hardware(
