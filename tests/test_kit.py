@@ -204,6 +204,42 @@ def test_step_files_reopen_as_closed_solids_and_dxf_reads_back(tmp_path):
     assert layers.count("OUTLINE") == 1 and layers.count("HOLES") == 2
 
 
+def test_a_hub_s_keyway_and_set_screw_hole_and_a_cheek_s_tapped_edge_by_hand(tmp_path):
+    """A 20 mm hub on a 12 mm bore, 30 mm long, less a 4 mm keyway 7.8 mm from the axis (DIN
+    6885-1's 1.8 mm past the bore) at 0 rad, and a 4 mm hole across the wall at z = 15, at pi
+    rad: the keyway takes 30 (4 x 7.8 - the bore's segment) mm^3 and the hole the integral of
+    its chords between r = 6 and 10. A 40 x 50 x 10 mm plate less a 5 mm hole 20 mm up from its
+    bottom edge at mid-thickness. Each read back from its STEP file and probed where the cuts
+    are."""
+    from build123d import Vector
+    from scipy.integrate import quad
+
+    hub = kl.turned([(20.0, 0.0, 30.0)], 12.0) | {
+        "keyways": [[0.0, 4.0, 7.8, 0.0, 30.0]],
+        "cross_holes": [[math.pi, 15.0, 4.0]],
+    }
+    plate = {"outline": [[-20, -50], [20, -50], [20, 0], [-20, 0]], "holes": [],
+             "thickness_mm": 10.0, "origin": [0, 0, 0], "x_dir": [1, 0, 0], "normal": [0, 0, 1],
+             "edge_holes": [[0.0, 5.0, -50.0, -30.0]]}  # fmt: skip
+    paths = write_step({"plates": {"cheek": plate}, "turned": {"hub": hub}}, tmp_path)
+    segment = 2 * (2 * math.sqrt(32) / 2 + 18 * math.asin(2 / 6))  # the bore's, |y| < 2
+
+    def chord(w: float) -> float:  # the hole's width at w times the wall's depth there
+        return 2 * math.sqrt(4 - w * w) * (math.sqrt(100 - w * w) - math.sqrt(36 - w * w))
+
+    chords = quad(chord, -2, 2)[0]
+    solid = import_step(paths["hub"])
+    ring = math.pi / 4 * (20**2 - 12**2) * 30
+    assert solid.volume == pytest.approx(ring - 30 * (4 * 7.8 - segment) - chords, rel=2e-3)
+    assert not solid.is_inside(Vector(7.0, 0.0, 3.0))  # in the keyway
+    assert solid.is_inside(Vector(-7.0, 0.0, 3.0))
+    assert not solid.is_inside(Vector(-8.0, 0.0, 15.0))  # in the set screw's hole
+    assert solid.is_inside(Vector(-8.0, 0.0, 20.0))
+    cheek = import_step(paths["cheek"])
+    assert cheek.volume == pytest.approx(40 * 50 * 10 - math.pi / 4 * 25 * 20, rel=1e-6)
+    assert not cheek.is_inside(Vector(0.0, -40.0, 5.0)) and cheek.is_inside(Vector(0, -25, 5))
+
+
 def _area(ring: list) -> float:
     x, y = np.asarray(ring).T
     return 0.5 * abs(np.dot(x, np.roll(y, 1)) - np.dot(y, np.roll(x, 1)))

@@ -184,6 +184,15 @@ def insert(thread: str) -> tuple[float, float, str]:
     return float(row["length_mm"]), float(row["hole_mm"]), row["designation"]
 
 
+def key_hub_depth_mm(w_mm: float, h_mm: float) -> float:
+    """The depth (mm) of the DIN 6885-1 keyway in a hub beyond its bore, for a ``w_mm`` x
+    ``h_mm`` key."""
+    for row in table("din6885"):
+        if float(row["w_mm"]) == w_mm and float(row["h_mm"]) == h_mm:
+            return float(row["t2_mm"])
+    raise FastenerError(f"DIN 6885-1: no {w_mm:g} x {h_mm:g} key")
+
+
 def insert_threads() -> list[str]:
     """The threads of the insert table, smallest first."""
     return [row["thread"] for row in table("inserts")]

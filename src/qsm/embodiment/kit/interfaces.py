@@ -19,6 +19,7 @@ from pathlib import Path
 from typing import Any
 
 from qsm.embodiment.drives.catalogue import catalogue_folder
+from qsm.embodiment.kit import fasteners as fs
 
 COLUMNS: tuple[str, ...] = (
     "key",
@@ -44,18 +45,6 @@ COLUMNS: tuple[str, ...] = (
 SHAFT_SERIES_MM = (6, 8, 10, 12, 14, 16, 19, 20, 22, 24, 25, 28, 30, 32, 35, 38, 40, 42, 45, 50)
 #: Allowable torsional shear (MPa) of an assumed steel output shaft (keyway included).
 ASSUMED_SHAFT_SHEAR_MPA = 60.0
-#: DIN 6885-1 parallel keys by shaft diameter: (largest shaft d, key width, key height) mm.
-DIN6885 = (
-    (8, 2, 2),
-    (10, 3, 3),
-    (12, 4, 4),
-    (17, 5, 5),
-    (22, 6, 6),
-    (30, 8, 7),
-    (38, 10, 8),
-    (44, 12, 8),
-    (50, 14, 9),
-)
 
 
 @dataclass(frozen=True)
@@ -85,11 +74,11 @@ class DriveInterface:
 
 
 def din6885_key(shaft_d_mm: float) -> tuple[float, float]:
-    """Width and height (mm) of the DIN 6885-1 parallel key of a shaft of ``shaft_d_mm``."""
-    for d_max, w, h in DIN6885:
-        if shaft_d_mm <= d_max:
-            return float(w), float(h)
-    return float(DIN6885[-1][1]), float(DIN6885[-1][2])
+    """Width and height (mm) of the DIN 6885-1 parallel key of a shaft of ``shaft_d_mm`` (the
+    largest of the table's above its range)."""
+    rows = fs.table("din6885")
+    row = next((r for r in rows if shaft_d_mm <= float(r["shaft_d_max_mm"])), rows[-1])
+    return float(row["w_mm"]), float(row["h_mm"])
 
 
 def _number(text: str) -> float:

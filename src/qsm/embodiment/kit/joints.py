@@ -233,12 +233,20 @@ def hub_screws_through_link(
     return result
 
 
-def set_screw(drive: DriveInterface) -> str:
+def set_screw() -> str:
     """The ISO 4029 cup-point set screw through a shaft hub's wall (:data:`HUB_WALL_MM`) onto
-    the shaft: the largest thread the wall takes, M3 to M8."""
+    the shaft: the largest thread the wall takes, M3 to M8, as long as the wall, so that it
+    stands flush with the boss."""
     fits = [t for t in ("M3", "M4", "M5", "M6", "M8") if float(t[1:]) <= HUB_WALL_MM]
     thread = fits[-1] if fits else "M3"
-    return f"ISO 4029 {thread} x {max(4, int(drive.shaft_d_mm // 3)):g}"
+    return f"ISO 4029 {thread} x {HUB_WALL_MM:g}"
+
+
+def set_screw_z_mm(link_face_mm: float, toward: float, cheek_face_mm: float) -> float:
+    """Where (z, mm) a shaft hub's set screw sits: halfway across the gap between the hub's
+    flange (:data:`FLANGE_MM` from the link's face along ``toward``, the drive's side) and its
+    cheek's inner face, where a key reaches it."""
+    return (link_face_mm + toward * FLANGE_MM + cheek_face_mm) / 2
 
 
 def hub_boss_mm(drive: DriveInterface) -> float:
@@ -285,7 +293,7 @@ def hub(
         pressure = 2 * torque_Nm * 1e3 / (drive.shaft_d_mm * 0.4 * h * bearing)
         out["key"] = {"w_mm": w, "h_mm": h, "length_mm": engaged, "pressure_MPa": pressure}
         out["key_safety_factor"] = HUB_YIELD_MPA / pressure
-        out["set_screw"] = set_screw(drive)
+        out["set_screw"] = set_screw()
         out["retention"] = f"{out['set_screw']} cup point on the shaft, across the key"
         holds = holds and out["key_safety_factor"] >= required_sf
     else:

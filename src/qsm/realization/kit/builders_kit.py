@@ -412,7 +412,7 @@ def _pocket(iface: DriveInterface, t: float, gap: float) -> bs.Pocket:
     as wide as the drive's body or its diagonal, and 1 mm. None for a flange drive."""
     if iface.output != "shaft":
         return bs.Pocket()
-    d = float(jt.set_screw(iface).split()[2][1:])
+    d = float(jt.set_screw().split()[2][1:])
     short = t + (gap - jt.FLANGE_MM) / 2 + d / 2 + 1.0 - iface.shaft_length_mm
     depth = min(math.ceil(2 * max(short, 0.0)) / 2, t - bs.MIN_WEB_MM)
     if depth <= 0:
@@ -651,15 +651,15 @@ def _with_sequence(
     """``record`` with its hardware's solids (:mod:`qsm.realization.kit.kit_hardware`), its
     assembly sequence (:mod:`qsm.realization.kit.kit_assembly`), the steps as a person reads
     them, each part's step, and the sequence's check and problem."""
-    solids, moves = kh.hardware(record, done.design, done.strength["bearings"])
-    record["layout"]["hardware"] = solids
-    record["layout"]["moves_with"] |= moves
+    kit_hardware = kh.hardware(record, done.design, done.strength["bearings"])
+    record["layout"]["hardware"] = kit_hardware.solids
+    record["layout"]["moves_with"] |= kit_hardware.moves_with
     allow = {k: float(v["allowable_MPa"]) for k, v in done.strength["links"].items()}
     found = kit_sequence(
         record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow,
         done.strength["bearings"],
     )  # fmt: skip
-    sequence = record_of(found)
+    sequence = record_of(found, kit_hardware.step)
     record["assembly_sequence"] = sequence
     record["assembly_steps"] = ks.assembly_steps(sequence)
     record["step_of"] = ks.step_of(sequence)
@@ -693,7 +693,7 @@ def set_screw_reach_mm(
     link_face = stack["lower_arm"] if k == 1 else stack["crank_end"]
     toward = -1.0 if k == 1 else 1.0  # along z from the link to the drive
     face = inner + toward * t
-    screw_z = (link_face + toward * jt.FLANGE_MM + inner) / 2
+    screw_z = jt.set_screw_z_mm(link_face, toward, inner)
     d = float(hub["set_screw"].split()[2][1:])
     return toward * (screw_z - (face - toward * iface.shaft_length_mm)) - d / 2
 

@@ -121,15 +121,6 @@ def _screw_tool(screw: str, printed_MPa: float | None = None) -> Tool:
     return Tool("hexagon key", key.name, torque)
 
 
-def ring(pcd: float, n: int, start_rad: float) -> list[tuple[float, float]]:
-    """``n`` points on a circle of ``pcd`` mm about A, the first at ``start_rad``."""
-    return [
-        (pcd / 2 * math.cos(start_rad + 2 * math.pi * i / n),
-         pcd / 2 * math.sin(start_rad + 2 * math.pi * i / n))
-        for i in range(n)
-    ]  # fmt: skip
-
-
 def keys_on(points, z: float, sign: float, screw: str) -> tuple[Prism, ...]:
     """The key paths of ``screw`` at each of ``points`` (mm), socket tops at ``z``."""
     key = _key(screw)
@@ -162,12 +153,27 @@ def _y_keys(points, top: float, sign: float, screw: str) -> tuple[Prism, ...]:
     return tuple(Prism("y", disc(x, z, d), min(top, end), max(top, end)) for x, z in points)
 
 
+def table_screw_points(plate: dict[str, Any]) -> list[tuple[float, float]]:
+    """The table screws' places (x, z; mm): 15 mm in from the base ``plate``'s corners."""
+    w, (z0, z1) = plate["size_mm"][0], (plate["outline"][0][1], plate["outline"][2][1])
+    return [(x, z) for x in (-w / 2 + 15, w / 2 - 15) for z in (z0 + 15, z1 - 15)]
+
+
+def cheek_screw_points(record: dict[str, Any], k: int) -> list[tuple[float, float]]:
+    """Cheek ``k``'s fixing screws' places (x, z; mm): at x = -s, 0 and s (s = b / 2 - 10 mm),
+    in the middle of its thickness."""
+    cheek = record["base"]["cheeks"][k - 1]
+    t = cheek["thickness_mm"]
+    z = -t / 2 if k == 1 else record["stack_mm"]["cheek_2"] + t / 2
+    span = cheek["width_mm"] / 2 - 10
+    return [(x, z) for x in (-span, 0.0, span)]
+
+
 def base_steps(record: dict[str, Any]) -> list[Step]:
     """The base plate, and the plate onto the table (its four screws from above)."""
     plate = record["layout"]["plates"]["base_plate"]
     screw = record["base"]["table_screws"]["screw"]
-    w, (z0, z1) = plate["size_mm"][0], (plate["outline"][0][1], plate["outline"][2][1])
-    corners = [(x, z) for x in (-w / 2 + 15, w / 2 - 15) for z in (z0 + 15, z1 - 15)]
+    corners = table_screw_points(plate)
     top = plate["origin"][1] + fs.washer_mm("M8")[2] + fs.screw_head_mm("M8")[1]
     return [
         Step(
@@ -195,13 +201,10 @@ def cheek_screw_step(record: dict[str, Any], k: int, after: str) -> Step:
     plate = record["layout"]["plates"]["base_plate"]
     cheek = record["base"]["cheeks"][k - 1]
     screw = cheek["fixing"]["screw"]
-    z = -cheek["thickness_mm"] / 2 if k == 1 else record["stack_mm"]["cheek_2"] + (
-        cheek["thickness_mm"] / 2)  # fmt: skip
-    span = cheek["width_mm"] / 2 - 10
     bottom = plate["origin"][1] - plate["thickness_mm"]
     thread = screw.split()[2]
     top = bottom - fs.washer_mm(thread)[2] - fs.screw_head_mm(thread)[1]
-    points = [(x, z) for x in (-span, 0.0, span)]
+    points = cheek_screw_points(record, k)
     return Step(f"cheek {k} screws", f"Bolt cheek {k} to the base plate from below: 3 x "
                 f"{screw}, with ISO 7089 {thread} washers.", (), (after,), (0.0, 1.0, 0.0),
                 _screw_tool(screw), ((0, _y_keys(points, top, -1.0, screw)),))  # fmt: skip
@@ -227,7 +230,7 @@ def mount_screws(record: dict[str, Any], k: int) -> tuple[str, list[tuple[float,
     iface, cheek = record["drives"][k - 1], record["base"]["cheeks"][k - 1]
     screw = fs.cap_screw(iface["mount_thread"], cheek["pocket"]["web_mm"], True, "").name
     start = math.radians(45.0 if iface["mount_bolts"] == 4 else 0.0)
-    return screw, ring(iface["mount_pcd_mm"], iface["mount_bolts"], start)
+    return screw, kl.ring(iface["mount_pcd_mm"], iface["mount_bolts"], start)
 
 
 def mount_step(record: dict[str, Any], k: int, needs: tuple, group: str = "") -> Step:
@@ -259,7 +262,7 @@ def link_screw_step(record: dict[str, Any], k: int, angles, needs: tuple, allow_
         angles,
         k,
         lambda a: keys_on(
-            ring(s["pcd_mm"], jt.HUB_SCREWS, a + math.radians(30)), top, sign, s["screw"]
+            kl.ring(s["pcd_mm"], jt.HUB_SCREWS, a + math.radians(30)), top, sign, s["screw"]
         ),
     )
     return Step(f"hub {k} screws", f"Bolt hub {k} and the {link.replace('_', ' ')} together, "
@@ -280,7 +283,7 @@ def flange_drive_steps(
         angles,
         k,
         lambda a: keys_on(
-            ring(iface["flange_pcd_mm"], iface["flange_bolts"], a), near, -TOWARD[k], flange
+            kl.ring(iface["flange_pcd_mm"], iface["flange_bolts"], a), near, -TOWARD[k], flange
         ),
     )
     toward, away = _z(TOWARD[k]), _z(-TOWARD[k])
@@ -339,7 +342,7 @@ def shaft_drive_steps(record: dict[str, Any], k: int, placed, angles, allow: flo
     near, _, inner = link_faces(record, k)
     thread = hub["set_screw"].split()[2]
     key = fs.hex_key(fs.Fastener("ISO 4029", "", thread, float(thread[1:]), 0.0, ""))
-    mid = (near + TOWARD[k] * jt.FLANGE_MM + inner) / 2
+    mid = jt.set_screw_z_mm(near, TOWARD[k], inner)
     set_reach = _per_pose(
         angles,
         k,
@@ -450,10 +453,26 @@ def press_steps(record: dict[str, Any], bearings: dict[str, Any]) -> list[Step]:
     return out
 
 
-def arm_steps(record: dict[str, Any], placed, allow: float) -> list[Step]:
+def _flange_reach(record: dict[str, Any], design, angles, placed) -> tuple:
+    """The tool flange's way in (up under the upper arm) and its centre screw's key from the
+    arm's far face at E, at each pose."""
+    screw = record["tool_flange"]["centre_screw"]
+    thread = screw.split()[2]
+    face = record["stack_mm"]["upper_arm"] + record["layout"]["plates"]["upper_arm"]["thickness_mm"]
+    top = face + fs.washer_mm(thread)[2] + fs.screw_head_mm(thread)[1]
+    out = []
+    for (i, way), a in zip(
+        _placing("tool_flange", placed, _z(1.0), STROKE_MM), angles, strict=True
+    ):
+        e = 1e3 * np.asarray(pose(design, *a).E)
+        out.append((i, (*way, *keys_on([tuple(e)], top, 1.0, screw))))
+    return tuple(out)
+
+
+def arm_steps(record: dict[str, Any], design, angles, placed, allow: float) -> list[Step]:
     """The upper arm on the lower arm and the coupler on the upper arm (each along the axis
     onto its neighbour), and the tool flange under the upper arm at E with its centre screw
-    (the printed arm bears ``allow`` MPa under its washer)."""
+    from the arm's far face (the printed arm bears ``allow`` MPa under its washer)."""
     down, up = _z(-1.0), _z(1.0)
     steps = [
         Step("upper_arm", "Put the upper arm on the lower arm, B over B.", ("upper_arm",),
@@ -470,7 +489,7 @@ def arm_steps(record: dict[str, Any], placed, allow: float) -> list[Step]:
             Step("tool_flange", f"Fix the tool flange under the upper arm at E: {screw} from "
                  "the arm's face, with an ISO 7089 M8 washer.", ("tool_flange",),
                  ("upper_arm",), up, _screw_tool(screw, allow),
-                 _placing("tool_flange", placed, up, STROKE_MM)))  # fmt: skip
+                 _flange_reach(record, design, angles, placed)))  # fmt: skip
     return steps
 
 
@@ -489,7 +508,8 @@ def assembly_steps(
             bench = "" if k == 1 else f"motor {k} module"
             motors.append(flange_drive_steps(record, k, placed, angles, a, bench))
     steps = [*press_steps(record, bearings), base, *motors[0],
-             *arm_steps(record, placed, allow["upper_arm"]), *motors[1]]  # fmt: skip
+             *arm_steps(record, design, angles, placed, allow["upper_arm"]),
+             *motors[1]]  # fmt: skip
     arm = {part: s.key for s in steps if not s.group for part in s.places}
     pins = [
         pin_step(record, j, design, angles, allow[PIN_PLATES[j][0]],

@@ -14,6 +14,7 @@ bytes.
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 from typing import Any
 
@@ -25,7 +26,7 @@ from mpl_toolkits.mplot3d.art3d import Poly3DCollection
 from OCP.APIHeaderSection import APIHeaderSection_MakeHeader
 from OCP.BRepAlgoAPI import BRepAlgoAPI_Cut, BRepAlgoAPI_Fuse
 from OCP.BRepBuilderAPI import BRepBuilderAPI_MakeFace, BRepBuilderAPI_MakePolygon
-from OCP.BRepPrimAPI import BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakePrism
+from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCylinder, BRepPrimAPI_MakePrism
 from OCP.gp import gp_Ax2, gp_Ax3, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
 from OCP.IFSelect import IFSelect_ReturnStatus
 from OCP.Interface import Interface_Static
@@ -51,38 +52,61 @@ def _wire(points: list[list[float]]) -> TopoDS_Wire:
     return polygon.Wire()
 
 
+def _cylinder(point: tuple, direction: tuple, d: float, length: float) -> TopoDS_Shape:
+    """A cylinder (mm) of diameter ``d`` from ``point`` along ``direction`` for ``length``."""
+    axis = gp_Ax2(gp_Pnt(*map(float, point)), gp_Dir(*map(float, direction)))
+    return BRepPrimAPI_MakeCylinder(axis, d / 2, length).Shape()
+
+
+def _cut(shape: TopoDS_Shape, tools: list[TopoDS_Shape]) -> TopoDS_Shape:
+    for tool in tools:
+        shape = BRepAlgoAPI_Cut(shape, tool).Shape()
+    return shape
+
+
 def plate_solid(plate: dict[str, Any]) -> TopoDS_Shape:
     """A plate's solid (mm) in its own frame: the outline less the holes, extruded along +z,
-    less its ``pocket`` (a cheek's, about its origin) where it has one."""
+    less its ``pocket`` (a cheek's, about its origin) where it has one and its ``edge_holes``
+    (x, diameter, y from, y to: tapped holes along y at mid-thickness)."""
     ring = shapely.geometry.polygon.orient(shapely.Polygon(plate["outline"], plate["holes"]))
     face = BRepBuilderAPI_MakeFace(_wire(list(ring.exterior.coords)[:-1]), True)
     for hole in ring.interiors:  # clockwise: the face's inner wires
         face.Add(_wire(list(hole.coords)[:-1]))
-    solid = BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, plate["thickness_mm"])).Shape()
+    t = plate["thickness_mm"]
+    solid = BRepPrimAPI_MakePrism(face.Face(), gp_Vec(0, 0, t)).Shape()
     pocket = plate.get("pocket") or {}
-    if pocket.get("depth_mm", 0.0) <= 0:
-        return solid
-    floor = gp_Ax2(gp_Pnt(0, 0, pocket["z0_mm"]), gp_Dir(0, 0, 1))
-    cut = BRepPrimAPI_MakeCylinder(floor, pocket["d_mm"] / 2, pocket["depth_mm"]).Shape()
-    return BRepAlgoAPI_Cut(solid, cut).Shape()
+    cuts = [
+        _cylinder((x, a, t / 2), (0, 1, 0), d, b - a) for x, d, a, b in plate.get("edge_holes", [])
+    ]
+    if pocket.get("depth_mm", 0.0) > 0:
+        cuts.append(
+            _cylinder((0, 0, pocket["z0_mm"]), (0, 0, 1), pocket["d_mm"], pocket["depth_mm"])
+        )
+    return _cut(solid, cuts)
 
 
 def turned_solid(part: dict[str, Any]) -> TopoDS_Shape:
     """A turned part's solid (mm): its coaxial cylinders fused, along +z from its lowest, less
-    the bore through them and its ``holes`` (x, y about its axis, diameter, z from, z to)."""
-    shape = None
+    the bore through them, its ``holes`` (x, y about its axis, diameter, z from, z to), its
+    ``cross_holes`` (angle rad, z, diameter: from the axis out, across) and its ``keyways``
+    (angle rad, width, depth from the axis, z from, z to)."""
+    z0, shape = part["z0_mm"], None
     for d, a, b in part["steps"]:
-        cylinder = BRepPrimAPI_MakeCylinder(
-            gp_Ax2(gp_Pnt(0, 0, a - part["z0_mm"]), gp_Dir(0, 0, 1)), d / 2, b - a
-        ).Shape()
+        cylinder = _cylinder((0, 0, a - z0), (0, 0, 1), d, b - a)
         shape = cylinder if shape is None else BRepAlgoAPI_Fuse(shape, cylinder).Shape()
-    if part["bore_mm"] > 0:
-        bore = BRepPrimAPI_MakeCylinder(part["bore_mm"] / 2, part["length_mm"]).Shape()
-        shape = BRepAlgoAPI_Cut(shape, bore).Shape()
-    for x, y, d, a, b in part.get("holes", []):
-        at = gp_Ax2(gp_Pnt(x, y, a - part["z0_mm"]), gp_Dir(0, 0, 1))
-        shape = BRepAlgoAPI_Cut(shape, BRepPrimAPI_MakeCylinder(at, d / 2, b - a).Shape()).Shape()
-    return shape
+    bore = part["bore_mm"]
+    cuts = [_cylinder((0, 0, 0), (0, 0, 1), bore, part["length_mm"])] if bore > 0 else []
+    cuts += [
+        _cylinder((x, y, a - z0), (0, 0, 1), d, b - a) for x, y, d, a, b in part.get("holes", [])
+    ]
+    r = part["d_mm"]
+    for t, z, d in part.get("cross_holes", []):
+        cuts.append(_cylinder((0, 0, z - z0), (math.cos(t), math.sin(t), 0), d, r))
+    for t, w, depth, a, b in part.get("keyways", []):
+        corner = gp_Pnt(w / 2 * math.sin(t), -w / 2 * math.cos(t), a - z0)  # the box's y: across
+        frame = gp_Ax2(corner, gp_Dir(0, 0, 1), gp_Dir(math.cos(t), math.sin(t), 0))
+        cuts.append(BRepPrimAPI_MakeBox(frame, depth, w, b - a).Shape())
+    return _cut(shape, cuts)
 
 
 def _placed(shape: TopoDS_Shape, origin: list, normal: list, x_dir: list) -> TopoDS_Shape:
@@ -117,6 +141,17 @@ def _write(shapes: dict[str, TopoDS_Shape], path: str) -> None:
         raise RuntimeError(f"OpenCASCADE could not write {path}")
 
 
+def _frame_of(part: dict[str, Any]) -> tuple[list, list, list]:
+    """Where a turned part's own frame sits: its lowest point on its axis, the axis and its x
+    direction; along z at ``at_mm``, or along its ``frame`` (origin, normal, x_dir)."""
+    frame = part.get("frame")
+    if frame is None:
+        x, y = part["at_mm"]
+        return [x, y, part["z0_mm"]], [0, 0, 1], [1, 0, 0]
+    origin = np.add(frame["origin"], part["z0_mm"] * np.asarray(frame["normal"]))
+    return origin.tolist(), frame["normal"], frame["x_dir"]
+
+
 def write_step(layout: dict[str, Any], folder: str | Path) -> dict[str, str]:
     """``folder/<part>.step`` for every plate and turned part, and ``folder/assembly.step``
     with every part placed, the drives' envelopes and the hardware
@@ -137,8 +172,7 @@ def write_step(layout: dict[str, Any], folder: str | Path) -> dict[str, str]:
         x, y = part["at_mm"]
         placed[name] = _placed(solid, [x, y, part["z0_mm"]], [0, 0, 1], [1, 0, 0])
     for name, part in layout.get("hardware", {}).items():
-        x, y = part["at_mm"]
-        placed[name] = _placed(turned_solid(part), [x, y, part["z0_mm"]], [0, 0, 1], [1, 0, 0])
+        placed[name] = _placed(turned_solid(part), *_frame_of(part))
     paths["assembly"] = str(out / "assembly.step")
     _write(placed, paths["assembly"])
     return paths

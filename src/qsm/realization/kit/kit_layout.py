@@ -82,6 +82,15 @@ def circle(x: float, y: float, d: float, n: int = 48) -> list[list[float]]:
     return np.column_stack([x + d / 2 * np.cos(a), y + d / 2 * np.sin(a)]).round(4).tolist()
 
 
+def ring(pcd: float, n: int, start_rad: float) -> list[tuple[float, float]]:
+    """``n`` points on a circle of ``pcd`` mm about A, the first at ``start_rad``."""
+    return [
+        (pcd / 2 * math.cos(start_rad + 2 * math.pi * i / n),
+         pcd / 2 * math.sin(start_rad + 2 * math.pi * i / n))
+        for i in range(n)
+    ]  # fmt: skip
+
+
 def bolt_circle(pcd: float, n: int, hole: float, start_deg: float = 0.0) -> list[list]:
     """``n`` holes of ``hole`` mm on a circle of ``pcd`` mm about the origin."""
     a = np.radians(start_deg) + 2 * np.pi * np.arange(n) / max(n, 1)
@@ -91,9 +100,10 @@ def bolt_circle(pcd: float, n: int, hole: float, start_deg: float = 0.0) -> list
 def cheek_plate(part: dict[str, Any], iface: DriveInterface, hole: float, z0: float) -> dict:
     """Cheek ``part`` (its sizes, mm) as a placed plate: a bar of the cheek's width from the
     base plate up to A, rounded about A, with the central bore, the drive's mounting holes
-    (``hole`` mm, a square pattern of 4 turned by 45 degrees); its three fixing screws are
-    tapped into its bottom edge (``tapped_bottom``); a ``pocket`` about A (diameter and depth,
-    mm) in its outer face, from ``pocket["z0_mm"]`` to ``pocket["z1_mm"]`` in its own frame."""
+    (``hole`` mm, a square pattern of 4 turned by 45 degrees); its three fixing screws' tapped
+    holes in its bottom edge (``edge_holes``: x, diameter, y from, y to; 2 mm deeper than the
+    screw reaches); a ``pocket`` about A (diameter and depth, mm) in its outer face, from
+    ``pocket["z0_mm"]`` to ``pocket["z1_mm"]`` in its own frame."""
     b, h, t = part["width_mm"], part["height_mm"], part["thickness_mm"]
     body = shapely.union(shapely.box(-b / 2, -h, b / 2, 0.0), shapely.Point(0, 0).buffer(b / 2, 32))
     start = 45.0 if iface.mount_bolts == 4 else 0.0
@@ -107,9 +117,22 @@ def cheek_plate(part: dict[str, Any], iface: DriveInterface, hole: float, z0: fl
         "x_dir": [1.0, 0.0, 0.0],
         "normal": [0.0, 0.0, 1.0],
         "kind": "cut",
-        "tapped_bottom": {"count": 3, "screw": part["fixing"]["screw"]},
+        "edge_holes": _fixing_holes(part),
         "pocket": _pocket_of(part, outer_low=z0 < 0),
     }
+
+
+def _fixing_holes(part: dict[str, Any]) -> list[list[float]]:
+    """A cheek's tapped holes (x, diameter, y from, y to; mm) for its three fixing screws, at
+    x = -s, 0 and s (s = b / 2 - 10 mm), from its bottom edge as deep as each screw reaches past
+    the base plate and its washer, and 2 mm."""
+    screw = part["fixing"]["screw"]
+    if not screw:
+        return []
+    thread, length = screw.split()[2], float(screw.split(" x ")[-1])
+    depth = length - bs.BASE_PLATE_MM - fs.washer_mm(thread)[2] + 2.0
+    span, h = part["width_mm"] / 2 - 10, part["height_mm"]
+    return [[x, float(thread[1:]), -h, -h + depth] for x in (-span, 0.0, span)]
 
 
 def _pocket_of(part: dict[str, Any], outer_low: bool) -> dict[str, float]:
@@ -199,6 +222,39 @@ def _hub_holes(hub: dict[str, Any], link_face: float, toward: int, angle: float)
     return [[r * math.cos(t), r * math.sin(t), d, *z] for t in a]
 
 
+def _drive_holes(iface: DriveInterface, faces: tuple[float, int, float], angle: float) -> list:
+    """The holes (as in :func:`_hub_holes`) for a hub's screws to its drive's output flange:
+    each a counterbore for the head (its diameter and 1 mm, its height deep) from the link's
+    face, and a clearance hole on through the hub to the drive's face (``faces``: the link's
+    face, the direction to the drive and the drive's face); the first at the link's ``angle``."""
+    if iface.output != "flange":
+        return []
+    link_face, toward, drive_face = faces
+    head_d, head_h = fs.screw_head_mm(iface.flange_thread)
+    bore = sorted((link_face, link_face + toward * head_h))
+    through = sorted((bore[0] if toward > 0 else bore[1], drive_face))
+    hole = fs.clearance_hole_mm(iface.flange_thread)
+    out = []
+    for x, y in ring(iface.flange_pcd_mm, iface.flange_bolts, angle):
+        out += [[x, y, head_d + 1.0, *bore], [x, y, hole, *through]]
+    return out
+
+
+def _shaft_cuts(hub: dict[str, Any], iface: DriveInterface, part: dict, set_z: float, angle: float):
+    """A shaft hub's keyway (DIN 6885-1's hub depth, through the turned ``part``) at the link's
+    ``angle`` less 90 degrees, and its set screw's tapped hole across the wall at ``set_z`` mm
+    opposite the key (the screw bears on the shaft's round)."""
+    if iface.output != "shaft":
+        return {}
+    depth = iface.shaft_d_mm / 2 + fs.key_hub_depth_mm(iface.key_w_mm, iface.key_h_mm)
+    z = (part["z0_mm"], part["z0_mm"] + part["length_mm"])
+    thread = float(hub["set_screw"].split()[2][1:])
+    return {
+        "keyways": [[angle - math.pi / 2, iface.key_w_mm, depth, *z]],
+        "cross_holes": [[angle + math.pi / 2, set_z, thread]],
+    }
+
+
 def kit_geometry(
     design: np.ndarray,
     parts: dict[str, LinkPart],
@@ -211,7 +267,8 @@ def kit_geometry(
 ) -> dict[str, Any]:
     """Every part placed, mm: the plates (links at motor ``angles``, cheeks, base plate), and
     along z the hubs (flange on the link, boss to the drive), the drives' envelopes outside the
-    cheeks and the tool flange's disc against the upper arm at E; ``moves_with`` names the link
+    cheeks and the tool flange's disc against the upper arm at E, tapped for its centre screw;
+    ``moves_with`` names the link
     whose frame carries each part (``base``: it stands still)."""
     t1, t2 = cheeks[0]["thickness_mm"], cheeks[1]["thickness_mm"]
     end = stack["cheek_2"]
@@ -227,9 +284,10 @@ def kit_geometry(
     for hub in hubs:
         k, iface = hub["motor"], drives[hub["motor"] - 1]["interface"]
         bore = iface.shaft_d_mm if iface.output == "shaft" else 0.0
-        out[f"hub_{k}"] = turned(_hub_steps(hub, *faces[k]), bore) | {
-            "holes": _hub_holes(hub, faces[k][0], faces[k][1], angles[k - 1])
-        }
+        a, part = angles[k - 1], turned(_hub_steps(hub, *faces[k]), bore)
+        part["holes"] = _hub_holes(hub, *faces[k][:2], a) + _drive_holes(iface, faces[k], a)
+        set_z = jt.set_screw_z_mm(faces[k][0], faces[k][1], (0.0, end)[k - 1])
+        out[f"hub_{k}"] = part | _shaft_cuts(hub, iface, part, set_z, a)
         face = faces[k][2]
         z = (face - iface.body_length_mm, face) if k == 1 else (face, face + iface.body_length_mm)
         out[f"drive_{k}"] = turned([(iface.body_d_mm, *z)])
@@ -237,6 +295,8 @@ def kit_geometry(
         e = np.asarray(pose(design, *angles).E) * 1e3
         z_e = stack["upper_arm"] - jt.ADAPTER_MM
         out["tool_flange"] = turned([(flange["face_d_mm"], z_e, stack["upper_arm"])], 0.0, e)
+        thread = float(flange["centre_screw"].split()[2][1:])  # tapped for the centre screw
+        out["tool_flange"]["holes"] = [[0.0, 0.0, thread, z_e, stack["upper_arm"]]]
     carried = {"hub_1": "lower_arm", "hub_2": "crank", "tool_flange": "upper_arm"}
     moves = {name: name if name in LINK_FRAMES else carried.get(name, "base")
              for name in [*plates, *out]}  # fmt: skip

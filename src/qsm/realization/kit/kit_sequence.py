@@ -213,12 +213,16 @@ def spanner_slab(
     return Prism("z", affinity.translate(strip, x, y), min(z0, z1), max(z0, z1))
 
 
-def record_of(found: AssemblySequence) -> dict[str, Any]:
-    """``kit.json``'s ``assembly_sequence``: the steps in order (text, parts, direction, tool
-    and torque, what each must follow), or the relations that block."""
+def record_of(found: AssemblySequence, hardware_step: Mapping[str, str]) -> dict[str, Any]:
+    """``kit.json``'s ``assembly_sequence``: the steps in order (text, parts, the solids of
+    ``assembly.step`` each puts in (its parts and the hardware ``hardware_step`` gives it),
+    direction, tool and torque, what each must follow), or the relations that block."""
     follows: dict[str, list[str]] = {}
     for r in found.precedences:
         follows.setdefault(r.then, []).append(f"{r.first}: {r.why}")
+    hardware: dict[str, list[str]] = {}
+    for name, key in hardware_step.items():
+        hardware.setdefault(key, []).append(name)
     return {
         "exists": found.exists,
         "blocked": list(found.blocked),
@@ -228,6 +232,7 @@ def record_of(found: AssemblySequence) -> dict[str, Any]:
                 "key": s.key,
                 "text": s.text,
                 "places": list(s.places),
+                "solids": [p for p in s.places if p != "table"] + hardware.get(s.key, []),
                 "direction": list(s.direction),
                 "tool": s.tool.name,
                 "torque_Nm": s.tool.torque_Nm,
