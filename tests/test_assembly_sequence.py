@@ -8,10 +8,10 @@ from __future__ import annotations
 import copy
 import itertools
 import math
-import re
 
 import numpy as np
 import pytest
+import reference_step as ref
 import shapely
 
 from qsm import load_config
@@ -329,7 +329,7 @@ def test_the_gap_to_a_link_s_true_outline_agrees_with_the_placed_plates(kit):
 
     from qsm.physics.kinematics import pose
     from qsm.realization.kit.builders_kit import outline_gap_mm
-    from qsm.realization.kit.kit_layout import _link_frames
+    from qsm.realization.kit.kit_layout import link_frames
 
     done, s = kit[0], KitSettings()
     t1s = np.radians(np.linspace(*s.theta1_deg, 61))[::6]
@@ -342,7 +342,7 @@ def test_the_gap_to_a_link_s_true_outline_agrees_with_the_placed_plates(kit):
                 p = pose(done.design, t1, t2)
                 if not bool(p.closes):
                     continue
-                (x0, y0), a = _link_frames(done.design, t1, t2)[link]
+                (x0, y0), a = link_frames(done.design, t1, t2)[link]
                 c, sn = np.cos(a), np.sin(a)
                 placed = affinity.affine_transform(outline, [c, -sn, sn, c, x0, y0])
                 at = np.zeros(2) if joint == "A" else np.asarray(getattr(p, joint))
@@ -352,73 +352,14 @@ def test_the_gap_to_a_link_s_true_outline_agrees_with_the_placed_plates(kit):
         assert gap == pytest.approx(brute, abs=0.15 * brute + 2.0)
 
 
-def _moved(shape, link: str, frames: tuple):
-    """``shape`` moved with ``link`` from the frames ``frames[0]`` to ``frames[1]`` (each link's
-    origin, m, and angle, rad; ``base`` stands still)."""
-    from OCP.gp import gp_Ax1, gp_Dir, gp_Pnt, gp_Trsf, gp_Vec
-    from OCP.TopLoc import TopLoc_Location
-
-    if link == "base":
-        return shape
-    (x0, y0), a = frames[0][link]
-    (x1, y1), b = frames[1][link]
-    there, turn, back = gp_Trsf(), gp_Trsf(), gp_Trsf()
-    back.SetTranslation(gp_Vec(-1e3 * x0, -1e3 * y0, 0.0))
-    turn.SetRotation(gp_Ax1(gp_Pnt(0, 0, 0), gp_Dir(0, 0, 1)), b - a)
-    there.SetTranslation(gp_Vec(1e3 * x1, 1e3 * y1, 0.0))
-    return shape.Moved(TopLoc_Location(there.Multiplied(turn.Multiplied(back))))
-
-
-def _box(shape):
-    from OCP.Bnd import Bnd_Box
-    from OCP.BRepBndLib import BRepBndLib
-
-    box = Bnd_Box()
-    BRepBndLib.Add_s(shape, box)
-    return box
-
-
-def _shared_mm3(a, b, boxes: tuple | None = None) -> float:
-    """The volume (mm^3) two shapes share (0 where their ``boxes`` are apart)."""
-    from OCP.BRepAlgoAPI import BRepAlgoAPI_Common
-    from OCP.BRepGProp import BRepGProp
-    from OCP.GProp import GProp_GProps
-
-    boxes = boxes or (_box(a), _box(b))
-    if boxes[0].IsOut(boxes[1]):
-        return 0.0
-    props = GProp_GProps()
-    BRepGProp.VolumeProperties_s(BRepAlgoAPI_Common(a, b).Shape(), props)
-    return props.Mass()
-
-
-def _overlaps(solids: dict, moves: dict, frames: tuple, pairs: set | None = None) -> dict:
-    """The pairs of ``solids`` (OpenCASCADE shapes read back from the STEP) that share more
-    than 1 mm^3 once each is moved with its link (``moves``) from the frames ``frames[0]`` to
-    ``frames[1]``; only ``pairs`` where given."""
-    pairs = pairs or set(itertools.combinations(solids, 2))
-    placed = {n: _moved(solids[n], moves[n], frames) for pair in pairs for n in pair}
-    boxes = {n: _box(shape) for n, shape in placed.items()}
-    out = {}
-    for a, b in sorted(pairs):
-        shared = _shared_mm3(placed[a], placed[b], (boxes[a], boxes[b]))
-        if shared > 1.0:
-            out[(a, b)] = shared
-    return out
-
-
 @pytest.fixture(scope="module")
 def read_back(kit, tmp_path_factory):
     """``assembly.step`` of the kit read back with build123d: each solid by its name."""
-    from build123d import import_step
-
     from qsm.realization.kit.kit_files import write_step
 
     layout = kit[1].record["layout"]
-    named = {re.sub(r"[ .]", "_", n): n for n in layout["moves_with"]}  # build123d's labels
-    folder = tmp_path_factory.mktemp("step")
-    read = import_step(write_step(layout, folder)["assembly"]).children
-    return {named[c.label]: c.wrapped for c in read}
+    path = write_step(layout, tmp_path_factory.mktemp("step"))["assembly"]
+    return ref.named(ref.read_assembly(path), layout["moves_with"])
 
 
 def test_the_assembly_step_read_back_has_no_overlap_at_six_poses(kit, read_back):
@@ -433,13 +374,13 @@ def test_the_assembly_step_read_back_has_no_overlap_at_six_poses(kit, read_back)
     from OCP.TopLoc import TopLoc_Location
 
     from qsm.physics.kinematics import pose
-    from qsm.realization.kit.kit_layout import _link_frames
+    from qsm.realization.kit.kit_layout import link_frames
 
     done, record = kit[0], kit[1].record
     layout, s, solids = record["layout"], KitSettings(), dict(read_back)
     assert set(solids) == set(layout["moves_with"])
     assert any(n.startswith("ISO 4762 ") and n.endswith(", 1 of 6") for n in solids)
-    start = _link_frames(done.design, *np.radians(layout["pose_deg"]))
+    start = link_frames(done.design, *np.radians(layout["pose_deg"]))
     moves = layout["moves_with"]
     moving = {(a, b) for a, b in itertools.combinations(sorted(solids), 2) if moves[a] != moves[b]}
     tapped = {  # the drives' mounting and output screws in their tapped faces (envelopes)
@@ -447,7 +388,7 @@ def test_the_assembly_step_read_back_has_no_overlap_at_six_poses(kit, read_back)
                                                                         f"hub {k} to drive {k}")
         if n.startswith("ISO 4762 ") and f", {into}, " in n
     }  # fmt: skip
-    assert set(_overlaps(solids, moves, (start, start))) == tapped
+    assert set(ref.overlaps(solids, moves, (start, start))) == tapped
     moving -= {(b, a) for a, b in tapped}  # the output screws turn with the flange inside
     poses = 0
     for t1 in np.radians(np.linspace(*s.theta1_deg, 3)):
@@ -455,108 +396,15 @@ def test_the_assembly_step_read_back_has_no_overlap_at_six_poses(kit, read_back)
             t2 = np.radians(s.theta2_min_deg) + frac * (t1 - np.radians(s.theta2_min_deg))
             if bool(pose(done.design, t1, t2).closes):
                 poses += 1
-                frames = (start, _link_frames(done.design, t1, t2))
-                assert not _overlaps(solids, moves, frames, moving), (t1, t2)
+                frames = (start, link_frames(done.design, t1, t2))
+                assert not ref.overlaps(solids, moves, frames, moving), (t1, t2)
     assert poses == 6
     up = gp_Trsf()
     up.SetTranslation(gp_Vec(0.0, 0.0, 5.0))
     solids["hub_1"] = solids["hub_1"].Moved(TopLoc_Location(up))
-    assert ("lower_arm", "hub_1") in _overlaps(
+    assert ("lower_arm", "hub_1") in ref.overlaps(
         solids, moves, (start, start), {("lower_arm", "hub_1")}
     )
-
-
-#: ISO 2936 key sizes (mm across flats) by standard and size: ISO 4762 cap screws (ISO 4762's s),
-#: ISO 7379 shoulder screws by shoulder diameter, ISO 4029 set screws.
-KEY_MM = {
-    "ISO 4762": {"M3": 2.5, "M4": 3.0, "M5": 4.0, "M6": 5.0, "M8": 6.0, "M10": 8.0, "M12": 10.0},
-    "ISO 7379": {"6": 3.0, "8": 4.0, "10": 5.0, "12": 6.0, "16": 8.0},
-    "ISO 4029": {"M3": 1.5, "M4": 2.0, "M5": 2.5, "M6": 3.0, "M8": 4.0},
-}
-
-
-def _points_along(shape, origin, direction) -> tuple[float, float]:
-    """The least and greatest distance along ``direction`` from ``origin`` of ``shape``'s
-    vertices."""
-    from OCP.BRep import BRep_Tool
-    from OCP.TopAbs import TopAbs_VERTEX
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
-
-    out, explorer = [], TopExp_Explorer(shape, TopAbs_VERTEX)
-    while explorer.More():
-        p = BRep_Tool.Pnt_s(TopoDS.Vertex(explorer.Current())).Coord()
-        out.append(float(np.dot(np.subtract(p, origin), direction)))
-        explorer.Next()
-    return min(out), max(out)
-
-
-def _socket(shape) -> tuple[np.ndarray, np.ndarray]:
-    """Where a key enters a screw read back from the STEP, and the way out of its socket: on
-    the axis of its widest cylinder (the head), at the head's end away from the shank; for a
-    set screw (one cylinder), at its end farther from the joint axis z."""
-    from OCP.BRepAdaptor import BRepAdaptor_Surface
-    from OCP.GeomAbs import GeomAbs_SurfaceType
-    from OCP.TopAbs import TopAbs_FACE
-    from OCP.TopExp import TopExp_Explorer
-    from OCP.TopoDS import TopoDS
-
-    best, explorer = None, TopExp_Explorer(shape, TopAbs_FACE)
-    while explorer.More():
-        face = TopoDS.Face(explorer.Current())
-        surface = BRepAdaptor_Surface(face)
-        if surface.GetType() == GeomAbs_SurfaceType.GeomAbs_Cylinder:
-            cylinder = surface.Cylinder()
-            if best is None or cylinder.Radius() > best[0]:
-                best = (cylinder.Radius(), cylinder.Axis(), face)
-        explorer.Next()
-    _, axis, face = best
-    origin, d = np.array(axis.Location().Coord()), np.array(axis.Direction().Coord())
-    (lo, hi), (head_lo, head_hi) = _points_along(shape, origin, d), _points_along(face, origin, d)
-    if hi - head_hi > head_lo - lo + 1e-6:  # the shank beyond the head's high end
-        return origin + head_lo * d, -d
-    if head_lo - lo > hi - head_hi + 1e-6:
-        return origin + head_hi * d, d
-    ends = [origin + t * d for t in (lo, hi)]
-    outer = int(np.hypot(*ends[1][:2]) > np.hypot(*ends[0][:2]))
-    return ends[outer], d if outer else -d
-
-
-def _keys(name: str, socket: np.ndarray, out: np.ndarray, arms: dict) -> list:
-    """The ways an ISO 2936 key turns the screw ``name``: its long arm straight out of the
-    socket; for a shoulder screw also its short arm in the socket and the long arm as a handle
-    across, four ways. Each a list of solids, the key's across-corners and 1 mm wide."""
-    from OCP.BRepPrimAPI import BRepPrimAPI_MakeBox, BRepPrimAPI_MakeCylinder
-    from OCP.gp import gp_Ax2, gp_Dir, gp_Pnt
-
-    s = KEY_MM[" ".join(name.split()[:2])][name.split()[2]]
-    long, short = arms[s]
-    d = s / math.cos(math.pi / 6) + 1.0
-    start = socket + 0.05 * out
-
-    def arm(length: float):
-        return BRepPrimAPI_MakeCylinder(gp_Ax2(gp_Pnt(*start), gp_Dir(*out)), d / 2, length).Shape()
-
-    ways = [[arm(long)]]
-    if name.startswith("ISO 7379"):
-        end = start + short * out
-        for across in (np.array(v, float) for v in ((1, 0, 0), (0, 1, 0), (-1, 0, 0), (0, -1, 0))):
-            side = np.cross(out, across)
-            corner = end - d / 2 * side
-            frame = gp_Ax2(gp_Pnt(*corner), gp_Dir(*out), gp_Dir(*across))
-            ways.append([arm(short), BRepPrimAPI_MakeBox(frame, long, d, d).Shape()])
-    return ways
-
-
-def _placed_by(steps: list[dict], n: int) -> list[str]:
-    """The solids in place when step ``n`` (index) is done: on the arm, every earlier arm step's
-    and those of the modules already brought on; on the bench, its module's earlier steps'."""
-    group = steps[n]["on_the_bench"]
-    done = [s for s in steps[: n + 1]]
-    if group:
-        return [p for s in done if s["on_the_bench"] == group for p in s["solids"]]
-    brought = {s["key"] for s in done}
-    return [p for s in done if (s["on_the_bench"] or s["key"]) in brought for p in s["solids"]]
 
 
 def test_every_screw_in_the_step_file_is_reached_by_its_key_in_the_sequence_s_order(kit, read_back):
@@ -567,36 +415,23 @@ def test_every_screw_in_the_step_file_is_reached_by_its_key_in_the_sequence_s_or
     than 1 mm^3 with any solid in place at its step, moved to that step's pose. A key run
     through the parts is seen."""
     from qsm.realization.kit.kit_assembly import poses
-    from qsm.realization.kit.kit_layout import _link_frames
+    from qsm.realization.kit.kit_layout import link_frames
 
     done, record = kit[0], kit[1].record
     layout, steps, s = record["layout"], record["assembly_sequence"]["steps"], KitSettings()
-    moves = layout["moves_with"]
-    arms = {float(r["key_mm"]): (float(r["long_arm_mm"]), float(r["short_arm_mm"]))
-            for r in fs.table("iso2936")}  # fmt: skip
+    start = link_frames(done.design, *np.radians(layout["pose_deg"]))
     angles = poses(done.design, layout["pose_deg"], s.theta1_deg, s.theta2_min_deg)
-    start = _link_frames(done.design, *np.radians(layout["pose_deg"]))
-    blocked, checked = [], 0
-    for n, step in enumerate(steps):
-        screws = [p for p in step["solids"] if p.split(",")[0].split()[:2] in
-                  (["ISO", "4762"], ["ISO", "7379"], ["ISO", "4029"])]  # fmt: skip
-        frames = (start, _link_frames(done.design, *angles[step["pose"]]))
-        around = {p: _moved(read_back[p], moves[p], frames) for p in _placed_by(steps, n)}
-        for screw in screws:
-            socket, out = _socket(read_back[screw])
-            ways = _keys(screw, socket, out, arms)
-            if not any(
-                all(_shared_mm3(_moved(k, moves[screw], frames), solid) <= 1.0
-                    for k in way for p, solid in around.items() if p != screw)
-                for way in ways
-            ):  # fmt: skip
-                blocked.append(f"step {step['step']}: {screw}")
-            checked += 1
+    blocked, checked = ref.blocked_screws(
+        read_back,
+        layout["moves_with"],
+        steps,
+        lambda step: (start, link_frames(done.design, *angles[step["pose"]])),
+    )
     assert checked >= 40 and not blocked
     hub_screw = next(p for p in read_back if p.startswith("ISO 4762") and "hub 1 to lower" in p)
-    socket, out = _socket(read_back[hub_screw])
-    through = _keys(hub_screw, socket, -out, arms)[0][0]  # the key run into the link instead
-    assert _shared_mm3(through, read_back["lower_arm"]) > 1.0
+    socket, out = ref.socket_of(read_back[hub_screw])
+    through = ref.keys(hub_screw, socket, -out, ref.key_arms())[0][0]  # into the link instead
+    assert ref.shared_mm3(through, read_back["lower_arm"]) > 1.0
 
 
 def test_a_shaft_hub_s_set_screw_inserts_and_keyway_in_the_step_file(kit, tmp_path):
@@ -605,7 +440,7 @@ def test_a_shaft_hub_s_set_screw_inserts_and_keyway_in_the_step_file(kit, tmp_pa
     none of hub 2's solids shares more than 1 mm^3 with another at the layout's pose (but the
     drive's mounting screws in its envelope); the set screw stands on the shaft's round (its
     end on the bore) and its key reaches it from outside the boss."""
-    from build123d import Vector, import_step
+    from build123d import Compound, Vector
 
     from qsm.embodiment.kit.interfaces import assumed_interface
     from qsm.realization.kit import builders_kit as bk
@@ -620,28 +455,25 @@ def test_a_shaft_hub_s_set_screw_inserts_and_keyway_in_the_step_file(kit, tmp_pa
         record = builders_kit(done, done.parts, KitSettings()).record
     layout, iface = record["layout"], record["drives"][1]
     assert iface["output"] == "shaft" and record["hubs"][1]["link_screws"]["side"] == "hub"
-    named = {re.sub(r"[ .]", "_", n): n for n in layout["moves_with"]}
-    read = import_step(write_step(layout, tmp_path)["assembly"]).children
-    solids = {named[c.label]: c.wrapped for c in read}
+    read = ref.read_assembly(write_step(layout, tmp_path)["assembly"])
+    solids = ref.named(read, layout["moves_with"])
     near = [n for n in solids if "hub 2" in n or n in ("hub_2", "crank", "cheek_2", "drive_2")]
     assert sum("heat-set insert" in n for n in near) == jt.HUB_SCREWS
     moves = layout["moves_with"]
     frames = (_link_frames_at(done, layout),) * 2
     pairs = {(a, b) for a in near for b in solids if a != b}
-    hits = {tuple(sorted(p)) for p in _overlaps(solids, moves, frames, pairs)}
+    hits = {tuple(sorted(p)) for p in ref.overlaps(solids, moves, frames, pairs)}
     assert all("drive 2 to cheek 2" in a + b and "drive_2" in a + b for a, b in hits), hits
     screw = next(n for n in solids if n.startswith("ISO 4029"))
-    socket, out = _socket(solids[screw])
+    socket, out = ref.socket_of(solids[screw])
     r = iface["shaft_d_mm"] / 2
     assert np.hypot(*socket[:2]) == pytest.approx(record["hubs"][1]["boss_d_mm"] / 2, abs=1e-6)
     assert np.hypot(*(socket - out * float(screw.split(" x ")[1].split(",")[0]))[:2]) == (
         pytest.approx(r, abs=1e-6))  # fmt: skip
-    arms = {float(x["key_mm"]): (float(x["long_arm_mm"]), float(x["short_arm_mm"]))
-            for x in fs.table("iso2936")}  # fmt: skip
-    key = _keys(screw, socket, out, arms)[0][0]
-    assert all(_shared_mm3(key, solids[n]) <= 1.0 for n in ("hub_2", "crank", "cheek_2"))
-    hub = next(c for c in read if c.label == "hub_2")
-    turn = math.radians(layout["pose_deg"][1]) - math.pi / 2  # the keyway's side
+    key = ref.keys(screw, socket, out, ref.key_arms())[0][0]
+    assert all(ref.shared_mm3(key, solids[n]) <= 1.0 for n in ("hub_2", "crank", "cheek_2"))
+    hub = Compound(solids["hub_2"])
+    turn = math.radians(layout["pose_deg"][1]) + math.pi  # the keyway's side
     inside = r + 0.5 * fs.key_hub_depth_mm(iface["key_w_mm"], iface["key_h_mm"])
     z = layout["turned"]["hub_2"]["z0_mm"] + 1.0
     assert not hub.is_inside(Vector(inside * math.cos(turn), inside * math.sin(turn), z))
@@ -649,6 +481,26 @@ def test_a_shaft_hub_s_set_screw_inserts_and_keyway_in_the_step_file(kit, tmp_pa
 
 
 def _link_frames_at(done, layout):
-    from qsm.realization.kit.kit_layout import _link_frames
+    from qsm.realization.kit.kit_layout import link_frames
 
-    return _link_frames(done.design, *np.radians(layout["pose_deg"]))
+    return link_frames(done.design, *np.radians(layout["pose_deg"]))
+
+
+def test_a_link_facing_a_cheek_stands_off_the_drive_s_mounting_heads_by_hand():
+    """An M12 mounting screw on a 110 mm circle: its ISO 7089 washer (24 x 2.5 mm) covers radii
+    43-67 mm, its ISO 4762 head (18 x 12 mm) 46-64 mm, 14.5 mm out of the cheek. A nut end 13
+    mm out of its link that sweeps radii 40-52 mm needs 13 + 14.5 + 1 mm; one within 10-30 mm
+    only 14 mm. A hub's 8 mm flange of 47 mm radius passes 1 mm past the heads (23.5 mm); one of
+    40.9 mm radius (M5 washers on a 71.7 mm circle) keeps the flange and 10 mm (18 mm)."""
+    from types import SimpleNamespace
+
+    from qsm.realization.kit.builders_kit import _hub_gap, _mount_heads, _past_heads
+
+    iface = SimpleNamespace(mount_thread="M12", mount_pcd_mm=110.0)
+    heads = _mount_heads([{"interface": iface}])[0]
+    assert heads == ((43.0, 67.0, 2.5), (46.0, 64.0, 14.5))
+    assert _past_heads(13.0, (40.0, 52.0), heads) == pytest.approx(28.5)
+    assert _past_heads(13.0, (10.0, 30.0), heads) == pytest.approx(14.0)
+    link_side = {"thread": "M5", "pcd_mm": 71.7, "side": "link"}
+    assert _hub_gap(link_side, heads) == pytest.approx(18.0)
+    assert _hub_gap(link_side | {"pcd_mm": 84.0}, heads) == pytest.approx(8 + 14.5 + 1)

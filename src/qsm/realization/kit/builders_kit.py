@@ -325,23 +325,64 @@ def _hub_screws(
     return out
 
 
+def _mount_heads(drives: list[dict[str, Any]]) -> list[tuple[tuple[float, float, float], ...]]:
+    """Per cheek, the rings its drive's mounting screws' washers and heads cover on its inner
+    face: each ring's inner and outer radius about A and how far it stands out (mm)."""
+    out = []
+    for d in drives:
+        iface = d["interface"]
+        _, washer, h = fs.washer_mm(iface.mount_thread)
+        head_d, head_h = fs.screw_head_mm(iface.mount_thread)
+        r = iface.mount_pcd_mm / 2
+        out.append(
+            ((r - washer / 2, r + washer / 2, h), (r - head_d / 2, r + head_d / 2, h + head_h))
+        )
+    return out
+
+
+def _past_heads(height: float, span: tuple[float, float], heads: tuple) -> float:
+    """How far (mm) from a cheek's inner face a part facing it must stand: its own ``height``
+    out of its link, and as much more as the drive's mounting screws' ``heads`` (rings: inner
+    and outer radius about A, height; mm) stand out where the ring ``span`` (inner and outer
+    radius about A, mm) that it sweeps meets them, and 1 mm."""
+    over = [h for lo, hi, h in heads if span[0] < hi and lo < span[1]]
+    return height + max(over, default=0.0) + 1.0
+
+
+def _hub_gap(screws: dict[str, Any], heads: tuple) -> float:
+    """The gap (mm) between a hub's link and its cheek: the hub's flange and 10 mm (room for a
+    key to the set screw, a link screw's end), its screws' washers and heads where they come
+    from the hub's side and 2 mm, each past the mounting screws' ``heads`` it passes over."""
+    flange = (screws["pcd_mm"] + fs.washer_mm(screws["thread"] or "M8")[1]) / 2
+    need = [jt.FLANGE_MM + 10.0, _past_heads(jt.FLANGE_MM, (0.0, flange), heads)]
+    if screws["thread"] and screws["side"] == "hub":
+        _, outer, h = fs.washer_mm(screws["thread"])
+        height = jt.FLANGE_MM + h + fs.screw_head_mm(screws["thread"])[1]
+        ring = (screws["pcd_mm"] / 2 - outer / 2, screws["pcd_mm"] / 2 + outer / 2)
+        need += [height + 2.0, _past_heads(height, ring, heads)]
+    return max(need)
+
+
 def _stack(
-    parts: dict[str, LinkPart], pins: dict[str, Any], screws: list[dict[str, Any]]
+    parts: dict[str, LinkPart],
+    pins: dict[str, Any],
+    screws: list[dict[str, Any]],
+    heads: list[tuple[tuple[float, float, float], ...]],
+    arms: dict[str, float],
 ) -> dict[str, float]:
     """The plates' z (mm) from cheek 1's inner face (the arrangement of
     :mod:`qsm.embodiment.kit.base`), each link's offset from its cheek's face, and the gap
     between a cheek and its link: a hub's flange and its screws' washers and heads, and at least
-    the nut ends of :data:`OUTER_NUTS` and 1 mm."""
+    the nut ends of :data:`OUTER_NUTS` and 1 mm; each more by the drives' mounting screws'
+    ``heads`` (:func:`_mount_heads`) where it passes over them, the pins at ``arms`` (mm) from
+    A."""
     t = {n: 1e3 * p.section.thickness_m for n, p in parts.items()}
     spacer = {j: p["spacers_mm"] for j, p in pins.items()}
-    heads = [
-        fs.washer_mm(s["thread"])[2] + fs.screw_head_mm(s["thread"])[1] + 2.0
-        for s in screws
-        if s["thread"] and s["side"] == "hub"
-    ]
-    gap = jt.FLANGE_MM + max([10.0, *heads])  # the hub's flange and its screws' heads
-    ends = [_protrusion_mm(pins[j], "nut")[1] + 1.0 for j in OUTER_NUTS]
-    gap = max(gap, *ends)  # B's and C's nut ends face the cheeks
+    gaps = [_hub_gap(s, heads[k]) for k, s in enumerate(screws)]
+    for k, j in enumerate(OUTER_NUTS):  # B's and C's nut ends face the cheeks
+        size, end = _protrusion_mm(pins[j], "nut")
+        gaps.append(_past_heads(end, (arms[j] - size, arms[j] + size), heads[k]))
+    gap = max(gaps)
     z = {"lower_arm": gap}
     z["upper_arm"] = z["lower_arm"] + t["lower_arm"] + spacer["B"]
     z["coupler"] = z["upper_arm"] + t["upper_arm"] + spacer["D"]
@@ -557,7 +598,9 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     screws = _hub_screws(plates, drives, float(_bearing(done, "A")["d_mm"]))
     pins = _pins(done, plates, None)
     pins = _pins(done, plates, spacer_counts(done, parts, pins, screws, settings))
-    stack = _stack(parts, pins, screws)
+    p = pose(done.design, *np.radians([settings.theta1_deg[0], settings.theta2_min_deg]))
+    arms = {j: 1e3 * float(np.hypot(*np.asarray(getattr(p, j)))) for j in OUTER_NUTS}
+    stack = _stack(parts, pins, screws, _mount_heads(drives), arms)
     l1, _, _, _, ee_x, ee_y = done.design
     reach = 1e3 * (l1 + float(np.hypot(ee_x, ee_y)))
     drop = lowest_point_mm(done, parts, settings)
@@ -657,7 +700,7 @@ def _with_sequence(
     allow = {k: float(v["allowable_MPa"]) for k, v in done.strength["links"].items()}
     found = kit_sequence(
         record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow,
-        done.strength["bearings"],
+        done.strength["bearings"], kit_hardware.step,
     )  # fmt: skip
     sequence = record_of(found, kit_hardware.step)
     record["assembly_sequence"] = sequence

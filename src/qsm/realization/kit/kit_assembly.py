@@ -40,7 +40,14 @@ from qsm.realization.kit.kit_sequence import (
     short_key_path,
     spanner_slab,
 )
-from qsm.realization.kit.kit_solids import Prism, disc, plate_prism, solids
+from qsm.realization.kit.kit_solids import (
+    Prism,
+    disc,
+    hardware_prisms,
+    moved_prism,
+    plate_prism,
+    solids,
+)
 
 #: Fractions of theta1's operating range of the poses besides the kit's own.
 POSE_FRACTIONS = (0.1, 0.35, 0.65, 0.9)
@@ -70,9 +77,17 @@ def poses(design: np.ndarray, kit_pose_deg: list[float], theta1_deg: tuple, t2_m
 
 def placed_solids(record: dict[str, Any], design, parts, angles) -> dict[str, tuple[Prism, ...]]:
     """Every part's prisms with the links at motor ``angles`` (rad): the layout's fixed parts,
-    the links, the tool flange at E and the table under the base plate."""
+    the links, the tool flange at E, the table under the base plate and the hardware, each
+    piece carried by its link from the layout's pose."""
     layout = record["layout"]
     out = solids(layout)
+    start = kl.link_frames(design, *np.radians(layout["pose_deg"]))
+    now = kl.link_frames(design, *angles)
+    for name, part in layout.get("hardware", {}).items():
+        link, prisms = layout["moves_with"][name], hardware_prisms(part)
+        if link != "base":
+            prisms = tuple(moved_prism(p, start[link], now[link]) for p in prisms)
+        out[name] = prisms
     links = kl.link_plates(design, parts, record["stack_mm"], angles)
     out |= {name: (plate_prism(p),) for name, p in links.items()}
     if "tool_flange" in layout["turned"]:
@@ -353,7 +368,7 @@ def shaft_drive_steps(record: dict[str, Any], k: int, placed, angles, allow: flo
                 mid - key.key_mm,
                 mid + key.key_mm,
                 key.key_mm / 0.866 + 1,
-                a + math.pi / 2,
+                a + kl.SET_SCREW_RAD,
                 hub["boss_d_mm"] / 2,
             ),
         ),
@@ -520,11 +535,21 @@ def assembly_steps(
 
 
 def kit_sequence(
-    record: dict[str, Any], design, parts, theta1_deg, t2_min, allow: dict, bearings: dict
+    record: dict[str, Any],
+    design,
+    parts,
+    theta1_deg,
+    t2_min,
+    allow: dict,
+    bearings: dict,
+    hardware_step: dict[str, str] | None = None,
 ):
     """The assembly sequence (:func:`qsm.realization.kit.kit_sequence.sequence`) of the kit
-    ``record`` of ``design`` with its holed ``parts``, checked at :func:`poses`."""
-    angles = poses(np.asarray(design), record["layout"]["pose_deg"], theta1_deg, t2_min)
+    ``record`` of ``design`` with its holed ``parts``, checked at :func:`poses`, the hardware
+    in the layout put in by the steps ``hardware_step`` names."""
+    layout = record["layout"]
+    angles = poses(np.asarray(design), layout["pose_deg"], theta1_deg, t2_min)
     placed = [placed_solids(record, design, parts, a) for a in angles]
     steps = assembly_steps(record, design, angles, placed, allow, bearings)
-    return sequence(steps, placed)
+    hardware = {n: (k, layout["moves_with"][n]) for n, k in (hardware_step or {}).items()}
+    return sequence(steps, placed, hardware)

@@ -210,7 +210,8 @@ def hub_hardware(record: dict[str, Any], k: int, link_angle: float) -> dict:
 
 def drive_hardware(record: dict[str, Any], k: int, link_angle: float) -> dict:
     """Hub ``k``'s screws to its drive's output flange, heads in the hub's counterbores at the
-    link's face; or its set screw across the boss onto the drive's shaft, opposite the key."""
+    link's face; or its set screw across the boss onto the drive's shaft, opposite the key
+    (:data:`qsm.realization.kit.kit_layout.SET_SCREW_RAD`)."""
     hub, iface, link = record["hubs"][k - 1], record["drives"][k - 1], HUB_LINKS[k]
     near, _, inner = link_faces(record, k)
     if iface["output"] == "flange":
@@ -222,7 +223,7 @@ def drive_hardware(record: dict[str, Any], k: int, link_angle: float) -> dict:
             f"hub {k} to drive",
         )
     thread, length = hub["set_screw"].split()[2], hub["set_screw"].split(" x ")[-1]
-    turn = link_angle + math.pi / 2
+    turn = link_angle + kl.SET_SCREW_RAD
     frame = {
         "origin": [0.0, 0.0, jt.set_screw_z_mm(near, TOWARD[k], inner)],
         "normal": [math.cos(turn), math.sin(turn), 0.0],

@@ -33,9 +33,13 @@ def _rings(polygon: shapely.Polygon, scale: float = 1e3) -> dict[str, Any]:
 
 #: The links, each a frame that carries its plate (and hub 1, hub 2 or the tool flange).
 LINK_FRAMES = ("lower_arm", "crank", "coupler", "upper_arm")
+#: A shaft hub's set screw's angle (rad) from its link's axis: midway between two of the hub's
+#: screws to the link (at 30 + 60 i degrees), so that its key passes between their heads; the
+#: keyway is opposite.
+SET_SCREW_RAD = 0.0
 
 
-def _link_frames(design: np.ndarray, t1: float, t2: float) -> dict[str, tuple]:
+def link_frames(design: np.ndarray, t1: float, t2: float) -> dict[str, tuple]:
     """Each link frame's origin (m) and x-axis angle (rad) at motor angles ``t1``, ``t2``."""
     p = pose(design, t1, t2)
     c, d = np.asarray(p.C), np.asarray(p.D)
@@ -62,7 +66,7 @@ def link_plates(
     design: np.ndarray, parts: dict[str, LinkPart], z: dict[str, float], angles: tuple
 ) -> dict[str, dict[str, Any]]:
     """The four links as placed plates at the motor ``angles`` (rad)."""
-    frames = _link_frames(design, *angles)
+    frames = link_frames(design, *angles)
     out = {}
     for name, part in parts.items():
         (x0, y0), a = frames[name]
@@ -241,17 +245,17 @@ def _drive_holes(iface: DriveInterface, faces: tuple[float, int, float], angle: 
 
 
 def _shaft_cuts(hub: dict[str, Any], iface: DriveInterface, part: dict, set_z: float, angle: float):
-    """A shaft hub's keyway (DIN 6885-1's hub depth, through the turned ``part``) at the link's
-    ``angle`` less 90 degrees, and its set screw's tapped hole across the wall at ``set_z`` mm
-    opposite the key (the screw bears on the shaft's round)."""
+    """A shaft hub's set screw's tapped hole across the wall at ``set_z`` mm, at
+    :data:`SET_SCREW_RAD` from the link's ``angle``, and opposite it the keyway (DIN 6885-1's
+    hub depth, through the turned ``part``): the screw bears on the shaft's round."""
     if iface.output != "shaft":
         return {}
     depth = iface.shaft_d_mm / 2 + fs.key_hub_depth_mm(iface.key_w_mm, iface.key_h_mm)
     z = (part["z0_mm"], part["z0_mm"] + part["length_mm"])
     thread = float(hub["set_screw"].split()[2][1:])
     return {
-        "keyways": [[angle - math.pi / 2, iface.key_w_mm, depth, *z]],
-        "cross_holes": [[angle + math.pi / 2, set_z, thread]],
+        "keyways": [[angle + SET_SCREW_RAD + math.pi, iface.key_w_mm, depth, *z]],
+        "cross_holes": [[angle + SET_SCREW_RAD, set_z, thread]],
     }
 
 

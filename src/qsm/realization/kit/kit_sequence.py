@@ -87,26 +87,37 @@ class AssemblySequence:
         return not self.blocked
 
 
-def _choose(step: Step, placed: Sequence[Mapping[str, Sequence[Prism]]], group_parts: set[str]):
-    """The reach alternative (pose, blocking parts) with the fewest blocking parts; a bench
-    step's blockers are only those of its group."""
+def _choose(
+    step: Step,
+    placed: Sequence[Mapping[str, Sequence[Prism]]],
+    group_parts: set[str],
+    skip: tuple[str, ...],
+):
+    """The reach alternative (pose, blocking parts) with the fewest blocking parts, ``skip``
+    aside; a bench step's blockers are only those of its group."""
     best: tuple[int, list[str]] | None = None
     for pose, prisms in step.reach or ((0, ()),):
         solids = placed[pose]
         if step.group:
             solids = {k: v for k, v in solids.items() if k in group_parts}
-        hit = blockers(prisms, solids, skip=step.places + step.aside)
+        hit = blockers(prisms, solids, skip=skip)
         if best is None or len(hit) < len(best[1]):
             best = (pose, hit)
     return best
 
 
 def precedences(
-    steps: Sequence[Step], placed: Sequence[Mapping[str, Sequence[Prism]]]
+    steps: Sequence[Step],
+    placed: Sequence[Mapping[str, Sequence[Prism]]],
+    hardware: Mapping[str, tuple[str, str]],
 ) -> tuple[list[Precedence], dict[str, int]]:
     """Every "must come first" relation of ``steps``, given each pose's solids ``placed``
-    (pose index: part name: prisms), and each step's chosen pose."""
+    (pose index: part name: prisms), among them the ``hardware`` (name: the key of the step
+    that puts it in, and the part that carries it; a step's own parts bring theirs), and each
+    step's chosen pose."""
+    groups = {s.key: s.group for s in steps}
     arm = {part: s.key for s in steps if not s.group for part in s.places}
+    arm |= {name: groups.get(key) or key for name, (key, _) in hardware.items()}
     bench: dict[str, dict[str, str]] = {}
     for s in steps:
         if s.group:
@@ -115,7 +126,9 @@ def precedences(
     out, poses = [], {}
     for s in steps:
         out += [Precedence(n, s.key, "the second needs the first in place") for n in s.needs]
-        pose, hit = _choose(s, placed, modules.get(s.group, set()))
+        own = s.places + s.aside
+        skip = own + tuple(name for name, (_, carrier) in hardware.items() if carrier in own)
+        pose, hit = _choose(s, placed, modules.get(s.group, set()), skip)
         poses[s.key] = pose
         placer = bench.get(s.group, {}) if s.group else arm
         for part in hit:
@@ -162,9 +175,14 @@ def cycle_of(relations: Sequence[Precedence]) -> list[str]:
     return []
 
 
-def sequence(steps: Sequence[Step], placed: Sequence[Mapping[str, Sequence[Prism]]]):
-    """The :class:`AssemblySequence` of ``steps`` with the solids ``placed`` at each pose."""
-    relations, poses = precedences(steps, placed)
+def sequence(
+    steps: Sequence[Step],
+    placed: Sequence[Mapping[str, Sequence[Prism]]],
+    hardware: Mapping[str, tuple[str, str]] | None = None,
+):
+    """The :class:`AssemblySequence` of ``steps`` with the solids ``placed`` at each pose
+    (the ``hardware`` among them as :func:`precedences` takes it)."""
+    relations, poses = precedences(steps, placed, hardware or {})
     done, cycle = order(steps, relations)
     if cycle:
         return AssemblySequence((), tuple(relations), poses, tuple(cycle))

@@ -111,6 +111,37 @@ def turned_prisms(part: Mapping[str, Any]) -> tuple[Prism, ...]:
     )
 
 
+def hardware_prisms(part: Mapping[str, Any]) -> tuple[Prism, ...]:
+    """A piece of the kit's hardware (:mod:`qsm.realization.kit.kit_hardware`) as prisms: along
+    z as a turned part; along y (a cheek's or the table's screw) as discs across y; across the
+    plane (a hub's set screw) as the box each cylinder sweeps, across z as deep as it is wide."""
+    frame = part.get("frame")
+    if frame is None:
+        return turned_prisms(part)
+    (ox, oy, oz), n = frame["origin"], frame["normal"]
+    if abs(n[1]) > 0.5:
+        ends = [(oy + n[1] * a, oy + n[1] * b) for _, a, b in part["steps"]]
+        return tuple(
+            Prism("y", disc(ox, oz, d, part["bore_mm"]), min(e), max(e))
+            for (d, _, _), e in zip(part["steps"], ends, strict=True)
+        )
+    out = []
+    for d, a, b in part["steps"]:
+        line = shapely.LineString([(ox + n[0] * t, oy + n[1] * t) for t in (a, b)])
+        out.append(Prism("z", line.buffer(d / 2, cap_style="flat"), oz - d / 2, oz + d / 2))
+    return tuple(out)
+
+
+def moved_prism(prism: Prism, start: tuple, end: tuple) -> Prism:
+    """A prism along z carried by a link from its frame ``start`` to ``end`` (each the origin,
+    m, and the angle, rad)."""
+    (x0, y0), a = start
+    (x1, y1), b = end
+    turned = affinity.rotate(prism.shape, b - a, origin=(1e3 * x0, 1e3 * y0), use_radians=True)
+    shape = affinity.translate(turned, 1e3 * (x1 - x0), 1e3 * (y1 - y0))
+    return Prism(prism.axis, shape, prism.lo, prism.hi)
+
+
 def solids(layout: Mapping[str, Any]) -> dict[str, tuple[Prism, ...]]:
     """Every part of a kit ``layout`` (:func:`qsm.realization.kit.kit_layout.kit_geometry`) as
     its prisms, by its name."""
