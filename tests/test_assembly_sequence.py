@@ -504,3 +504,33 @@ def test_a_link_facing_a_cheek_stands_off_the_drive_s_mounting_heads_by_hand():
     link_side = {"thread": "M5", "pcd_mm": 71.7, "side": "link"}
     assert _hub_gap(link_side, heads) == pytest.approx(18.0)
     assert _hub_gap(link_side | {"pcd_mm": 84.0}, heads) == pytest.approx(8 + 14.5 + 1)
+
+
+def test_hardware_in_place_stands_in_the_way_and_a_pressed_part_with_its_carrier():
+    """A key path through a screw's head orders the key's step before the screw's; through a
+    bearing pressed into a link on the bench, before the link's (the bearing is there once
+    the link is); a step's own parts' hardware is skipped."""
+    from qsm.realization.kit.kit_sequence import precedences
+
+    head = Prism("z", disc(0.0, 0.0, 10.0), 0.0, 5.0)
+    bearing = Prism("z", disc(50.0, 0.0, 22.0), 0.0, 7.0)
+    placed = [{"link": (Prism("z", shapely.box(40, -20, 200, 20).difference(disc(50, 0, 22)),
+                              0.0, 7.0),), "screw": (head,), "bearing": (bearing,)}]  # fmt: skip
+    key = Prism("z", disc(0.0, 0.0, 3.0), -20.0, 20.0)
+    press = Tool("press", "arbor press")
+    steps = [
+        Step("bearing", "press", (), (), (0.0, 0.0, 0.0), press),
+        Step("link", "link", ("link",), (), (0.0, 0.0, 1.0), HAND),
+        Step("screw", "screw", (), (), (0.0, 0.0, 1.0), HAND),
+        Step("key", "key", (), (), (0.0, 0.0, 1.0), HAND, ((0, (key,)),)),
+        Step("tool", "tool", (), (), (0.0, 0.0, 1.0), HAND,
+             ((0, (Prism("z", disc(50.0, 0.0, 3.0), -20.0, 20.0),)),)),
+    ]  # fmt: skip
+    hardware = {"screw": ("screw", "link"), "bearing": ("bearing", "link")}
+    found = {(r.first, r.then) for r in precedences(steps, placed, hardware)[0]}
+    assert ("key", "screw") in found and ("tool", "link") in found
+    assert ("tool", "bearing") not in found
+    own = [*steps[:4], Step("tool", "tool", ("link",), (), (0.0, 0.0, 1.0), HAND, steps[4].reach)]
+    assert ("tool", "link") not in {
+        (r.first, r.then) for r in precedences(own, placed, hardware)[0]
+    }

@@ -161,10 +161,17 @@ def test_a_printed_part_too_large_for_the_printer_is_not_ready() -> None:
     )
     assert not ready
     assert problems == ["the printed coupler (32.0 x 80.0 x 630.0 mm) does not fit the printer"]
-    _, problems = build_verdict(
-        {"printable": False, "strength": strength}, topology, {"passed": True}
+    boxes = {key: [20.0, 50.0, 300.0] for key in LINK_NAMES} | {"coupler": [32.0, 80.0, 630.0]}
+    unprintable = {
+        "printable": False,
+        "printer_box_mm": boxes,
+        "printer_volume_mm": [600, 350, 350],
+    }
+    _, problems = build_verdict(unprintable | {"strength": strength}, topology, {"passed": True})
+    assert problems[0] == (
+        "not printable: the coupler (32 x 80 x 630 mm) does not fit the printer's 600 x 350 x "
+        "350 mm build volume"
     )
-    assert len(problems) == 1 and problems[0].startswith("not printable")
 
 
 def test_a_mesh_with_a_hole_is_mended_and_one_that_stays_open_is_not_ready() -> None:

@@ -35,7 +35,7 @@ from qsm.optimization.verify import verify_design
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import evaluate_mechanism
 from qsm.physics.inverse_kinematics import joint_path
-from qsm.physics.kinematics import DESIGN_COLUMNS
+from qsm.physics.kinematics import DESIGN_COLUMNS, end_effector
 from qsm.physics.task_points import task_cycle
 from qsm.physics.workspace import OperatingRange
 from qsm.realization.motion.cycle import top_speed
@@ -344,6 +344,19 @@ def test_the_datasheet_states_this_runs_figures(run):
     assert sheet.splitlines()[2] == summary.splitlines()[2]  # the run's verdict, word for word
     assert f"| cycles per hour | {cycle['cycles_per_hour']:.0f} on the task" in sheet
     assert f"{selected['stiffness']['worst']['error_budget_mm']:.2f} mm worst" in sheet
+    line = next(x for x in sheet.splitlines() if x.startswith("| placing error | "))
+    total = float(line.split("| placing error | ")[1].split(" mm")[0])
+    terms = [float(v) for v in re.findall(r"(?:sag|motion|error|base) ([0-9.]+) mm", line)]
+    assert len(terms) == 4 and sum(terms) == pytest.approx(total, abs=0.021)  # its terms add up
+    assert "| quantity | value |" in sheet and "| | |" not in sheet
+    limits = effective_config(run)["operating_range"]  # the reach: the farthest tool point
+    (lo, hi), low = limits["theta1_deg"], limits["theta2_min_deg"]
+    t1, t2 = np.meshgrid(*(np.radians(np.linspace(a, hi, 721)) for a in (lo, low)))
+    inside = t2 <= t1
+    tool = end_effector(selected["design_m"], t1[inside], t2[inside])
+    reach = float(np.nanmax(np.hypot(*tool.T)))
+    stated = float(sheet.split("| reach | ")[1].split(" m ")[0])
+    assert stated == pytest.approx(reach, abs=1.5e-3)
     bom = pd.read_csv(real / "bom.csv")
     for part in bom.loc[bom["category"] == "printed part"].itertuples():
         volume_cm3 = part.mass_kg / effective_config(run)["material"]["density_kg_m3"] * 1e6
@@ -490,6 +503,11 @@ def test_the_builders_kit_reopens_and_adds_up(run):
         parts = len(layout["plates"]) + len(layout["turned"]) + len(layout["hardware"])
         expected = parts if path.stem == "assembly" else 1
         assert len(shape.solids()) == expected and shape.is_valid, path.name
+        if path.stem == "assembly":  # the datasheet weighs the hardware's solids as steel
+            labels = {re.sub(r"[ .]", "_", n) for n in layout["hardware"]}
+            mm3 = sum(c.volume for c in shape.children if c.label in labels)
+            sheet = (run / "results/datasheet.md").read_text()
+            assert f"{mm3 * 7.85e-6:.2f} kg of bearings and fasteners" in sheet
     assert {p.stem for p in (kit_dir / "step").glob("*.step")} >= set(layout["plates"])
     for name, plate in layout["plates"].items():
         doc = ezdxf.readfile(kit_dir / "dxf" / f"{name}.dxf")

@@ -11,12 +11,13 @@ from qsm.physics.containment import (
     minimal_scales,
     radial_misfit,
 )
-from qsm.physics.kinematics import design_from_ratios, loop_closes_everywhere
+from qsm.physics.kinematics import design_from_ratios, end_effector, loop_closes_everywhere
 from qsm.physics.task import Disk
 from qsm.physics.workspace import (
     OperatingRange,
     Resolution,
     SliceStack,
+    operating_reach,
     slice_workspace,
     union_and_margin,
     unit_areas,
@@ -219,3 +220,22 @@ def test_unit_area_is_the_slices_area_and_radial_misfit_agrees_with_the_scan():
                 rejected += 1
                 assert not fit.feasible and fit.reason == why
     assert rejected > 0
+
+
+def test_the_operating_reach_is_the_farthest_tool_point_over_the_motors_angle_grid():
+    """The reach over the operating range (a scan of delta alone, since |AE| depends on nothing
+    else) against a 2-D grid of both motors' angles within their limits (theta2 <= theta1): the
+    same within the grid's resolution, and never past the arm in line, l1 + |BE|."""
+    design = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
+    reach = operating_reach(design, (45.0, 180.0), -37.5)
+    t1, t2 = np.meshgrid(
+        np.radians(np.linspace(45, 180, 601)), np.radians(np.linspace(-37.5, 180, 601))
+    )
+    inside = t2 <= t1
+    grid = np.nanmax(np.hypot(*end_effector(design, t1[inside], t2[inside]).T))
+    assert reach.reach_m == pytest.approx(grid, abs=2e-4)
+    assert reach.reach_m >= grid - 1e-9
+    assert reach.in_line_m == pytest.approx(0.5 + np.hypot(0.6, 0.2))
+    assert reach.reach_m <= reach.in_line_m + 1e-12
+    narrow = operating_reach(design, (45.0, 90.0), 60.0)  # delta at most 30 degrees
+    assert narrow.delta_rad <= np.radians(30.0) + 1e-12 and narrow.reach_m <= reach.reach_m

@@ -25,6 +25,8 @@ rule summary:
     params:
         code=code("summary.py"),
         density_kg_m3=config["material"]["density_kg_m3"],
+        theta1_deg=config["operating_range"]["theta1_deg"],
+        theta2_min_deg=config["operating_range"]["theta2_min_deg"],
     script:
         "../scripts/summary.py"
 

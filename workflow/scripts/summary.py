@@ -5,6 +5,8 @@ import json
 
 import pandas as pd
 
+from qsm.physics.workspace import operating_reach
+from qsm.realization.kit.kit_hardware import mass_kg
 from qsm.report.datasheet import datasheet_markdown
 from qsm.report.headline import headline_markdown, verdict_sentence
 from qsm.report.kit_report import kit_markdown
@@ -23,13 +25,20 @@ with logged(snakemake.log[0]) as log:
         bom = fh.read()
     text = headline_markdown(findings=read_table(inp.findings), bom=bom, **loaded)
     with open(inp.kit) as fh:
-        text += "\n" + kit_markdown(json.load(fh))
+        kit = json.load(fh)
+    text += "\n" + kit_markdown(kit)
     with open(out.summary, "w") as fh:
         fh.write(text)
     verdict = verdict_sentence(loaded["selected"], loaded["topology"], loaded["payload"])
-    sheet = datasheet_markdown(
-        loaded["selected"], pd.read_csv(inp.bom_csv), snakemake.params.density_kg_m3, verdict
+    params = snakemake.params
+    reach = operating_reach(
+        loaded["selected"]["design_m"], params.theta1_deg, params.theta2_min_deg
     )
+    hardware_kg = mass_kg(kit["layout"].get("hardware", {}))
+    sheet = datasheet_markdown(
+        loaded["selected"], pd.read_csv(inp.bom_csv), params.density_kg_m3, verdict, reach,
+        hardware_kg,
+    )  # fmt: skip
     with open(out.datasheet, "w") as fh:
         fh.write(sheet)
     log.info("wrote the summary and the datasheet")

@@ -24,7 +24,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.physics.kinematics import relative_arm_angle
+from qsm.physics.kinematics import end_effector, relative_arm_angle
 from qsm.physics.slicing import (
     intervals_on_levels,
     levels_between,
@@ -237,3 +237,28 @@ def unit_areas(
             covered[rows] = union_length(*wrap_compact(starts, ends, 0.0))
         out[start + closed] = _area(levels, covered, rho_min, rho_max)
     return out
+
+
+@dataclass(frozen=True)
+class Reach:
+    """The farthest the tool gets from A within the operating range: ``reach_m`` at
+    ``delta_rad`` = theta1 - theta2, and the arm's reach with the lower and upper arm in line
+    (``in_line_m``, l1 + |BE|), which the operating range may not allow."""
+
+    reach_m: float
+    delta_rad: float
+    in_line_m: float
+
+
+def operating_reach(
+    design: ArrayLike, theta1_deg: Sequence[float], theta2_min_deg: float, samples: int = 4001
+) -> Reach:
+    """:class:`Reach` of ``design`` over motor 1's range ``theta1_deg`` (lo, hi) and theta2
+    from ``theta2_min_deg`` up to theta1. |AE| depends only on delta = theta1 - theta2, which
+    spans 0 to hi - theta2_min; it is scanned at ``samples`` points where the loop closes."""
+    d = np.asarray(design, dtype=float)
+    hi = np.radians(theta1_deg[1])
+    delta = np.linspace(0.0, hi - np.radians(theta2_min_deg), samples)
+    r = np.hypot(*end_effector(d, np.full_like(delta, hi), hi - delta).T)
+    i = int(np.nanargmax(r))
+    return Reach(float(r[i]), float(delta[i]), float(d[0] + np.hypot(d[4], d[5])))

@@ -1,7 +1,8 @@
 """A one-page datasheet of the realised design, as an industrial arm's reads: payload, reach and
 task region, cycles per hour, accuracy and first mode, masses, drives, bearings, material, print
 time and filament per part, and power. Every figure comes from this run's records
-(``selected.json``, the bill of materials); what a record does not hold is not stated.
+(``selected.json``, the bill of materials, the kit's hardware) or is computed from them (the
+reach within the operating range); what a record does not hold is not stated.
 
 Print time is estimated by one rule, stated on the page: a part's volume (its printed mass over
 the material's density) over :data:`PRINT_RATE_MM3_S`, a typical volumetric rate of a 0.4 mm
@@ -17,7 +18,9 @@ import numpy as np
 import pandas as pd
 
 from qsm.embodiment.drives.selection import drive_of
+from qsm.physics.workspace import Reach
 from qsm.realization.accuracy.accuracy_budget import term_phrases
+from qsm.report.cycle_report import cycle_problems
 
 #: Volumetric printing rate (mm^3/s) of the print-time rule.
 PRINT_RATE_MM3_S = 10.0
@@ -60,12 +63,18 @@ def _bom_masses_kg(bom: pd.DataFrame) -> dict[str, float]:
     return {str(k): float(v) for k, v in kg.groupby(weighed["category"], sort=False).sum().items()}
 
 
-def _mass_text(bom: pd.DataFrame) -> str:
-    """The datasheet's mass line: the BOM's weighed parts, in total and by category."""
+def _mass_text(bom: pd.DataFrame, hardware_kg: float) -> str:
+    """The datasheet's mass line: the BOM's weighed parts, in total and by category, and the
+    bearings and fasteners (``hardware_kg``, weighed from their solids)."""
     by = _bom_masses_kg(bom)
     name = {"motor": "drives (motor and gearbox)"}
     parts = ", ".join(f"{name.get(k, k + 's')} {v:.2f} kg" for k, v in by.items())
-    return f"{sum(by.values()):.2f} kg as built: {parts} (bearings and fasteners not weighed)"
+    built = sum(by.values())
+    return (
+        f"{built + hardware_kg:.2f} kg in all: {built:.2f} kg as built ({parts}) and "
+        f"{hardware_kg:.2f} kg of bearings and fasteners, weighed from their solids in "
+        "assembly.step as steel"
+    )
 
 
 def _bearings_text(bom: pd.DataFrame) -> str:
@@ -75,10 +84,21 @@ def _bearings_text(bom: pd.DataFrame) -> str:
     return f"{built or 'none'}; A: the drives' output bearings"
 
 
-def _machine_rows(selected: Mapping[str, Any], bom: pd.DataFrame) -> list[str]:
+def _reach_text(reach: Reach) -> str:
+    """The datasheet's reach line: within the operating range, beside the arm in line."""
+    return (
+        f"{reach.reach_m:.3f} m from the base joint A within the operating range (at theta1 - "
+        f"theta2 = {np.degrees(reach.delta_rad):.0f} deg; {reach.in_line_m:.3f} m with the "
+        "lower and upper arm in line, outside it)"
+        if reach.reach_m < reach.in_line_m - 5e-4
+        else f"{reach.reach_m:.3f} m from the base joint A (lower arm and upper arm in line)"
+    )
+
+
+def _machine_rows(
+    selected: Mapping[str, Any], bom: pd.DataFrame, reach: Reach, hardware_kg: float
+) -> list[str]:
     """Payload, reach, task region, masses, drives, bearings and material."""
-    d = selected["design_m"]
-    reach = d[0] + float(np.hypot(d[4], d[5]))
     points = np.asarray(selected["task"]["points_m"], dtype=float)
     motors = selected["drives"]["motors"]
     drives = [drive_of(m) for m in motors.values()]
@@ -86,11 +106,11 @@ def _machine_rows(selected: Mapping[str, Any], bom: pd.DataFrame) -> list[str]:
         _row("payload", f"{selected['strength']['payload_kg']:g} kg at the tool (gripper "
              f"included), on a {selected['tool_flange_kg']:.3f} kg tool flange "
              f"({selected['tool_flange'].get('pattern') or 'none fits'})"),
-        _row("reach", f"{reach:.3f} m from the base joint A (lower arm and upper arm in line)"),
+        _row("reach", _reach_text(reach)),
         _row("task", f"{len(points)} points, x {points[:, 0].min():.3f} to "
              f"{points[:, 0].max():.3f} m, y {points[:, 1].min():.3f} to "
              f"{points[:, 1].max():.3f} m"),
-        _row("mass", _mass_text(bom)),
+        _row("mass", _mass_text(bom, hardware_kg)),
         *(
             _row(f"drive {j}", f"{x['motor']} + {x['gearbox']} ({x['ratio']:g}:1, "
                  f"{x['mass_kg']:.2f} kg; backlash {x.get('backlash_arcmin', '-')} arcmin, "
@@ -105,6 +125,16 @@ def _machine_rows(selected: Mapping[str, Any], bom: pd.DataFrame) -> list[str]:
     ]  # fmt: skip
 
 
+def _cycle_checks(cycle: Mapping[str, Any]) -> str:
+    """What the cycle's own checks (the links' strength, the drives' heat, MuJoCo's run) say:
+    that they pass, with the drives' thermal use, or what fails, with its numbers."""
+    if cycle["ok"]:
+        use = cycle.get("thermal_use")
+        heat = f", thermal use {' / '.join(f'{u:.2f}' for u in use)}" if use else ""
+        return f"the cycle's strength, heat and simulation checks pass{heat}"
+    return "the cycle fails: " + "; ".join(cycle_problems(dict(cycle)))
+
+
 def _performance_rows(selected: Mapping[str, Any]) -> list[str]:
     """Cycles per hour, accuracy, first mode and power."""
     rows = []
@@ -115,7 +145,7 @@ def _performance_rows(selected: Mapping[str, Any]) -> list[str]:
         rows += [
             _row("cycles per hour", f"{cycle['cycles_per_hour']:.0f} on the task "
                  f"({cycle['cycle_time_s']:.2f} s per cycle, {cycle['dwell_s']:g} s dwell at each "
-                 f"point; {'checks passed' if cycle['ok'] else 'FAILS a check, see summary.md'})"),
+                 f"point; {_cycle_checks(cycle)})"),
             _row("mechanical power", f"peak {_pair(cycle['peak_power_W'], 0, 'W')}, RMS "
                  f"{_pair(cycle['rms_power_W'], 0, 'W')}; {cycle['energy_per_cycle_J']:.0f} J "
                  f"per cycle at the joints"),
@@ -140,10 +170,18 @@ def _performance_rows(selected: Mapping[str, Any]) -> list[str]:
 
 
 def datasheet_markdown(
-    selected: Mapping[str, Any], bom: pd.DataFrame, density_kg_m3: float, verdict: str
+    selected: Mapping[str, Any],
+    bom: pd.DataFrame,
+    density_kg_m3: float,
+    verdict: str,
+    reach: Reach,
+    hardware_kg: float,
 ) -> str:
     """The datasheet page (Markdown) of the realised design ``selected`` with its ``bom`` and
-    the printed material's density (kg/m^3); ``verdict`` is the run's overall sentence."""
+    the printed material's density (kg/m^3); ``verdict`` is the run's overall sentence,
+    ``reach`` the tool's within the operating range
+    (:func:`qsm.physics.workspace.operating_reach`) and ``hardware_kg`` the bearings' and
+    fasteners' mass (:func:`qsm.realization.kit.kit_hardware.mass_kg`)."""
     parts = printed_parts(bom, density_kg_m3)
     table = [
         "| part | filament (g) | volume (cm3) | print time (h) | box (mm) |",
@@ -160,9 +198,9 @@ def datasheet_markdown(
             "",
             f"**{verdict}**",
             "",
-            "| | |",
+            "| quantity | value |",
             "| --- | --- |",
-            *_machine_rows(selected, bom),
+            *_machine_rows(selected, bom, reach, hardware_kg),
             *_performance_rows(selected),
             "",
             "## Printed parts",

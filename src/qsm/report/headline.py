@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from qsm.embodiment.parts.printing import box_fits
 from qsm.report.accuracy_report import accuracy_lines
 from qsm.report.cycle_report import cycle_lines, cycle_problems
 from qsm.report.drive_text import shortfall, use_text
@@ -47,7 +48,7 @@ def build_verdict(
     hold."""
     problems = []
     if not selected["printable"]:
-        problems.append("not printable on the configured printer (see the verdict below)")
+        problems.append(_not_printable(selected))
     problems += _strength_problems(selected["strength"])
     drawn = topology.get("parts", {}).get("section_mm", {})
     for link, r in selected["strength"]["links"].items():
@@ -92,6 +93,19 @@ def build_verdict(
     if kit is not None and not kit["holds"]:
         problems += [f"the builder's kit: {p}" for p in kit["problems"]]
     return not problems, problems
+
+
+def _not_printable(selected: Mapping[str, Any]) -> str:
+    """The verdict's line for a design that does not print: each link whose box (mm) does not
+    fit the printer's build volume, with both."""
+    volume = selected["printer_volume_mm"]
+    over = [
+        f"the {name.replace('_', ' ')} ({' x '.join(f'{v:.0f}' for v in box)} mm)"
+        for name, box in selected["printer_box_mm"].items()
+        if not box_fits(box, volume)
+    ]
+    where = f"the printer's {' x '.join(f'{v:g}' for v in volume)} mm build volume"
+    return f"not printable: {', '.join(over)} {'does' if len(over) == 1 else 'do'} not fit {where}"
 
 
 def _strength_problems(strength: Mapping[str, Any]) -> list[str]:

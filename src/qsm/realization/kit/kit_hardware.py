@@ -43,8 +43,8 @@ def _span(a: float, length: float, sign: float) -> tuple[float, float]:
     return min(a, b), max(a, b)
 
 
-#: The frame of a part along y at (x, z): its own z along the global y.
 def _along_y(x: float, z: float) -> dict[str, list[float]]:
+    """The frame of a part along y at (x, z) mm: its own z along the global y."""
     return {"origin": [x, 0.0, z], "normal": [0.0, 1.0, 0.0], "x_dir": [1.0, 0.0, 0.0]}
 
 
@@ -308,3 +308,15 @@ def hardware(record: dict[str, Any], design: np.ndarray, bearings: dict[str, Any
     return Hardware(
         solids, {n: h["moves_with"] for n, h in out.items()}, {n: h["step"] for n, h in out.items()}
     )
+
+
+def mass_kg(solids: dict[str, dict[str, Any]]) -> float:
+    """The mass (kg) of the hardware's ``solids`` as drawn (:attr:`Hardware.solids`: each
+    cylinder less its bore), all taken as steel (:data:`qsm.embodiment.kit.joints.STEEL_KG_M3`;
+    the heat-set inserts are brass, 8 % heavier, and a few grams in all)."""
+    mm3 = sum(
+        math.pi / 4 * (d**2 - part["bore_mm"] ** 2) * (b - a)
+        for part in solids.values()
+        for d, a, b in part["steps"]
+    )
+    return mm3 * 1e-9 * jt.STEEL_KG_M3

@@ -31,6 +31,11 @@ from qsm.realization.kit.kit_solids import Prism, blockers, disc
 TOWARD = {1: -1.0, 2: 1.0}
 
 
+#: The tools of the steps that press a part into another on the bench (a bearing, a heat-set
+#: insert): the part stands where it goes once its carrier does.
+PRESSED = ("press", "soldering iron")
+
+
 @dataclass(frozen=True)
 class Tool:
     """What a step needs: ``kind`` (hexagon key, spanner, press, hand), its order line, and the
@@ -113,11 +118,14 @@ def precedences(
 ) -> tuple[list[Precedence], dict[str, int]]:
     """Every "must come first" relation of ``steps``, given each pose's solids ``placed``
     (pose index: part name: prisms), among them the ``hardware`` (name: the key of the step
-    that puts it in, and the part that carries it; a step's own parts bring theirs), and each
-    step's chosen pose."""
+    that puts it in, and the part that carries it; a step's own parts bring theirs, and a part
+    pressed into another stands in the way once that one is placed), and each step's chosen
+    pose."""
     groups = {s.key: s.group for s in steps}
     arm = {part: s.key for s in steps if not s.group for part in s.places}
-    arm |= {name: groups.get(key) or key for name, (key, _) in hardware.items()}
+    pressed = {s.key for s in steps if s.tool.kind in PRESSED}
+    for name, (key, carrier) in hardware.items():  # a pressed part goes in with its carrier
+        arm[name] = arm[carrier] if key in pressed and carrier in arm else groups.get(key) or key
     bench: dict[str, dict[str, str]] = {}
     for s in steps:
         if s.group:

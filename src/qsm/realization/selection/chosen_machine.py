@@ -154,6 +154,7 @@ def machine_top(
     record["source"], record["fallback"] = how["source"], how["fallback"]
     record["printable"] = all(link["fits"] for link in fit.values())
     record["printer_box_mm"] = {name: list(link["dims_mm"]) for name, link in fit.items()}
+    record["printer_volume_mm"] = [float(v) for v in volume_mm]
     record["holds_loads"] = bool(done.strength["holds_loads"])
     record["has_drives"] = done.has_drives
     record["strength"], record["drives"] = done.strength, done.drives
