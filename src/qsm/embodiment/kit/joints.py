@@ -294,7 +294,7 @@ def hub(
         out["key"] = {"w_mm": w, "h_mm": h, "length_mm": engaged, "pressure_MPa": pressure}
         out["key_safety_factor"] = HUB_YIELD_MPA / pressure
         out["set_screw"] = set_screw()
-        out["retention"] = f"{out['set_screw']} cup point on the shaft, across the key"
+        out["retention"] = f"{out['set_screw']} cup point on the shaft's round, opposite the key"
         holds = holds and out["key_safety_factor"] >= required_sf
     else:
         out["flange"] = f"{drive.flange_bolts} x {drive.flange_thread} on {drive.flange_pcd_mm:g}"

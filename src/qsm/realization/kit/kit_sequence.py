@@ -5,8 +5,10 @@ needs (ISO 2936 key, spanner, press) and each screw's tightening torque.
 Each step says which space must be free when it is done (:mod:`~qsm.realization.kit.kit_solids`):
 the room a part passes through on its way in, and a straight key's path from a screw's head along
 its axis for the key's long arm, with the short arm turning at its end. A step must come before
-every part that would stand in that space: at the pose of the arm (of five over the operating
-range) where the fewest parts do, for a spanner on a nut in the best of four directions. With
+every part, or piece of hardware (a screw's head, a nut, a washer), that would stand in that
+space: at the pose of the arm (of five over the operating range) where the fewest do, for a
+spanner on a nut in the best of four directions. A bearing or insert pressed into a part on
+the bench stands in the way once that part is placed. With
 the steps each needs first (a hub on its drive, a link on its hub), these relations order the
 steps; a cycle means that no order exists, and the sequence names the steps that form it.
 A step on the bench (a drive bolted to its cheek before the module goes on) is checked against
