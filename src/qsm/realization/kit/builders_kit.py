@@ -598,8 +598,7 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     screws = _hub_screws(plates, drives, float(_bearing(done, "A")["d_mm"]))
     pins = _pins(done, plates, None)
     pins = _pins(done, plates, spacer_counts(done, parts, pins, screws, settings))
-    p = pose(done.design, *np.radians([settings.theta1_deg[0], settings.theta2_min_deg]))
-    arms = {j: 1e3 * float(np.hypot(*np.asarray(getattr(p, j)))) for j in OUTER_NUTS}
+    arms = {"B": 1e3 * float(done.design[0]), "C": 1e3 * float(done.design[1])}  # l1, l2
     stack = _stack(parts, pins, screws, _mount_heads(drives), arms)
     l1, _, _, _, ee_x, ee_y = done.design
     reach = 1e3 * (l1 + float(np.hypot(ee_x, ee_y)))

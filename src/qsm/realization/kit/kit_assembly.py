@@ -175,13 +175,12 @@ def table_screw_points(plate: dict[str, Any]) -> list[tuple[float, float]]:
 
 
 def cheek_screw_points(record: dict[str, Any], k: int) -> list[tuple[float, float]]:
-    """Cheek ``k``'s fixing screws' places (x, z; mm): at x = -s, 0 and s (s = b / 2 - 10 mm),
-    in the middle of its thickness."""
+    """Cheek ``k``'s fixing screws' places (x, z; mm): at :func:`kit_layout.fixing_x_mm
+    <qsm.realization.kit.kit_layout.fixing_x_mm>`, in the middle of its thickness."""
     cheek = record["base"]["cheeks"][k - 1]
     t = cheek["thickness_mm"]
     z = -t / 2 if k == 1 else record["stack_mm"]["cheek_2"] + t / 2
-    span = cheek["width_mm"] / 2 - 10
-    return [(x, z) for x in (-span, 0.0, span)]
+    return [(x, z) for x in kl.fixing_x_mm(cheek)]
 
 
 def base_steps(record: dict[str, Any]) -> list[Step]:

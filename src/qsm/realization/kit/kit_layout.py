@@ -97,8 +97,7 @@ def ring(pcd: float, n: int, start_rad: float) -> list[tuple[float, float]]:
 
 def bolt_circle(pcd: float, n: int, hole: float, start_deg: float = 0.0) -> list[list]:
     """``n`` holes of ``hole`` mm on a circle of ``pcd`` mm about the origin."""
-    a = np.radians(start_deg) + 2 * np.pi * np.arange(n) / max(n, 1)
-    return [circle(pcd / 2 * math.cos(t), pcd / 2 * math.sin(t), hole, 24) for t in a]
+    return [circle(x, y, hole, 24) for x, y in ring(pcd, n, math.radians(start_deg))]
 
 
 def cheek_plate(part: dict[str, Any], iface: DriveInterface, hole: float, z0: float) -> dict:
@@ -135,8 +134,14 @@ def _fixing_holes(part: dict[str, Any]) -> list[list[float]]:
         return []
     thread, length = screw.split()[2], float(screw.split(" x ")[-1])
     depth = length - bs.BASE_PLATE_MM - fs.washer_mm(thread)[2] + 2.0
-    span, h = part["width_mm"] / 2 - 10, part["height_mm"]
-    return [[x, float(thread[1:]), -h, -h + depth] for x in (-span, 0.0, span)]
+    h = part["height_mm"]
+    return [[x, float(thread[1:]), -h, -h + depth] for x in fixing_x_mm(part)]
+
+
+def fixing_x_mm(part: dict[str, Any]) -> tuple[float, float, float]:
+    """Where (x, mm) a cheek's three fixing screws go: -s, 0 and s, s = b / 2 - 10 mm."""
+    span = part["width_mm"] / 2 - 10
+    return (-span, 0.0, span)
 
 
 def _pocket_of(part: dict[str, Any], outer_low: bool) -> dict[str, float]:
@@ -165,8 +170,7 @@ def base_plate(cheeks: list[dict[str, Any]], z: tuple[float, float], h: float, t
     for c, zc in zip(cheeks, middles, strict=True):
         screw = c["fixing"]["screw"]
         hole = fs.clearance_hole_mm(screw.split()[2] if screw else "M6")
-        span = c["width_mm"] / 2 - 10
-        holes += [circle(x, zc, hole) for x in (-span, 0.0, span)]
+        holes += [circle(x, zc, hole) for x in fixing_x_mm(c)]
     return {
         "outline": [[-w / 2, z0], [w / 2, z0], [w / 2, z1], [-w / 2, z1]],
         "holes": holes,
@@ -221,9 +225,7 @@ def _hub_holes(hub: dict[str, Any], link_face: float, toward: int, angle: float)
         return []
     d = float(s["thread"][1:]) if s["side"] == "link" else fs.clearance_hole_mm(s["thread"])
     z = sorted((link_face, link_face + toward * jt.FLANGE_MM))
-    a = angle + math.radians(30) + 2 * math.pi * np.arange(jt.HUB_SCREWS) / jt.HUB_SCREWS
-    r = s["pcd_mm"] / 2
-    return [[r * math.cos(t), r * math.sin(t), d, *z] for t in a]
+    return [[x, y, d, *z] for x, y in ring(s["pcd_mm"], jt.HUB_SCREWS, angle + math.radians(30))]
 
 
 def _drive_holes(iface: DriveInterface, faces: tuple[float, int, float], angle: float) -> list:
@@ -272,8 +274,7 @@ def kit_geometry(
     """Every part placed, mm: the plates (links at motor ``angles``, cheeks, base plate), and
     along z the hubs (flange on the link, boss to the drive), the drives' envelopes outside the
     cheeks and the tool flange's disc against the upper arm at E, tapped for its centre screw;
-    ``moves_with`` names the link
-    whose frame carries each part (``base``: it stands still)."""
+    ``moves_with`` names the link whose frame carries each part (``base``: it stands still)."""
     t1, t2 = cheeks[0]["thickness_mm"], cheeks[1]["thickness_mm"]
     end = stack["cheek_2"]
     plates = link_plates(design, parts, stack, angles)
