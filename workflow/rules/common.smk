@@ -1,7 +1,7 @@
 # Shared definitions: the conda environment, code provenance and the settings rules depend on.
 import functools
 
-from qsm.config.sections import accuracy_section
+from qsm.config.sections import accuracy_section, iso_section
 from qsm.physics.task_points import MOTION_KEYS, design_task, task_cycle
 from qsm.workflow.provenance import source_hash
 
@@ -97,6 +97,12 @@ def accuracy_settings():
     """The keys the realisation's accuracy reads (qsm.config.settings.realization
     .accuracy_section): the task's points and cycle arrive by other params."""
     return accuracy_section(config)
+
+
+def iso_settings():
+    """The ISO 9283 figures' keys (qsm.config.sections.iso_section): the Monte Carlo, the default
+    encoder, the task's repeatability and the servo's gains."""
+    return iso_section(config)
 
 
 def motion_settings():

@@ -187,6 +187,37 @@ rule cycle_time:
         "../scripts/cycle_time.py"
 
 
+rule standard_cycle:
+    input:
+        choice=rules.select_design.output.choice,
+        machine=rules.select_design.output.machine,
+        links=rules.topology_optimize.output.links,
+        topology=rules.topology_optimize.output.topology,
+        kit=rules.topology_optimize.output.kit,
+        payload=rules.payload_test.output.result,
+    output:
+        cycle=f"{REAL}/standard_cycle.json",
+    log:
+        f"{RESULTS}/logs/standard_cycle.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/standard_cycle.tsv"
+    priority: 10  # the critical path: ahead of the design-rule shards
+    conda:
+        ENV
+    params:
+        code=code("standard_cycle.py"),
+        load_case=load_case(),
+        strength=config["strength"],
+        drives=drive_settings(),
+        task=accuracy_settings(),
+        motion=motion_settings(),
+        payload_test=config["payload_test"],
+        task_points=TASK_POINTS,
+        build_volume_mm=config["printing"]["build_volume_mm"],
+    script:
+        "../scripts/standard_cycle.py"
+
+
 rule accuracy_budget:
     input:
         choice=rules.select_design.output.choice,
@@ -196,6 +227,7 @@ rule accuracy_budget:
         kit=rules.topology_optimize.output.kit,
         payload=rules.payload_test.output.result,
         cycle=rules.cycle_time.output.cycle,
+        standard=rules.standard_cycle.output.cycle,
     output:
         selected=f"{REAL}/selected.json",
         figure=report(
@@ -217,5 +249,6 @@ rule accuracy_budget:
         motion=motion_settings(),
         task_points=TASK_POINTS,
         build_volume_mm=config["printing"]["build_volume_mm"],
+        iso=iso_settings(),
     script:
         "../scripts/accuracy_budget.py"

@@ -27,7 +27,9 @@ with logged(snakemake.log[0]) as log:
     settings = carrying(settings, done.tool_kg)  # the tool flange at E, as realised
     base = json.loads(Path(inp.kit).read_text())["base"]["tool_error_mm"]  # the kit's cheeks
     parts = (topology, props)
-    record = final_record(choice, done, parts, payload, settings, p.task_points, cycle, base)
+    iso = realization.iso(p.iso)
+    record = final_record(choice, done, parts, payload, settings, p.task_points, cycle, base, iso)
+    record["standard_cycle"] = json.loads(Path(inp.standard).read_text())
     record["verdict"] = final_verdict(record)
     write_json(out.selected, record)
     accuracy_figure(record, done, topology, props, settings, p.task_points, out.figure)

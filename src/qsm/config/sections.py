@@ -19,3 +19,13 @@ def accuracy_section(config: Section) -> dict[str, Any]:
     param; the task's points and cycle arrive by other params)."""
     section = {k: config["task"][k] for k in ACCURACY_KEYS}
     return section | {"min_stiffness_factor": config["topology"]["min_stiffness_factor"]}
+
+
+def iso_section(config: Section) -> dict[str, Any]:
+    """What :func:`qsm.config.settings.realization.iso` reads: ``iso9283``, the task's
+    ``repeatability_mm`` and the servo's proportional gains (``payload_test.kp_Nm_rad``)."""
+    return {
+        **config["iso9283"],
+        "repeatability_mm": config["task"]["repeatability_mm"],
+        "kp_Nm_rad": config["payload_test"]["kp_Nm_rad"],
+    }

@@ -27,8 +27,25 @@ from qsm.realization.selection.pipeline import (
 
 
 def final_verdict(record: Mapping[str, Any]) -> str:
-    """The final ``record``'s verdict: the selection's, with the budget's sentence added."""
-    return f"{record['verdict'].rstrip('.')}. {accuracy_sentence(record['stiffness'])}."
+    """The final ``record``'s verdict: the selection's, with the budget's sentence and, where
+    the task asks for a repeatability the arm misses, that added."""
+    rp = repeatability_problem(record.get("iso9283"))
+    extra = f" {rp[0].upper()}{rp[1:]}." if rp else ""
+    return f"{record['verdict'].rstrip('.')}. {accuracy_sentence(record['stiffness'])}.{extra}"
+
+
+def repeatability_problem(iso: Mapping[str, Any] | None) -> str | None:
+    """Where the ISO 9283 record ``iso`` misses the task's repeatability: the sentence with its
+    numbers; None where it meets it or none is asked."""
+    if not iso or iso["meets_repeatability"] is not False:
+        return None
+    i = iso["worst_point"] - 1
+    return (
+        f"not repeatable enough: ISO 9283 pose repeatability RP {iso['rp_mm'][i]:.3f} mm at "
+        f"test point P{i + 1}, {iso['repeatability_mm']:g} mm required (main random term: "
+        f"{iso['main_random_term']}, {iso['rp_alone_mm'][iso['main_random_term']][i]:.3f} mm "
+        f"alone)"
+    )
 
 
 def accuracy_sentence(budget: Mapping[str, Any]) -> str:

@@ -166,7 +166,85 @@ def _performance_rows(selected: Mapping[str, Any]) -> list[str]:
                  f"tolerance {budget['tolerance_mm']:g} mm)"),
             _row("first mode", f"{w['first_mode_hz']:.1f} Hz (loaded, lowest at the task points)"),
         ]  # fmt: skip
-    return rows
+    return (
+        rows + _iso_rows(selected.get("iso9283")) + _standard_rows(selected.get("standard_cycle"))
+    )
+
+
+def _standard_payload(c: Mapping[str, Any]) -> str:
+    """One payload's standard cycle: its time, what its checks say and what slowed it."""
+    if not c["planned"]:
+        return f"at {c['payload_kg']:g} kg none could be planned ({c['reason']})"
+    failed = [
+        *([] if c["links_hold"] else [f"links at {c['strength_utilisation']:.2f} of strength"]),
+        *([] if c["thermal_ok"] is not False else ["the drives' heat"]),
+        *([] if c["simulation_passed"] else [c["simulation_reason"]]),
+    ]
+    checks = "its checks pass" if c["ok"] else "FAILS its checks: " + "; ".join(failed)
+    slowed = (
+        f"; slowed {c['slowed_by']:g}x from the time-optimal {c['time_optimal_s']:.2f} s for "
+        + "; ".join(c["slowed_for"])
+        if c["slowed_by"] > 1
+        else ""
+    )
+    return f"{c['cycle_time_s']:.2f} s at {c['payload_kg']:g} kg ({checks}{slowed})"
+
+
+def _standard_rows(std: Mapping[str, Any] | None) -> list[str]:
+    """The standard pick-and-place cycle at each payload, and where it runs."""
+    if std is None:
+        return []
+    if not std["planned"]:
+        return [_row("standard cycle (25 / 305 / 25 mm)", f"none: {std['reason']}")]
+    (x0, y0), (x1, _) = std["corners_m"][0], std["corners_m"][3]
+    stroke = (
+        f"a {std['stroke_mm']:.0f} mm stroke, the longest the arm makes (305 mm is the standard's)"
+        if std["scaled"]
+        else "the 305 mm stroke"
+    )
+    return [
+        _row(f"standard cycle (25 / {std['stroke_mm']:.0f} / 25 mm)",
+             "; ".join(_standard_payload(c) for c in std["payloads"])
+             + f". Up {std['rise_mm']:.0f} mm, across, down and back, time-optimal from rest to "
+             f"rest without dwell; {stroke} at y = {y0:.3f} m from x = {x0:.3f} to {x1:.3f} m, "
+             "centred on the task disk, the rises vertical"),
+    ]  # fmt: skip
+
+
+def _iso_rows(iso: Mapping[str, Any] | None) -> list[str]:
+    """ISO 9283 pose accuracy and repeatability: the worst point's, its terms, the plane."""
+    if not iso:
+        return [_row("pose accuracy and repeatability (ISO 9283)", "not simulated: no drive")]
+    ap, rp = np.asarray(iso["ap_mm"]), np.asarray(iso["rp_mm"])
+    i, k = int(np.argmax(ap)), iso["worst_point"] - 1
+    side = 1e3 * iso["plane_side_m"]
+    cx, cy = iso["plane_centre_m"]
+    alone = iso["rp_alone_mm"]
+    terms = ", ".join(
+        f"{t} {v[k]:.3f} mm" for t, v in sorted(alone.items(), key=lambda x: -x[1][k])
+    )
+    required = iso["repeatability_mm"]
+    check = (
+        ""
+        if required is None
+        else (f"; {required:g} mm required: {'met' if iso['meets_repeatability'] else 'NOT met'}")
+    )
+    plane = (
+        f"at the rated {iso['payload_kg']:g} kg (on the {iso['tool_flange_kg']:.3f} kg tool "
+        f"flange), {iso['cycles']} cycles simulated at the five points of a "
+        f"{side:.0f} x {side:.0f} mm square centred at ({cx:.3f}, {cy:.3f}) m in the arm's plane "
+        "(the standard's test cube has no depth for a planar arm)"
+    )
+    return [
+        _row("pose accuracy AP (ISO 9283)", f"{ap[i]:.2f} mm worst, at P{i + 1} (static sag "
+             f"{iso['static_sag_mm'][i]:.2f} mm, base {iso['base_mm'][i]:.2f} mm along it, and the "
+             f"{iso['cycles']} cycles' mean random error, {iso['random_mean_mm'][i]:.2f} mm in "
+             "its own direction); "
+             f"{iso['compensated_ap_mm'][i]:.2f} mm left once the controller takes out the "
+             f"modelled static sag, which teaching the points removes too; {plane}"),
+        _row("pose repeatability RP (ISO 9283)", f"±{rp[k]:.3f} mm worst, at P{k + 1} (main "
+             f"random term {iso['main_random_term']}; each alone: {terms}){check}"),
+    ]  # fmt: skip
 
 
 def datasheet_markdown(

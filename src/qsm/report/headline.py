@@ -11,7 +11,7 @@ import numpy as np
 import pandas as pd
 
 from qsm.embodiment.parts.printing import box_fits
-from qsm.report.accuracy_report import accuracy_lines
+from qsm.report.accuracy_report import accuracy_lines, repeatability_problem
 from qsm.report.cycle_report import cycle_lines, cycle_problems
 from qsm.report.drive_text import shortfall, use_text
 from qsm.report.headline_tables import (
@@ -45,7 +45,7 @@ def build_verdict(
     strength was checked with, a printed part (as drawn) too large for the printer, a motor
     without a drive, a failed payload test, an accuracy budget past the tolerance, a cycle that
     fails its checks, a part of the builder's kit (pins, hubs, base, tool flange) that does not
-    hold."""
+    hold, a repeatability past the task's."""
     problems = []
     if not selected["printable"]:
         problems.append(_not_printable(selected))
@@ -88,6 +88,8 @@ def build_verdict(
     budget = selected.get("stiffness")
     if budget is not None and not budget["meets_requirements"]:
         problems.append(budget["verdict"])
+    if rp := repeatability_problem(selected.get("iso9283")):
+        problems.append(rp)
     problems += cycle_problems(selected.get("cycle"))
     kit = topology.get("parts", {}).get("kit")
     if kit is not None and not kit["holds"]:

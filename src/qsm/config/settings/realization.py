@@ -12,6 +12,7 @@ from qsm.config.settings.simulation import task_motion
 from qsm.embodiment.load_case import LoadCase
 from qsm.physics.task_points import design_task
 from qsm.realization.accuracy.accuracy_budget import AccuracySettings
+from qsm.realization.accuracy.iso_record import IsoSettings
 from qsm.realization.kit.builders_kit import KitSettings
 from qsm.realization.selection.pipeline import KitSizing, RealizationSettings
 
@@ -103,4 +104,15 @@ def kit(operating_range: Section, drives: Section, tolerance_mm: float) -> KitSe
         operating_range["theta2_min_deg"],
         drives["catalogue"],
         tolerance_mm,
+    )
+
+
+def iso(section: Section) -> IsoSettings:
+    """The ISO 9283 figures' settings from the rules' ``iso`` param (:func:`iso_section`)."""
+    return IsoSettings(
+        cycles=int(section["cycles"]),
+        seed=int(section["seed"]),
+        encoder_counts=float(section["encoder_counts"]),
+        kp_Nm_rad=tuple(float(k) for k in section["kp_Nm_rad"]),
+        repeatability_mm=section["repeatability_mm"],
     )

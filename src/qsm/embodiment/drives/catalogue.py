@@ -51,12 +51,12 @@ _GEARBOX_DEFAULTS = {
 _NON_NEGATIVE = frozenset(
     {"V", "k_t", "R", "L", "mass", "inertia", "omega_nl", "I_nom", "max_int_torque",
      "max_int_speed", "max_cont_speed", "max_cont_torque", "backlash_arcmin",
-     "torsional_stiffness_Nm_rad"}
+     "torsional_stiffness_Nm_rad", "encoder_counts"}
 )  # fmt: skip
 # Extra MGDB columns that hold numbers; any other extra column (e.g. source, note) is text.
 _NUMERIC_EXTRA = frozenset(
     {"k_e", "diameter", "length", "coulomb_friction", "viscous_friction", "Rth1", "Rth2",
-     "backlash_arcmin", "torsional_stiffness_Nm_rad"}
+     "backlash_arcmin", "torsional_stiffness_Nm_rad", "encoder_counts"}
 )  # fmt: skip
 
 

@@ -73,3 +73,19 @@ class OutputEnvelope:
         eta = self.efficiency
         out = np.where(driving, eta * self.ratio * t_m, self.ratio * t_m / eta)
         return np.fmin(out, self.gear_int_torque)
+
+    def limit_at(self, tau: float, omega: float) -> float:
+        """:meth:`limit` at one torque (N m) and joint speed (rad/s), in plain floats: a
+        simulation asks it at every step."""
+        w_m = self.ratio * abs(omega)
+        driving = tau * omega >= 0
+        if self.table is not None:
+            t_m = float(np.interp(w_m, *self.table))
+        elif driving:
+            t_m = self.stall_torque * max(1.0 - w_m / self.no_load_speed, 0.0)
+        else:
+            t_m = self.stall_torque
+        t_m = 0.0 if w_m > self.int_speed else min(t_m, self.int_torque)
+        eta = self.efficiency
+        out = eta * self.ratio * t_m if driving else self.ratio * t_m / eta
+        return min(out, self.gear_int_torque)

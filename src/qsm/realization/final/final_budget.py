@@ -10,12 +10,22 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from qsm.embodiment.drives.selection import drive_of
 from qsm.physics.cad import MassProperties
+from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import LINK_NAMES
+from qsm.physics.task import min_enclosing_circle
 from qsm.physics.task_points import visited_points
 from qsm.realization.accuracy.accuracy_budget import with_base
 from qsm.realization.accuracy.accuracy_sizing import STRUCTURE_SHARE, AccuracyChoice
-from qsm.realization.selection.pipeline import Realization, RealizationSettings, budget_of
+from qsm.realization.accuracy.iso9283 import largest_plane, pose_characteristics
+from qsm.realization.accuracy.iso_record import IsoSettings, iso_record, random_terms
+from qsm.realization.selection.pipeline import (
+    Realization,
+    RealizationSettings,
+    arm_model,
+    budget_of,
+)
 
 
 def plate_factors(topology: Mapping[str, Any]) -> NDArray[np.float64]:
@@ -64,6 +74,32 @@ def measured_budget(
     return with_base(budget, base_mm, settings.accuracy) if base_mm else budget
 
 
+def iso_figures(
+    done: Realization,
+    parts: tuple[Mapping[str, Any], dict[str, MassProperties]],
+    payload: Mapping[str, Any],
+    settings: RealizationSettings,
+    iso: IsoSettings,
+    base_mm: float = 0.0,
+    mirrored: bool = False,
+) -> dict[str, Any] | None:
+    """The realised arm's ISO 9283 AP and RP (:mod:`qsm.realization.accuracy.iso9283`) with its
+    optimised plates (``parts``), drives, the ``payload`` test's settling and the base's
+    ``base_mm``, on the test plane about the task disk's centre; None without a drive."""
+    if not all(drive_of(m) for m in done.drives.get("motors", {}).values()):
+        return None
+    topology, props = parts
+    model = arm_model(done, settings, props, plate_factors(topology))
+    op = (settings.motion.theta1_range_deg, settings.motion.theta2_min_deg)
+    plane = largest_plane(done.design, min_enclosing_circle(settings.task_points_m).centre, *op)
+    angles = joint_path(done.design, plane.points_m, *op)
+    terms, sources = random_terms(done.drives, settings.drives.catalogue, payload, iso)
+    kg = settings.motion.payload_kg  # the payload on the tool flange
+    pc = pose_characteristics(model, plane, angles, kg, terms, base_mm, iso.cycles, iso.seed)
+    record = iso_record(pc, sources, kg - done.tool_kg, iso.repeatability_mm, mirrored)
+    return record | {"tool_flange_kg": done.tool_kg}
+
+
 def final_record(
     choice: Mapping[str, Any],
     done: Realization,
@@ -73,11 +109,13 @@ def final_record(
     points: ArrayLike,
     cycle: Mapping[str, Any] | None = None,
     base_mm: float = 0.0,
+    iso: IsoSettings | None = None,
 ) -> dict[str, Any]:
     """``choice`` (realised as ``done``) with its ``stiffness`` the final budget
-    (:func:`measured_budget` with the ``cycle``'s load and the base's ``base_mm``) and its
-    ``cycle``; :func:`qsm.report.accuracy_report.final_verdict` adds the budget's sentence to
-    its verdict."""
+    (:func:`measured_budget` with the ``cycle``'s load and the base's ``base_mm``), its
+    ``cycle`` and, given ``iso``, its ``iso9283`` (:func:`iso_figures`);
+    :func:`qsm.report.accuracy_report.final_verdict` adds the budget's sentence to its
+    verdict."""
     load = None if not cycle or not cycle.get("planned") else cycle["peak_payload_force_N"]
     budget = measured_budget(done, parts, payload, settings, points, load, base_mm)
     record = dict(choice)
@@ -85,6 +123,9 @@ def final_record(
         record["cycle"] = dict(cycle)
     budget["would_meet"] = sizing_note(done.accuracy, budget) + budget["would_meet"]
     record["stiffness"] = budget | {"built_for_tolerance": done.accuracy.record()}
+    if iso is not None:
+        mirrored = bool(choice.get("task", {}).get("mirrored", False))
+        record["iso9283"] = iso_figures(done, parts, payload, settings, iso, base_mm, mirrored)
     return record
 
 

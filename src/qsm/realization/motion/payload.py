@@ -235,9 +235,7 @@ def _limit_function(
     def limits(torque: NDArray[np.float64], dq: NDArray[np.float64]) -> NDArray[np.float64]:
         if fixed is not None:
             return fixed
-        return np.array(
-            [float(e.limit(t, w)) for e, t, w in zip(envelopes, torque, dq, strict=True)]
-        )
+        return np.array([e.limit_at(t, w) for e, t, w in zip(envelopes, torque, dq, strict=True)])
 
     return limits
 
