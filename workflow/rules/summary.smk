@@ -18,6 +18,11 @@ rule summary:
     output:
         summary=f"{RESULTS}/summary.md",  # in the report as a page (rule markdown_pages)
         datasheet=f"{RESULTS}/datasheet.md",  # the same
+        envelope=report(
+            f"{RESULTS}/figures/envelope.png",
+            caption="../report/envelope.rst",
+            category="6. Realisation",
+        ),
     log:
         f"{RESULTS}/logs/summary.log",
     conda:

@@ -6,8 +6,9 @@ import json
 import pandas as pd
 
 from qsm.physics.workspace import operating_reach
-from qsm.realization.kit.kit_hardware import mass_kg
+from qsm.realization.kit.kit_hardware import mass_kg, moving_mass_kg
 from qsm.report.datasheet import datasheet_markdown
+from qsm.report.envelope_figure import envelope_figure
 from qsm.report.headline import headline_markdown, verdict_sentence
 from qsm.report.kit_report import kit_markdown
 from qsm.workflow.logs import logged
@@ -34,11 +35,13 @@ with logged(snakemake.log[0]) as log:
     reach = operating_reach(
         loaded["selected"]["design_m"], params.theta1_deg, params.theta2_min_deg
     )
-    hardware_kg = mass_kg(kit["layout"].get("hardware", {}))
+    hardware_kg = (mass_kg(kit["layout"].get("hardware", {})), moving_mass_kg(kit["layout"]))
     sheet = datasheet_markdown(
         loaded["selected"], pd.read_csv(inp.bom_csv), params.density_kg_m3, verdict, reach,
         hardware_kg,
     )  # fmt: skip
     with open(out.datasheet, "w") as fh:
         fh.write(sheet)
+    limits = (params.theta1_deg, params.theta2_min_deg)
+    envelope_figure(loaded["selected"], reach, limits, out.envelope)
     log.info("wrote the summary and the datasheet")

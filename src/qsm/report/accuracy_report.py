@@ -37,7 +37,7 @@ def final_verdict(record: Mapping[str, Any]) -> str:
 def repeatability_problem(iso: Mapping[str, Any] | None) -> str | None:
     """Where the ISO 9283 record ``iso`` misses the task's repeatability: the sentence with its
     numbers; None where it meets it or none is asked."""
-    if not iso or iso["meets_repeatability"] is not False:
+    if not iso or not iso["simulated"] or iso["meets_repeatability"] is not False:
         return None
     i = iso["worst_point"] - 1
     return (

@@ -29,7 +29,9 @@ PRINT_SETUP_MIN = 10.0
 
 
 def _row(name: str, value: str) -> str:
-    return f"| {name} | {value} |"
+    """A table row; a ``|`` in the value (a norm in a check's reason) escaped."""
+    cell = value.replace("|", r"\|")
+    return f"| {name} | {cell} |"
 
 
 def _pair(values: Sequence[float], digits: int, unit: str) -> str:
@@ -63,17 +65,27 @@ def _bom_masses_kg(bom: pd.DataFrame) -> dict[str, float]:
     return {str(k): float(v) for k, v in kg.groupby(weighed["category"], sort=False).sum().items()}
 
 
-def _mass_text(bom: pd.DataFrame, hardware_kg: float) -> str:
-    """The datasheet's mass line: the BOM's weighed parts, in total and by category, and the
-    bearings and fasteners (``hardware_kg``, weighed from their solids)."""
+#: The BOM's categories whose parts move with the links: the printed links, the hubs on the
+#: drives' outputs and the tool flange.
+MOVING_CATEGORIES = ("printed part", "turned part")
+
+
+def _mass_text(bom: pd.DataFrame, hardware_kg: tuple[float, float]) -> str:
+    """The datasheet's mass line: the BOM's weighed parts, in total and by category, the
+    bearings and fasteners (``hardware_kg``: all and those that move, weighed from their
+    solids), and the moving mass."""
     by = _bom_masses_kg(bom)
     name = {"motor": "drives (motor and gearbox)"}
     parts = ", ".join(f"{name.get(k, k + 's')} {v:.2f} kg" for k, v in by.items())
     built = sum(by.values())
+    hardware, moving_hw = hardware_kg
+    moving = sum(by.get(k, 0.0) for k in MOVING_CATEGORIES) + moving_hw
     return (
-        f"{built + hardware_kg:.2f} kg in all: {built:.2f} kg as built ({parts}) and "
-        f"{hardware_kg:.2f} kg of bearings and fasteners, weighed from their solids in "
-        "assembly.step as steel"
+        f"{built + hardware:.2f} kg in all: {built:.2f} kg as built ({parts}) and "
+        f"{hardware:.2f} kg of bearings and fasteners, weighed from their solids in "
+        f"assembly.step as steel; {moving:.2f} kg of it moves (the printed links, hubs and tool "
+        f"flange, {moving_hw:.2f} kg of bearings and fasteners with them; the drives stand on "
+        "the base), besides the payload"
     )
 
 
@@ -92,11 +104,11 @@ def _reach_text(reach: Reach) -> str:
         "lower and upper arm in line, outside it)"
         if reach.reach_m < reach.in_line_m - 5e-4
         else f"{reach.reach_m:.3f} m from the base joint A (lower arm and upper arm in line)"
-    )
+    ) + "; figures/envelope.png draws the envelope"
 
 
 def _machine_rows(
-    selected: Mapping[str, Any], bom: pd.DataFrame, reach: Reach, hardware_kg: float
+    selected: Mapping[str, Any], bom: pd.DataFrame, reach: Reach, hardware_kg: tuple[float, float]
 ) -> list[str]:
     """Payload, reach, task region, masses, drives, bearings and material."""
     points = np.asarray(selected["task"]["points_m"], dtype=float)
@@ -214,7 +226,11 @@ def _standard_rows(std: Mapping[str, Any] | None) -> list[str]:
 def _iso_rows(iso: Mapping[str, Any] | None) -> list[str]:
     """ISO 9283 pose accuracy and repeatability: the worst point's, its terms, the plane."""
     if not iso:
-        return [_row("pose accuracy and repeatability (ISO 9283)", "not simulated: no drive")]
+        return []
+    if not iso["simulated"]:
+        return [
+            _row("pose accuracy and repeatability (ISO 9283)", f"not simulated: {iso['reason']}")
+        ]
     ap, rp = np.asarray(iso["ap_mm"]), np.asarray(iso["rp_mm"])
     i, k = int(np.argmax(ap)), iso["worst_point"] - 1
     side = 1e3 * iso["plane_side_m"]
@@ -253,13 +269,14 @@ def datasheet_markdown(
     density_kg_m3: float,
     verdict: str,
     reach: Reach,
-    hardware_kg: float,
+    hardware_kg: tuple[float, float],
 ) -> str:
     """The datasheet page (Markdown) of the realised design ``selected`` with its ``bom`` and
     the printed material's density (kg/m^3); ``verdict`` is the run's overall sentence,
     ``reach`` the tool's within the operating range
     (:func:`qsm.physics.workspace.operating_reach`) and ``hardware_kg`` the bearings' and
-    fasteners' mass (:func:`qsm.realization.kit.kit_hardware.mass_kg`)."""
+    fasteners' mass, all and moving (:func:`qsm.realization.kit.kit_hardware.mass_kg`,
+    :func:`~qsm.realization.kit.kit_hardware.moving_mass_kg`)."""
     parts = printed_parts(bom, density_kg_m3)
     table = [
         "| part | filament (g) | volume (cm3) | print time (h) | box (mm) |",

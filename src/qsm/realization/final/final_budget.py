@@ -82,22 +82,28 @@ def iso_figures(
     iso: IsoSettings,
     base_mm: float = 0.0,
     mirrored: bool = False,
-) -> dict[str, Any] | None:
+) -> dict[str, Any]:
     """The realised arm's ISO 9283 AP and RP (:mod:`qsm.realization.accuracy.iso9283`) with its
     optimised plates (``parts``), drives, the ``payload`` test's settling and the base's
-    ``base_mm``, on the test plane about the task disk's centre; None without a drive."""
+    ``base_mm``, on the test plane about the task disk's centre; ``simulated: false`` and the
+    reason without a drive or where the arm does not reach the disk's centre."""
     if not all(drive_of(m) for m in done.drives.get("motors", {}).values()):
-        return None
+        return {"simulated": False, "reason": "a motor has no drive record"}
     topology, props = parts
     model = arm_model(done, settings, props, plate_factors(topology))
     op = (settings.motion.theta1_range_deg, settings.motion.theta2_min_deg)
-    plane = largest_plane(done.design, min_enclosing_circle(settings.task_points_m).centre, *op)
+    centre = min_enclosing_circle(settings.task_points_m).centre
+    try:
+        plane = largest_plane(done.design, centre, *op)
+    except ValueError as exc:
+        return {"simulated": False, "reason": str(exc)}
     angles = joint_path(done.design, plane.points_m, *op)
     terms, sources = random_terms(done.drives, settings.drives.catalogue, payload, iso)
     kg = settings.motion.payload_kg  # the payload on the tool flange
     pc = pose_characteristics(model, plane, angles, kg, terms, base_mm, iso.cycles, iso.seed)
-    record = iso_record(pc, sources, kg - done.tool_kg, iso.repeatability_mm, mirrored)
-    return record | {"tool_flange_kg": done.tool_kg}
+    rated = round(kg - done.tool_kg, 9)
+    record = iso_record(pc, sources, rated, iso.repeatability_mm, mirrored)
+    return {"simulated": True} | record | {"tool_flange_kg": done.tool_kg}
 
 
 def final_record(

@@ -320,3 +320,11 @@ def mass_kg(solids: dict[str, dict[str, Any]]) -> float:
         for d, a, b in part["steps"]
     )
     return mm3 * 1e-9 * jt.STEEL_KG_M3
+
+
+def moving_mass_kg(layout: dict[str, Any]) -> float:
+    """The mass (kg, :func:`mass_kg`) of a kit ``layout``'s hardware that moves with a link
+    (its ``moves_with`` other than the base)."""
+    moves = layout.get("moves_with", {})
+    hardware = layout.get("hardware", {})
+    return mass_kg({n: s for n, s in hardware.items() if moves.get(n, "base") != "base"})
