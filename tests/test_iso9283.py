@@ -19,6 +19,8 @@ from qsm.embodiment.drives.catalogue import (
 )
 from qsm.embodiment.stiffness.error_terms import payload_force_N
 from qsm.embodiment.stiffness.frame import tool_compliance
+from qsm.embodiment.strength.loads import joint_loads
+from qsm.physics.dynamics import loop_state
 from qsm.physics.inverse_kinematics import joint_angles, joint_path
 from qsm.physics.kinematics import end_effector
 from qsm.realization.accuracy.accuracy_budget import AccuracySettings
@@ -27,6 +29,7 @@ from qsm.realization.accuracy.iso9283 import (
     ap_rp_mm,
     largest_plane,
     plane_points,
+    play_opens,
     pose_characteristics,
 )
 from qsm.realization.accuracy.iso_record import IsoSettings, iso_record, random_terms
@@ -203,3 +206,21 @@ def test_the_standard_stroke_is_the_longest_an_independent_ik_reaches(plane):
         assert not reached(route.stroke_m * 1.03)
     else:
         assert route.stroke_m == STROKE_M
+
+
+def test_a_play_held_closed_by_gravity_scatters_nothing(realized, settings, plane):
+    model = arm_model(realized, settings)
+    angles = joint_path(DESIGN, plane.points_m, *OP)
+    opens = play_opens(model, angles, 5.0, (False, False))
+    # the holding torques at rest: the sign test by hand
+    zero = np.zeros_like(angles)
+    state = loop_state(DESIGN, angles, zero, zero)
+    tau = joint_loads(DESIGN, model.inertials, 5.0, state).tau
+    np.testing.assert_array_equal(opens, (tau.max(axis=0) > 0) & (tau.min(axis=0) < 0))
+    assert play_opens(model, angles, 5.0, (True, False))[0]
+    payload = {"point_error_mm": [0.01]}
+    iso = IsoSettings(30, 1, 4096.0, (2000.0, 1000.0))
+    cat = settings.drives.catalogue
+    terms, sources = random_terms(realized.drives, cat, payload, iso, (False, True))
+    assert terms.backlash_rad[0] == 0.0 and terms.backlash_rad[1] > 0.0
+    assert "gravity holds its" in sources["backlash"][0]

@@ -259,8 +259,16 @@ def _iso_rows(iso: Mapping[str, Any] | None) -> list[str]:
              f"{iso['compensated_ap_mm'][i]:.2f} mm left once the controller takes out the "
              f"modelled static sag, which teaching the points removes too; {plane}"),
         _row("pose repeatability RP (ISO 9283)", f"±{rp[k]:.3f} mm worst, at P{k + 1} (main "
-             f"random term {iso['main_random_term']}; each alone: {terms}){check}"),
+             f"random term {iso['main_random_term']}; each alone: {terms}{_uncounted(iso)})"
+             f"{check}"),
     ]  # fmt: skip
+
+
+def _uncounted(iso: Mapping[str, Any]) -> str:
+    """Why a random term adds nothing to RP: its sources' words, once per distinct one."""
+    zero = [t for t, v in iso["rp_alone_mm"].items() if max(v) < 1e-6]  # below 1 nm: none
+    why = [f"{t}: {' / '.join(dict.fromkeys(iso['sources'][t]))}" for t in zero]
+    return "".join(f"; {w}" for w in why)
 
 
 def datasheet_markdown(

@@ -13,11 +13,11 @@ Each attained pose is the commanded one plus
   (the machine's frame model with its drives, :func:`qsm.embodiment.stiffness.frame
   .tool_compliance`) and the base's compliance at the tool, taken along the sag (its record
   gives its size, not its direction);
-* random terms, drawn afresh each cycle (:class:`RandomTerms`): each gearbox's backlash and each
-  motor's encoder quantum, uniform within their widths, the motor's friction held by the servo,
-  uniform within +- its deflection, each through the tool's Jacobian, and the servo's settling
-  error at the tool, uniform in direction and within the payload test's largest error at the
-  end of a hold.
+* random terms, drawn afresh each cycle (:class:`RandomTerms`): each gearbox's backlash where
+  its play opens (:func:`play_opens`) and each motor's encoder quantum, uniform within their
+  widths, the motor's friction held by the servo, uniform within +- its deflection, each
+  through the tool's Jacobian, and the servo's settling error at the tool, uniform in
+  direction and within the payload test's largest error at the end of a hold.
 
 AP is the distance from the commanded pose to the barycentre of the attained ones; RP is
 l-bar + 3 S_l, the mean distance of the attained poses from their barycentre plus three
@@ -33,9 +33,11 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.stiffness.error_terms import payload_force_N, tool_jacobian
+from qsm.embodiment.stiffness.error_terms import payload_force_N, tool_jacobian, torque_reverses
 from qsm.embodiment.stiffness.frame import tool_compliance
+from qsm.embodiment.strength.loads import joint_loads
 from qsm.physics.batch_ik import batch_joint_angles
+from qsm.physics.dynamics import loop_state
 from qsm.realization.accuracy.accuracy_budget import ArmModel
 
 #: Cycles the standard asks at each point.
@@ -129,6 +131,20 @@ def largest_plane(
         mid = (low + high) / 2
         low, high = (mid, high) if _reaches(d, c, mid, op) else (low, mid)
     return IsoPlane((float(c[0]), float(c[1])), 2 * low, plane_points(c, 2 * low))
+
+
+def play_opens(
+    model: ArmModel, angles: NDArray[np.float64], payload_kg: float, task_reverses: ArrayLike
+) -> NDArray[np.bool_]:
+    """Whether each joint's play opens between cycles (2,): its torque reverses along the
+    task's motion (``task_reverses``, the accuracy budget's) or its holding torque under the
+    payload changes sign between the plane's points (motor ``angles`` (5, 2) rad); elsewhere
+    gravity keeps the play closed on one side, and backlash does not scatter the pose."""
+    zero = np.zeros_like(angles)
+    tau = joint_loads(
+        model.design, model.inertials, payload_kg, loop_state(model.design, angles, zero, zero)
+    ).tau
+    return np.asarray(task_reverses, dtype=bool) | torque_reverses(tau)
 
 
 def _draws(

@@ -38,10 +38,10 @@ def _number(row: Mapping[str, Any], key: str) -> float:
 
 
 def _motor_terms(
-    motor: Mapping[str, Any], catalogue: Catalogue, kp: float, counts: float
+    motor: Mapping[str, Any], catalogue: Catalogue, kp: float, counts: float, opens: bool
 ) -> tuple[tuple[float, float, float], dict[str, str]]:
-    """One motor's backlash, encoder quantum and friction deflection (rad at the joint) and
-    where each comes from."""
+    """One motor's backlash (where its play ``opens``), encoder quantum and friction
+    deflection (rad at the joint) and where each comes from."""
     d = drive_of(motor)
     row = catalogue.motors.loc[d["motor_key"]].to_dict()
     ratio = float(d["ratio"])
@@ -49,10 +49,17 @@ def _motor_terms(
     n = own if np.isfinite(own) and own > 0 else counts
     friction_Nm = _number(row, "I_nl") * _number(row, "k_t") * ratio
     known = np.isfinite(friction_Nm)
-    values = (float(d.get("backlash_arcmin", 0.0)) * ARCMIN_RAD, 2 * math.pi / (n * ratio),
+    play = float(d.get("backlash_arcmin", 0.0))
+    values = (play * ARCMIN_RAD if opens else 0.0, 2 * math.pi / (n * ratio),
               friction_Nm / kp if known else 0.0)  # fmt: skip
     sources = {
-        "backlash": f"{d.get('backlash_arcmin', 0)} arcmin, {d.get('backlash_from', 'catalogue')}",
+        "backlash": (
+            f"{play:g} arcmin"
+            if opens
+            else f"0: the joint's torque keeps one sign along the task and at the five points, so "
+            f"gravity holds its {play:g} arcmin of play closed"
+        )
+        + f" ({d.get('backlash_from', 'catalogue')})",
         "encoder": f"{n:g} counts per motor turn over {ratio:g}:1, "
         + ("motors.csv's encoder_counts" if n == own else "assumed: iso9283.encoder_counts"),
         "friction": (
@@ -67,14 +74,16 @@ def _motor_terms(
 
 def random_terms(
     drives: Mapping[str, Any], catalogue: Catalogue, payload: Mapping[str, Any],
-    settings: IsoSettings,
+    settings: IsoSettings, opens: Sequence[bool] = (True, True),
 ) -> tuple[RandomTerms, dict[str, list[str]]]:  # fmt: skip
     """The random terms of the arm's chosen drives (``drives``: the drive report), its
     ``catalogue`` and its ``payload`` test (the settling error: its largest at the end of a
-    hold), and what each was taken from, per motor."""
+    hold), and what each was taken from, per motor; a gearbox's backlash only where its play
+    ``opens`` (:func:`qsm.realization.accuracy.iso9283.play_opens`)."""
     values, sources = [], {k: [] for k in RANDOM_TERMS}
-    for motor, kp in zip(drives["motors"].values(), settings.kp_Nm_rad, strict=True):
-        v, s = _motor_terms(motor, catalogue, float(kp), settings.encoder_counts)
+    motors = zip(drives["motors"].values(), settings.kp_Nm_rad, opens, strict=True)
+    for motor, kp, open_ in motors:
+        v, s = _motor_terms(motor, catalogue, float(kp), settings.encoder_counts, bool(open_))
         values.append(v)
         for key, text in s.items():
             sources[key].append(text)

@@ -18,7 +18,7 @@ from qsm.physics.task import min_enclosing_circle
 from qsm.physics.task_points import visited_points
 from qsm.realization.accuracy.accuracy_budget import with_base
 from qsm.realization.accuracy.accuracy_sizing import STRUCTURE_SHARE, AccuracyChoice
-from qsm.realization.accuracy.iso9283 import largest_plane, pose_characteristics
+from qsm.realization.accuracy.iso9283 import largest_plane, play_opens, pose_characteristics
 from qsm.realization.accuracy.iso_record import IsoSettings, iso_record, random_terms
 from qsm.realization.selection.pipeline import (
     Realization,
@@ -82,13 +82,22 @@ def iso_figures(
     iso: IsoSettings,
     base_mm: float = 0.0,
     mirrored: bool = False,
+    task_reverses: tuple[bool, bool] = (True, True),
 ) -> dict[str, Any]:
     """The realised arm's ISO 9283 AP and RP (:mod:`qsm.realization.accuracy.iso9283`) with its
     optimised plates (``parts``), drives, the ``payload`` test's settling and the base's
-    ``base_mm``, on the test plane about the task disk's centre; ``simulated: false`` and the
-    reason without a drive or where the arm does not reach the disk's centre."""
+    ``base_mm``, on the test plane about the task disk's centre (``task_reverses``: whose
+    torque reverses along the task, the budget's); ``simulated: false`` and the reason
+    without a drive, after a failed payload test or where the arm does not reach the disk's
+    centre."""
     if not all(drive_of(m) for m in done.drives.get("motors", {}).values()):
         return {"simulated": False, "reason": "a motor has no drive record"}
+    if not payload.get("passed"):
+        return {"simulated": False, "reason": (
+            f"the payload test failed (max tracking error "
+            f"{payload.get('max_tracking_error_deg', float('nan')):.3f} deg), so the servo's "
+            "settling, one of the random terms, is not known"
+        )}  # fmt: skip
     topology, props = parts
     model = arm_model(done, settings, props, plate_factors(topology))
     op = (settings.motion.theta1_range_deg, settings.motion.theta2_min_deg)
@@ -98,8 +107,9 @@ def iso_figures(
     except ValueError as exc:
         return {"simulated": False, "reason": str(exc)}
     angles = joint_path(done.design, plane.points_m, *op)
-    terms, sources = random_terms(done.drives, settings.drives.catalogue, payload, iso)
     kg = settings.motion.payload_kg  # the payload on the tool flange
+    opens = play_opens(model, angles, kg, task_reverses)
+    terms, sources = random_terms(done.drives, settings.drives.catalogue, payload, iso, opens)
     pc = pose_characteristics(model, plane, angles, kg, terms, base_mm, iso.cycles, iso.seed)
     rated = round(kg - done.tool_kg, 9)
     record = iso_record(pc, sources, rated, iso.repeatability_mm, mirrored)
@@ -131,7 +141,11 @@ def final_record(
     record["stiffness"] = budget | {"built_for_tolerance": done.accuracy.record()}
     if iso is not None:
         mirrored = bool(choice.get("task", {}).get("mirrored", False))
-        record["iso9283"] = iso_figures(done, parts, payload, settings, iso, base_mm, mirrored)
+        joints = budget["joints"]
+        reverses = (joints["motor1"]["torque_reverses"], joints["motor2"]["torque_reverses"])
+        record["iso9283"] = iso_figures(
+            done, parts, payload, settings, iso, base_mm, mirrored, reverses
+        )
     return record
 
 
