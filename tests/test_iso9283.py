@@ -127,6 +127,24 @@ def test_a_joints_play_moves_the_tool_by_its_jacobian(realized, settings, plane)
     assert one.main_random_term == "backlash"
 
 
+def test_friction_holds_the_joint_anywhere_within_plus_or_minus_its_deflection(
+    realized, settings, plane
+):
+    """Friction f at motor 1 alone: the joint rests anywhere in [-f, f], a spread of 2 f along
+    the Jacobian's first column, as a backlash of 2 f would give."""
+    model = arm_model(realized, settings)
+    angles = joint_path(DESIGN, plane.points_m, *OP)
+    f = 5e-4
+    friction = RandomTerms(np.zeros(2), np.zeros(2), np.array([f, 0.0]), 0.0)
+    pc = pose_characteristics(model, plane, angles, 5.0, friction)
+    h = 1e-7
+    t1, t2 = angles[:, 0], angles[:, 1]
+    j1 = (end_effector(DESIGN, t1 + h, t2) - end_effector(DESIGN, t1 - h, t2)) / (2 * h)
+    width_mm = 1e3 * np.linalg.norm(j1, axis=1) * 2 * f
+    np.testing.assert_allclose(pc.rp_mm, width_mm * (0.25 + 0.75 / math.sqrt(3)), rtol=0.3)
+    assert pc.main_random_term == "friction"
+
+
 def test_the_monte_carlo_repeats_with_its_seed(realized, settings, plane):
     model = arm_model(realized, settings)
     angles = joint_path(DESIGN, plane.points_m, *OP)
