@@ -248,3 +248,17 @@ def test_a_drive_that_meets_the_duty_but_not_the_task_or_the_stiffness_says_whic
     motors = {"motor1": none | {"drives": "lower arm"}}
     problems = drive_problems(motors)
     assert len(problems) == 1 and "as stiff as the tolerance asks" in problems[0]
+
+
+def test_the_simulations_scalar_torque_limit_is_the_envelopes():
+    """``OutputEnvelope.limit_at`` (plain floats, the simulation's step) gives what ``limit``
+    (arrays) gives, for every shipped drive, driving and back-driven, table or DC line."""
+    from qsm.embodiment.drives.envelope import OutputEnvelope
+
+    cat = read_catalogue(default_catalogue_folder())
+    rng = np.random.default_rng(3)
+    for row in cat.drives.itertuples():
+        env = OutputEnvelope.of(cat, row.motor, row.gearbox)
+        tau, omega = rng.normal(0, 50, 400), rng.normal(0, 3, 400)
+        scalar = [env.limit_at(t, w) for t, w in zip(tau, omega, strict=True)]
+        np.testing.assert_allclose(scalar, env.limit(tau, omega), rtol=1e-12, atol=1e-12)
