@@ -121,6 +121,7 @@ rule payload_test:
     input:
         selected=rules.select_design.output.choice,
         links=rules.topology_optimize.output.links,
+        kit=rules.topology_optimize.output.kit,
     output:
         result=f"{REAL}/payload_test.json",
         series=f"{REAL}/payload_test_series.parquet",

@@ -5,8 +5,8 @@ from pathlib import Path
 
 from qsm.config.settings import links, realization
 from qsm.realization.final.final_budget import final_record
+from qsm.realization.kit.moving_parts import as_built
 from qsm.realization.selection.machine import realization_from_record
-from qsm.realization.selection.outputs import props_from_json
 from qsm.realization.selection.pipeline import carrying
 from qsm.report.accuracy_report import accuracy_figure, final_verdict
 from qsm.workflow.json_files import write_json
@@ -18,14 +18,15 @@ with logged(snakemake.log[0]) as log:
     out = snakemake.output
     paths = (inp.choice, inp.links, inp.topology, inp.payload, inp.cycle)
     choice, optimized, topology, payload, cycle = (json.loads(Path(f).read_text()) for f in paths)
-    props = props_from_json(optimized)
+    kit = json.loads(Path(inp.kit).read_text())
+    props = as_built(optimized, kit)  # the printed links with the kit's moving parts
     case = links.load_case(p.load_case)
     settings = realization.realization(
         case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
     )
     done = realization_from_record(json.loads(Path(inp.machine).read_text()), settings)
     settings = carrying(settings, done.tool_kg)  # the tool flange at E, as realised
-    base = json.loads(Path(inp.kit).read_text())["base"]["tool_error_mm"]  # the kit's cheeks
+    base = kit["base"]["tool_error_mm"]  # the kit's cheeks
     parts = (topology, props)
     iso = realization.iso(p.iso)
     record = final_record(choice, done, parts, payload, settings, p.task_points, cycle, base, iso)

@@ -8,8 +8,8 @@ from qsm.config.settings import actuation, physics, simulation
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.drives.torque_limits import limited
+from qsm.realization.kit.moving_parts import as_built
 from qsm.realization.motion.payload import payload_test
-from qsm.realization.selection.outputs import props_from_json
 from qsm.report.payload_report import (
     SERIES_COLUMNS,
     drive_duty_note,
@@ -28,8 +28,8 @@ with logged(snakemake.log[0]) as log:
     with open(inp.selected) as fh:
         selected = json.load(fh)
     design = np.asarray(selected["design_m"])
-    with open(inp.links) as fh:
-        props = props_from_json(json.load(fh))
+    with open(inp.links) as fh, open(inp.kit) as kit:
+        props = as_built(json.load(fh), json.load(kit))  # with the kit's moving parts
     tool_kg = selected["tool_flange_kg"]  # the realised tool flange, at E beside the payload
     carried = p.payload_kg + tool_kg
     test_settings = simulation.payload_test(p.payload_test, carried, p.operating_range)

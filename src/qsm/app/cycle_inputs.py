@@ -1,6 +1,7 @@
 """What a rule that runs the realised design on a cycle reads, in one place: the realisation
-from its record with the tool flange it carries, its optimised links, the payload test's plant
-and controller, and the payload's largest peak force that keeps the tool within the tolerance.
+from its record with the tool flange it carries, its optimised links with the kit's moving
+parts, the payload test's plant and controller, and the payload's largest peak force that keeps
+the tool within the tolerance.
 """
 
 from __future__ import annotations
@@ -15,9 +16,9 @@ from qsm.config.settings import links, realization, simulation
 from qsm.physics.cad import MassProperties
 from qsm.realization.accuracy.accuracy_budget import largest_load_N
 from qsm.realization.final.final_budget import measured_budget
+from qsm.realization.kit.moving_parts import as_built
 from qsm.realization.motion.payload import PayloadSettings
 from qsm.realization.selection.machine import realization_from_record
-from qsm.realization.selection.outputs import props_from_json
 from qsm.realization.selection.pipeline import Realization, RealizationSettings, carrying
 
 
@@ -46,7 +47,7 @@ def cycle_inputs(files: Mapping[str, str], params: Mapping[str, Any]) -> CycleIn
     topology, payload, kit) and its ``params`` (load_case, strength, drives, task, motion,
     task_points, build_volume_mm, payload_test)."""
     p = params
-    props = props_from_json(_read(files["links"]))
+    props = as_built(_read(files["links"]), _read(files["kit"]))  # with the kit's moving parts
     case = links.load_case(p["load_case"])
     settings = realization.realization(
         case, p["strength"], p["drives"], p["task"], p["motion"], p["task_points"],

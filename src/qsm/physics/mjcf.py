@@ -39,21 +39,30 @@ EQ_SOLIMP = (0.99, 0.999, 0.001, 0.5, 2.0)
 JOINT_NAMES: tuple[str, ...] = ("theta1", "q_upper", "theta2", "q_coupler")
 
 
-def add_point_mass(props: MassProperties, mass_kg: float, point_m: ArrayLike) -> MassProperties:
-    """Rigid body ``props`` plus a point mass at ``point_m`` (same frame, SI units)."""
-    if mass_kg == 0.0:
-        return props
-    p = np.asarray(point_m, dtype=float)
-    total = props.mass_kg + mass_kg
-    com = (props.mass_kg * props.com_m + mass_kg * p) / total
+def combined(a: MassProperties, b: MassProperties) -> MassProperties:
+    """Rigid bodies ``a`` and ``b`` (same frame, SI units) as one: the masses added, the centre
+    of mass their weighted mean, each inertia moved to it (parallel axes) and added."""
+    total = a.mass_kg + b.mass_kg
+    if b.mass_kg == 0.0:
+        return a
+    com = (a.mass_kg * np.asarray(a.com_m) + b.mass_kg * np.asarray(b.com_m)) / total
 
     def shift(m: float, r: np.ndarray) -> np.ndarray:
         return m * (r @ r * np.eye(3) - np.outer(r, r))
 
     inertia = (
-        props.inertia_kg_m2 + shift(props.mass_kg, props.com_m - com) + shift(mass_kg, p - com)
+        a.inertia_kg_m2
+        + shift(a.mass_kg, a.com_m - com)
+        + b.inertia_kg_m2
+        + shift(b.mass_kg, b.com_m - com)
     )
     return MassProperties(float(total), com, inertia)
+
+
+def add_point_mass(props: MassProperties, mass_kg: float, point_m: ArrayLike) -> MassProperties:
+    """Rigid body ``props`` plus a point mass at ``point_m`` (same frame, SI units)."""
+    point = MassProperties(float(mass_kg), np.asarray(point_m, dtype=float), np.zeros((3, 3)))
+    return combined(props, point)
 
 
 def body_inertials(

@@ -32,9 +32,11 @@ from qsm.realization.kit import kit_bom as kb
 from qsm.realization.kit import kit_hardware as kh
 from qsm.realization.kit import kit_layout as kl
 from qsm.realization.kit import kit_steps as ks
+from qsm.realization.kit import moving_parts as mp
 from qsm.realization.kit.kit_assembly import HUB_LINKS as HUB_LINK_OF
 from qsm.realization.kit.kit_assembly import PIN_PLATES, kit_sequence
 from qsm.realization.kit.kit_sequence import record_of
+from qsm.realization.selection.outputs import props_to_json
 from qsm.realization.selection.pipeline import Realization
 from qsm.schema.defaults import default
 
@@ -696,6 +698,8 @@ def _with_sequence(
     kit_hardware = kh.hardware(record, done.design, done.strength["bearings"])
     record["layout"]["hardware"] = kit_hardware.solids
     record["layout"]["moves_with"] |= kit_hardware.moves_with
+    moving = mp.moving_parts(record["layout"], done.design, kit_hardware.step)
+    record["moving_parts"] = props_to_json(moving)  # for the dynamics after the kit
     allow = {k: float(v["allowable_MPa"]) for k, v in done.strength["links"].items()}
     found = kit_sequence(
         record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow,

@@ -6,12 +6,12 @@ from __future__ import annotations
 
 from typing import Any
 
-import numpy as np
 import shapely
 
 from qsm.embodiment.kit import base as bs
 from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import joints as jt
+from qsm.realization.kit.moving_parts import solid_props
 
 
 def screw_lines(name: str, qty: int, where: str) -> list[tuple[str, int, str]]:
@@ -157,12 +157,6 @@ def _plate_mass_kg(plate: dict[str, Any], density: float) -> float:
     return volume * density * 1e-9
 
 
-def _turned_kg(part: dict[str, Any]) -> float:
-    """Mass (kg) of a turned steel part: its cylinders less the bore through them."""
-    volume = sum(np.pi / 4 * (d**2 - part["bore_mm"] ** 2) * (b - a) for d, a, b in part["steps"])
-    return float(volume * jt.STEEL_KG_M3 * 1e-9)
-
-
 def made_rows(geometry: dict[str, Any]) -> list[dict[str, Any]]:
     """BOM rows of the parts to cut or turn: the cheeks and base plate (aluminium, from their
     DXF), the hubs and the tool flange's disc (steel)."""
@@ -196,7 +190,7 @@ def made_rows(geometry: dict[str, Any]) -> list[dict[str, Any]]:
                 "where": "A" if name.startswith("hub") else "E",
                 "quantity": 1,
                 "material": "C45+N steel",
-                "mass_kg": _turned_kg(c),
+                "mass_kg": solid_props(c, (0.0, 0.0)).mass_kg,
                 "bbox_x_mm": c["d_mm"],
                 "bbox_y_mm": c["d_mm"],
                 "bbox_z_mm": round(c["length_mm"], 1),
