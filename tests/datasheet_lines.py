@@ -87,6 +87,13 @@ def _cycles(v: str, r: dict[str, Any]) -> None:
         return
     assert v.startswith(f"{3600 / c['cycle_time_s']:.0f} on the task ({c['cycle_time_s']:.2f} s")
     assert ("checks pass" in v) == bool(c["ok"])
+    jerk = c.get("jerk") or {}
+    if jerk.get("jerk_time_s") is not None:
+        assert f"ramped over {1e3 * jerk['jerk_time_s']:.0f} ms" in v
+        assert jerk["first_mode_hz"] is None or f"{jerk['first_mode_hz']:.2f} Hz first mode" in v
+        for m in c["moves"]:  # the moves as run keep their stated jerk
+            peak, limit = np.asarray(m["peak_jerk_rad_s3"]), np.asarray(m["jerk_limit_rad_s3"])
+            assert (peak <= limit * (1 + 1e-6)).all()
 
 
 def _mechanical(v: str, r: dict[str, Any]) -> None:

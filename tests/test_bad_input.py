@@ -56,6 +56,7 @@ def finished(run, tmp_path):
         ("operating_range: {theta1_deg: [45, 400]}", "400 deg is past a full turn"),
         ("task: {repeatability_mm: 0}", "config key 'task.repeatability_mm': 0 is less than"),
         ("iso9283: {cycles: 10}", "config key 'iso9283.cycles': 10 is less than the minimum of 30"),
+        ("task: {cycle: {jerk_time_s: 0}}", "config key 'task.cycle.jerk_time_s': 0 is less than"),
         ("", "bad.yaml' is empty: it must hold a mapping"),
         ("- 1\n- 2\n", "bad.yaml' must hold a mapping of config keys, not a list"),
         (f"drives: {{catalogue: {CATALOGUE / 'motors.csv'}}}", "motors.csv is a file"),

@@ -140,6 +140,12 @@ def constraint_settings(formulation):
     return out
 
 
+def jerk_time_s():
+    """task.cycle.jerk_time_s: the time (s) each cycle move ramps its acceleration over; None:
+    one period of the arm's first mode (qsm.app.cycle_inputs.JerkTime)."""
+    return (config["task"]["cycle"] or {}).get("jerk_time_s")
+
+
 def primary_front(name):
     """A file of the front that feeds the later stages (optimization.formulation)."""
     return f"{RESULTS}/optimization/{config['optimization']['formulation']}/{name}"

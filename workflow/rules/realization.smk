@@ -175,6 +175,7 @@ rule cycle_time:
         ENV
     params:
         code=code("cycle_time.py"),
+        jerk_time_s=jerk_time_s(),
         load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),
@@ -207,6 +208,7 @@ rule standard_cycle:
         ENV
     params:
         code=code("standard_cycle.py"),
+        jerk_time_s=jerk_time_s(),
         load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),

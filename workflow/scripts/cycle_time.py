@@ -12,9 +12,12 @@ with logged(snakemake.log[0]) as log:
     c = cycle_inputs(dict(snakemake.input.items()), dict(snakemake.params.items()))
     log.info("the payload's peak force that keeps the tool within the tolerance: %s N", c.limit_N)
     task = TaskCycle(**snakemake.params.cycle)
+    log.info("jerk time: %s", c.jerk.record())
     record, checked, arm = run_cycle(
-        c.done, c.props, c.settings, c.test, task, c.raster_speed_deg_s, c.limit_N
-    )
+        c.done, c.props, c.settings, c.test, task, c.raster_speed_deg_s, c.limit_N,
+        c.jerk.jerk_time_s,
+    )  # fmt: skip
+    record["jerk"] = c.jerk.record()
     write_json(out.cycle, record)
     cycle = None if checked is None else checked.cycle
     trajectory_table(cycle, arm).to_csv(out.trajectory, index=False)

@@ -15,9 +15,9 @@ with logged(snakemake.log[0]) as log:
         []
         if route is None
         else standard_cycles(c.done, c.props, c.settings, c.test, route, c.raster_speed_deg_s,
-                             c.limit_N)
+                             c.limit_N, c.jerk.jerk_time_s)
     )  # fmt: skip
-    record = standard_record(route, cycles, c.mirrored)
+    record = standard_record(route, cycles, c.mirrored) | {"jerk": c.jerk.record()}
     write_json(snakemake.output.cycle, record)
     for x in record["payloads"]:
         log.info(

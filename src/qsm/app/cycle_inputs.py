@@ -26,8 +26,9 @@ from qsm.realization.selection.pipeline import Realization, RealizationSettings,
 class CycleInputs:
     """The realisation ``done`` and its ``settings`` (carrying its tool flange), the optimised
     links' ``props``, the payload ``test``'s settings, ``limit_N`` (the payload's largest peak
-    force, N, that keeps the tolerance; None: no limit), the duty's raster speed (deg/s) and
-    whether the task was designed ``mirrored``."""
+    force, N, that keeps the tolerance; None: no limit), the duty's raster speed (deg/s),
+    whether the task was designed ``mirrored``, and the moves' ``jerk`` time (:class:`JerkTime`).
+    """
 
     done: Realization
     settings: RealizationSettings
@@ -36,6 +37,36 @@ class CycleInputs:
     limit_N: float | None
     raster_speed_deg_s: float
     mirrored: bool
+    jerk: JerkTime
+
+
+@dataclass(frozen=True)
+class JerkTime:
+    """The time (s) over which each move of a cycle ramps its acceleration: ``task.cycle
+    .jerk_time_s``, else one period of the arm's lowest first mode at the task points
+    (``first_mode_hz``, Hz, from the accuracy budget; None: the key's); None: neither is known,
+    and the moves keep TOPP-RA's timing."""
+
+    jerk_time_s: float | None
+    first_mode_hz: float | None
+
+    @classmethod
+    def of(cls, key_s: float | None, budget: Mapping[str, Any]) -> JerkTime:
+        """From the key (s; None: unset) and an accuracy ``budget`` (its ``per_point``'s
+        ``first_mode_hz``)."""
+        modes = [f for f in budget["per_point"].get("first_mode_hz", []) if f]
+        mode = min(modes) if modes else None
+        if key_s is not None:
+            return cls(float(key_s), None)
+        return cls(None if mode is None else 1.0 / mode, mode)
+
+    def record(self) -> dict[str, Any]:
+        """JSON: the time and where it comes from."""
+        source = "task.cycle.jerk_time_s" if self.first_mode_hz is None else "first mode"
+        if self.jerk_time_s is None:
+            source = "none: no first mode known"
+        return {"jerk_time_s": self.jerk_time_s, "from": source,
+                "first_mode_hz": self.first_mode_hz}  # fmt: skip
 
 
 def _read(path: str) -> Any:
@@ -45,7 +76,7 @@ def _read(path: str) -> Any:
 def cycle_inputs(files: Mapping[str, str], params: Mapping[str, Any]) -> CycleInputs:
     """:class:`CycleInputs` from a cycle rule's input ``files`` (choice, machine, links,
     topology, payload, kit) and its ``params`` (load_case, strength, drives, task, motion,
-    task_points, build_volume_mm, payload_test)."""
+    task_points, build_volume_mm, payload_test, jerk_time_s)."""
     p = params
     props = as_built(_read(files["links"]), _read(files["kit"]))  # with the kit's moving parts
     case = links.load_case(p["load_case"])
@@ -64,6 +95,8 @@ def cycle_inputs(files: Mapping[str, str], params: Mapping[str, Any]) -> CycleIn
         done, parts, _read(files["payload"]), settings, p["task_points"], None, base
     )
     mirrored = bool(_read(files["choice"]).get("task", {}).get("mirrored", False))
+    jerk = JerkTime.of(p["jerk_time_s"], budget)
     return CycleInputs(
-        done, settings, props, test, largest_load_N(budget), case.duty.peak_speed_deg_s, mirrored
-    )
+        done, settings, props, test, largest_load_N(budget), case.duty.peak_speed_deg_s, mirrored,
+        jerk,
+    )  # fmt: skip

@@ -155,6 +155,7 @@ def checked_cycle(
     task: tuple[float, bool],
     drives: DriveArrays,
     max_load_N: float | None = None,
+    jerk_time_s: float | None = None,
 ) -> CheckedCycle:
     """The fastest of the time-optimal cycle through the visited points (``route``: the points
     (n, 2) m and their motor angles rad; ``task``: the dwell s and whether it returns), slowed
@@ -163,9 +164,10 @@ def checked_cycle(
     hold, whose RMS use of the ``drives`` (the two motors', :func:`thermal_use`) stays within 1,
     and that MuJoCo runs within the drives' envelopes and the tracking tolerance. What even the
     slowest cannot meet (a holding torque past a drive's rating, say) does not slow it, and
-    ``slowed_for`` says so; when MuJoCo's run never passes, the slowest is kept."""
+    ``slowed_for`` says so; when MuJoCo's run never passes, the slowest is kept. Each move's
+    acceleration ramps over ``jerk_time_s`` (s; None: TOPP-RA's bang-bang timing)."""
     points, angles = route
-    optimal = plan_cycle(arm, angles, task[0], TIMESTEP_S, task[1])
+    optimal = plan_cycle(arm, angles, task[0], TIMESTEP_S, task[1], jerk_time_s=jerk_time_s)
     start, first = _for_tolerance(optimal, arm, max_load_N)
     factors = (start, *(f for f in SLOWER if f > start))
     slowest = _problems(slowed(optimal, arm, factors[-1]), arm, done, drives)

@@ -28,7 +28,7 @@ from qsm.realization.final.cycle_check import (
     peak_load_N,
     thermal_use,
 )
-from qsm.realization.motion.cycle import Arm, Cycle, raster_time_s
+from qsm.realization.motion.cycle import Arm, Cycle, move_jerk, raster_time_s
 from qsm.realization.motion.payload import PayloadSettings
 from qsm.realization.selection.pipeline import Realization, RealizationSettings
 
@@ -126,7 +126,7 @@ def cycle_record(
     c, sim = checked.cycle, checked.simulation
     moves = [
         {"from": a, "to": b, "time_s": m.duration_s, "binding": m.binding,
-         "optimal_binding": o.binding}
+         "optimal_binding": o.binding, **move_jerk(m, c.jerk_time_s, c.dt)}
         for a, b, m, o in zip(visits[:-1], visits[1:], c.moves, checked.optimal.moves, strict=True)
     ]  # fmt: skip
     power = _power(c, arm)
@@ -143,6 +143,7 @@ def cycle_record(
         "slowed_by": c.factor,
         "slowed_for": checked.slowed_for,
         "dwell_s": c.dwell_s,
+        "jerk_time_s": c.jerk_time_s,
         "visits": list(visits),
         "waypoints_deg": np.degrees(angles).tolist(),
         "moves": moves,
@@ -187,12 +188,14 @@ def run_cycle(
     task: TaskCycle,
     raster_speed_deg_s: float,
     max_load_N: float | None = None,
+    jerk_time_s: float | None = None,
 ) -> tuple[dict[str, Any], CheckedCycle | None, Arm]:
     """The realised design's time-optimal ``task`` cycle with its drives (the chosen ones, or
     the nearest), checked (:func:`qsm.realization.final.cycle_check.checked_cycle`, MuJoCo's
     run with the payload ``test``'s plant and controller; ``max_load_N`` the payload's largest
-    peak force that keeps the tool within the tolerance): its record, the checked cycle (None,
-    and the record says why, where no cycle can be planned) and the arm it was planned for."""
+    peak force that keeps the tool within the tolerance; each move's acceleration ramped over
+    ``jerk_time_s``, s): its record, the checked cycle (None, and the record says why, where no
+    cycle can be planned) and the arm it was planned for."""
     catalogue = settings.drives.catalogue
     keys = [drive_of(m) for m in done.drives["motors"].values()]
     drives = [  # within each drive's torque limit, which the controller keeps
@@ -208,7 +211,7 @@ def run_cycle(
         angles = joint_path(done.design, points, test.theta1_range_deg, test.theta2_min_deg)
         checked = checked_cycle(
             done, props, arm, (points, angles), test, (task.dwell_s, task.returns), ratings[1],
-            max_load_N,
+            max_load_N, jerk_time_s,
         )  # fmt: skip
     except ValueError as exc:  # a point out of reach, or drives that cannot hold the arm
         return unplanned_record(task, str(exc)), None, arm

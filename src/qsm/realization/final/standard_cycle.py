@@ -107,18 +107,20 @@ def _summary(record: dict[str, Any], payload_kg: float) -> dict[str, Any]:
 def standard_cycles(
     done: Realization, props: dict[str, MassProperties], settings: RealizationSettings,
     test: PayloadSettings, route: StandardRoute, raster_speed_deg_s: float,
-    max_load_N: float | None = None,
+    max_load_N: float | None = None, jerk_time_s: float | None = None,
 ) -> list[dict[str, Any]]:  # fmt: skip
     """The standard cycle along ``route`` at the rated payload (``test``'s, which carries the
     tool flange too) and at :data:`LIGHT_PAYLOAD_KG` on the same flange (one cycle where they
     are the same), each planned and checked as the task's (:func:`run_cycle`, ``max_load_N``
-    the tolerance's force)."""
+    the tolerance's force, ``jerk_time_s`` the moves' jerk time, s)."""
     task = TaskCycle([1, 2, 3, 4, 3, 2, 1], route.visits().tolist(), 0.0)
     rated = round(test.payload_kg - done.tool_kg, 9)
     out = []
     for kg in dict.fromkeys((rated, LIGHT_PAYLOAD_KG)):
         at = replace(test, payload_kg=kg + done.tool_kg)
-        record, _, _ = run_cycle(done, props, settings, at, task, raster_speed_deg_s, max_load_N)
+        record, _, _ = run_cycle(
+            done, props, settings, at, task, raster_speed_deg_s, max_load_N, jerk_time_s
+        )
         out.append(_summary(record, kg) | {"tool_flange_kg": done.tool_kg})
     return out
 

@@ -17,7 +17,16 @@ per joint and the least torque of the envelope in the driving direction over [0,
 the drive gives at every speed up to ``v`` (back-driving gives more). ``v`` is tried at
 :data:`SPEED_FRACTIONS` of the drive's top speed, and the fastest plan is kept. This is the
 conservative linearisation, at TOPP-RA's grid points (:data:`GRID` per move; between them the
-torque may pass the bound slightly, which MuJoCo's run checks); no jerk limit is applied.
+torque may pass the bound slightly, which MuJoCo's run checks).
+
+TOPP-RA's timing is bang-bang in acceleration: its jerk is unbounded, and each step of the
+acceleration rings the arm's modes. Given a jerk time, each move is then retimed along its line
+by Ruckig (:func:`jerk_limited`) within a jerk limit: its peak acceleration over the jerk time.
+A mode of frequency f driven by an acceleration ramp of duration T is left ringing with the
+amplitude of the step's ringing times |sin(pi f T) / (pi f T)|, none when T is one period of the
+mode. With a jerk time of one period of the arm's first mode, each ramp to or from the move's
+peak acceleration leaves that mode, undamped, no residual vibration; a shorter ramp (a move too
+short to reach its peak) leaves some, which the settling check sees.
 """
 
 from __future__ import annotations
@@ -32,6 +41,7 @@ import toppra
 import toppra.algorithm
 import toppra.constraint
 from numpy.typing import ArrayLike, NDArray
+from ruckig import InputParameter, Result, Ruckig, Trajectory
 from toppra.constraint.linear_constraint import canlinear_colloc_to_interpolate
 
 from qsm.embodiment.drives.envelope import OutputEnvelope
@@ -45,6 +55,8 @@ SPEED_FRACTIONS: tuple[float, ...] = (0.05, 0.15, 0.3, 0.5, 0.7, 0.85, 0.95)
 GRID = 80
 #: A plan's peak use of a bound at or above this counts that bound as binding.
 BINDING = 0.97
+#: At most this many accelerations are tried for a jerk-limited move (:func:`jerk_limited`).
+JERK_TRIES = 40
 
 toppra.setup_logging("WARNING")
 
@@ -179,10 +191,12 @@ def plan_move(
     q1: ArrayLike,
     dt: float,
     fractions: Sequence[float] = SPEED_FRACTIONS,
+    jerk_time_s: float | None = None,
 ) -> Move:
     """The fastest of the moves q0 -> q1 (motor angles (2,) rad) planned at each speed bound of
-    ``fractions`` (of each drive's top speed), sampled every ``dt`` s; ValueError when none is
-    feasible (a drive that cannot hold the arm)."""
+    ``fractions`` (of each drive's top speed), sampled every ``dt`` s, then retimed with its
+    acceleration ramped over ``jerk_time_s`` (s; None: TOPP-RA's timing, :func:`jerk_limited`);
+    ValueError when none is feasible (a drive that cannot hold the arm)."""
     q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)
     top = np.array([top_speed(e) for e in arm.drives])
     best: Move | None = None
@@ -201,7 +215,52 @@ def plan_move(
             f"no timing of the move {np.degrees(q0).round(1).tolist()} -> "
             f"{np.degrees(q1).round(1).tolist()} deg keeps the torques within the drives'"
         )
-    return best
+    return best if jerk_time_s is None else jerk_limited(best, arm, jerk_time_s, dt)
+
+
+def _ruckig(
+    speed: float, accel: float, jerk: float, dt: float
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """Ruckig's rest-to-rest timing of a path coordinate from 0 to 1 within ``speed`` (1/s),
+    ``accel`` (1/s^2) and ``jerk`` (1/s^3): times (N,) s every ``dt`` s (the end held to the
+    next step), the coordinate, its speed and its acceleration (N,)."""
+    inp = InputParameter(1)
+    inp.current_position, inp.target_position = [0.0], [1.0]
+    inp.max_velocity, inp.max_acceleration, inp.max_jerk = [speed], [accel], [jerk]
+    traj = Trajectory(1)
+    if Ruckig(1).calculate(inp, traj) not in (Result.Working, Result.Finished):
+        raise ValueError(f"Ruckig found no timing within {speed}, {accel}, {jerk}")
+    t = np.arange(math.ceil(traj.duration / dt) + 1) * dt
+    at = np.minimum(t, traj.duration)
+    s, sd, sdd = (
+        np.array(v)[:, 0] for v in zip(*(traj.at_time(float(x)) for x in at), strict=True)
+    )
+    return t, s, sd, sdd
+
+
+def jerk_limited(move: Move, arm: Arm, jerk_time_s: float, dt: float) -> Move:
+    """``move`` retimed by Ruckig along its straight line (rest to rest), its path acceleration
+    ramped over ``jerk_time_s`` (s): the path speed at most the TOPP-RA move's peak (so each
+    joint within its speed bound), the path acceleration from the TOPP-RA move's peak, lowered
+    (and the jerk, its acceleration over ``jerk_time_s``, with it) until the torques stay within
+    the move's torque bounds at every sample, at most :data:`JERK_TRIES` times (then the last,
+    which MuJoCo's run checks). Each joint's jerk is its change times the path's."""
+    q0, dq = move.q[0], move.q[-1] - move.q[0]
+    norm = float(dq @ dq)
+    if norm == 0.0:
+        return move
+    speed = float(np.abs(move.qd @ dq).max() / norm)
+    accel = float(np.abs(move.qdd @ dq).max() / norm)
+    for _ in range(JERK_TRIES):
+        t, s, sd, sdd = _ruckig(speed, accel, accel / jerk_time_s, dt)
+        q, qd, qdd = (q0 + s[:, None] * dq, sd[:, None] * dq, sdd[:, None] * dq)
+        tau = motor_torques(arm, q, qd, qdd)
+        use = float((np.abs(tau) / move.torque_bound).max())
+        if use <= 1.0:
+            break
+        accel *= min(0.97, 1.0 / use)
+    binding = f"jerk: acceleration ramped over {1e3 * jerk_time_s:.0f} ms"
+    return move._replace(t=t, q=q, qd=qd, qdd=qdd, tau=tau, binding=binding)
 
 
 def _binding(qd: NDArray, tau: NDArray, speed: NDArray, torque: NDArray) -> str:
@@ -230,14 +289,15 @@ def time_scaled(move: Move, arm: Arm, factor: float, dt: float) -> Move:
 
 class Cycle(NamedTuple):
     """A cycle: its moves, in order, the dwell (s) at each visited point, the sample step (s),
-    whether it ``returns`` to its first point, and how many times slower than the time-optimal
-    timing it runs."""
+    whether it ``returns`` to its first point, how many times slower than the time-optimal
+    timing it runs, and the jerk time (s) its moves were planned with (None: none)."""
 
     moves: tuple[Move, ...]
     dwell_s: float
     dt: float
     returns: bool
     factor: float = 1.0
+    jerk_time_s: float | None = None
 
     def period(self) -> slice:
         """The samples of :meth:`samples` that make one period of the repeated cycle: all but
@@ -277,13 +337,17 @@ def plan_cycle(
     dt: float,
     returns: bool,
     fractions: Sequence[float] = SPEED_FRACTIONS,
+    jerk_time_s: float | None = None,
 ) -> Cycle:
     """The time-optimal cycle through the visited points' motor ``angles`` (n, 2) rad, in order
     (the start again at the end when it ``returns``), with ``dwell_s`` at each, sampled every
-    ``dt`` s, each move planned at the speed bounds ``fractions`` (:func:`plan_move`)."""
+    ``dt`` s, each move planned at the speed bounds ``fractions`` and its acceleration ramped
+    over ``jerk_time_s`` (s; None: not, :func:`plan_move`)."""
     way = np.asarray(angles, dtype=float)
-    moves = tuple(plan_move(arm, a, b, dt, fractions) for a, b in itertools.pairwise(way))
-    return Cycle(moves, dwell_s, dt, returns)
+    moves = tuple(
+        plan_move(arm, a, b, dt, fractions, jerk_time_s) for a, b in itertools.pairwise(way)
+    )
+    return Cycle(moves, dwell_s, dt, returns, jerk_time_s=jerk_time_s)
 
 
 def slowed(cycle: Cycle, arm: Arm, factor: float) -> Cycle:
@@ -294,6 +358,19 @@ def slowed(cycle: Cycle, arm: Arm, factor: float) -> Cycle:
 
 #: A minimum-jerk move's duration over (its change / its peak speed).
 MIN_JERK_DURATION = 1.875
+
+
+def move_jerk(move: Move, jerk_time_s: float | None, dt: float) -> dict[str, list[float] | None]:
+    """A move's jerk as run: each joint's peak (rad/s^3, from its sampled accelerations) and its
+    limit (its change times the move's peak path acceleration over ``jerk_time_s``; None
+    without a jerk time)."""
+    dq = move.q[-1] - move.q[0]
+    peak = np.abs(np.diff(move.qdd, axis=0)).max(axis=0) / dt if len(move.t) > 1 else np.zeros(2)
+    if jerk_time_s is None or not float(dq @ dq):
+        return {"peak_jerk_rad_s3": peak.tolist(), "jerk_limit_rad_s3": None}
+    path_accel = float(np.abs(move.qdd @ dq).max() / (dq @ dq))
+    limit = np.abs(dq) * path_accel / jerk_time_s
+    return {"peak_jerk_rad_s3": peak.tolist(), "jerk_limit_rad_s3": limit.tolist()}
 
 
 def raster_time_s(angles: NDArray[np.float64], peak_speed_rad_s: float) -> float:

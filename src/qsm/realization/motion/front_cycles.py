@@ -5,8 +5,8 @@ cycle the realised design gets (:func:`qsm.realization.motion.cycle.plan_cycle`:
 dwells, planner and TOPP-RA bounds) with the drives the verification chose for it and its solid
 links at the strength's sections, at four speed bounds (:data:`FRONT_FRACTIONS`, against the
 realised design's seven: half the time, and on 25 designs of the default front at most 0.4 %
-slower, never faster). It is the time-optimal plan only: not slowed for the tolerance, the
-drives' RMS or MuJoCo's run, which the realised design's cycle adds
+slower, never faster). It is the time-optimal plan only: without the jerk limit, and not slowed
+for the tolerance, the drives' RMS or MuJoCo's run, which the realised design's cycle adds
 (:mod:`qsm.realization.final.cycle_check`). The column ``time_optimal_cycle_s`` ranks the front
 (``printing.selection_rule: fastest``) and shows in the interactive front.
 """
