@@ -87,6 +87,9 @@ def _cycles(v: str, r: dict[str, Any]) -> None:
         return
     assert v.startswith(f"{3600 / c['cycle_time_s']:.0f} on the task ({c['cycle_time_s']:.2f} s")
     assert ("checks pass" in v) == bool(c["ok"])
+    if c.get("settling"):
+        assert f"at most {max(s['ringing_mm'] for s in c['settling']):.2f} mm on arrival" in v
+        assert ("longer where the arm must settle" in v) == (max(c["dwells_s"]) > c["dwell_s"])
     jerk = c.get("jerk") or {}
     if jerk.get("jerk_time_s") is not None:
         assert f"ramped over {1e3 * jerk['jerk_time_s']:.0f} ms" in v

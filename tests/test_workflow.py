@@ -277,6 +277,15 @@ def test_the_cycle_is_within_the_drives_and_no_faster_than_their_top_speeds(run)
         assert max(u for u in sim["peak_torque_over_available"] if u is not None) <= 1.0
     assert cycle["cycles_per_hour"] == pytest.approx(3600 / cycle["cycle_time_s"])
     assert cycle["time_optimal_s"] <= cycle["cycle_time_s"]
+    # each stop dwells the gripper's time, or until the arm settles where that is longer, and
+    # the cycle's time counts the dwells; the trajectory's jerk stays within each move's limit
+    for stop, dwell in zip(cycle["settling"], cycle["dwells_s"], strict=True):
+        settle = stop["settling_s"]
+        assert dwell == pytest.approx(max(cycle["dwell_s"], settle or 0.0))
+    moves = sum(m["time_s"] for m in cycle["moves"])
+    assert cycle["cycle_time_s"] == pytest.approx(moves + sum(cycle["dwells_s"]), abs=1e-9)
+    for m in cycle["moves"]:
+        assert (np.asarray(m["peak_jerk_rad_s3"]) <= np.asarray(m["jerk_limit_rad_s3"])).all()
 
 
 def test_each_front_design_s_cycle_is_no_faster_than_its_drives_top_speeds(run):

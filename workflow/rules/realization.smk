@@ -176,6 +176,7 @@ rule cycle_time:
     params:
         code=code("cycle_time.py"),
         jerk_time_s=jerk_time_s(),
+        settling=config["settling"],
         load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),

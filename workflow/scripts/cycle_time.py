@@ -3,6 +3,7 @@
 from qsm.app.cycle_inputs import cycle_inputs
 from qsm.physics.task_points import TaskCycle
 from qsm.realization.final.cycle_run import run_cycle, trajectory_table
+from qsm.realization.final.settling import elastic_error
 from qsm.report.cycle_report import cycle_figure
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
@@ -15,13 +16,16 @@ with logged(snakemake.log[0]) as log:
     log.info("jerk time: %s", c.jerk.record())
     record, checked, arm = run_cycle(
         c.done, c.props, c.settings, c.test, task, c.raster_speed_deg_s, c.limit_N,
-        c.jerk.jerk_time_s,
+        c.jerk.jerk_time_s, c.settling,
     )  # fmt: skip
     record["jerk"] = c.jerk.record()
     write_json(out.cycle, record)
     cycle = None if checked is None else checked.cycle
     trajectory_table(cycle, arm).to_csv(out.trajectory, index=False)
-    cycle_figure(cycle, arm, out.figure, record.get("reason", ""))
+    elastic = None
+    if cycle is not None and c.settling is not None:  # the tool's ringing over the cycle
+        elastic = (*elastic_error(cycle, c.settling), 1e3 * c.settling.allowed_m)
+    cycle_figure(cycle, arm, out.figure, record.get("reason", ""), elastic)
     if checked is None:
         log.warning("no cycle could be planned: %s", record["reason"])
     else:

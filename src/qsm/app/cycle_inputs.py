@@ -14,12 +14,18 @@ from typing import Any
 
 from qsm.config.settings import links, realization, simulation
 from qsm.physics.cad import MassProperties
-from qsm.realization.accuracy.accuracy_budget import largest_load_N
-from qsm.realization.final.final_budget import measured_budget
+from qsm.realization.accuracy.accuracy_budget import ArmModel, largest_load_N
+from qsm.realization.final.final_budget import measured_budget, plate_factors
+from qsm.realization.final.settling import Settling
 from qsm.realization.kit.moving_parts import as_built
 from qsm.realization.motion.payload import PayloadSettings
 from qsm.realization.selection.machine import realization_from_record
-from qsm.realization.selection.pipeline import Realization, RealizationSettings, carrying
+from qsm.realization.selection.pipeline import (
+    Realization,
+    RealizationSettings,
+    arm_model,
+    carrying,
+)
 
 
 @dataclass(frozen=True)
@@ -27,8 +33,8 @@ class CycleInputs:
     """The realisation ``done`` and its ``settings`` (carrying its tool flange), the optimised
     links' ``props``, the payload ``test``'s settings, ``limit_N`` (the payload's largest peak
     force, N, that keeps the tolerance; None: no limit), the duty's raster speed (deg/s),
-    whether the task was designed ``mirrored``, and the moves' ``jerk`` time (:class:`JerkTime`).
-    """
+    whether the task was designed ``mirrored``, the moves' ``jerk`` time (:class:`JerkTime`)
+    and the stops' ``settling`` check (None: the rule does not lengthen its dwells)."""
 
     done: Realization
     settings: RealizationSettings
@@ -38,6 +44,7 @@ class CycleInputs:
     raster_speed_deg_s: float
     mirrored: bool
     jerk: JerkTime
+    settling: Settling | None
 
 
 @dataclass(frozen=True)
@@ -96,7 +103,29 @@ def cycle_inputs(files: Mapping[str, str], params: Mapping[str, Any]) -> CycleIn
     )
     mirrored = bool(_read(files["choice"]).get("task", {}).get("mirrored", False))
     jerk = JerkTime.of(p["jerk_time_s"], budget)
+    model = arm_model(done, settings, props, plate_factors(parts[0]))
+    check = settling_check(model, settings.motion.payload_kg, budget, p.get("settling"))
     return CycleInputs(
         done, settings, props, test, largest_load_N(budget), case.duty.peak_speed_deg_s, mirrored,
-        jerk,
+        jerk, check,
     )  # fmt: skip
+
+
+def settling_check(
+    model: ArmModel, payload_kg: float, budget: Mapping[str, Any], section: Mapping | None
+) -> Settling | None:
+    """The stops' settling check (:class:`~qsm.realization.final.settling.Settling`) of the arm
+    ``model`` carrying ``payload_kg`` (kg), with the ``settling`` config ``section`` (None:
+    none), held to the largest static part of ``budget``'s placing error over its points (all
+    its terms but the dynamic sag)."""
+    if section is None:
+        return None
+    per = budget["per_point"]
+    static = [
+        total - max(sag, dynamic or 0.0) + sag
+        for total, sag, dynamic in zip(
+            per["error_budget_mm"], per["sag_mm"], per["dynamic_sag_mm"], strict=True
+        )
+    ]
+    tolerance = float(budget["tolerance_mm"])
+    return Settling(model, payload_kg, float(section["damping_ratio"]), tolerance, max(static))

@@ -4,11 +4,12 @@ envelope as a figure, and its lines of ``summary.md``."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
 
 import numpy as np
+from numpy.typing import NDArray
 
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.realization.final.cycle_check import (
@@ -38,8 +39,9 @@ def cycle_lines(cycle: dict[str, Any] | None) -> list[str]:
         "## Cycle",
         f"- {cycle['cycle_time_s']:.2f} s per cycle, {cycle['cycles_per_hour']:.0f} cycles per "
         f"hour ({slowed}); {cycle['faster_than_raster']:.1f}x as fast as the raster's speed "
-        f"({cycle['raster_cycle_s']:.2f} s); dwell {cycle['dwell_s']:g} s at each point.",
-        f"- moves (what binds the time-optimal timing): {moves}.",
+        f"({cycle['raster_cycle_s']:.2f} s); {dwell_text(cycle)}.",
+        f"- moves (what binds the time-optimal timing): {moves}; {jerk_text(cycle.get('jerk'))}.",
+        *_settling_lines(cycle),
         f"- peak power {_pair(cycle['peak_power_W'], 0)} W, RMS {_pair(cycle['rms_power_W'], 0)} "
         f"W, energy {cycle['energy_per_cycle_J']:.0f} J per cycle; RMS torque "
         f"{_pair(cycle['rms_torque_Nm'], 1)} N m against {_pair(cycle['continuous_torque_Nm'], 1)}"
@@ -50,6 +52,50 @@ def cycle_lines(cycle: dict[str, Any] | None) -> list[str]:
         f"{max(sim['point_error_mm']):.2f} mm at most.",
         "",
     ]
+
+
+def dwell_text(cycle: Mapping[str, Any]) -> str:
+    """The cycle's dwells: the configured one at each point, or longer where the arm settles,
+    with the largest ringing on arrival (``cycle.json``'s ``dwells_s`` and ``settling``)."""
+    dwells, stops = cycle.get("dwells_s") or [cycle["dwell_s"]], cycle.get("settling") or []
+    text = f"{cycle['dwell_s']:g} s dwell at each point"
+    if max(dwells) > cycle["dwell_s"]:
+        text = (f"dwells of {min(dwells):.2f}-{max(dwells):.2f} s: {cycle['dwell_s']:g} s (the "
+                "gripper's), longer where the arm must settle")  # fmt: skip
+    if stops:
+        ringing = max(s["ringing_mm"] for s in stops)
+        text += f", the tool ringing at most {ringing:.2f} mm on arrival"
+    return text
+
+
+def jerk_text(jerk: Mapping[str, Any] | None) -> str:
+    """How a cycle's moves limit their jerk (``cycle.json``'s ``jerk``)."""
+    if not jerk or jerk["jerk_time_s"] is None:
+        return "moves timed by TOPP-RA without a jerk limit"
+    ramp = f"each move's acceleration ramped over {1e3 * jerk['jerk_time_s']:.0f} ms"
+    if jerk["first_mode_hz"] is None:
+        return f"{ramp} (task.cycle.jerk_time_s)"
+    return f"{ramp}, one period of the arm's {jerk['first_mode_hz']:.2f} Hz first mode"
+
+
+def _settling_lines(cycle: dict[str, Any]) -> list[str]:
+    """Each stop's ringing on arrival and its settling time (``cycle.json``'s ``settling``)."""
+    stops = cycle.get("settling") or []
+    if not stops:
+        return []
+
+    def settle(s: dict[str, Any]) -> str:
+        if s["settling_s"] is None:
+            return "never within the tolerance (its static terms miss it)"
+        return "within the tolerance on arrival" if s["settling_s"] == 0 else (
+            f"within the tolerance after {s['settling_s']:.2f} s")  # fmt: skip
+
+    text = "; ".join(
+        f"point {s['point']}: {s['ringing_mm']:.2f} mm at {s['first_mode_hz']:.1f} Hz, "
+        f"{settle(s)}, dwell {s['dwell_s']:.2f} s"
+        for s in stops
+    )
+    return [f"- the tool's ringing on arrival (first mode, damping assumed): {text}."]
 
 
 def cycle_problems(cycle: dict[str, Any] | None) -> list[str]:
@@ -87,20 +133,31 @@ def _pair(values: Sequence[float | None], digits: int) -> str:
     return " / ".join("-" if v is None else f"{v:.{digits}f}" for v in values)
 
 
-def cycle_figure(cycle: Cycle | None, arm: Arm, path: str | Path, reason: str = "") -> Path:
+def cycle_figure(
+    cycle: Cycle | None,
+    arm: Arm,
+    path: str | Path,
+    reason: str = "",
+    elastic: tuple[NDArray, NDArray, float] | None = None,
+) -> Path:
     """Each motor's |torque| against its |speed| over the cycle, over its drive's envelope at
-    the joint (driving direction); the envelopes and ``reason`` alone without a cycle."""
+    the joint (driving direction); the envelopes and ``reason`` alone without a cycle. With
+    ``elastic`` (times s, the tool's elastic displacement along its first mode mm, and the
+    ringing the tolerance allows mm), a third panel draws it over time."""
     import matplotlib
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(1, 2, figsize=(10, 4), constrained_layout=True)
+    panels = 2 if elastic is None else 3
+    fig, axes = plt.subplots(1, panels, figsize=(5 * panels, 4), constrained_layout=True)
+    if elastic is not None:
+        _elastic_panel(axes[2], *elastic)
     if cycle is None:
         fig.suptitle(f"no cycle: {reason}"[:120], fontsize=9)
     if cycle is not None:
         _, _, qd, tau = cycle_torques(cycle, arm, one_period=False)
-    for j, (ax, env) in enumerate(zip(axes, arm.drives, strict=True)):
+    for j, (ax, env) in enumerate(zip(axes[:2], arm.drives, strict=True)):
         _envelope(ax, env)
         if cycle is not None:
             ax.plot(np.abs(qd[:, j]), np.abs(tau[:, j]), ".", ms=2, label="cycle")
@@ -110,6 +167,18 @@ def cycle_figure(cycle: Cycle | None, arm: Arm, path: str | Path, reason: str = 
     fig.savefig(path, dpi=120)
     plt.close(fig)
     return Path(path)
+
+
+def _elastic_panel(ax: Any, t: NDArray, x_mm: NDArray, allowed_mm: float) -> None:
+    """The tool's elastic displacement (mm) along its first mode over time (s), with the ringing
+    the tolerance allows above the static terms."""
+    ax.plot(t, x_mm, "-", lw=0.8, label="tool along its first mode")
+    for sign in (1, -1):
+        ax.axhline(sign * allowed_mm, color="r", ls="--", lw=0.8,
+                   label="tolerance less the static terms" if sign > 0 else None)  # fmt: skip
+    ax.set(xlabel="time (s)", ylabel="elastic displacement (mm)",
+           title="the tool's elastic error over the cycle")  # fmt: skip
+    ax.legend(fontsize=7)
 
 
 def _envelope(ax: Any, env: OutputEnvelope) -> None:

@@ -20,7 +20,7 @@ import pandas as pd
 from qsm.embodiment.drives.selection import drive_of
 from qsm.physics.workspace import Reach
 from qsm.realization.accuracy.accuracy_budget import term_phrases
-from qsm.report.cycle_report import cycle_problems
+from qsm.report.cycle_report import cycle_problems, dwell_text, jerk_text
 
 #: Volumetric printing rate (mm^3/s) of the print-time rule.
 PRINT_RATE_MM3_S = 10.0
@@ -137,16 +137,6 @@ def _machine_rows(
     ]  # fmt: skip
 
 
-def jerk_text(jerk: Mapping[str, Any] | None) -> str:
-    """How a cycle's moves limit their jerk (``cycle.json``'s ``jerk``)."""
-    if not jerk or jerk["jerk_time_s"] is None:
-        return "moves timed by TOPP-RA without a jerk limit"
-    ramp = f"each move's acceleration ramped over {1e3 * jerk['jerk_time_s']:.0f} ms"
-    if jerk["first_mode_hz"] is None:
-        return f"{ramp} (task.cycle.jerk_time_s)"
-    return f"{ramp}, one period of the arm's {jerk['first_mode_hz']:.2f} Hz first mode"
-
-
 def _cycle_checks(cycle: Mapping[str, Any]) -> str:
     """What the cycle's own checks (the links' strength, the drives' heat, MuJoCo's run) say:
     that they pass, with the drives' thermal use, or what fails, with its numbers."""
@@ -166,8 +156,8 @@ def _performance_rows(selected: Mapping[str, Any]) -> list[str]:
     elif cycle:
         rows += [
             _row("cycles per hour", f"{cycle['cycles_per_hour']:.0f} on the task "
-                 f"({cycle['cycle_time_s']:.2f} s per cycle, {cycle['dwell_s']:g} s dwell at each "
-                 f"point, {jerk_text(cycle.get('jerk'))}; {_cycle_checks(cycle)})"),
+                 f"({cycle['cycle_time_s']:.2f} s per cycle, {dwell_text(cycle)}, "
+                 f"{jerk_text(cycle.get('jerk'))}; {_cycle_checks(cycle)})"),
             _row("mechanical power", f"peak {_pair(cycle['peak_power_W'], 0, 'W')}, RMS "
                  f"{_pair(cycle['rms_power_W'], 0, 'W')}; {cycle['energy_per_cycle_J']:.0f} J "
                  f"per cycle at the joints"),

@@ -11,11 +11,13 @@ only through the gearbox, which gives a lower (safer) frequency than a rotor hel
 from __future__ import annotations
 
 import numpy as np
+import scipy.linalg
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.stiffness.frame import (
     BEAMS,
     DOFS,
+    TOOL,
     FrameSections,
     at_dofs,
     beam_ends,
@@ -105,11 +107,48 @@ def loaded_first_mode_hz(
     reflected_kgm2: ArrayLike | None = None,
 ) -> NDArray[np.float64]:
     """The loaded arm's first natural frequency (...) Hz at the poses (:func:`first_mode_hz` of
-    :func:`~qsm.embodiment.stiffness.frame.stiffness_matrix` and :func:`mass_matrix`)."""
+    :func:`matrices`)."""
+    args = (sections, link_mass_kg, payload_kg, drive_stiffness, reflected_kgm2)
+    return first_mode_hz(*matrices(design, theta1, theta2, *args))
+
+
+def matrices(
+    design: ArrayLike,
+    theta1: ArrayLike,
+    theta2: ArrayLike,
+    sections: FrameSections,
+    link_mass_kg: ArrayLike,
+    payload_kg: float,
+    drive_stiffness: ArrayLike | None = None,
+    reflected_kgm2: ArrayLike | None = None,
+) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """The loaded arm's stiffness and mass matrices at the poses
+    (:func:`~qsm.embodiment.stiffness.frame.stiffness_matrix`, :func:`mass_matrix`): the drives'
+    springs and reflected inertias (None: none) where ``drive_stiffness`` is given, else rigid
+    drives."""
     k = stiffness_matrix(design, theta1, theta2, sections, drive_stiffness)
     if drive_stiffness is None:
         reflected_kgm2 = None
     elif reflected_kgm2 is None:
         reflected_kgm2 = np.zeros(2)
-    m = mass_matrix(design, theta1, theta2, link_mass_kg, payload_kg, reflected_kgm2)
-    return first_mode_hz(k, m)
+    return k, mass_matrix(design, theta1, theta2, link_mass_kg, payload_kg, reflected_kgm2)
+
+
+def tool_mode(
+    design: ArrayLike,
+    theta1: float,
+    theta2: float,
+    sections: FrameSections,
+    link_mass_kg: ArrayLike,
+    payload_kg: float,
+    drive_stiffness: ArrayLike | None = None,
+    reflected_kgm2: ArrayLike | None = None,
+) -> tuple[float, NDArray[np.float64]]:
+    """The loaded arm's first mode at one pose (as :func:`loaded_first_mode_hz`): its frequency
+    (Hz) and the unit direction (2,) in which it moves the tool (sign arbitrary)."""
+    args = (sections, link_mass_kg, payload_kg, drive_stiffness, reflected_kgm2)
+    k, m = matrices(design, theta1, theta2, *args)
+    omega2, vectors = scipy.linalg.eigh(k, m, subset_by_index=[0, 0])
+    offset = 0 if drive_stiffness is not None else 2
+    tool = vectors[[i - offset for i in TOOL], 0]
+    return float(np.sqrt(max(omega2[0], 0.0)) / (2 * np.pi)), tool / np.linalg.norm(tool)

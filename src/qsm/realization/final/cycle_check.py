@@ -27,6 +27,7 @@ from qsm.physics.cad import MassProperties
 from qsm.physics.duty import Duty
 from qsm.physics.mjcf import TIMESTEP_S
 from qsm.realization.accuracy.accuracy_budget import peak_payload_force_N
+from qsm.realization.final.settling import Arrival, Settling, settled
 from qsm.realization.motion.cycle import Arm, Cycle, motor_torques, plan_cycle, slowed
 from qsm.realization.motion.payload import PayloadSettings, payload_test
 from qsm.realization.selection.pipeline import Realization
@@ -48,6 +49,7 @@ class CheckedCycle(NamedTuple):
     utilisation: float
     simulation: dict[str, Any]
     slowed_for: list[str]
+    arrivals: tuple[Arrival, ...] = ()
 
 
 def cycle_duty(cycle: Cycle) -> Duty:
@@ -156,6 +158,7 @@ def checked_cycle(
     drives: DriveArrays,
     max_load_N: float | None = None,
     jerk_time_s: float | None = None,
+    settling: Settling | None = None,
 ) -> CheckedCycle:
     """The fastest of the time-optimal cycle through the visited points (``route``: the points
     (n, 2) m and their motor angles rad; ``task``: the dwell s and whether it returns), slowed
@@ -165,15 +168,20 @@ def checked_cycle(
     and that MuJoCo runs within the drives' envelopes and the tracking tolerance. What even the
     slowest cannot meet (a holding torque past a drive's rating, say) does not slow it, and
     ``slowed_for`` says so; when MuJoCo's run never passes, the slowest is kept. Each move's
-    acceleration ramps over ``jerk_time_s`` (s; None: TOPP-RA's bang-bang timing)."""
+    acceleration ramps over ``jerk_time_s`` (s; None: TOPP-RA's bang-bang timing), and each
+    stop's dwell is lengthened to its ``settling`` time (:mod:`qsm.realization.final.settling`;
+    None: not)."""
     points, angles = route
     optimal = plan_cycle(arm, angles, task[0], TIMESTEP_S, task[1], jerk_time_s=jerk_time_s)
     start, first = _for_tolerance(optimal, arm, max_load_N)
     factors = (start, *(f for f in SLOWER if f > start))
     slowest = _problems(slowed(optimal, arm, factors[-1]), arm, done, drives)
     last = ""
+    arrivals: tuple[Arrival, ...] = ()
     for factor in factors:
         cycle = slowed(optimal, arm, factor)
+        if settling is not None:
+            cycle, arrivals = settled(cycle, settling)
         problems = _problems(cycle, arm, done, drives)
         if fixable := [p for kind, p in problems.items() if kind not in slowest]:
             last = fixable[0]
@@ -186,7 +194,7 @@ def checked_cycle(
     # what stands at the speed kept: the kinds that even the slowest does not meet
     unfixable = [f"{p} (not met at {factors[-1]:g}x either)" for p in problems.values()]
     slower = [last] if cycle.factor > start and last else []
-    return CheckedCycle(cycle, optimal, util, sim, first + slower + unfixable)
+    return CheckedCycle(cycle, optimal, util, sim, first + slower + unfixable, arrivals)
 
 
 def _for_tolerance(optimal: Cycle, arm: Arm, max_load_N: float | None) -> tuple[float, list[str]]:

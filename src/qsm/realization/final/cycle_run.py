@@ -28,6 +28,7 @@ from qsm.realization.final.cycle_check import (
     peak_load_N,
     thermal_use,
 )
+from qsm.realization.final.settling import Settling
 from qsm.realization.motion.cycle import Arm, Cycle, move_jerk, raster_time_s
 from qsm.realization.motion.payload import PayloadSettings
 from qsm.realization.selection.pipeline import Realization, RealizationSettings
@@ -124,11 +125,6 @@ def cycle_record(
     raster speed, the same dwells), and each motor's electrical power where its catalogue row
     (``motors``) allows (:func:`electrical_power`)."""
     c, sim = checked.cycle, checked.simulation
-    moves = [
-        {"from": a, "to": b, "time_s": m.duration_s, "binding": m.binding,
-         "optimal_binding": o.binding, **move_jerk(m, c.jerk_time_s, c.dt)}
-        for a, b, m, o in zip(visits[:-1], visits[1:], c.moves, checked.optimal.moves, strict=True)
-    ]  # fmt: skip
     power = _power(c, arm)
     raster = raster_s + c.time_s - sum(m.duration_s for m in c.moves)  # the same dwells
     continuous_Nm, drives = ratings
@@ -142,11 +138,8 @@ def cycle_record(
         "time_optimal_s": checked.optimal.time_s,
         "slowed_by": c.factor,
         "slowed_for": checked.slowed_for,
-        "dwell_s": c.dwell_s,
-        "jerk_time_s": c.jerk_time_s,
-        "visits": list(visits),
+        **_stops(checked, visits),
         "waypoints_deg": np.degrees(angles).tolist(),
-        "moves": moves,
         **power,
         "peak_payload_force_N": peak_load_N(c, arm),
         "electrical": electrical_power(c, arm, motors),
@@ -166,6 +159,25 @@ def cycle_record(
             {"speed_rad_s": m.speed_bound.tolist(), "torque_Nm": m.torque_bound.tolist()}
             for m in checked.optimal.moves
         ],
+    }
+
+
+def _stops(checked: CheckedCycle, visits: Sequence[int]) -> dict[str, Any]:
+    """The cycle's visits, its moves (time, what binds them, their jerk) and its stops (the
+    configured dwell, each stop's dwell and settling)."""
+    c = checked.cycle
+    moves = [
+        {"from": a, "to": b, "time_s": m.duration_s, "binding": m.binding,
+         "optimal_binding": o.binding, **move_jerk(m, c.jerk_time_s, c.dt)}
+        for a, b, m, o in zip(visits[:-1], visits[1:], c.moves, checked.optimal.moves, strict=True)
+    ]  # fmt: skip
+    return {
+        "dwell_s": c.dwell_s,
+        "dwells_s": list(c.stops_s[1:]),
+        "settling": [a.record(p) for a, p in zip(checked.arrivals, visits[1:], strict=False)],
+        "jerk_time_s": c.jerk_time_s,
+        "visits": list(visits),
+        "moves": moves,
     }
 
 
@@ -189,12 +201,14 @@ def run_cycle(
     raster_speed_deg_s: float,
     max_load_N: float | None = None,
     jerk_time_s: float | None = None,
+    settling: Settling | None = None,
 ) -> tuple[dict[str, Any], CheckedCycle | None, Arm]:
     """The realised design's time-optimal ``task`` cycle with its drives (the chosen ones, or
     the nearest), checked (:func:`qsm.realization.final.cycle_check.checked_cycle`, MuJoCo's
     run with the payload ``test``'s plant and controller; ``max_load_N`` the payload's largest
     peak force that keeps the tool within the tolerance; each move's acceleration ramped over
-    ``jerk_time_s``, s): its record, the checked cycle (None, and the record says why, where no
+    ``jerk_time_s``, s; each stop's dwell lengthened to its ``settling`` time, None: not): its
+    record, the checked cycle (None, and the record says why, where no
     cycle can be planned) and the arm it was planned for."""
     catalogue = settings.drives.catalogue
     keys = [drive_of(m) for m in done.drives["motors"].values()]
@@ -211,7 +225,7 @@ def run_cycle(
         angles = joint_path(done.design, points, test.theta1_range_deg, test.theta2_min_deg)
         checked = checked_cycle(
             done, props, arm, (points, angles), test, (task.dwell_s, task.returns), ratings[1],
-            max_load_N, jerk_time_s,
+            max_load_N, jerk_time_s, settling,
         )  # fmt: skip
     except ValueError as exc:  # a point out of reach, or drives that cannot hold the arm
         return unplanned_record(task, str(exc)), None, arm

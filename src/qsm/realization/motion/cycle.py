@@ -259,7 +259,7 @@ def jerk_limited(move: Move, arm: Arm, jerk_time_s: float, dt: float) -> Move:
         if use <= 1.0:
             break
         accel *= min(0.97, 1.0 / use)
-    binding = f"jerk: acceleration ramped over {1e3 * jerk_time_s:.0f} ms"
+    binding = f"{move.binding}, then the jerk limit"
     return move._replace(t=t, q=q, qd=qd, qdd=qdd, tau=tau, binding=binding)
 
 
@@ -290,7 +290,9 @@ def time_scaled(move: Move, arm: Arm, factor: float, dt: float) -> Move:
 class Cycle(NamedTuple):
     """A cycle: its moves, in order, the dwell (s) at each visited point, the sample step (s),
     whether it ``returns`` to its first point, how many times slower than the time-optimal
-    timing it runs, and the jerk time (s) its moves were planned with (None: none)."""
+    timing it runs, the jerk time (s) its moves were planned with (None: none), and the dwell
+    (s) after each move where it differs from ``dwell_s`` (None: none does; a returning cycle
+    starts with its last)."""
 
     moves: tuple[Move, ...]
     dwell_s: float
@@ -298,29 +300,36 @@ class Cycle(NamedTuple):
     returns: bool
     factor: float = 1.0
     jerk_time_s: float | None = None
+    dwells_s: tuple[float, ...] | None = None
+
+    @property
+    def stops_s(self) -> tuple[float, ...]:
+        """The dwell (s) at the first point, then after each move."""
+        after = self.dwells_s or (self.dwell_s,) * len(self.moves)
+        return ((after[-1] if self.returns else self.dwell_s), *after)
 
     def period(self) -> slice:
         """The samples of :meth:`samples` that make one period of the repeated cycle: all but
         the first dwell when the cycle returns (its last dwell is at the same point)."""
-        return slice(round(self.dwell_s / self.dt) + 1 if self.returns else 0, None)
+        return slice(round(self.stops_s[0] / self.dt) + 1 if self.returns else 0, None)
 
     @property
     def time_s(self) -> float:
         """The cycle's time (s): every move and a dwell at each point it visits (the start and
         the end once when it returns there)."""
-        stops = len(self.moves) + (0 if self.returns else 1)
-        return float(sum(m.duration_s for m in self.moves) + self.dwell_s * stops)
+        stops = self.stops_s[1:] if self.returns else self.stops_s
+        return float(sum(m.duration_s for m in self.moves) + sum(stops))
 
     def samples(self) -> Reference:
         """The cycle as a reference motion from rest at its first point: a dwell, then each move
         and a dwell at its end, every ``dt`` s, with the sample at which each dwell ends."""
-        hold = round(self.dwell_s / self.dt)
+        holds = [round(d / self.dt) for d in self.stops_s]
         first = self.moves[0]
-        q = [np.repeat(first.q[:1], hold + 1, axis=0)]
-        qd = [np.zeros((hold + 1, 2))]
-        qdd = [np.zeros((hold + 1, 2))]
-        ends = [hold]
-        for m in self.moves:
+        q = [np.repeat(first.q[:1], holds[0] + 1, axis=0)]
+        qd = [np.zeros((holds[0] + 1, 2))]
+        qdd = [np.zeros((holds[0] + 1, 2))]
+        ends = [holds[0]]
+        for m, hold in zip(self.moves, holds[1:], strict=True):
             q += [m.q[1:], np.repeat(m.q[-1:], hold, axis=0)]
             qd += [m.qd[1:], np.zeros((hold, 2))]
             qdd += [m.qdd[1:], np.zeros((hold, 2))]
