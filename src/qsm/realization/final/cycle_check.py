@@ -175,13 +175,16 @@ def checked_cycle(
     optimal = plan_cycle(arm, angles, task[0], TIMESTEP_S, task[1], jerk_time_s=jerk_time_s)
     start, first = _for_tolerance(optimal, arm, max_load_N)
     factors = (start, *(f for f in SLOWER if f > start))
-    slowest = _problems(slowed(optimal, arm, factors[-1]), arm, done, drives)
-    last = ""
-    arrivals: tuple[Arrival, ...] = ()
-    for factor in factors:
+
+    def at(factor: float) -> tuple[Cycle, tuple[Arrival, ...]]:
+        """The cycle slowed ``factor`` times, each stop dwelling until it settles."""
         cycle = slowed(optimal, arm, factor)
-        if settling is not None:
-            cycle, arrivals = settled(cycle, settling)
+        return (cycle, ()) if settling is None else settled(cycle, settling)
+
+    slowest = _problems(at(factors[-1])[0], arm, done, drives)
+    last = ""
+    for factor in factors:
+        cycle, arrivals = at(factor)
         problems = _problems(cycle, arm, done, drives)
         if fixable := [p for kind, p in problems.items() if kind not in slowest]:
             last = fixable[0]

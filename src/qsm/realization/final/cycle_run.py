@@ -175,7 +175,6 @@ def _stops(checked: CheckedCycle, visits: Sequence[int]) -> dict[str, Any]:
         "dwell_s": c.dwell_s,
         "dwells_s": list(c.stops_s[1:]),
         "settling": [a.record(p) for a, p in zip(checked.arrivals, visits[1:], strict=False)],
-        "jerk_time_s": c.jerk_time_s,
         "visits": list(visits),
         "moves": moves,
     }
