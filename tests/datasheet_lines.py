@@ -117,7 +117,7 @@ def _placing(v: str, r: dict[str, Any]) -> None:
     i = int(np.argmax(per["error_budget_mm"]))
     total = _numbers(v)[0]
     assert total == round(per["error_budget_mm"][i], 2) and f"task point {i + 1}" in v
-    terms = [float(x) for x in re.findall(r"(?:sag|motion|error|base) ([0-9.]+) mm", v)]
+    terms = [float(x) for x in re.findall(r"(?:sag|creep|motion|error|base) ([0-9.]+) mm", v)]
     assert abs(sum(terms) - total) <= 0.021
 
 

@@ -78,10 +78,11 @@ def test_the_budget_is_the_worst_case_sum_of_its_terms():
     terms = {
         "sag_mm": np.array([1.0, 4.0]),
         "dynamic_sag_mm": np.array([2.0, 3.0]),
+        "creep_mm": np.array([0.125, 0.5]),
         "lost_motion_mm": np.array([0.5, 0.0]),
     }
-    np.testing.assert_allclose(budget_mm(terms, [0.25, 1.0]), [2.75, 5.0])
-    np.testing.assert_allclose(budget_mm(terms, None), [2.5, 4.0])
+    np.testing.assert_allclose(budget_mm(terms, [0.25, 1.0]), [2.875, 5.5])
+    np.testing.assert_allclose(budget_mm(terms, None), [2.625, 4.5])
 
 
 def test_the_static_sag_is_the_frames_response_to_the_payloads_weight(realized, settings, points):
@@ -274,23 +275,24 @@ def test_the_dynamic_sag_takes_the_larger_of_the_dutys_and_the_cycles_load(
 
 def test_the_largest_load_keeps_every_point_within_the_tolerance():
     """By hand: at each point the dynamic sag grows with the force, so the largest force is the
-    least of (tolerance - lost motion - tracking) / (dynamic sag per newton)."""
+    least of (tolerance - creep - lost motion - tracking) / (dynamic sag per newton)."""
     budget = {
         "tolerance_mm": 5.0,
         "dynamic_load_N": {"duty": 60.0, "cycle": 50.0},
         "per_point": {
             "sag_mm": [2.0, 3.0],
             "dynamic_sag_mm": [3.0, 4.0],  # at 60 N: 0.05 and 0.0667 mm/N
+            "creep_mm": [0.2, 0.4],
             "lost_motion_mm": [0.5, 0.0],
             "tracking_error_mm": [0.1, 0.2],
         },
     }
-    expected = min(4.4 / (3.0 / 60.0), 4.8 / (4.0 / 60.0))  # 88 and 72 N
+    expected = min(4.2 / (3.0 / 60.0), 4.4 / (4.0 / 60.0))  # 84 and 66 N
     assert largest_load_N(budget) == pytest.approx(expected)
-    assert largest_load_N(budget) == pytest.approx(72.0)
+    assert largest_load_N(budget) == pytest.approx(66.0)
     budget["per_point"]["tracking_error_mm"] = None  # before the payload test
-    assert largest_load_N(budget) == pytest.approx(75.0)
-    budget["per_point"]["sag_mm"] = [2.0, 5.5]  # the weight alone is past it: nothing helps
+    assert largest_load_N(budget) == pytest.approx(69.0)
+    budget["per_point"]["sag_mm"] = [2.0, 4.8]  # the weight and creep alone are past it
     assert largest_load_N(budget) == 0.0
     budget["per_point"]["sag_mm"] = [2.0, 3.0]
     budget["per_point"]["dynamic_sag_mm"] = [0.0, 0.0]  # no force sags the tool: no limit

@@ -11,6 +11,7 @@ from qsm import load_config
 from qsm.config.settings.realization import realization_of
 from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.embodiment.drives.selection import select_drives
+from qsm.embodiment.strength.printed import PrintedMaterial
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import end_effector
 from qsm.realization.accuracy.accuracy_budget import AccuracySettings
@@ -22,14 +23,18 @@ ANGLES = np.radians([[95.0, 20.0], [120.0, 30.0], [140.0, 60.0]])
 POINTS = end_effector(DESIGN, ANGLES[:, 0], ANGLES[:, 1])
 
 
-def _settings(tolerance_mm: float, largest: float = 2.0, plate_factor: float = 1.0):
+def _settings(
+    tolerance_mm: float, largest: float = 2.0, plate_factor: float = 1.0, service_h: float = 0.0
+):
     """Solid plates by default (``plate_factor`` 1): the sizing's search, as the plates' floor
-    leaves it (:func:`test_the_cut_plates_ask_for_larger_sections`)."""
+    leaves it (:func:`test_the_cut_plates_ask_for_larger_sections`); no creep by default
+    (``service_h`` 0), as creep's drift leaves it (:func:`test_creep_asks_for_larger_sections`)."""
     base = realization_of(load_config())
     points = tuple(map(tuple, POINTS.tolist()))
     accuracy = AccuracySettings(
-        tolerance_mm, points_m=points, max_section_scale=largest, plate_factor=plate_factor
-    )
+        tolerance_mm, points_m=points, max_section_scale=largest, plate_factor=plate_factor,
+        printed=PrintedMaterial(service_time_h=service_h),
+    )  # fmt: skip
     return replace(base, accuracy=accuracy)
 
 
@@ -70,7 +75,7 @@ def built():
 
 def test_the_realised_arm_meets_the_structures_share_of_the_tolerance(built):
     settings, done = built
-    plain = realize(DESIGN, replace(settings, accuracy=AccuracySettings(5.0)))
+    plain = realize(DESIGN, replace(settings, accuracy=replace(settings.accuracy, points_m=())))
     target = STRUCTURE_SHARE * 5.0
     assert _structure(plain, settings) > target  # the plain arm does not: the test shows growth
     assert done.accuracy.meets
@@ -88,7 +93,10 @@ def test_the_realised_sections_are_the_smallest_common_factor_that_meets_it(buil
     drives = replace(carried.drives, min_stiffness_Nm_rad=choice.min_stiffness_Nm_rad)
     report = drives.report(DESIGN)
     less = choice.scale / 1.02  # 2 % smaller sections, the same gearboxes
-    error = structure_mm(DESIGN, less, report, carried.strength, carried.motion, angles)
+    error = structure_mm(
+        DESIGN, less, report, carried.strength, carried.motion, angles,
+        printed=settings.accuracy.printed,
+    )  # fmt: skip
     assert error > choice.target_mm
 
 
@@ -101,10 +109,14 @@ def test_the_cut_plates_ask_for_larger_sections(built):
     angles = joint_path(DESIGN, POINTS, settings.motion.theta1_range_deg)
     scale = np.asarray(cut.accuracy.scale)
     error = structure_mm(
-        DESIGN, scale, cut.drives, carried.strength, carried.motion, angles, True, 0.8
-    )
+        DESIGN, scale, cut.drives, carried.strength, carried.motion, angles, True, 0.8,
+        settings.accuracy.printed,
+    )  # fmt: skip
     assert error == pytest.approx(cut.accuracy.structure_mm, rel=1e-9)
-    solid_error = structure_mm(DESIGN, scale, cut.drives, carried.strength, carried.motion, angles)
+    solid_error = structure_mm(
+        DESIGN, scale, cut.drives, carried.strength, carried.motion, angles,
+        printed=settings.accuracy.printed,
+    )  # fmt: skip
     assert solid_error < error  # the cut plates sag more
     assert np.all(scale >= np.asarray(solid.accuracy.scale) - 1e-9)
 
@@ -190,3 +202,20 @@ def test_the_printer_is_named_when_it_holds_a_link():
         cad = base.strength.cad.scaled(1.01 * factor)
         grown = link_boxes_mm(DESIGN[None], None, cad)[0, k]
         assert not box_fits(grown, np.asarray(volume) - PRINT_MARGIN_MM)
+
+
+def test_creep_asks_for_larger_sections(built):
+    """A month of creep adds the links' drift to the structure's error: the sizing grows the
+    sections past the short-term ones, and the structure it reports counts the drift."""
+    settings, fresh = built
+    crept = realize(DESIGN, _settings(5.0, largest=3.0, service_h=720.0))
+    assert crept.accuracy.meets
+    assert np.all(np.asarray(crept.accuracy.scale) >= np.asarray(fresh.accuracy.scale) - 1e-9)
+    assert max(crept.accuracy.scale) > max(fresh.accuracy.scale)
+    carried = carrying(settings, crept.tool_kg)
+    angles = joint_path(DESIGN, POINTS, settings.motion.theta1_range_deg)
+    scale = np.asarray(crept.accuracy.scale)
+    args = (DESIGN, scale, crept.drives, carried.strength, carried.motion, angles, True, 1.0)
+    month = PrintedMaterial(service_time_h=720.0)
+    assert structure_mm(*args, month) == pytest.approx(crept.accuracy.structure_mm, rel=1e-9)
+    assert structure_mm(*args, None) < crept.accuracy.structure_mm

@@ -27,7 +27,7 @@ with logged(snakemake.log[0]) as log:
     volume = tuple(p.build_volume_mm)
     drawing = {"svg": out.drawing, "png": out.drawing_png}
     material = case.material.name
-    kit = realization.kit(p.operating_range, p.drives, settings.accuracy.tolerance_mm)
+    kit = realization.kit(p.operating_range, p.drives, settings.accuracy)
     carried = case.payload_kg + done.tool_kg  # the payload and the tool flange at E
     built = build_links(done, carried, case.cycle(), topo, material, folder, volume, drawing, kit)
     draw_links(done.design, built.parts, f"{folder}/drawing")  # as built, openings included

@@ -15,10 +15,14 @@ ACCURACY_KEYS = ("tolerance_mm", "min_first_mode_hz", "grow_for_tolerance")
 
 def accuracy_section(config: Section) -> dict[str, Any]:
     """What :func:`qsm.config.settings.realization.accuracy` reads of a validated config:
-    :data:`ACCURACY_KEYS` of ``task`` and ``topology.min_stiffness_factor`` (the rules' ``task``
-    param; the task's points and cycle arrive by other params)."""
+    :data:`ACCURACY_KEYS` of ``task``, ``topology.min_stiffness_factor`` and the
+    ``printed_material`` section (the rules' ``task`` param; the task's points and cycle arrive
+    by other params)."""
     section = {k: config["task"][k] for k in ACCURACY_KEYS}
-    return section | {"min_stiffness_factor": config["topology"]["min_stiffness_factor"]}
+    return section | {
+        "min_stiffness_factor": config["topology"]["min_stiffness_factor"],
+        "printed_material": config["printed_material"],
+    }
 
 
 def iso_section(config: Section) -> dict[str, Any]:

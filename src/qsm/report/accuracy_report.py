@@ -170,6 +170,7 @@ def accuracy_figure(
     track = per["tracking_error_mm"]
     terms = [
         ("sag (static or dynamic)", np.maximum(per["sag_mm"], per["dynamic_sag_mm"])),
+        ("creep", np.asarray(per["creep_mm"])),
         ("lost motion", np.asarray(per["lost_motion_mm"])),
         ("tracking", np.zeros(len(pts)) if track is None else np.asarray(track)),
     ]
@@ -179,7 +180,7 @@ def accuracy_figure(
     right.axhline(budget["tolerance_mm"], color="r", ls="--", label="tolerance")
     right.set(xlabel="task point", ylabel="placing error (mm)", xticks=k)
     right.set_title("accuracy budget: " + ("met" if budget["meets_requirements"] else "NOT met"))
-    right.legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=4, fontsize="small")
+    right.legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=5, fontsize="small")
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)

@@ -257,11 +257,22 @@ def _iso_rows(iso: Mapping[str, Any] | None) -> list[str]:
              f"{iso['cycles']} cycles' mean random error, {iso['random_mean_mm'][i]:.2f} mm in "
              "its own direction); "
              f"{iso['compensated_ap_mm'][i]:.2f} mm left once the controller takes out the "
-             f"modelled static sag, which teaching the points removes too; {plane}"),
+             f"modelled static sag, which teaching the points removes too; {_aged(iso, i)}"
+             f"{plane}"),
         _row("pose repeatability RP (ISO 9283)", f"±{rp[k]:.3f} mm worst, at P{k + 1} (main "
              f"random term {iso['main_random_term']}; each alone: {terms}{_uncounted(iso)})"
              f"{check}"),
     ]  # fmt: skip
+
+
+def _aged(iso: Mapping[str, Any], i: int) -> str:
+    """AP at point ``i`` once the printed links have crept over their service time."""
+    if not iso.get("service_time_h"):
+        return ""
+    return (
+        f"{iso['service_ap_mm'][i]:.2f} mm after {iso['service_time_h']:g} h of holding its "
+        f"loads, as the printed links creep ({iso['creep_mm'][i]:.2f} mm of drift); "
+    )
 
 
 def _uncounted(iso: Mapping[str, Any]) -> str:

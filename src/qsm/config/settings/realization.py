@@ -10,6 +10,7 @@ from qsm.config.settings.actuation import drive_check
 from qsm.config.settings.links import load_case_of, parts, strength_check
 from qsm.config.settings.simulation import task_motion
 from qsm.embodiment.load_case import LoadCase
+from qsm.embodiment.strength.printed import PrintedMaterial
 from qsm.physics.task_points import design_task
 from qsm.realization.accuracy.accuracy_budget import AccuracySettings
 from qsm.realization.accuracy.iso_record import IsoSettings
@@ -78,6 +79,20 @@ def accuracy(
         max_section_scale=case.largest_scale,
         build_volume_mm=tuple(float(v) for v in build_volume_mm),
         plate_factor=float(task["min_stiffness_factor"]),
+        printed=printed_material(task["printed_material"]),
+    )
+
+
+def printed_material(section: Section) -> PrintedMaterial:
+    """``printed_material``: the orientation, the across-layer factor and the creep law."""
+    creep = section["creep"]
+    return PrintedMaterial(
+        build_orientation=section["build_orientation"],
+        across_layers_strength_factor=float(section["across_layers_strength_factor"]),
+        service_time_h=float(creep["service_time_h"]),
+        creep_coefficient_1000h=float(creep["coefficient_1000h"]),
+        creep_exponent=float(creep["exponent"]),
+        payload_share=float(creep["payload_share"]),
     )
 
 
@@ -95,15 +110,16 @@ def realization_of(config: Section) -> RealizationSettings:
     )
 
 
-def kit(operating_range: Section, drives: Section, tolerance_mm: float) -> KitSettings:
+def kit(operating_range: Section, drives: Section, accuracy: AccuracySettings) -> KitSettings:
     """The builder's kit's settings: the motors' ``operating_range``, the ``drives`` section's
-    catalogue (where ``interfaces.csv`` is read) and the task's ``tolerance_mm`` (the tool
-    flange is the realisation's: :func:`kit_sizing`)."""
+    catalogue (where ``interfaces.csv`` is read), and the task's tolerance and the printed
+    material of ``accuracy`` (the tool flange is the realisation's: :func:`kit_sizing`)."""
     return KitSettings(
         tuple(operating_range["theta1_deg"]),
         operating_range["theta2_min_deg"],
         drives["catalogue"],
-        tolerance_mm,
+        accuracy.tolerance_mm,
+        accuracy.printed,
     )
 
 

@@ -5,10 +5,11 @@ drive and the tool flange at E.
 bore (the bearing sits in one plate, the shoulder runs through its inner ring and through the
 other plate's bore) and spans both plates and the ISO 7089 washer between them; an ISO 10511
 nut on its thread holds it. It is checked at the joint's peak force F, as a cantilever from the
-printed bore: the plastic carries F over the length ``F / (sigma_allow d)`` (it must fit in the
-plate), so the bending arm runs from the bearing's centre, across the washer, to the middle of
-that length. Bending ``32 F a / (pi d^3)`` and shear ``4 F / (pi d^2)`` (von Mises with shear
-``sqrt(3)``) must stay within the screw's yield over the required safety factor.
+printed bore: the plastic carries F over the length ``F / (sigma_allow d)``, sigma_allow across
+the layers (it must fit in the plate), so the bending arm runs from the bearing's centre, across
+the washer, to the middle of that length. Bending ``32 F a / (pi d^3)`` and shear
+``4 F / (pi d^2)`` (von Mises with shear ``sqrt(3)``) must stay within the screw's yield over the
+required safety factor.
 
 **Hubs (A).** A steel hub (C45, :data:`HUB_YIELD_MPA`) per drive: a flange bolted to its link,
 which it centres with a spigot in the link's bore at A, by six screws on the
@@ -81,12 +82,21 @@ ISO9409 = (
 @dataclass(frozen=True)
 class Plate:
     """A printed plate at a joint: the link's name, its thickness (mm), the material's
-    allowable stress (MPa) and the boss radius (mm) around the joint."""
+    allowable stress along the layers (MPa), the boss radius (mm) around the joint and the
+    allowable of a load taken across the layers (MPa; default the in-plane one): the bearing
+    pressure of a pin or a screw in its printed hole
+    (:mod:`qsm.embodiment.strength.printed`)."""
 
     link: str
     thickness_mm: float
     allowable_MPa: float
     boss_mm: float
+    across_MPa: float | None = None
+
+    @property
+    def bearing_MPa(self) -> float:
+        """The allowable (MPa) of a pin's or a screw's bearing pressure in the plate."""
+        return self.allowable_MPa if self.across_MPa is None else self.across_MPa
 
 
 def pin(
@@ -111,7 +121,7 @@ def pin(
     fill = int((screw.length_mm - grip) // washer[2]) if screw else 0
     float_mm = screw.length_mm - grip - fill * washer[2] if screw else 0.0
     shims = math.floor(float_mm / SHIM_MM + 1e-9) * SHIM_MM
-    bore_mm = force / (other.allowable_MPa * d)  # printed length that carries F
+    bore_mm = force / (other.bearing_MPa * d)  # printed length that carries F
     arm = float(bearing["B_mm"]) / 2 + gap + bore_mm / 2
     bending = 32 * force * arm / (math.pi * d**3)
     shear = 4 * force / (math.pi * d**2)
@@ -195,7 +205,7 @@ def hub_screws(plate: Plate, spigot_mm: float, torque_Nm: float) -> dict[str, An
             "screw": screw,
             "insert": name,
             "hole_mm": hole,
-            "holds": bearing <= plate.allowable_MPa,
+            "holds": bearing <= plate.bearing_MPa,
             "side": "hub",
         }
         if result["holds"]:
@@ -227,7 +237,7 @@ def hub_screws_through_link(
             continue
         bearing = torque_Nm * 1e3 / (HUB_SCREWS * r * d * plate.thickness_mm)
         result |= {"thread": thread, "pcd_mm": 2 * r, "bearing_MPa": bearing, "screw": screw,
-                   "hole_mm": hole, "holds": bearing <= plate.allowable_MPa}  # fmt: skip
+                   "hole_mm": hole, "holds": bearing <= plate.bearing_MPa}  # fmt: skip
         if result["holds"]:
             break
     return result

@@ -112,7 +112,7 @@ def _part_row(
         "bbox_y_mm": round(1e3 * (y1 - y0), 1),
         "bbox_z_mm": round(1e3 * part.section.thickness_m, 1),
         "topology_optimised": bool(optimized),
-        "notes": f"bores: {bores}",
+        "notes": f"printed flat (layers in the plate's plane); bores: {bores}",
     }
 
 

@@ -180,3 +180,50 @@ def tool_compliance(
     unit[..., tool[0], 0] = unit[..., tool[1], 1] = 1.0
     u = np.linalg.solve(k, unit)
     return u[..., tool, :]
+
+
+def weight_loads(
+    design: ArrayLike, theta1: ArrayLike, theta2: ArrayLike, link_mass_kg: ArrayLike, g: float
+) -> NDArray[np.float64]:
+    """The links' weight as the frame's consistent nodal loads (..., 20) (N, N m, in
+    :data:`DOFS`' order): each link's mass ``link_mass_kg`` (..., 4) spread evenly along its
+    beams, ``g`` (m/s^2) along -y; a beam of length L under a load q per metre takes q L / 2 at
+    each end and the moments +-p L^2 / 12 of its transverse part p (exact nodal loads of a
+    uniform load on an Euler-Bernoulli beam)."""
+    at = nodes(design, theta1, theta2)
+    shape = at["B"].shape[:-1]
+    extra = len(shape) - (as_design(design).ndim - 1)
+    mass = np.asarray(link_mass_kg, dtype=float)[(..., *(None,) * extra, slice(None))]
+    ends = [beam_ends(at, first, second) for _, first, second in BEAMS]
+    lengths = [np.linalg.norm(end - start, axis=-1) for start, end in ends]
+    total = np.zeros((*shape, 4))
+    for (link, _, _), length in zip(BEAMS, lengths, strict=True):
+        total[..., link] += length
+    f = np.zeros((*shape, len(DOFS)))
+    for (link, first, second), (start, end), length in zip(BEAMS, ends, lengths, strict=True):
+        q = -g * mass[..., link] / total[..., link]  # N/m along y
+        p = q * (end - start)[..., 0] / length  # its part across the beam
+        zero = np.zeros_like(q)
+        ends6 = np.stack([zero, q * length / 2, p * length**2 / 12] * 2, axis=-1)
+        ends6[..., 5] *= -1
+        rows, keep = at_dofs(first, second)
+        f[..., rows] += ends6[..., keep]
+    return f
+
+
+def tool_displacement(
+    design: ArrayLike,
+    theta1: ArrayLike,
+    theta2: ArrayLike,
+    sections: FrameSections,
+    loads: ArrayLike,
+    drive_stiffness: ArrayLike | None = None,
+) -> NDArray[np.float64]:
+    """The tool's displacement (..., 2) m under nodal ``loads`` (..., 20) in :data:`DOFS`' order
+    (:func:`weight_loads`; a force at E in its last three but one), by
+    :func:`stiffness_matrix`; rigid drives without ``drive_stiffness``."""
+    k = stiffness_matrix(design, theta1, theta2, sections, drive_stiffness)
+    offset = 0 if drive_stiffness is not None else 2
+    f = np.asarray(loads, dtype=float)[..., offset:]
+    u = np.linalg.solve(k, f[..., None])[..., 0]
+    return u[..., [i - offset for i in TOOL]]

@@ -9,17 +9,20 @@ the frame of :mod:`qsm.embodiment.stiffness.frame`:
   solid section's times its FE compliance ratio) and each gearbox's torsional stiffness;
 * ``dynamic_sag_mm``: under the payload's peak inertial and weight force over the duty, in the
   worst direction;
+* ``creep_mm``: the tool's drift as the printed links creep over the service time under their
+  weight and the payload's for its share of the time (:mod:`qsm.embodiment.strength.printed`);
 * ``lost_motion_mm``: each gearbox's backlash through the Jacobian, for the joints whose torque
   reverses along the task's motion (Newton-Euler along the payload test's reference path);
 * ``tracking_error_mm``: the payload test's end-effector error at the end of each hold;
-* ``error_budget_mm``: the worst-case sum, max(sag, dynamic sag) + lost motion + tracking error;
+* ``error_budget_mm``: the worst-case sum, max(sag, dynamic sag) + creep + lost motion +
+  tracking error;
 * ``first_mode_hz``: the loaded arm's first natural frequency.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -28,6 +31,7 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.embodiment.drives.compliance import ARCMIN_RAD
 from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.stiffness.error_terms import (
+    GRAVITY_M_S2,
     lost_motion_m,
     payload_force_N,
     peak_sag_m,
@@ -36,10 +40,17 @@ from qsm.embodiment.stiffness.error_terms import (
     tool_jacobian,
     torque_reverses,
 )
-from qsm.embodiment.stiffness.frame import FrameSections, tool_compliance
+from qsm.embodiment.stiffness.frame import (
+    TOOL,
+    FrameSections,
+    tool_compliance,
+    tool_displacement,
+    weight_loads,
+)
 from qsm.embodiment.stiffness.modes import loaded_first_mode_hz
 from qsm.embodiment.stiffness.serial_arm import serial_comparison
 from qsm.embodiment.strength.loads import Inertials, joint_loads
+from qsm.embodiment.strength.printed import PrintedMaterial
 from qsm.physics.duty import Duty
 from qsm.physics.dynamics import loop_state
 from qsm.physics.inverse_kinematics import joint_path
@@ -55,6 +66,7 @@ TERMS = (
     "sag_rigid_drives_mm",
     "sag_mm",
     "dynamic_sag_mm",
+    "creep_mm",
     "lost_motion_mm",
     "tracking_error_mm",
     "error_budget_mm",
@@ -69,7 +81,8 @@ class AccuracySettings:
     task ``points_m`` ((x, y) m each) where the realisation meets the tolerance (empty: it does
     not try), the largest section scale it may give a link for it (1: none larger), the
     printer's ``build_volume_mm`` the grown links must still fit, and the least stiffness factor
-    the optimised plates keep (``topology.min_stiffness_factor``), at which it sizes them."""
+    the optimised plates keep (``topology.min_stiffness_factor``), at which it sizes them, and
+    the ``printed`` material's creep over its service time."""
 
     tolerance_mm: float = default("task.tolerance_mm")
     min_first_mode_hz: float | None = default("task.min_first_mode_hz")
@@ -77,13 +90,14 @@ class AccuracySettings:
     max_section_scale: float = 1.0
     build_volume_mm: tuple[float, float, float] = tuple(default("printing.build_volume_mm"))
     plate_factor: float = default("topology.min_stiffness_factor")
+    printed: PrintedMaterial = field(default_factory=PrintedMaterial)
 
 
 class ArmModel(NamedTuple):
     """The realised arm as the budget sees it: ``sections`` (solid, per link), ``factor`` (4,)
     on each link's stiffness (plates; ones for solid links), link masses (4,) kg and inertials,
     and per drive its torsional stiffness (N m/rad), backlash (rad), reflected inertia (kg m^2)
-    and mass (kg)."""
+    and mass (kg); the ``printed`` material's creep (None: none)."""
 
     design: NDArray[np.float64]
     sections: FrameSections
@@ -93,6 +107,7 @@ class ArmModel(NamedTuple):
     backlash_rad: NDArray[np.float64]
     reflected_kgm2: NDArray[np.float64]
     drive_mass_kg: NDArray[np.float64]
+    printed: PrintedMaterial | None = None
 
 
 def drive_terms(drives: dict[str, Any]) -> tuple[NDArray, NDArray, NDArray, NDArray, dict]:
@@ -182,15 +197,37 @@ def point_terms(
         "sag_rigid_drives_mm": 1e3 * sag_m(tool_compliance(d, t1, t2, model.sections), weight),
         "sag_mm": 1e3 * sag_m(compliance, weight),
         "dynamic_sag_mm": 1e3 * peak_sag_m(compliance, peak_N),
+        "creep_mm": 1e3 * np.linalg.norm(creep_drift_m(model, t1, t2, payload_kg), axis=-1),
         "lost_motion_mm": 1e3 * lost_motion_m(jac, model.backlash_rad, reverses),
         "first_mode_hz": mode,
     }
 
 
+def creep_drift_m(
+    model: ArmModel, theta1: ArrayLike, theta2: ArrayLike, payload_kg: float
+) -> NDArray[np.float64]:
+    """The tool's drift (..., 2) m as the printed links creep over the service time under the
+    load they hold: their weight, and the payload's for its share of the time (linear
+    viscoelasticity: the links at E / (1 + phi) under that load, less the links at E; the
+    gearboxes do not creep). Zeros without a ``printed`` material or a service time."""
+    creep = model.printed
+    t1, t2 = np.asarray(theta1, dtype=float), np.asarray(theta2, dtype=float)
+    if creep is None or creep.creep_coefficient == 0:
+        return np.zeros((*np.broadcast_shapes(t1.shape, t2.shape), 2))
+    printed = model.sections._replace(factor=model.factor)
+    crept = printed._replace(youngs_pa=printed.youngs_pa / (1 + creep.creep_coefficient))
+    k = model.drive_stiffness if np.isfinite(model.drive_stiffness).all() else None
+    held = weight_loads(model.design, t1, t2, model.inertials.mass_kg, GRAVITY_M_S2)
+    held[..., TOOL[1]] -= creep.payload_share * payload_kg * GRAVITY_M_S2
+    after = tool_displacement(model.design, t1, t2, crept, held, k)
+    return after - tool_displacement(model.design, t1, t2, printed, held, k)
+
+
 def budget_mm(terms: dict[str, NDArray], tracking_mm: ArrayLike | None) -> NDArray[np.float64]:
-    """The worst-case placing error (n,) mm: max(sag, dynamic sag) + lost motion + tracking."""
+    """The worst-case placing error (n,) mm: max(sag, dynamic sag) + creep + lost motion +
+    tracking."""
     track = 0.0 if tracking_mm is None else np.asarray(tracking_mm, dtype=float)
-    elastic = np.maximum(terms["sag_mm"], terms["dynamic_sag_mm"])
+    elastic = np.maximum(terms["sag_mm"], terms["dynamic_sag_mm"]) + terms["creep_mm"]
     return elastic + terms["lost_motion_mm"] + track
 
 
@@ -268,7 +305,8 @@ def _label(per_point: dict[str, Any], i: int) -> str:
     """What dominates the placing error at point ``i``: sag, play or tracking."""
     track = per_point["tracking_error_mm"]
     terms = {
-        "NOT STIFF ENOUGH": max(per_point["sag_mm"][i], per_point["dynamic_sag_mm"][i]),
+        "NOT STIFF ENOUGH": max(per_point["sag_mm"][i], per_point["dynamic_sag_mm"][i])
+        + per_point["creep_mm"][i],
         "TOO MUCH PLAY": per_point["lost_motion_mm"][i],
         "TRACKS TOO LOOSELY": 0.0 if track is None else track[i],
     }
@@ -281,7 +319,8 @@ def term_phrases(per_point: dict[str, Any], i: int) -> list[str]:
     error and base, where the budget has them; they add up to ``error_budget_mm``."""
     static, dynamic = per_point["sag_mm"][i], per_point["dynamic_sag_mm"][i]
     sag = f"static sag {static:.2f} mm" if static >= dynamic else f"dynamic sag {dynamic:.2f} mm"
-    parts = [sag, f"lost motion {per_point['lost_motion_mm'][i]:.2f} mm"]
+    parts = [sag, f"creep {per_point['creep_mm'][i]:.2f} mm"]
+    parts.append(f"lost motion {per_point['lost_motion_mm'][i]:.2f} mm")
     if per_point["tracking_error_mm"] is not None:
         parts.append(f"tracking error {per_point['tracking_error_mm'][i]:.2f} mm")
     if per_point.get("base_mm") is not None:
@@ -418,6 +457,7 @@ def largest_load_N(budget: dict[str, Any]) -> float | None:
         for k, v in budget["per_point"].items()
     }
     room = budget["tolerance_mm"] - per["lost_motion_mm"] - per["tracking_error_mm"]
+    room = room - per["creep_mm"]
     room = room - per.get("base_mm", 0.0)
     if (per["sag_mm"] > room).any():
         return 0.0

@@ -3,7 +3,7 @@ payload within its share of ``task.tolerance_mm``.
 
 The strength check gives each link's section (sized, or the configured one) and the drive check
 the lightest drives for the duty. Where the tool's structural error at the task points (the
-accuracy budget without the tracking error: max(sag, dynamic sag) + lost motion, with the
+accuracy budget without the tracking error: max(sag, dynamic sag) + creep + lost motion, with the
 plates that topology optimisation cuts at ``topology.min_stiffness_factor`` of their solid
 stiffness, which it keeps, :mod:`qsm.realization.topology.topology`) exceeds
 :data:`STRUCTURE_SHARE` of the tolerance, :func:`accuracy_choice` tries every least gearbox
@@ -33,6 +33,7 @@ from qsm.embodiment.stiffness.frame import FrameSections
 from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.embodiment.strength.loads import Inertials
 from qsm.embodiment.strength.material import Material
+from qsm.embodiment.strength.printed import PrintedMaterial
 from qsm.embodiment.strength.sizing import fit_limit
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import CadSettings, link_settings
@@ -112,11 +113,12 @@ def structure_mm(
     angles: NDArray[np.float64],
     reflected: bool = True,
     plate_factor: float = 1.0,
+    printed: PrintedMaterial | None = None,
 ) -> float:
     """The worst structural error (mm) over the task points' motor ``angles`` (n, 2) rad of the
     links at ``scale`` (4,), the optimised plates at ``plate_factor`` of the solid stiffness and
     the masses of the solid links (the plates weigh less: their inertial loads are bounded), with
-    the ``drives`` of a drive report."""
+    the ``drives`` of a drive report and the ``printed`` material's creep (None: none)."""
     stiffness, play, inertia, mass, _ = drive_terms(drives)
     model = ArmModel(
         design=design,
@@ -127,6 +129,7 @@ def structure_mm(
         backlash_rad=play,
         reflected_kgm2=inertia if reflected else np.zeros(2),
         drive_mass_kg=mass,
+        printed=printed,
     )
     reverses = torque_reverses(task_motion_torques(model, angles, motion))
     du = strength.duty
@@ -243,7 +246,7 @@ def accuracy_choice(
             scale = np.minimum(f * base, upper)
             return structure_mm(
                 design, scale, report, strength, motion, angles, drives.reflected_inertia,
-                accuracy.plate_factor,
+                accuracy.plate_factor, accuracy.printed,
             )  # fmt: skip
 
         f = 1.0 if error(1.0) <= target else smallest_factor(lambda x: error(x) <= target, high)
@@ -284,6 +287,14 @@ def as_realised(
     points = np.asarray(accuracy.points_m, dtype=float).reshape(-1, 2)
     angles = joint_path(design, points, motion.theta1_range_deg, motion.theta2_min_deg)
     error = structure_mm(
-        design, scale, drives, strength, motion, angles, reflected, accuracy.plate_factor
+        design,
+        scale,
+        drives,
+        strength,
+        motion,
+        angles,
+        reflected,
+        accuracy.plate_factor,
+        accuracy.printed,
     )
     return replace(choice, scale=scale, structure_mm=error, meets=error <= choice.target_mm)

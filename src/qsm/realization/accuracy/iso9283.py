@@ -23,7 +23,10 @@ AP is the distance from the commanded pose to the barycentre of the attained one
 l-bar + 3 S_l, the mean distance of the attained poses from their barycentre plus three
 standard deviations of it. The dynamic sag is not in either: the standard measures a pose once
 the arm has come to rest, when the payload's inertial force is gone (the settling term counts
-what the servo leaves). Lengths in m unless named otherwise.
+what the servo leaves). AP is the new arm's; ``service_ap_mm`` adds the tool's drift once the
+printed links have crept over their service time
+(:func:`qsm.realization.accuracy.accuracy_budget.creep_drift_m`). Lengths in m unless named
+otherwise.
 """
 
 from __future__ import annotations
@@ -38,7 +41,7 @@ from qsm.embodiment.stiffness.frame import tool_compliance
 from qsm.embodiment.strength.loads import joint_loads
 from qsm.physics.batch_ik import batch_joint_angles
 from qsm.physics.dynamics import loop_state
-from qsm.realization.accuracy.accuracy_budget import ArmModel
+from qsm.realization.accuracy.accuracy_budget import ArmModel, creep_drift_m
 
 #: Cycles the standard asks at each point.
 ISO_CYCLES = 30
@@ -81,7 +84,9 @@ class PoseCharacteristics:
     mean over the cycles (AP lies within it of the systematic terms' sum);
     ``compensated_ap_mm`` (5,), the AP left once a controller takes out the modelled static
     sag; ``rp_alone_mm`` (4, 5), the RP of each random term alone
-    (:data:`RANDOM_TERMS`); ``cycles`` and ``seed`` of the Monte Carlo."""
+    (:data:`RANDOM_TERMS`); ``cycles`` and ``seed`` of the Monte Carlo; ``creep_mm`` (5,), the
+    tool's drift once the printed links have crept over their service time, and
+    ``service_ap_mm`` (5,), the AP with it, after ``service_time_h`` (h)."""
 
     plane: IsoPlane
     ap_mm: NDArray[np.float64]
@@ -93,6 +98,9 @@ class PoseCharacteristics:
     rp_alone_mm: NDArray[np.float64]
     cycles: int
     seed: int
+    creep_mm: NDArray[np.float64]
+    service_ap_mm: NDArray[np.float64]
+    service_time_h: float
 
     @property
     def main_random_term(self) -> str:
@@ -194,9 +202,12 @@ def pose_characteristics(
     pts, random = plane.points_m, draws.sum(axis=0)
     ap, rp = ap_rp_mm(pts + systematic + random, pts)
     compensated, _ = ap_rp_mm(pts + systematic - sag + random, pts)
+    drift = creep_drift_m(model, t1, t2, payload_kg)
+    service, _ = ap_rp_mm(pts + systematic + drift + random, pts)
     alone = np.array([ap_rp_mm(pts + d, pts)[1] for d in draws])
     mean_mm = 1e3 * np.linalg.norm(random.mean(axis=0), axis=-1)
     return PoseCharacteristics(
         plane, ap, rp, 1e3 * np.linalg.norm(sag, axis=-1), np.full(len(pts), float(base_mm)),
-        mean_mm, compensated, alone, cycles, seed,
+        mean_mm, compensated, alone, cycles, seed, 1e3 * np.linalg.norm(drift, axis=-1), service,
+        0.0 if model.printed is None else model.printed.service_time_h,
     )  # fmt: skip

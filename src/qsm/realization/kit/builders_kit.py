@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -27,6 +27,7 @@ from qsm.embodiment.kit import fits as ft
 from qsm.embodiment.kit import joints as jt
 from qsm.embodiment.kit.interfaces import DriveInterface, interface_of
 from qsm.embodiment.parts.link_parts import LinkPart
+from qsm.embodiment.strength.printed import PrintedMaterial
 from qsm.physics.kinematics import pose
 from qsm.realization.kit import kit_bom as kb
 from qsm.realization.kit import kit_hardware as kh
@@ -55,13 +56,15 @@ HUB_LINKS = tuple(HUB_LINK_OF.values())
 class KitSettings:
     """The motors' operating range (``theta1_deg`` (lo, hi), ``theta2_min_deg``; the links' sweep
     sizes the base), the drive catalogue's folder (None: the shipped one), where ``interfaces.csv``
-    is read, and the task's placing tolerance (mm; the base takes
-    :data:`~qsm.embodiment.kit.base.BASE_SHARE` of it)."""
+    is read, the task's placing tolerance (mm; the base takes
+    :data:`~qsm.embodiment.kit.base.BASE_SHARE` of it) and the printed material, whose
+    across-layer factor derates the bearing pressures in the printed holes."""
 
     theta1_deg: tuple[float, float] = default("operating_range.theta1_deg")
     theta2_min_deg: float = default("operating_range.theta2_min_deg")
     catalogue: str | None = None
     tolerance_mm: float = default("task.tolerance_mm")
+    printed: PrintedMaterial = field(default_factory=PrintedMaterial)
 
 
 class Kit(NamedTuple):
@@ -73,8 +76,11 @@ class Kit(NamedTuple):
     parts: dict[str, LinkPart]
 
 
-def _plates(done: Realization, parts: dict[str, LinkPart]) -> dict[str, dict[str, jt.Plate]]:
-    """Each link's plate at each of its joints (thickness, allowable, boss), mm and MPa."""
+def _plates(
+    done: Realization, parts: dict[str, LinkPart], printed: PrintedMaterial
+) -> dict[str, dict[str, jt.Plate]]:
+    """Each link's plate at each of its joints (thickness, allowables in the plane and across
+    the layers, boss), mm and MPa."""
     links = done.strength["links"]
     return {
         name: {
@@ -83,6 +89,7 @@ def _plates(done: Realization, parts: dict[str, LinkPart]) -> dict[str, dict[str
                 1e3 * part.section.thickness_m,
                 float(links[name]["allowable_MPa"]),
                 1e3 * b.boss_radius_m,
+                printed.across_layers_MPa(float(links[name]["allowable_MPa"])),
             )
             for b in part.bores
         }
@@ -596,7 +603,7 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     """The kit of ``done`` with its final ``parts`` (module docs) and the tool flange the
     realisation chose and carried (``done.tool_flange``). Its ``parts`` are those with the hubs'
     screw holes."""
-    plates, drives = _plates(done, parts), _drives(done, settings)
+    plates, drives = _plates(done, parts, settings.printed), _drives(done, settings)
     screws = _hub_screws(plates, drives, float(_bearing(done, "A")["d_mm"]))
     pins = _pins(done, plates, None)
     pins = _pins(done, plates, spacer_counts(done, parts, pins, screws, settings))
@@ -646,11 +653,25 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
             "arrangement": ARRANGEMENT,
         },
         "tool_flange": flange,
+        "printed_material": _printed_record(done, settings.printed),
         "stack_mm": stack,
         "layout": geometry,
     }
     _with_sequence(record, done, holed, settings)
     return Kit(record, kb.made_rows(geometry) + kb.fastener_rows(lines), holed)
+
+
+def _printed_record(done: Realization, printed: PrintedMaterial) -> dict[str, Any]:
+    """The printed material as the kit uses it: its orientation and factors, and each link's
+    allowable (MPa) along its layers and across them."""
+    links = done.strength["links"]
+    along = {name: float(r["allowable_MPa"]) for name, r in links.items()}
+    across = {name: printed.across_layers_MPa(a) for name, a in along.items()}
+    return printed.record() | {
+        "allowable_along_layers_MPa": along,
+        "allowable_across_layers_MPa": across,
+        "across_layers_loads": "pins' and screws' bearing in printed holes; washers' clamp",
+    }
 
 
 def _fits(
@@ -700,7 +721,11 @@ def _with_sequence(
     record["layout"]["moves_with"] |= kit_hardware.moves_with
     moving = mp.moving_parts(record["layout"], done.design, kit_hardware.step)
     record["moving_parts"] = props_to_json(moving)  # for the dynamics after the kit
-    allow = {k: float(v["allowable_MPa"]) for k, v in done.strength["links"].items()}
+    # a washer's clamp presses the plate across its layers
+    allow = {
+        k: s.printed.across_layers_MPa(float(v["allowable_MPa"]))
+        for k, v in done.strength["links"].items()
+    }
     found = kit_sequence(
         record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow,
         done.strength["bearings"], kit_hardware.step,

@@ -301,6 +301,7 @@ def arm_model(
         backlash_rad=play,
         reflected_kgm2=reflected if settings.drives.reflected_inertia else np.zeros(2),
         drive_mass_kg=mass,
+        printed=settings.accuracy.printed,
     )
 
 
