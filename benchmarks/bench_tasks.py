@@ -323,9 +323,9 @@ def accuracy_markdown(rows: list[dict[str, Any]]) -> str:
     """One row per task that ran: the selected design's accuracy and each front's g15."""
     lines = [
         "| task | g15: paper / ratios front | sag, rigid drives (mm) | sag, printed with drives "
-        "(mm) | dynamic sag (mm) | lost motion (mm) | tracking (mm) | budget / tolerance (mm) "
-        "| first mode (Hz) | serial 2R arm: sag (mm), first mode (Hz) |",
-        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
+        "(mm) | dynamic sag (mm) | creep (mm) | lost motion (mm) | tracking (mm) | budget / "
+        "tolerance (mm) | first mode (Hz) | serial 2R arm: sag (mm), first mode (Hz) |",
+        "| --- | --- | --- | --- | --- | --- | --- | --- | --- | --- | --- |",
     ]
 
     def num(v: Any, fmt: str = ".1f") -> str:
@@ -340,7 +340,7 @@ def accuracy_markdown(rows: list[dict[str, Any]]) -> str:
         budget += "" if a["meets"] else " (NOT met)"
         lines.append(
             f"| {r['task']} | {g15} | {num(a['sag_rigid_drives_mm'])} | {num(a['sag_mm'])} | "
-            f"{num(a['dynamic_sag_mm'])} | {num(a['lost_motion_mm'])} | "
+            f"{num(a['dynamic_sag_mm'])} | {num(a.get('creep_mm'))} | {num(a['lost_motion_mm'])} | "
             f"{num(a['tracking_error_mm'], '.2f')} | {budget} | {num(a['first_mode_hz'])} | "
             f"{num(a['serial_sag_mm'])}, {num(a['serial_first_mode_hz'])} |"
         )

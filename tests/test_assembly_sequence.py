@@ -116,8 +116,11 @@ def kit():
 
 def _sequence(done, record):
     parts = with_hub_holes(done.parts, record["hubs"])
-    allow = {k: float(v["allowable_MPa"]) for k, v in done.strength["links"].items()}
     s = KitSettings()
+    allow = {
+        k: s.printed.across_layers_MPa(float(v["allowable_MPa"]))
+        for k, v in done.strength["links"].items()
+    }
     bearings = done.strength["bearings"]
     return kit_sequence(record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow, bearings)
 
@@ -534,3 +537,20 @@ def test_hardware_in_place_stands_in_the_way_and_a_pressed_part_with_its_carrier
     assert ("tool", "link") not in {
         (r.first, r.then) for r in precedences(own, placed, hardware)[0]
     }
+
+
+def test_the_kit_holds_its_holes_to_the_plates_allowable_across_their_layers(kit):
+    """kit.json's allowables: along the layers the links' own, across them times the factor;
+    each pin's printed bearing length is its force over the other plate's across-layer
+    allowable times the shoulder's diameter."""
+    done, made = kit
+    record = made.record["printed_material"]
+    factor = KitSettings().printed.across_layers_strength_factor
+    assert factor < 1.0  # else the test shows nothing
+    for link, along in record["allowable_along_layers_MPa"].items():
+        assert along == float(done.strength["links"][link]["allowable_MPa"])
+        assert record["allowable_across_layers_MPa"][link] == pytest.approx(factor * along)
+    for pin in made.record["pins"].values():
+        across = record["allowable_across_layers_MPa"][pin["plates"][1]]
+        expected = pin["peak_force_N"] / (across * pin["shoulder_d_mm"])
+        assert pin["printed_bearing_length_mm"] == pytest.approx(expected)

@@ -23,7 +23,7 @@ from qsm.embodiment.strength.loads import joint_loads
 from qsm.physics.dynamics import loop_state
 from qsm.physics.inverse_kinematics import joint_angles, joint_path
 from qsm.physics.kinematics import end_effector
-from qsm.realization.accuracy.accuracy_budget import AccuracySettings
+from qsm.realization.accuracy.accuracy_budget import AccuracySettings, creep_drift_m
 from qsm.realization.accuracy.iso9283 import (
     RandomTerms,
     ap_rp_mm,
@@ -105,6 +105,26 @@ def test_without_random_terms_ap_is_the_sag_and_base_and_rp_is_zero(realized, se
     np.testing.assert_allclose(pc.ap_mm, sag_mm + 0.4, rtol=1e-9)  # the base along the sag
     np.testing.assert_allclose(pc.compensated_ap_mm, 0.4, rtol=1e-9)
     np.testing.assert_allclose(pc.rp_mm, 0.0, atol=1e-12)
+
+
+def test_the_aged_ap_adds_the_creeps_drift_to_the_systematic_terms(realized, settings, plane):
+    """Without random terms the AP after the service time is |sag + base along it + drift|,
+    the drift the budget's creep at the plane's points; without a creep law it is the AP."""
+    model = arm_model(realized, settings)
+    assert model.printed is not None and model.printed.creep_coefficient > 0
+    angles = joint_path(DESIGN, plane.points_m, *OP)
+    pc = pose_characteristics(model, plane, angles, 5.0, NONE, base_mm=0.4)
+    c = tool_compliance(DESIGN, angles[:, 0], angles[:, 1], model.sections, model.drive_stiffness)
+    sag = c @ payload_force_N(5.0, np.zeros(2))
+    drift = creep_drift_m(model, angles[:, 0], angles[:, 1], 5.0)
+    along = sag / np.linalg.norm(sag, axis=-1, keepdims=True)
+    aged = 1e3 * np.linalg.norm(sag + 4e-4 * along + drift, axis=-1)
+    np.testing.assert_allclose(pc.service_ap_mm, aged, rtol=1e-9)
+    np.testing.assert_allclose(pc.creep_mm, 1e3 * np.linalg.norm(drift, axis=-1), rtol=1e-12)
+    assert pc.service_time_h == model.printed.service_time_h
+    fresh = pose_characteristics(model._replace(printed=None), plane, angles, 5.0, NONE, 0.4)
+    np.testing.assert_array_equal(fresh.service_ap_mm, fresh.ap_mm)
+    assert not fresh.creep_mm.any()
 
 
 def test_a_joints_play_moves_the_tool_by_its_jacobian(realized, settings, plane):

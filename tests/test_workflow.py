@@ -356,8 +356,8 @@ def test_the_datasheet_states_this_runs_figures(run):
     assert f"{selected['stiffness']['worst']['error_budget_mm']:.2f} mm worst" in sheet
     line = next(x for x in sheet.splitlines() if x.startswith("| placing error | "))
     total = float(line.split("| placing error | ")[1].split(" mm")[0])
-    terms = [float(v) for v in re.findall(r"(?:sag|motion|error|base) ([0-9.]+) mm", line)]
-    assert len(terms) == 4 and sum(terms) == pytest.approx(total, abs=0.021)  # its terms add up
+    terms = [float(v) for v in re.findall(r"(?:sag|creep|motion|error|base) ([0-9.]+) mm", line)]
+    assert len(terms) == 5 and sum(terms) == pytest.approx(total, abs=0.021)  # its terms add up
     assert "| quantity | value |" in sheet and "| | |" not in sheet
     limits = effective_config(run)["operating_range"]  # the reach: the farthest tool point
     (lo, hi), low = limits["theta1_deg"], limits["theta2_min_deg"]

@@ -7,6 +7,7 @@ the tool within the tolerance.
 from __future__ import annotations
 
 import json
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -15,6 +16,7 @@ from typing import Any
 from qsm.config.settings import links, realization, simulation
 from qsm.physics.cad import MassProperties
 from qsm.realization.accuracy.accuracy_budget import ArmModel, largest_load_N
+from qsm.realization.final.elastic_arm import elastic_arm
 from qsm.realization.final.final_budget import measured_budget, plate_factors
 from qsm.realization.final.settling import Settling
 from qsm.realization.kit.moving_parts import as_built
@@ -117,7 +119,8 @@ def settling_check(
     """The stops' settling check (:class:`~qsm.realization.final.settling.Settling`) of the arm
     ``model`` carrying ``payload_kg`` (kg), with the ``settling`` config ``section`` (None:
     none), held to the largest static part of ``budget``'s placing error over its points (all
-    its terms but the dynamic sag)."""
+    its terms but the dynamic sag); its elastic model (:mod:`qsm.realization.final.elastic_arm`)
+    damps its first mode, the lowest over the budget's points, at the section's ratio."""
     if section is None:
         return None
     per = budget["per_point"]
@@ -127,5 +130,7 @@ def settling_check(
             per["error_budget_mm"], per["sag_mm"], per["dynamic_sag_mm"], strict=True
         )
     ]
-    tolerance = float(budget["tolerance_mm"])
-    return Settling(model, payload_kg, float(section["damping_ratio"]), tolerance, max(static))
+    tolerance, zeta = float(budget["tolerance_mm"]), float(section["damping_ratio"])
+    omega = 2 * math.pi * float(budget["worst"]["first_mode_hz"])
+    elastic = elastic_arm(model, payload_kg, 2 * zeta / omega)
+    return Settling(model, payload_kg, zeta, tolerance, max(static), elastic)

@@ -39,6 +39,18 @@ EQ_SOLIMP = (0.99, 0.999, 0.001, 0.5, 2.0)
 JOINT_NAMES: tuple[str, ...] = ("theta1", "q_upper", "theta2", "q_coupler")
 
 
+def planar_spec(name: str, timestep_s: float, gravity_m_s2: float = GRAVITY_M_S2) -> mujoco.MjSpec:
+    """An empty spec for a planar model: explicit inertials, gravity along -y, an implicitfast
+    step of ``timestep_s``."""
+    spec = mujoco.MjSpec()
+    spec.modelname = name
+    spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
+    spec.option.gravity = [0.0, -gravity_m_s2, 0.0]
+    spec.option.timestep = timestep_s
+    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    return spec
+
+
 def combined(a: MassProperties, b: MassProperties) -> MassProperties:
     """Rigid bodies ``a`` and ``b`` (same frame, SI units) as one: the masses added, the centre
     of mass their weighted mean, each inertia moved to it (parallel axes) and added."""
@@ -118,12 +130,7 @@ def model_spec(
     l1, l2, l3, l4, ee_x, ee_y = (float(v) for v in as_design(design))
     if props is None:
         props = mass_properties(design, settings)
-    spec = mujoco.MjSpec()
-    spec.modelname = "qsm_mechanism"
-    spec.compiler.inertiafromgeom = mujoco.mjtInertiaFromGeom.mjINERTIAFROMGEOM_FALSE
-    spec.option.gravity = [0.0, -GRAVITY_M_S2, 0.0]
-    spec.option.timestep = TIMESTEP_S
-    spec.option.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    spec = planar_spec("qsm_mechanism", TIMESTEP_S)
     r, dz = settings.width_m / 2, 1.5 * settings.thickness_m  # visual layers of the two chains
     hinge = {"type": mujoco.mjtJoint.mjJNT_HINGE, "axis": [0.0, 0.0, 1.0]}
 

@@ -105,7 +105,8 @@ def _built_for(built: Mapping[str, Any] | None) -> list[str]:
     error = built["structure_mm"]
     met = "meets it" if built["meets_target"] else "comes nearest"
     return [
-        f"- built for the tolerance: the structure (sag, dynamic sag and lost motion, solid links) "
+        f"- built for the tolerance: the structure (sag, dynamic sag, creep and lost motion, solid "
+        f"links) "
         f"may take {built['target_mm']:.2f} mm ({100 * built['structure_share']:.0f} %, the rest "
         f"kept for tracking); the realised arm {met} at "
         f"{'-' if error is None else f'{error:.2f}'} mm with sections {scales} the configured "

@@ -65,6 +65,11 @@ def dwell_text(cycle: Mapping[str, Any]) -> str:
     if stops:
         ringing = max(s["ringing_mm"] for s in stops)
         text += f", the tool ringing at most {ringing:.2f} mm on arrival"
+        elastic = [
+            s["elastic_ringing_mm"] for s in stops if s.get("elastic_ringing_mm") is not None
+        ]
+        if elastic:
+            text += f" ({max(elastic):.2f} mm in the elastic model)"
     return text
 
 
@@ -87,12 +92,17 @@ def _settling_lines(cycle: dict[str, Any]) -> list[str]:
     def settle(s: dict[str, Any]) -> str:
         if s["settling_s"] is None:
             return "never within the tolerance (its static terms miss it)"
-        return "within the tolerance on arrival" if s["settling_s"] == 0 else (
-            f"within the tolerance after {s['settling_s']:.2f} s")  # fmt: skip
+        times = [t for t in (s["settling_s"], s.get("elastic_settling_s")) if t is not None]
+        return "within the tolerance on arrival" if max(times) == 0 else (
+            f"within the tolerance after {max(times):.2f} s")  # fmt: skip
+
+    def elastic(s: dict[str, Any]) -> str:
+        ring = s.get("elastic_ringing_mm")
+        return "" if ring is None else f" ({ring:.2f} mm in the elastic model)"
 
     text = "; ".join(
-        f"point {s['point']}: {s['ringing_mm']:.2f} mm at {s['first_mode_hz']:.1f} Hz, "
-        f"{settle(s)}, dwell {s['dwell_s']:.2f} s"
+        f"point {s['point']}: {s['ringing_mm']:.2f} mm at {s['first_mode_hz']:.1f} Hz"
+        f"{elastic(s)}, {settle(s)}, dwell {s['dwell_s']:.2f} s"
         for s in stops
     )
     return [f"- the tool's ringing on arrival (first mode, damping assumed): {text}."]

@@ -271,7 +271,8 @@ def _aged(iso: Mapping[str, Any], i: int) -> str:
         return ""
     return (
         f"{iso['service_ap_mm'][i]:.2f} mm after {iso['service_time_h']:g} h of holding its "
-        f"loads, as the printed links creep ({iso['creep_mm'][i]:.2f} mm of drift); "
+        f"loads, as the printed links creep ({iso['creep_mm'][i]:.2f} mm of drift, by the "
+        "assumed creep law of printed_material.creep); "
     )
 
 

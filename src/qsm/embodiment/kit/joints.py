@@ -94,7 +94,7 @@ class Plate:
     across_MPa: float | None = None
 
     @property
-    def bearing_MPa(self) -> float:
+    def bearing_allowable_MPa(self) -> float:
         """The allowable (MPa) of a pin's or a screw's bearing pressure in the plate."""
         return self.allowable_MPa if self.across_MPa is None else self.across_MPa
 
@@ -121,7 +121,7 @@ def pin(
     fill = int((screw.length_mm - grip) // washer[2]) if screw else 0
     float_mm = screw.length_mm - grip - fill * washer[2] if screw else 0.0
     shims = math.floor(float_mm / SHIM_MM + 1e-9) * SHIM_MM
-    bore_mm = force / (other.bearing_MPa * d)  # printed length that carries F
+    bore_mm = force / (other.bearing_allowable_MPa * d)  # printed length that carries F
     arm = float(bearing["B_mm"]) / 2 + gap + bore_mm / 2
     bending = 32 * force * arm / (math.pi * d**3)
     shear = 4 * force / (math.pi * d**2)
@@ -205,7 +205,7 @@ def hub_screws(plate: Plate, spigot_mm: float, torque_Nm: float) -> dict[str, An
             "screw": screw,
             "insert": name,
             "hole_mm": hole,
-            "holds": bearing <= plate.bearing_MPa,
+            "holds": bearing <= plate.bearing_allowable_MPa,
             "side": "hub",
         }
         if result["holds"]:
@@ -237,7 +237,7 @@ def hub_screws_through_link(
             continue
         bearing = torque_Nm * 1e3 / (HUB_SCREWS * r * d * plate.thickness_mm)
         result |= {"thread": thread, "pcd_mm": 2 * r, "bearing_MPa": bearing, "screw": screw,
-                   "hole_mm": hole, "holds": bearing <= plate.bearing_MPa}  # fmt: skip
+                   "hole_mm": hole, "holds": bearing <= plate.bearing_allowable_MPa}  # fmt: skip
         if result["holds"]:
             break
     return result

@@ -4,14 +4,15 @@ the loads it holds.
 ``material`` gives the short-term values along the layers of a plate printed flat (layers in the
 mechanism plane). Two behaviours of a printed part go beyond them:
 
-* **Across the layers.** A load that a plate takes through the bond between its layers is
-  checked against the in-plane allowable times :attr:`PrintedMaterial.across_layers_strength_factor`
-  (the maker's ZX over XZ strength), and only those loads: the clamp of a washer or a screw's
-  head pressing the plate's face, and the bearing pressure of a pin's shank in its printed bore
-  and of a hub's screws or inserts in their holes (the pin and the screws tilt under their loads,
-  so the face layers carry the most and the bond between the layers shares the load among
-  them). The links' in-plane bending and tension, and a bearing seat's hoop stress, run
-  along the layers and keep the in-plane allowable: each load is derated once.
+* **Across the layers.** The loads a plate takes at its holes and faces are checked against the
+  in-plane allowable times :attr:`PrintedMaterial.across_layers_strength_factor` (the maker's
+  ZX over XZ tensile strength), a conservative assumption: the clamp of a washer or a screw's
+  head presses the layers together, and the bearing pressure of a pin's shank in its printed
+  bore and of a hub's screws or inserts in their holes acts within the layers, but the pins and
+  screws tilt under their loads, so the face layers carry the most and the bond between the
+  layers shares the load among them; no bearing strength of printed ABS-M30 by orientation was
+  found to use instead. The links' in-plane bending and tension, and a bearing seat's hoop
+  stress, run along the layers and keep the in-plane allowable: each load is derated once.
 * **Creep.** Under a held load the printed links' strain grows: after ``t`` hours it is the
   elastic strain times ``1 + phi(t)``, with Findley's power law ``phi(t) = phi_1000 (t / 1000 h)^n``
   (linear viscoelasticity: the creep of a sum of loads is the sum of their creeps). The arm holds

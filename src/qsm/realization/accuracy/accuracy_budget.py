@@ -247,18 +247,22 @@ MODEL_NOTE = (
     "planar Timoshenko frame of the links' drawn sections between joint centres (bosses and "
     "bores not modelled), pins and bearings rigid at B, C and D, each gearbox a torsional "
     "spring at A; for the static terms the servo holds each rotor rigidly, for the first mode "
-    "the rotor's reflected inertia sits on its joint, on the arm's side of the gearbox spring"
+    "the rotor's reflected inertia sits on its joint, on the arm's side of the gearbox spring; "
+    "creep: the links at E / (1 + phi) under their weight and the payload's held share"
 )
 
 
 def _scaled(model: ArmModel, section: float = 1.0, modulus: float = 1.0) -> ArmModel:
-    s = model.sections
+    """``model`` with its sections ``section`` times as large (the links ``section^2`` times as
+    heavy, which their creep feels) and its material ``modulus`` times as stiff."""
+    s, i = model.sections, model.inertials
     return model._replace(
         sections=s._replace(
             width_m=s.width_m * section,
             thickness_m=s.thickness_m * section,
             youngs_pa=s.youngs_pa * modulus,
-        )
+        ),
+        inertials=i._replace(mass_kg=i.mass_kg * section**2),
     )
 
 
@@ -315,8 +319,8 @@ def _label(per_point: dict[str, Any], i: int) -> str:
 
 def term_phrases(per_point: dict[str, Any], i: int) -> list[str]:
     """The placing error's terms at point ``i``, each named as the glossary names it (mm): the
-    larger of the static and the dynamic sag (the one the error counts), lost motion, tracking
-    error and base, where the budget has them; they add up to ``error_budget_mm``."""
+    larger of the static and the dynamic sag (the one the error counts), creep, lost motion,
+    tracking error and base, where the budget has them; they add up to ``error_budget_mm``."""
     static, dynamic = per_point["sag_mm"][i], per_point["dynamic_sag_mm"][i]
     sag = f"static sag {static:.2f} mm" if static >= dynamic else f"dynamic sag {dynamic:.2f} mm"
     parts = [sag, f"creep {per_point['creep_mm'][i]:.2f} mm"]

@@ -176,19 +176,23 @@ def checked_cycle(
     start, first = _for_tolerance(optimal, arm, max_load_N)
     factors = (start, *(f for f in SLOWER if f > start))
 
-    def at(factor: float) -> tuple[Cycle, tuple[Arrival, ...]]:
-        """The cycle slowed ``factor`` times, each stop dwelling until it settles."""
+    def at(factor: float, elastic: bool = True) -> tuple[Cycle, tuple[Arrival, ...]]:
+        """The cycle slowed ``factor`` times, each stop dwelling until it settles (in the
+        elastic model too where ``elastic``)."""
         cycle = slowed(optimal, arm, factor)
-        return (cycle, ()) if settling is None else settled(cycle, settling)
+        return (cycle, ()) if settling is None else settled(cycle, settling, elastic)
 
-    slowest = _problems(at(factors[-1])[0], arm, done, drives)
+    slowest = _problems(at(factors[-1], elastic=False)[0], arm, done, drives)
     last = ""
     for factor in factors:
-        cycle, arrivals = at(factor)
+        cycle, arrivals = at(factor, elastic=False)
         problems = _problems(cycle, arm, done, drives)
         if fixable := [p for kind, p in problems.items() if kind not in slowest]:
             last = fixable[0]
             continue
+        if settling is not None and settling.elastic is not None:  # longer dwells: no new problem
+            cycle, arrivals = at(factor)
+            problems = _problems(cycle, arm, done, drives)
         sim = _simulated(done, props, arm, points, test, cycle)
         if sim["passed"]:
             break
@@ -207,8 +211,8 @@ def _for_tolerance(optimal: Cycle, arm: Arm, max_load_N: float | None) -> tuple[
     peak = peak_load_N(optimal, arm)
     if factor is None and not max_load_N:
         return 1.0, [
-            "the tolerance: its static terms (the sag under the payload's weight, lost motion "
-            "and tracking) alone exceed it, so no speed meets it"
+            "the tolerance: its static terms (the sag under the payload's weight, creep, lost "
+            "motion, tracking and base) alone exceed it, so no speed meets it"
         ]
     if factor is None:
         return 1.0, [

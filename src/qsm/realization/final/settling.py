@@ -18,14 +18,17 @@ the stop is settled once the static terms of the placing error (the budget's, al
 dynamic sag) plus that envelope stay within the tolerance (:func:`settling_s`). Each stop's dwell
 is the longer of the configured one (the gripper's time) and that.
 
-A single-mode model of this kind agreed with an independent elastic MuJoCo model of the default
-arm (beam segments with torsional springs, gearboxes as springs) within 0.2 mm over its cycle.
+The elastic MuJoCo model of :mod:`qsm.realization.final.elastic_arm` (beam segments with
+torsional springs, gearboxes as springs, the links' own inertia) runs each move of the cycle kept
+from rest at its start and holds its end: the stop's dwell is also at least the time after which
+the tool's ringing about its rest there stays within what the static terms leave
+(:func:`settled`). It is not run for each trial of the slow-down, only for the cycles checked.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -36,6 +39,8 @@ from qsm.embodiment.stiffness.error_terms import tool_acceleration
 from qsm.embodiment.stiffness.frame import tool_compliance
 from qsm.embodiment.stiffness.modes import tool_mode
 from qsm.realization.accuracy.accuracy_budget import ArmModel
+from qsm.realization.final.elastic_arm import ElasticArm, ElasticStop
+from qsm.realization.final.elastic_arm import stops as elastic_stops
 from qsm.realization.motion.cycle import Cycle, Move
 
 
@@ -59,13 +64,15 @@ class Settling:
     """What the settling check needs: the arm's frame ``model``, the payload (kg, tool flange
     included), the ``damping_ratio`` (1) of its first mode, the ``tolerance_mm`` (mm) and the
     largest static part of the placing error over the task points (``static_mm``, mm: the
-    budget's terms but the dynamic sag)."""
+    budget's terms but the dynamic sag), and the arm's ``elastic`` model
+    (:mod:`qsm.realization.final.elastic_arm`; None: the single mode alone)."""
 
     model: ArmModel
     payload_kg: float
     damping_ratio: float
     tolerance_mm: float
     static_mm: float
+    elastic: ElasticArm | None = None
 
     @property
     def allowed_m(self) -> float:
@@ -77,18 +84,23 @@ class Settling:
 class Arrival:
     """One stop: the first mode there (Hz), the ringing amplitude on arrival (mm), the time
     after which the tool stays within the tolerance (``settling_s``, s; None: never, its static
-    terms alone miss it) and the ``dwell_s`` kept (s: the configured dwell, or the settling time
-    where longer)."""
+    terms alone miss it), the same in the elastic model (``elastic``, None: not run; its
+    ``settling_s`` None: not within its hold) and the ``dwell_s`` kept (s: the configured dwell,
+    or the longer settling time)."""
 
     frequency_hz: float
     ringing_mm: float
     settling_s: float | None
     dwell_s: float
+    elastic: ElasticStop | None = None
 
     def record(self, point: int) -> dict[str, Any]:
         """JSON, at task point number ``point``."""
+        e = self.elastic
         return {"point": point, "first_mode_hz": self.frequency_hz,
                 "ringing_mm": self.ringing_mm, "settling_s": self.settling_s,
+                "elastic_ringing_mm": None if e is None else e.ringing_mm,
+                "elastic_settling_s": None if e is None else e.settling_s,
                 "dwell_s": self.dwell_s}  # fmt: skip
 
 
@@ -160,10 +172,21 @@ def arrival(move: Move, check: Settling, dwell_s: float, dt: float) -> Arrival:
     return Arrival(mode.frequency_hz, 1e3 * amp, settle, dwell)
 
 
-def settled(cycle: Cycle, check: Settling) -> tuple[Cycle, tuple[Arrival, ...]]:
+def settled(
+    cycle: Cycle, check: Settling, elastic: bool = True
+) -> tuple[Cycle, tuple[Arrival, ...]]:
     """``cycle`` with each stop's dwell lengthened to its settling time (:func:`arrival`; the
-    configured dwell the least), and the stops after its moves."""
+    configured dwell the least), in the elastic model too where ``check`` has one and
+    ``elastic``, and the stops after its moves."""
     stops = tuple(arrival(m, check, cycle.dwell_s, cycle.dt) for m in cycle.moves)
+    if elastic and check.elastic is not None:
+        moves = [(m.t, m.q) for m in cycle.moves]
+        omegas = [2 * math.pi * a.frequency_hz for a in stops]
+        found = elastic_stops(check.elastic, moves, omegas, check.allowed_m)
+        stops = tuple(
+            replace(a, elastic=e, dwell_s=max(a.dwell_s, e.settling_s or 0.0))
+            for a, e in zip(stops, found, strict=True)
+        )
     return cycle._replace(dwells_s=tuple(a.dwell_s for a in stops)), stops
 
 
