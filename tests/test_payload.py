@@ -73,7 +73,8 @@ def test_fails_when_the_limit_is_below_the_required_torque() -> None:
     assert not res["passed"] and res["saturated"]
     assert res["peak_torque_Nm"][0] > res["limit_Nm"][0]
     assert np.abs(res["torque_applied_Nm"][:, 0]).max() <= 0.8 * need + 1e-9
-    assert "exceeds the fixed limits" in res["reason"]
+    assert "exceeds the fixed limits" in res["reason"] and "[" not in res["reason"]
+    assert "motor 1: " in res["reason"] and " N m at standstill" in res["reason"]
     req = np.abs(res["torque_requested_Nm"])
     assert res["saturated"] == bool((req > res["limit_Nm"]).any())
     assert res["peak_torque_Nm"] == pytest.approx(req.max(axis=0).tolist())

@@ -22,7 +22,7 @@ __version__ = "0.1.0"
 #: (``realization.kit``). A layer imports only from the layers before it (tests/test_layers.py
 #: holds the code to this).
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("schema",),  # the config schema and every setting's default
+    ("schema", "prose"),  # the config schema and every setting's default; numbers in sentences
     ("physics",),  # kinematics, workspace, solids, MuJoCo dynamics, clearance
     ("mechanisms", "surrogate"),  # Stage 1 designs; the MLP
     ("embodiment",),  # parts and printability, strength, drives, stiffness; their columns

@@ -23,6 +23,7 @@ import math
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
+from qsm import prose
 from qsm.physics.kinematics import as_design, pose
 from qsm.schema.defaults import default
 
@@ -118,8 +119,9 @@ def joint_angles(
         p = np.asarray(point, dtype=float)
         why = "outside the workspace" if not len(sols) else "reachable only outside the range"
         raise ValueError(
-            f"point ({p[0]:.4f}, {p[1]:.4f}) m is {why} of design {np.round(as_design(design), 4)}"
-            f" (theta1 in {theta1_range_deg} deg, theta2 >= {theta2_min_deg} deg)"
+            f"point {prose.point(p, 4)} is {why} of the design of lengths "
+            f"{prose.listed(1e3 * as_design(design), 1, 'mm')} (theta1 {theta1_range_deg[0]:g} to "
+            f"{theta1_range_deg[1]:g} deg, theta2 at least {theta2_min_deg:g} deg)"
         )
     if prefer is not None:
         k = int(np.argmin(np.linalg.norm(ok - np.asarray(prefer, dtype=float), axis=1)))

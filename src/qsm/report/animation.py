@@ -277,7 +277,7 @@ def _draw_torques(
     ax_tau.set_xlabel("time (s)", labelpad=1)
     ax_tau.set_ylabel("torque (N m)")
     ax_tau.set_title(
-        f"motor torques; limits ±{limits[0]:g} / ±{limits[1]:g} N m (dotted when in range)",
+        f"motor torques; limits ±{limits[0]:.1f} / ±{limits[1]:.1f} N m (dotted when in range)",
         fontsize=9,
     )
     ax_tau.legend(fontsize=7, loc="upper right")

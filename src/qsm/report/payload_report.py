@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
+from qsm.prose import per_motor
 from qsm.realization.motion.payload import SERIES_KEYS
 
 #: Columns of :func:`series_table`: the time series of a payload test, one row per sample.
@@ -109,8 +110,9 @@ def plot_payload_test(result: dict[str, Any], path: str | Path) -> Path:
     verdict = "PASSED" if result["passed"] else f"FAILED: {result['reason']}"
     axes[0].set_title(
         f"payload test, {result['payload_kg']:.1f} kg at E: {verdict}\n"
-        f"peak torque {np.round(result['peak_torque_Nm'], 1).tolist()} N m "
-        f"(limits {result['limit_Nm']}), max error {result['max_tracking_error_deg']:.3f} deg",
+        f"peak torque {per_motor(result['peak_torque_Nm'], 1, 'N m')} "
+        f"(limits {per_motor(result['limit_Nm'], 1, 'N m')}), "
+        f"max error {result['max_tracking_error_deg']:.3f} deg",
         fontsize=9,
     )
     fig.tight_layout()

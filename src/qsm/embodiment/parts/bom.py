@@ -200,11 +200,11 @@ SUMMARY_COLUMNS: tuple[str, ...] = tuple(
 
 
 def write_bom(frame: pd.DataFrame, directory: str | Path) -> tuple[Path, Path]:
-    """Write ``bom.csv`` (every column) and ``bom.md`` (:data:`SUMMARY_COLUMNS`) into
-    ``directory``; returns both paths."""
+    """Write ``bom.csv`` (every column, numbers to 6 significant digits) and ``bom.md``
+    (:data:`SUMMARY_COLUMNS`) into ``directory``; returns both paths."""
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
     csv, md = out / "bom.csv", out / "bom.md"
-    frame.to_csv(csv, index=False)
+    frame.to_csv(csv, index=False, float_format="%.6g")  # 6 significant digits: 1 mg in 1 kg
     md.write_text(markdown_table(frame, SUMMARY_COLUMNS))
     return csv, md

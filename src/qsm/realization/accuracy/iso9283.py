@@ -41,6 +41,7 @@ from qsm.embodiment.stiffness.frame import tool_compliance
 from qsm.embodiment.strength.loads import joint_loads
 from qsm.physics.batch_ik import batch_joint_angles
 from qsm.physics.dynamics import loop_state
+from qsm.prose import point
 from qsm.realization.accuracy.accuracy_budget import ArmModel, creep_drift_m
 
 #: Cycles the standard asks at each point.
@@ -134,7 +135,7 @@ def largest_plane(
     op = (tuple(theta1_range_deg), theta2_min_deg)
     low, high = 0.0, 2.0 * float(d[0] + np.hypot(d[4], d[5]))
     if not _reaches(d, c, 0.0, op):
-        raise ValueError(f"the task disk's centre {c.round(4).tolist()} m is out of reach")
+        raise ValueError(f"the task disk's centre {point(c, 4)} is out of reach")
     while high - low > resolution_m / 2:
         mid = (low + high) / 2
         low, high = (mid, high) if _reaches(d, c, mid, op) else (low, mid)

@@ -26,6 +26,7 @@ from qsm.embodiment.drives.utilization import CHECKS, DriveArrays, utilization
 from qsm.physics.cad import MassProperties
 from qsm.physics.duty import Duty
 from qsm.physics.mjcf import TIMESTEP_S
+from qsm.prose import per_motor
 from qsm.realization.accuracy.accuracy_budget import peak_payload_force_N
 from qsm.realization.final.settling import Arrival, Settling, settled
 from qsm.realization.motion.cycle import Arm, Cycle, motor_torques, plan_cycle, slowed
@@ -142,8 +143,8 @@ def _problems(cycle: Cycle, arm: Arm, done: Realization, drives: DriveArrays) ->
     use = thermal_use(cycle, arm, drives)
     if (use > 1.0).any():  # NaN: a rating the catalogue does not give
         out["thermal"] = (
-            f"RMS torque {np.round(rms_torque_Nm(cycle, arm), 1).tolist()} N m uses "
-            f"{np.round(use, 2).tolist()} of the drives' continuous ratings at {cycle.factor:g}x"
+            f"RMS torque {per_motor(rms_torque_Nm(cycle, arm), 1, 'N m')} uses "
+            f"{per_motor(use, 2, '')} of the drives' continuous ratings at {cycle.factor:g}x"
         )
     return out
 

@@ -47,6 +47,7 @@ from toppra.constraint.linear_constraint import canlinear_colloc_to_interpolate
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.embodiment.strength.loads import Inertials, joint_loads
 from qsm.physics.dynamics import loop_state
+from qsm.prose import point
 from qsm.realization.motion.payload import Reference
 
 #: Speed bounds tried per move, as fractions of each drive's top speed at the joint.
@@ -212,8 +213,8 @@ def plan_move(
         best = Move(t, q, qd, qdd, tau, speed, torque, _binding(qd, tau, speed, torque))
     if best is None:
         raise ValueError(
-            f"no timing of the move {np.degrees(q0).round(1).tolist()} -> "
-            f"{np.degrees(q1).round(1).tolist()} deg keeps the torques within the drives'"
+            f"no timing of the move from motor angles {point(np.degrees(q0), 1, 'deg')} to "
+            f"{point(np.degrees(q1), 1, 'deg')} keeps the torques within the drives'"
         )
     return best if jerk_time_s is None else jerk_limited(best, arm, jerk_time_s, dt)
 

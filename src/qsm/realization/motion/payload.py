@@ -338,12 +338,13 @@ def _failure_reasons(
     motor's peak use), the tracking error past its tolerance (deg); empty when it passed."""
     reasons = []
     if saturated:
-        reasons.append(
-            f"requested torque exceeds the {what} (peak |requested| / available "
-            f"{[round(u, 3) if u is not None else 'past its top speed' for u in use]}; "
-            f"peak {np.abs(req).max(axis=0).round(1).tolist()} N m, "
-            f"{limit.round(1).tolist()} N m at standstill)"
+        peaks = np.abs(req).max(axis=0)
+        per = "; ".join(
+            f"motor {k}: {'past its top speed' if u is None else f'{u:.2f} of what it can give'}"
+            f", peak {p:.1f} N m ({lim:.1f} N m at standstill)"
+            for k, (u, p, lim) in enumerate(zip(use, peaks, limit, strict=True), start=1)
         )
+        reasons.append(f"requested torque exceeds the {what} ({per})")
     if not max_err <= tolerance_deg:  # NaN included
         reasons.append(f"tracking error {max_err:.3f} deg > {tolerance_deg} deg")
     return reasons

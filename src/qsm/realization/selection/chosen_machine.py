@@ -19,6 +19,7 @@ from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.mirror import task_record
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import OperatingRange
+from qsm.prose import listed
 from qsm.realization.selection.choice import candidate_pool, choose_design, printing_advice
 from qsm.realization.selection.machine import fixed_point_record
 from qsm.realization.selection.outputs import selection_record
@@ -77,7 +78,7 @@ def _buildable(
         record = done.accuracy.record()
         structure = record["structure_mm"]
         notes.append(
-            f"{how['source']} design {np.round(1e3 * done.design, 1).tolist()} mm: the "
+            f"{how['source']} design of lengths {listed(1e3 * done.design, 1, 'mm')}: the "
             f"realisation cannot build it for the tolerance (structure "
             + ("not defined" if structure is None else f"{structure:.2f} mm")
             + f", target {record['target_mm']:.2f} mm)"

@@ -1,0 +1,29 @@
+"""Numbers in sentences: each value rounded and with its unit, written for a person (never a
+Python list or an array's repr)."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+from numpy.typing import ArrayLike
+
+
+def per_motor(values: Sequence[float | None], digits: int, unit: str) -> str:
+    """``motor 1 54.3 N m, motor 2 17.2 N m``; ``-`` where a motor has no value."""
+    return ", ".join(
+        f"motor {k} " + ("-" if v is None else f"{v:.{digits}f} {unit}".rstrip())
+        for k, v in enumerate(values, start=1)
+    )
+
+
+def point(xy: ArrayLike, digits: int = 3, unit: str = "m") -> str:
+    """A plane point: ``(-0.530, 0.170) m``."""
+    x, y = (float(v) for v in xy)  # type: ignore[union-attr]
+    return f"({x:.{digits}f}, {y:.{digits}f}) {unit}"
+
+
+def listed(values: Sequence[float], digits: int, unit: str) -> str:
+    """``297.0, 112.0 and 350.0 mm``."""
+    text = [f"{float(v):.{digits}f}" for v in values]
+    head = ", ".join(text[:-1])
+    return f"{head} and {text[-1]} {unit}" if head else f"{text[-1]} {unit}"
