@@ -8,6 +8,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import yaml
 
 from qsm.config.checks import config_warnings, largest_reach
 from qsm.config.reading import ConfigError, load_config, merge_config, validate_config
@@ -371,3 +372,50 @@ def test_snakemake_names_file_line_and_column_of_a_yaml_error(tmp_path, text, wh
     assert out.returncode != 0
     assert f"qsm: config file '{bad}', {where}" in out.stderr
     assert ("never tabs" in out.stderr) == ("\t" in text)
+
+
+def _catalogue_copy(tmp_path):
+    from qsm.embodiment.drives.catalogue import default_catalogue_folder
+
+    folder = tmp_path / "cat"
+    folder.mkdir()
+    for f in default_catalogue_folder().glob("*.csv"):
+        (folder / f.name).write_bytes(f.read_bytes())
+    return folder
+
+
+def test_an_interface_table_is_checked_at_config_time_naming_file_line_column(tmp_path):
+    """A unit typed into interfaces.csv fails check-config, naming the file, line and column;
+    a byte-order mark from a spreadsheet reads through; Latin-1 text names its file."""
+    folder = _catalogue_copy(tmp_path)
+    table = folder / "interfaces.csv"
+    text = table.read_text()
+    lines = text.splitlines()
+    header = next(i for i, x in enumerate(lines) if x.strip() and not x.startswith("#"))
+    column = next(c for c in lines[header].split(",") if c.endswith("_mm"))
+    at = lines[header].split(",").index(column)
+    cells = lines[header + 1].split(",")
+    cells[at] = cells[at] + "mm"
+    lines[header + 1] = ",".join(cells)
+    table.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ConfigError) as info:
+        validate_config({"drives": {"catalogue": str(folder)}})
+    assert f"interfaces.csv, line {header + 2}, column '{column}'" in str(info.value)
+    table.write_text("\ufeff" + text, encoding="utf-8")  # Excel's "CSV UTF-8"
+    validate_config({"drives": {"catalogue": str(folder)}})
+    motors = folder / "motors.csv"
+    motors.write_bytes(motors.read_bytes() + "# Schrittmotor, Gehäuse\n".encode("latin-1"))
+    with pytest.raises(ConfigError, match=r"motors\.csv: not UTF-8 text"):
+        validate_config({"drives": {"catalogue": str(folder)}})
+
+
+def test_a_number_yaml_reads_as_text_says_how_to_write_it():
+    """YAML 1.1 reads 5e-1 (no dot) as a string: the error says so and how to write it."""
+    with pytest.raises(ConfigError) as info:
+        validate_config(yaml.safe_load("task: {payload_kg: 5e-1}"))
+    assert "config key 'task.payload_kg'" in str(info.value)
+    assert "YAML reads 5e-1 as text" in str(info.value) and "0.5" in str(info.value)
+    with pytest.raises(ConfigError) as info:
+        validate_config(yaml.safe_load("task: {payload_kg: five}"))
+    assert "YAML reads" not in str(info.value)
+    validate_config(yaml.safe_load("task: {payload_kg: 5.0e-1}"))

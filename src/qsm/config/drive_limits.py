@@ -24,12 +24,15 @@ def catalogue_folder(config: dict[str, Any]) -> str:
 
 
 def check_drives(config: dict[str, Any]) -> None:
-    """The drive catalogue reads: every file, row and column valid (the error names them)."""
+    """The drive catalogue reads: every file, row and column valid, ``interfaces.csv`` too (the
+    error names them)."""
     from qsm.embodiment.drives.catalogue import load_catalogue
+    from qsm.embodiment.kit.interfaces import read_interfaces
 
     folder = catalogue_folder(config)
     try:
         load_catalogue(folder)
+        read_interfaces(folder)
     except (ValueError, FileNotFoundError) as exc:
         raise ConfigError(f"config key 'drives.catalogue': {folder}: {exc}") from None
 

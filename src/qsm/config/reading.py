@@ -34,6 +34,20 @@ def _with_defaults(cls: type) -> type:
 _Validator = _with_defaults(jsonschema.Draft202012Validator)
 
 
+def _yaml_hint(err: Any) -> str:
+    """Why a number may have been read as text: YAML 1.1 reads ``5e-1`` (no dot) as a string."""
+    if err.validator != "type" or not isinstance(err.instance, str):
+        return ""
+    try:
+        value = float(err.instance)
+    except ValueError:
+        return ""
+    return (
+        f" (YAML reads {err.instance} as text, not a number: write it with a dot and a signed "
+        f"exponent, {value:.1e}, or as {value:g})"
+    )
+
+
 def _key(path: Any) -> str:
     return ".".join(str(p) for p in path) or "<top level>"
 
@@ -65,7 +79,7 @@ def validate_config(config: dict[str, Any]) -> dict[str, Any]:
             raise ConfigError(
                 f"config key '{_key(path)}' is unknown; known keys here: {', '.join(sorted(known))}"
             )
-        raise ConfigError(f"config key '{_key(err.absolute_path)}': {err.message}")
+        raise ConfigError(f"config key '{_key(err.absolute_path)}': {err.message}{_yaml_hint(err)}")
     resolve_points_file(config, schema()["properties"]["task"]["properties"]["points"]["default"])
     _coerce_whole_numbers(config, schema())
     check_finite_points(config["task"]["points"])

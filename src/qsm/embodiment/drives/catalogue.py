@@ -166,14 +166,20 @@ def _files(folder: Path, kind: str, required: bool = True) -> list[Path]:
 
 
 def _rows(path: Path):
-    """Yield (line number, cells) of a CSV file, skipping blank and ``#`` lines."""
+    """Yield (line number, cells) of a CSV file, skipping blank and ``#`` lines; text that is
+    not UTF-8 raises :class:`CatalogueError` naming the file."""
     with path.open(newline="", encoding="utf-8-sig") as f:
         reader = csv.reader(f)
-        for cells in reader:
-            cells = [c.strip() for c in cells]
-            if not any(cells) or cells[0].startswith("#"):
-                continue
-            yield reader.line_num, cells
+        try:
+            for cells in reader:
+                cells = [c.strip() for c in cells]
+                if not any(cells) or cells[0].startswith("#"):
+                    continue
+                yield reader.line_num, cells
+        except UnicodeDecodeError as exc:
+            raise CatalogueError(
+                f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start}); save it as UTF-8"
+            ) from None
 
 
 def _number(text: str, default: float, where: str) -> float:

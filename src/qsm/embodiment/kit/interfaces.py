@@ -81,29 +81,41 @@ def din6885_key(shaft_d_mm: float) -> tuple[float, float]:
     return float(row["w_mm"]), float(row["h_mm"])
 
 
-def _number(text: str) -> float:
-    return float(text) if text.strip() else 0.0
+def _number(text: str, where: str) -> float:
+    """A cell's number (0 where empty); ``where`` names the file, line and column."""
+    try:
+        value = float(text) if text.strip() else 0.0
+    except ValueError:
+        raise ValueError(f"{where}: {text!r} is not a number (mm, without its unit)") from None
+    if not math.isfinite(value) or value < 0:
+        raise ValueError(f"{where}: {text!r} must be a finite number, 0 or more")
+    return value
 
 
 def read_interfaces(folder: str | Path | None = None) -> dict[str, DriveInterface]:
     """The rows of ``interfaces.csv`` in the drive catalogue ``folder`` (None: the default
-    catalogue), by gearbox key; {} where the file is absent."""
+    catalogue), by gearbox key; {} where the file is absent. A UTF-8 byte-order mark is read
+    through; an error names the file, the line and the column."""
     path = catalogue_folder(folder) / "interfaces.csv"
     if not path.exists():
         return {}
-    with open(path, newline="") as fh:
-        rows = list(csv.DictReader(line for line in fh if not line.startswith("#")))
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as fh:
+            lines = [(k, x) for k, x in enumerate(fh, 1) if x.strip() and not x.startswith("#")]
+    except UnicodeDecodeError as exc:
+        raise ValueError(f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+    rows = csv.DictReader(line for _, line in lines)
     out = {}
-    for row in rows:
+    for row, (k, _) in zip(rows, lines[1:], strict=False):
         missing = [c for c in COLUMNS if c not in row]
         if missing:
-            raise ValueError(f"{path}: columns {missing} missing")
-        values = {c: row[c] for c in COLUMNS}
+            raise ValueError(f"{path}: column {missing[0]!r} missing")
+        values: dict[str, Any] = {c: row[c] for c in COLUMNS}
         for c in COLUMNS:
-            if c.endswith("_mm"):
-                values[c] = _number(row[c])
-            elif c.endswith("_bolts"):
-                values[c] = int(_number(row[c]))
+            if c.endswith("_mm") or c.endswith("_bolts"):
+                values[c] = _number(row[c] or "", f"{path}, line {k}, column {c!r}")
+            if c.endswith("_bolts"):
+                values[c] = int(values[c])
         out[row["key"]] = DriveInterface(**values)
     return out
 
