@@ -1,6 +1,8 @@
 """The MLP surrogate: storage without pickle, metrics, and the paper's settings."""
 
 import json
+import logging
+import warnings
 
 import numpy as np
 import pytest
@@ -143,3 +145,15 @@ def test_with_early_stopping_every_refit_starts_afresh():
     first = refit(x, y, settings)
     again = refit(x, y, settings, first)
     assert not first.metrics["warm_start"] and not again.metrics["warm_start"]
+
+
+def test_an_mlp_stopped_by_its_epochs_says_so_in_the_log_not_on_the_console(caplog):
+    """scikit-learn's ConvergenceWarning becomes one log line naming surrogate.max_epochs."""
+    rng = np.random.default_rng(1)
+    x = rng.uniform(0.1, 1.0, (1000, 6))
+    y = np.column_stack([0.05 + x[:, 0] * x[:, 1], 40 + 20 * x[:, 4], 15 + 5 * x[:, 2]])
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # nothing may reach the console
+        with caplog.at_level(logging.INFO, logger="qsm.surrogate.model"):
+            train(x, y, SurrogateSettings(max_epochs=2, seed=3))
+    assert "surrogate.max_epochs" in caplog.text

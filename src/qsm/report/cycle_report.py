@@ -29,8 +29,8 @@ def cycle_lines(cycle: dict[str, Any] | None) -> list[str]:
         for m in cycle["moves"]
     )
     slowed = (
-        f"slowed {cycle['slowed_by']:g}x from {cycle['time_optimal_s']:.2f} s: "
-        + "; ".join(cycle["slowed_for"])
+        f"its moves slowed {cycle['slowed_by']:g}x, the dwells kept, from "
+        f"{cycle['time_optimal_s']:.2f} s: " + "; ".join(cycle["slowed_for"])
         if cycle["slowed_by"] > 1.0
         else "as planned"
     )

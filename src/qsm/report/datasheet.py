@@ -194,8 +194,8 @@ def _standard_payload(c: Mapping[str, Any]) -> str:
     ]
     checks = "its checks pass" if c["ok"] else "FAILS its checks: " + "; ".join(failed)
     slowed = (
-        f"; slowed {c['slowed_by']:g}x from the time-optimal {c['time_optimal_s']:.2f} s for "
-        + "; ".join(c["slowed_for"])
+        f"; its moves slowed {c['slowed_by']:g}x (the dwells kept) from the time-optimal "
+        f"{c['time_optimal_s']:.2f} s for " + "; ".join(c["slowed_for"])
         if c["slowed_by"] > 1
         else ""
     )

@@ -8,7 +8,9 @@ by :class:`Surrogate` with numpy (the same arithmetic as scikit-learn's forward 
 from __future__ import annotations
 
 import json
+import logging
 import time
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -16,12 +18,15 @@ from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
+from sklearn.exceptions import ConvergenceWarning
 from sklearn.metrics import mean_squared_error, r2_score
 from sklearn.model_selection import train_test_split
 from sklearn.neural_network import MLPRegressor
 
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.schema.defaults import default
+
+LOG = logging.getLogger(__name__)
 
 INPUTS: tuple[str, ...] = DESIGN_COLUMNS
 OUTPUTS: tuple[str, ...] = ("eta", "tau1_Nm", "tau2_Nm")
@@ -210,7 +215,14 @@ def _fitted(
     inputs, outputs = (x - x_min) / x_span, (_target(y, settings) - t_min) / t_span
     start = time.perf_counter()
     if epochs is None:
-        mlp.fit(inputs, outputs)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always", ConvergenceWarning)
+            mlp.fit(inputs, outputs)
+        if any(issubclass(w.category, ConvergenceWarning) for w in caught):
+            LOG.info(
+                "the MLP stopped at its %d epochs before its loss settled (surrogate.max_epochs): "
+                "its test errors say what it reached", mlp.max_iter,
+            )  # fmt: skip
     else:
         for _ in range(epochs):  # further epochs from its weights (shuffled by its own seed)
             mlp.partial_fit(inputs, outputs)

@@ -59,7 +59,10 @@ BINDING = 0.97
 #: At most this many accelerations are tried for a jerk-limited move (:func:`jerk_limited`).
 JERK_TRIES = 40
 
-toppra.setup_logging("WARNING")
+#: TOPP-RA warns of every speed bound at which a move cannot be timed ("Fail to parametrize path
+#: ... not controllable"). That is expected: :func:`plan_move` tries several bounds and keeps the
+#: fastest that can be timed, and says so itself (ValueError naming the move) when none can.
+toppra.setup_logging("ERROR")
 
 
 class Arm(NamedTuple):
