@@ -60,3 +60,10 @@ def test_export_lengths_writes_bored_parts_a_drawing_and_a_closed_home_pose(tmp_
     if "per_point" in budget:
         worst = budget["worst"]["error_budget_mm"]
         assert budget["meets_requirements"] == (worst <= load_config()["task"]["tolerance_mm"])
+
+
+def test_lengths_in_millimetres_are_refused_naming_the_unit(capsys):
+    """297 for l1 is 297 m: refused, saying the lengths are in metres, before any physics."""
+    assert main(["evaluate", "--lengths", "297", "112", "350", "175", "261", "106"]) != 0
+    err = capsys.readouterr().err
+    assert "--lengths" in err and "lengths are in metres" in err and "0.297 m" in err

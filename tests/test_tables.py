@@ -60,3 +60,11 @@ def test_the_metadata_is_strict_json(tmp_path):
     assert read_meta(path)["share"] is None and read_meta(path)["n"] == 3
     text = pq.read_schema(path).metadata[META_KEY]
     json.loads(text, parse_constant=refuse)
+
+
+def test_a_missing_table_says_to_run_the_workflow_not_to_delete_it(tmp_path):
+    """A results folder without the table (``qsm export --results`` of an unrun folder)."""
+    path = tmp_path / "dataset.parquet"
+    with pytest.raises(TableError) as info:
+        read_table(path)
+    assert f"'{path}' does not exist" in str(info.value) and "delete" not in str(info.value)

@@ -88,10 +88,21 @@ def evaluate_ratios(ratios: Sequence[float], config: Mapping[str, Any]) -> dict[
     return out
 
 
+#: The longest link (m) a printed arm's length can mean; longer reads as a length in millimetres.
+LONGEST_LINK_M = 5.0
+
+
 def checked_lengths(lengths: Sequence[float]) -> np.ndarray:
     """The 6 lengths (m) as an array; ``ValueError`` naming any that is not finite and
-    positive."""
-    return _checked(lengths, DESIGN_NAMES, "lengths", " (m)")
+    positive, or longer than :data:`LONGEST_LINK_M` (millimetres given for metres)."""
+    d = _checked(lengths, DESIGN_NAMES, "lengths", " (m)")
+    if (d > LONGEST_LINK_M).any():
+        k = int(np.flatnonzero(d > LONGEST_LINK_M)[0])
+        raise ValueError(
+            f"{DESIGN_NAMES[k]} = {d[k]:g} m is longer than any printed arm's link "
+            f"({LONGEST_LINK_M:g} m): lengths are in metres ({d[k]:g} mm is {d[k] / 1e3:g} m)"
+        )
+    return d
 
 
 #: ``--lengths`` answers with ``--ratios``' keys: the verification's true values renamed.

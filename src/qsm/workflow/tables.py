@@ -59,6 +59,11 @@ def read_table(path: str | Path, columns: Iterable[str] = ()) -> pd.DataFrame:
 
     ``columns`` are required; a missing one is reported by name.
     """
+    if not Path(path).exists():
+        raise TableError(
+            f"table '{path}' does not exist: run the workflow that writes it first "
+            f"(snakemake --cores 2), or give the folder of a run that did"
+        )
     try:
         table = pq.read_table(path)
     except (OSError, pa.ArrowException) as exc:
