@@ -1,6 +1,8 @@
 """Checks across keys and unit slips (qsm.config.checks): each names the key and the cause."""
 
 import copy
+import csv
+import io
 import os
 import subprocess
 import sys
@@ -419,3 +421,33 @@ def test_a_number_yaml_reads_as_text_says_how_to_write_it():
         validate_config(yaml.safe_load("task: {payload_kg: five}"))
     assert "YAML reads" not in str(info.value)
     validate_config(yaml.safe_load("task: {payload_kg: 5.0e-1}"))
+
+
+@pytest.mark.parametrize(
+    ("file", "column", "value", "says"),
+    [
+        ("motors.csv", "max_int_torque", "nan", "not a finite number"),
+        ("gearboxes.csv", "max_cont_torque", "inf", "not a finite number"),
+        ("motors.csv", "mass", "1500", "the column is in kg (1500 g is 1.5 kg)"),
+        ("gearboxes.csv", "direction", "5", "1 (output turns as the input) or -1"),
+        ("gearboxes.csv", "stages", "-2", "a whole number, 1 or more"),
+    ],
+)
+def test_an_implausible_catalogue_cell_fails_at_config_time(tmp_path, file, column, value, says):
+    """Cells that read as numbers but cannot be a drive's: named by file, line and column."""
+    folder = _catalogue_copy(tmp_path)
+    table = folder / file
+    lines = table.read_text().splitlines()
+    header = next(i for i, x in enumerate(lines) if x.strip() and not x.startswith("#"))
+    at = lines[header].split(",").index(column)
+    row = header + 1
+    cells = next(csv.reader([lines[row]]))
+    cells[at] = value
+    out = io.StringIO()
+    csv.writer(out, lineterminator="").writerow(cells)
+    lines[row] = out.getvalue()
+    table.write_text("\n".join(lines) + "\n")
+    with pytest.raises(ConfigError) as info:
+        validate_config({"drives": {"catalogue": str(folder)}})
+    assert f"{file}, line {row + 1}, column '{column}'" in str(info.value)
+    assert says in str(info.value)

@@ -182,13 +182,25 @@ def _rows(path: Path):
             ) from None
 
 
+#: The heaviest motor or gearbox (kg) a printed arm's catalogue can mean: more reads as grams.
+HEAVIEST_KG = 100.0
+
+
 def _number(text: str, default: float, where: str) -> float:
+    """A cell's number, ``default`` where empty; a written number must be finite (an empty cell
+    is how the catalogue says the maker gives none)."""
     if text == "":
         return default
     try:
-        return float(text)
+        value = float(text)
     except ValueError:
         raise CatalogueError(f"{where}: {text!r} is not a number") from None
+    if not np.isfinite(value):
+        raise CatalogueError(
+            f"{where}: {text!r} is not a finite number (leave the cell empty when the maker "
+            f"gives none)"
+        )
+    return value
 
 
 def _read_table(
@@ -232,6 +244,20 @@ def _read_table(
 def _check_row(rec: dict, where: str) -> None:
     if rec["key"] == "":
         raise CatalogueError(f"{where}, column 'key': empty key")
+    if rec.get("mass", 0.0) > HEAVIEST_KG:
+        raise CatalogueError(
+            f"{where}, column 'mass': {rec['mass']:g} kg is more than any drive of a printed arm "
+            f"({HEAVIEST_KG:g} kg): the column is in kg ({rec['mass']:g} g is "
+            f"{rec['mass'] / 1e3:g} kg)"
+        )
+    if "direction" in rec and rec["direction"] not in (1.0, -1.0):
+        raise CatalogueError(
+            f"{where}, column 'direction': 1 (output turns as the input) or -1, "
+            f"got {rec['direction']:g}"
+        )
+    if "stages" in rec and not (rec["stages"] >= 1 and float(rec["stages"]).is_integer()):
+        raise CatalogueError(f"{where}, column 'stages': a whole number, 1 or more, got "
+                             f"{rec['stages']:g}")  # fmt: skip
     if "ratio" in rec and not rec["ratio"] > 0:
         raise CatalogueError(f"{where}, column 'ratio': ratio must be positive, got {rec['ratio']}")
     eff = rec.get("efficiency", np.nan)
