@@ -48,8 +48,8 @@ def test_bom_rows_and_files(tmp_path) -> None:
     back = pd.read_csv(csv)
     assert len(back) == len(frame) == 4 + 4 + 3 + 4
     masses = frame["mass_kg"].dropna().to_numpy(dtype=float)
-    np.testing.assert_allclose(back["mass_kg"].dropna(), masses, rtol=1e-5)  # 6 digits kept
-    assert not re.search(r"\d\.\d{7,}", csv.read_text())  # no float's last bits
+    np.testing.assert_allclose(back["mass_kg"].dropna(), masses, rtol=1e-9)  # 10 digits kept
+    assert not re.search(r"\d{11,}", csv.read_text())  # no float's last bits
     text = md.read_text()
     assert "ABS \\| M30" in text and "ABS | M30" not in text
     header = text.splitlines()[0]

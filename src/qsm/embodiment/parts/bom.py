@@ -200,11 +200,13 @@ SUMMARY_COLUMNS: tuple[str, ...] = tuple(
 
 
 def write_bom(frame: pd.DataFrame, directory: str | Path) -> tuple[Path, Path]:
-    """Write ``bom.csv`` (every column, numbers to 6 significant digits) and ``bom.md``
+    """Write ``bom.csv`` (every column, numbers to 10 significant digits) and ``bom.md``
     (:data:`SUMMARY_COLUMNS`) into ``directory``; returns both paths."""
     out = Path(directory)
     out.mkdir(parents=True, exist_ok=True)
     csv, md = out / "bom.csv", out / "bom.md"
-    frame.to_csv(csv, index=False, float_format="%.6g")  # 6 significant digits: 1 mg in 1 kg
+    frame.to_csv(
+        csv, index=False, float_format="%.10g"
+    )  # no float noise: 0.6, not 0.6000000000000001
     md.write_text(markdown_table(frame, SUMMARY_COLUMNS))
     return csv, md
