@@ -43,8 +43,9 @@ ARMATURE_STEPS = 2.0
 CHAIN_JOINTS = ("theta1", "q_upper", "theta2", "q_coupler")
 #: How long (s) the elastic model holds each stop after its move.
 HOLD_S = 1.5
-#: How long (s) the model settles, critically damped, to find a pose's rest.
-REST_S = 0.6
+#: Newton's steps at most, and the share of the first accelerations they leave, to find a rest.
+REST_STEPS = 8
+REST_TOLERANCE = 1e-9
 
 
 @dataclass(frozen=True, eq=False)
@@ -190,34 +191,42 @@ def elastic_arm(arm: ArmModel, payload_kg: float, beta: float) -> ElasticArm:
     return ElasticArm(elastic_spec(arm, payload_kg, beta).compile(), as_design(arm.design), beta)
 
 
-def rest_states(
-    arm: ElasticArm, thetas: ArrayLike, omega: float, seconds: float = REST_S
-) -> NDArray[np.float64]:
-    """The model's full physics states (k, nstate) held with its motors at each of ``thetas``
-    (k, 2) rad, come to rest: ``seconds`` (s) of simulation from the rigid pose with every
-    spring's damping raised to critical for the mode of angular frequency ``omega`` (rad/s),
-    then still."""
+def rest_states(arm: ElasticArm, thetas: ArrayLike) -> NDArray[np.float64]:
+    """The model's full physics states (k, nstate) held still with its motors at each of
+    ``thetas`` (k, 2) rad: the statics solved by Newton's method from the rigid pose, each step
+    from MuJoCo's finite-difference derivative of the accelerations at rest (damping, which
+    does not change a rest, set aside meanwhile, so that the step's matrix is M^-1 K)."""
     m, spec = arm.model, mujoco.mjtState.mjSTATE_FULLPHYSICS
-    thetas = np.atleast_2d(np.asarray(thetas, dtype=float))
-    d = mujoco.MjData(m)
-    starts = []
-    for theta in thetas:
-        d.qpos[:], d.qvel[:] = arm.rest_qpos(theta), 0.0
-        state = np.zeros(mujoco.mj_stateSize(m, spec))
-        mujoco.mj_getState(m, d, state, spec)
-        starts.append(state)
     damping, bias = m.dof_damping.copy(), m.actuator_biasprm.copy()
-    boost = 2.0 / omega / arm.beta
-    m.dof_damping[:], m.actuator_biasprm[:, 2] = damping * boost, bias[:, 2] * boost
+    m.dof_damping[:], m.actuator_biasprm[:, 2] = 0.0, 0.0
+    out = []
     try:
-        controls = np.repeat(thetas[:, None, :], round(seconds / m.opt.timestep), axis=1)
-        states, _ = rollout.rollout(m, d, np.array(starts), controls)
+        for theta in np.atleast_2d(np.asarray(thetas, dtype=float)):
+            d = mujoco.MjData(m)
+            d.qpos[:], d.ctrl[:] = arm.rest_qpos(theta), theta
+            _newton_rest(m, d)
+            state = np.zeros(mujoco.mj_stateSize(m, spec))
+            mujoco.mj_getState(m, d, state, spec)
+            out.append(state)
     finally:
         m.dof_damping[:], m.actuator_biasprm[:] = damping, bias
-    rest = states[:, -1].copy()
-    rest[:, 1 + m.nq : 1 + m.nq + m.nv] = 0.0
-    rest[:, 0] = 0.0
-    return rest
+    return np.array(out)
+
+
+def _newton_rest(m: mujoco.MjModel, d: mujoco.MjData) -> None:
+    """``d`` moved to rest in place: Newton's steps on the accelerations at zero speed, until
+    they fall below :data:`REST_TOLERANCE` of their start or :data:`REST_STEPS` are taken."""
+    nv, a = m.nv, np.zeros((2 * m.nv + m.na, 2 * m.nv + m.na))
+    d.qvel[:] = 0.0
+    mujoco.mj_forward(m, d)
+    first = float(np.linalg.norm(d.qacc)) or 1.0
+    for _ in range(REST_STEPS):
+        if np.linalg.norm(d.qacc) <= REST_TOLERANCE * first:
+            break
+        mujoco.mjd_transitionFD(m, d, 1e-7, True, a, None, None, None)
+        jac = a[nv : 2 * nv, :nv] / m.opt.timestep  # d(qacc)/d(qpos)
+        mujoco.mj_integratePos(m, d.qpos, np.linalg.solve(jac, -d.qacc), 1.0)
+        mujoco.mj_forward(m, d)
 
 
 def data_at(arm: ElasticArm, state: ArrayLike, theta: ArrayLike) -> mujoco.MjData:
@@ -275,7 +284,7 @@ def stops(
     first mode (for the rests and the period the ringing is read over)."""
     m, step, n = arm.model, arm.model.opt.timestep, len(moves)
     ends = np.array([q[0] for _, q in moves] + [q[-1] for _, q in moves])
-    rests = rest_states(arm, ends, float(np.min(omegas)))  # the higher modes overdamped
+    rests = rest_states(arm, ends)
     commands = [_commands(t - t[0], q, step, HOLD_S) for t, q in moves]
     longest = max(len(c) for c in commands)
     padded = np.array([np.vstack([c, np.repeat(c[-1:], longest - len(c), 0)]) for c in commands])
