@@ -281,7 +281,7 @@ def stops(
     """The stop after each move (times (N,) s, motor angles (N, 2) rad) from rest at its start,
     held :data:`HOLD_S` s at its end: the tool's ringing about its rest there and the time after
     the arrival from which it stays within ``allowed_m`` (m); ``omegas`` (rad/s) each stop's
-    first mode (for the rests and the period the ringing is read over)."""
+    first mode (the period the ringing is read over, and its decay past the hold)."""
     m, step, n = arm.model, arm.model.opt.timestep, len(moves)
     ends = np.array([q[0] for _, q in moves] + [q[-1] for _, q in moves])
     rests = rest_states(arm, ends)
