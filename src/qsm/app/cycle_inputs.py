@@ -120,7 +120,8 @@ def settling_check(
     ``model`` carrying ``payload_kg`` (kg), with the ``settling`` config ``section`` (None:
     none), held to the largest static part of ``budget``'s placing error over its points (all
     its terms but the dynamic sag); its elastic model (:mod:`qsm.realization.final.elastic_arm`)
-    damps its first mode, the lowest over the budget's points, at the section's ratio."""
+    damps its first mode, the lowest over the budget's points, at the section's ratio (none
+    where the budget has no first mode)."""
     if section is None:
         return None
     per = budget["per_point"]
@@ -131,6 +132,6 @@ def settling_check(
         )
     ]
     tolerance, zeta = float(budget["tolerance_mm"]), float(section["damping_ratio"])
-    omega = 2 * math.pi * float(budget["worst"]["first_mode_hz"])
-    elastic = elastic_arm(model, payload_kg, 2 * zeta / omega)
+    omega = 2 * math.pi * float(budget["worst"]["first_mode_hz"] or math.nan)
+    elastic = elastic_arm(model, payload_kg, 2 * zeta / omega) if omega > 0 else None
     return Settling(model, payload_kg, zeta, tolerance, max(static), elastic)

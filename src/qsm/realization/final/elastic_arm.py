@@ -259,12 +259,10 @@ def first_mode_hz(arm: ElasticArm, data: mujoco.MjData) -> float:
 class ElasticStop:
     """A stop in the elastic model: the tool's ringing about its rest on arrival (``ringing_mm``,
     mm: the largest over the first period after it), the time (s) after which it stays within
-    what the tolerance allows (``settling_s``; None: nothing is allowed), and the tool's elastic
-    offset at rest there (``rest_mm``, mm: its static sag in this model)."""
+    what the tolerance allows (``settling_s``; None: nothing is allowed)."""
 
     ringing_mm: float
     settling_s: float | None
-    rest_mm: float
 
 
 def _commands(t: NDArray, q: NDArray, step: float, hold_s: float) -> NDArray[np.float64]:
@@ -294,13 +292,11 @@ def stops(
         rest = tool_offset_m(arm, data_at(arm, rests[n + k], q[-1]), q[-1])
         arrive = round((t[-1] - t[0]) / step)
         e = xy[arrive : len(c), :2] - pose(arm.design, c[arrive:, 0], c[arrive:, 1]).E - rest
-        out.append(_stop(np.linalg.norm(e, axis=-1), rest, w, arm, allowed_m))
+        out.append(_stop(np.linalg.norm(e, axis=-1), w, arm, allowed_m))
     return out
 
 
-def _stop(
-    ring: NDArray, rest: NDArray, omega: float, arm: ElasticArm, allowed_m: float
-) -> ElasticStop:
+def _stop(ring: NDArray, omega: float, arm: ElasticArm, allowed_m: float) -> ElasticStop:
     """A stop from its ringing (M,) m after the arrival, one sample per model step: the largest
     over its first period (of the mode of angular frequency ``omega``, rad/s), and when it stays
     within ``allowed_m`` (m). Still past it in the hold's last period, the ringing decays from
@@ -317,4 +313,4 @@ def _stop(
     else:
         envelope = float(ring[-period:].max())
         settle = len(ring) * step + float(np.log(envelope / allowed_m)) / (arm.beta * omega**2 / 2)
-    return ElasticStop(1e3 * float(ring[:period].max()), settle, 1e3 * float(np.linalg.norm(rest)))
+    return ElasticStop(1e3 * float(ring[:period].max()), settle)
