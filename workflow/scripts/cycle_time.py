@@ -13,12 +13,16 @@ with logged(snakemake.log[0]) as log:
     c = cycle_inputs(dict(snakemake.input.items()), dict(snakemake.params.items()))
     log.info("the payload's peak force that keeps the tool within the tolerance: %s N", c.limit_N)
     task = TaskCycle(**snakemake.params.cycle)
-    log.info("jerk time: %s", c.jerk.record())
+    log.info("jerk times weighed: %s s", c.jerk.candidates())
     record, checked, arm = run_cycle(
         c.done, c.props, c.settings, c.test, task, c.raster_speed_deg_s, c.limit_N,
-        c.jerk.jerk_time_s, c.settling,
+        c.jerk.candidates(), c.settling,
     )  # fmt: skip
-    record["jerk"] = c.jerk.record()
+    if checked is not None:
+        chosen = len({x.jerk_time_s for x in checked.choices}) > 1  # jerk times weighed
+        record["jerk"] = c.jerk.record(checked.cycle.jerk_time_s, chosen)
+    else:
+        record["jerk"] = c.jerk.record()
     write_json(out.cycle, record)
     cycle = None if checked is None else checked.cycle
     trajectory_table(cycle, arm).to_csv(out.trajectory, index=False)

@@ -49,6 +49,11 @@ class CycleInputs:
     settling: Settling | None
 
 
+#: The jerk times weighed with the slow-down (:func:`qsm.realization.final.cycle_check.fastest`),
+#: in periods of the arm's first mode; the first is the one kept where they cannot be weighed.
+JERK_PERIODS: tuple[float, ...] = (1.0, 0.5, 2.0)
+
+
 @dataclass(frozen=True)
 class JerkTime:
     """The time (s) over which each move of a cycle ramps its acceleration: ``task.cycle
@@ -69,13 +74,24 @@ class JerkTime:
             return cls(float(key_s), None)
         return cls(None if mode is None else 1.0 / mode, mode)
 
-    def record(self) -> dict[str, Any]:
-        """JSON: the time and where it comes from."""
+    def candidates(self) -> tuple[float | None, ...]:
+        """The jerk times (s) a cycle may weigh, the stated one first: the key's alone, else
+        :data:`JERK_PERIODS` periods of the first mode."""
+        if self.first_mode_hz is None:
+            return (self.jerk_time_s,)
+        return tuple(p / self.first_mode_hz for p in JERK_PERIODS)
+
+    def record(self, kept_s: float | None = None, chosen: bool = False) -> dict[str, Any]:
+        """JSON: the time (``kept_s``, s: the ramps of a cycle as run; else the stated one), in
+        periods of the first mode, where it comes from, and whether a cycle ``chosen`` it with
+        its slow-down among :meth:`candidates`."""
+        jerk = self.jerk_time_s if kept_s is None else kept_s
         source = "task.cycle.jerk_time_s" if self.first_mode_hz is None else "first mode"
-        if self.jerk_time_s is None:
+        if jerk is None:
             source = "none: no first mode known"
-        return {"jerk_time_s": self.jerk_time_s, "from": source,
-                "first_mode_hz": self.first_mode_hz}  # fmt: skip
+        periods = None if jerk is None or self.first_mode_hz is None else jerk * self.first_mode_hz
+        return {"jerk_time_s": jerk, "from": source, "first_mode_hz": self.first_mode_hz,
+                "periods": periods, "chosen_with_slow_down": chosen}  # fmt: skip
 
 
 def _read(path: str) -> Any:

@@ -4,6 +4,7 @@ envelope as a figure, and its lines of ``summary.md``."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any
@@ -80,7 +81,12 @@ def jerk_text(jerk: Mapping[str, Any] | None) -> str:
     ramp = f"each move's acceleration ramped over {1e3 * jerk['jerk_time_s']:.0f} ms"
     if jerk["first_mode_hz"] is None:
         return f"{ramp} (task.cycle.jerk_time_s)"
-    return f"{ramp}, one period of the arm's {jerk['first_mode_hz']:.2f} Hz first mode"
+    periods = jerk.get("periods") or 1.0
+    count = "one period" if math.isclose(periods, 1.0) else f"{periods:.2g} periods"
+    text = f"{ramp}, {count} of the arm's {jerk['first_mode_hz']:.2f} Hz first mode"
+    if jerk.get("chosen_with_slow_down"):
+        text += " (chosen with the slow-down: the shortest cycle once each stop has settled)"
+    return text
 
 
 def _settling_lines(cycle: dict[str, Any]) -> list[str]:

@@ -11,12 +11,20 @@ RMS use is within its continuous ratings (the drive check's own model,
 :mod:`qsm.embodiment.drives.utilization`) and MuJoCo's run passes; what even the slowest cannot
 meet does not slow it, and the result says by how much it was slowed and why
 (:func:`qsm.realization.final.cycle_run.cycle_record` gives its figures).
+
+The slow-down and the jerk time are chosen together where the stops' settling is checked: from
+the least slow-down that holds, every slower one and every jerk time offered is weighed by its
+cycle time with each stop dwelling until the tool settles (:func:`fastest`). Slowing more or
+ramping longer rings the arm less, so a stop may need less dwell than the moves gain. The
+fastest pair is run (the elastic model, MuJoCo); where MuJoCo's run fails, the fastest of the
+slower ones.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -29,7 +37,14 @@ from qsm.physics.mjcf import TIMESTEP_S
 from qsm.prose import per_motor
 from qsm.realization.accuracy.accuracy_budget import peak_payload_force_N
 from qsm.realization.final.settling import Arrival, Settling, settled
-from qsm.realization.motion.cycle import Arm, Cycle, motor_torques, plan_cycle, slowed
+from qsm.realization.motion.cycle import (
+    Arm,
+    Cycle,
+    jerk_limited_cycle,
+    motor_torques,
+    plan_cycle,
+    slowed,
+)
 from qsm.realization.motion.payload import PayloadSettings, payload_test
 from qsm.realization.selection.pipeline import Realization
 
@@ -41,9 +56,26 @@ SLOWEST_FOR_TOLERANCE = 8.0
 THERMAL = (CHECKS.index("motor_rms"), CHECKS.index("gear_rms"))
 
 
+@dataclass(frozen=True)
+class SpeedChoice:
+    """One timing of the cycle weighed by :func:`fastest`: its slow-down ``factor`` (1), the
+    ``jerk_time_s`` its moves were planned with before it (s; None: TOPP-RA's timing) and its
+    ``time_s`` (s), each stop's dwell its settling time by the single-mode check."""
+
+    factor: float
+    jerk_time_s: float | None
+    time_s: float
+
+    def record(self) -> dict[str, Any]:
+        """JSON, with the ramps as run (the jerk time times the slow-down)."""
+        ramp = None if self.jerk_time_s is None else self.jerk_time_s * self.factor
+        return {"slowed_by": self.factor, "jerk_time_s": ramp, "cycle_time_s": self.time_s}
+
+
 class CheckedCycle(NamedTuple):
-    """The cycle as run, the time-optimal one, its links' largest utilisation over it, the
-    MuJoCo run's result, and why it was slowed (empty: it was not)."""
+    """The cycle as run, the time-optimal one (at its jerk time), its links' largest
+    utilisation over it, the MuJoCo run's result, why it was slowed (empty: it was not), its
+    stops, and the timings weighed for it, fastest first (:func:`fastest`)."""
 
     cycle: Cycle
     optimal: Cycle
@@ -51,6 +83,7 @@ class CheckedCycle(NamedTuple):
     simulation: dict[str, Any]
     slowed_for: list[str]
     arrivals: tuple[Arrival, ...] = ()
+    choices: tuple[SpeedChoice, ...] = ()
 
 
 def cycle_duty(cycle: Cycle) -> Duty:
@@ -149,6 +182,33 @@ def _problems(cycle: Cycle, arm: Arm, done: Realization, drives: DriveArrays) ->
     return out
 
 
+def fastest(
+    timed: Callable[[float, float | None], Cycle],
+    factors: Sequence[float],
+    jerk_times_s: Sequence[float | None],
+    settling: Settling | None,
+    within: Callable[[Cycle], bool] = lambda cycle: True,
+) -> tuple[SpeedChoice, ...]:
+    """The timings (slow-down in ``factors``, jerk time in ``jerk_times_s``; ``timed`` gives
+    each cycle) by their cycle time, fastest first, each stop dwelling until it settles by the
+    single-mode check: more slowing rings less, a longer ramp rings less, and both lengthen the
+    moves. A timing at another jerk time than the first is left out where not ``within`` the
+    tolerance's load (the first is, at every factor). Where the ``settling`` check
+    cannot weigh them (none, or static terms that alone miss the tolerance): the first jerk
+    time only, at each slow-down, least first."""
+    weighs = settling is not None and settling.allowed_m > 0.0
+    choices = []
+    for factor in factors:
+        for k, jerk in enumerate(jerk_times_s if weighs else jerk_times_s[:1]):
+            cycle = timed(factor, jerk)
+            if k and not within(cycle):
+                continue
+            if settling is not None:
+                cycle = settled(cycle, settling, elastic=False)[0]
+            choices.append(SpeedChoice(factor, jerk, cycle.time_s))
+    return tuple(sorted(choices, key=lambda c: c.time_s if weighs else c.factor))
+
+
 def checked_cycle(
     done: Realization,
     props: dict[str, MassProperties],
@@ -158,51 +218,81 @@ def checked_cycle(
     task: tuple[float, bool],
     drives: DriveArrays,
     max_load_N: float | None = None,
-    jerk_time_s: float | None = None,
+    jerk_times_s: Sequence[float | None] = (None,),
     settling: Settling | None = None,
 ) -> CheckedCycle:
     """The fastest of the time-optimal cycle through the visited points (``route``: the points
     (n, 2) m and their motor angles rad; ``task``: the dwell s and whether it returns), slowed
     until the payload's peak force is at most ``max_load_N`` (N, what keeps the tool within the
-    tolerance; None: no limit) and then :data:`SLOWER` times slower in turn, that the links
-    hold, whose RMS use of the ``drives`` (the two motors', :func:`thermal_use`) stays within 1,
-    and that MuJoCo runs within the drives' envelopes and the tracking tolerance. What even the
+    tolerance; None: no limit) and then :data:`SLOWER` times slower, that the links hold,
+    whose RMS use of the ``drives`` (the two motors', :func:`thermal_use`) stays within 1, and
+    that MuJoCo runs within the drives' envelopes and the tracking tolerance. What even the
     slowest cannot meet (a holding torque past a drive's rating, say) does not slow it, and
     ``slowed_for`` says so; when MuJoCo's run never passes, the slowest is kept. Each move's
-    acceleration ramps over ``jerk_time_s`` (s; None: TOPP-RA's bang-bang timing), and each
-    stop's dwell is lengthened to its ``settling`` time (:mod:`qsm.realization.final.settling`;
-    None: not)."""
+    acceleration ramps over one of ``jerk_times_s`` (s; None: TOPP-RA's bang-bang timing; the
+    first where the settling check cannot weigh them) and each stop's dwell is lengthened to
+    its ``settling`` time (:mod:`qsm.realization.final.settling`; None: not): of the slow-downs
+    from the least that holds and the jerk times, the pair whose cycle, dwells included, is
+    the shortest (:func:`fastest`)."""
     points, angles = route
-    optimal = plan_cycle(arm, angles, task[0], TIMESTEP_S, task[1], jerk_time_s=jerk_time_s)
-    start, first = _for_tolerance(optimal, arm, max_load_N)
-    factors = (start, *(f for f in SLOWER if f > start))
+    topp = plan_cycle(arm, angles, task[0], TIMESTEP_S, task[1])
+    plans = {jerk: jerk_limited_cycle(topp, arm, jerk) for jerk in jerk_times_s}
+    start, first = _for_tolerance(plans[jerk_times_s[0]], arm, max_load_N)
+    factors = [start, *(f for f in SLOWER if f > start)]
 
-    def at(factor: float, elastic: bool = True) -> tuple[Cycle, tuple[Arrival, ...]]:
-        """The cycle slowed ``factor`` times, each stop dwelling until it settles (in the
-        elastic model too where ``elastic``)."""
-        cycle = slowed(optimal, arm, factor)
-        return (cycle, ()) if settling is None else settled(cycle, settling, elastic)
+    def timed(factor: float, jerk: float | None = jerk_times_s[0]) -> Cycle:
+        """The cycle ramped over ``jerk`` s, then slowed ``factor`` times."""
+        return slowed(plans[jerk], arm, factor)
 
-    slowest = _problems(at(factors[-1], elastic=False)[0], arm, done, drives)
-    last = ""
-    for factor in factors:
-        cycle, arrivals = at(factor, elastic=False)
-        problems = _problems(cycle, arm, done, drives)
-        if fixable := [p for kind, p in problems.items() if kind not in slowest]:
-            last = fixable[0]
-            continue
-        if settling is not None and settling.elastic is not None:  # longer dwells: no new problem
-            cycle, arrivals = at(factor)
-            problems = _problems(cycle, arm, done, drives)
+    slowest = _problems(timed(factors[-1]), arm, done, drives)
+    last, slowest_factor = "", factors[-1]
+    while fixable := _fixable(timed(factors[0]), arm, done, drives, slowest):  # never the last
+        last = fixable[0]
+        factors.pop(0)
+    within = lambda c: max_load_N is None or peak_load_N(c, arm) <= max_load_N  # noqa: E731
+    choices = left = fastest(timed, factors, jerk_times_s, settling, within)
+    while True:
+        cycle = timed(left[0].factor, left[0].jerk_time_s)
+        cycle, arrivals = (cycle, ()) if settling is None else settled(cycle, settling)
         sim = _simulated(done, props, arm, points, test, cycle)
-        if sim["passed"]:
+        if sim["passed"] or len(left) == 1:
             break
-        last = f"MuJoCo's run at {factor:g}x: {sim['reason']}"
+        last = f"MuJoCo's run at {cycle.factor:g}x: {sim['reason']}"
+        left = _slower(left, left[0]) or left[:1]
     util = link_utilisation(cycle, done, arm.payload_kg)
     # what stands at the speed kept: the kinds that even the slowest does not meet
-    unfixable = [f"{p} (not met at {factors[-1]:g}x either)" for p in problems.values()]
+    problems = _problems(cycle, arm, done, drives)
+    unfixable = [f"{p} (not met at {slowest_factor:g}x either)" for p in problems.values()]
     slower = [last] if cycle.factor > start and last else []
-    return CheckedCycle(cycle, optimal, util, sim, first + slower + unfixable, arrivals)
+    notes = first + slower + _settling_note(choices, left[0]) + unfixable
+    optimal = timed(1.0, left[0].jerk_time_s)
+    return CheckedCycle(cycle, optimal, util, sim, notes, arrivals, choices)
+
+
+def _fixable(
+    cycle: Cycle, arm: Arm, done: Realization, drives: DriveArrays, slowest: dict[str, str]
+) -> list[str]:
+    """What ``cycle`` fails (:func:`_problems`) that the ``slowest`` cycle meets."""
+    return [p for kind, p in _problems(cycle, arm, done, drives).items() if kind not in slowest]
+
+
+def _slower(choices: Sequence[SpeedChoice], failed: SpeedChoice) -> list[SpeedChoice]:
+    """The ``choices`` slower than one that ``failed`` MuJoCo's run (its envelope's torques
+    fall as the cycle slows; the jerk time barely moves them)."""
+    return [c for c in choices if c.factor > failed.factor]
+
+
+def _settling_note(choices: Sequence[SpeedChoice], kept: SpeedChoice) -> list[str]:
+    """Why the ``kept`` timing is slower than the least slow-down weighed (``choices``,
+    fastest first) where the settling chose it: the two cycle times."""
+    least = min(c.factor for c in choices)
+    if kept.factor == least or kept is not choices[0]:
+        return []
+    quickest = next(c for c in choices if c.factor == least)
+    return [
+        f"the settling: at {kept.factor:g}x the tool rings less, and the cycle, its dwells "
+        f"included, takes {kept.time_s:.2f} s against {quickest.time_s:.2f} s at {least:g}x"
+    ]
 
 
 def _for_tolerance(optimal: Cycle, arm: Arm, max_load_N: float | None) -> tuple[float, list[str]]:

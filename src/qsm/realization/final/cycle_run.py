@@ -138,6 +138,7 @@ def cycle_record(
         "time_optimal_s": checked.optimal.time_s,
         "slowed_by": c.factor,
         "slowed_for": checked.slowed_for,
+        "speed_choices": [choice.record() for choice in checked.choices],
         **_stops(checked, visits),
         "waypoints_deg": np.degrees(angles).tolist(),
         **power,
@@ -199,14 +200,15 @@ def run_cycle(
     task: TaskCycle,
     raster_speed_deg_s: float,
     max_load_N: float | None = None,
-    jerk_time_s: float | None = None,
+    jerk_times_s: Sequence[float | None] = (None,),
     settling: Settling | None = None,
 ) -> tuple[dict[str, Any], CheckedCycle | None, Arm]:
     """The realised design's time-optimal ``task`` cycle with its drives (the chosen ones, or
     the nearest), checked (:func:`qsm.realization.final.cycle_check.checked_cycle`, MuJoCo's
     run with the payload ``test``'s plant and controller; ``max_load_N`` the payload's largest
     peak force that keeps the tool within the tolerance; each move's acceleration ramped over
-    ``jerk_time_s``, s; each stop's dwell lengthened to its ``settling`` time, None: not): its
+    one of ``jerk_times_s``, s, chosen with the slow-down; each stop's dwell lengthened to its
+    ``settling`` time, None: not): its
     record, the checked cycle (None, and the record says why, where no
     cycle can be planned) and the arm it was planned for."""
     catalogue = settings.drives.catalogue
@@ -224,7 +226,7 @@ def run_cycle(
         angles = joint_path(done.design, points, test.theta1_range_deg, test.theta2_min_deg)
         checked = checked_cycle(
             done, props, arm, (points, angles), test, (task.dwell_s, task.returns), ratings[1],
-            max_load_N, jerk_time_s, settling,
+            max_load_N, jerk_times_s, settling,
         )  # fmt: skip
     except ValueError as exc:  # a point out of reach, or drives that cannot hold the arm
         return unplanned_record(task, str(exc)), None, arm

@@ -119,7 +119,7 @@ def standard_cycles(
     for kg in dict.fromkeys((rated, LIGHT_PAYLOAD_KG)):
         at = replace(test, payload_kg=kg + done.tool_kg)
         record, _, _ = run_cycle(
-            done, props, settings, at, task, raster_speed_deg_s, max_load_N, jerk_time_s
+            done, props, settings, at, task, raster_speed_deg_s, max_load_N, (jerk_time_s,)
         )
         out.append(_summary(record, kg) | {"tool_flange_kg": done.tool_kg})
     return out

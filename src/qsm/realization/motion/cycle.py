@@ -294,7 +294,8 @@ def time_scaled(move: Move, arm: Arm, factor: float, dt: float) -> Move:
 class Cycle(NamedTuple):
     """A cycle: its moves, in order, the dwell (s) at each visited point, the sample step (s),
     whether it ``returns`` to its first point, how many times slower than the time-optimal
-    timing it runs, the jerk time (s) its moves were planned with (None: none), and the dwell
+    timing it runs, the time (s) its moves ramp their acceleration over as run (None: they do
+    not), and the dwell
     (s) after each move where it differs from ``dwell_s`` (None: none does; a returning cycle
     starts with its last)."""
 
@@ -350,23 +351,31 @@ def plan_cycle(
     dt: float,
     returns: bool,
     fractions: Sequence[float] = SPEED_FRACTIONS,
-    jerk_time_s: float | None = None,
 ) -> Cycle:
     """The time-optimal cycle through the visited points' motor ``angles`` (n, 2) rad, in order
     (the start again at the end when it ``returns``), with ``dwell_s`` at each, sampled every
-    ``dt`` s, each move planned at the speed bounds ``fractions`` and its acceleration ramped
-    over ``jerk_time_s`` (s; None: not, :func:`plan_move`)."""
+    ``dt`` s, each move planned at the speed bounds ``fractions`` (TOPP-RA's timing,
+    :func:`plan_move`)."""
     way = np.asarray(angles, dtype=float)
-    moves = tuple(
-        plan_move(arm, a, b, dt, fractions, jerk_time_s) for a, b in itertools.pairwise(way)
-    )
-    return Cycle(moves, dwell_s, dt, returns, jerk_time_s=jerk_time_s)
+    moves = tuple(plan_move(arm, a, b, dt, fractions) for a, b in itertools.pairwise(way))
+    return Cycle(moves, dwell_s, dt, returns)
+
+
+def jerk_limited_cycle(cycle: Cycle, arm: Arm, jerk_time_s: float | None) -> Cycle:
+    """``cycle`` (as planned, not slowed) with each move retimed, its acceleration ramped over
+    ``jerk_time_s`` (s; None: ``cycle`` as it is, :func:`jerk_limited`)."""
+    if jerk_time_s is None:
+        return cycle
+    moves = tuple(jerk_limited(m, arm, jerk_time_s, cycle.dt) for m in cycle.moves)
+    return cycle._replace(moves=moves, jerk_time_s=jerk_time_s)
 
 
 def slowed(cycle: Cycle, arm: Arm, factor: float) -> Cycle:
-    """``cycle`` (as planned) run ``factor`` times slower; its dwells unchanged."""
+    """``cycle`` (as planned) run ``factor`` times slower, its ramps (the jerk time) as long;
+    its dwells unchanged."""
     moves = tuple(time_scaled(m, arm, factor, cycle.dt) for m in cycle.moves)
-    return cycle._replace(moves=moves, factor=factor)
+    jerk = None if cycle.jerk_time_s is None else cycle.jerk_time_s * factor
+    return cycle._replace(moves=moves, factor=factor, jerk_time_s=jerk)
 
 
 #: A minimum-jerk move's duration over (its change / its peak speed).
