@@ -1,6 +1,8 @@
 """Bad input through Snakemake: a clear error naming the key or file; earlier results intact."""
 
 import hashlib
+import subprocess
+import sys
 from pathlib import Path
 
 import pyarrow.parquet as pq
@@ -96,9 +98,10 @@ def test_a_stepper_without_its_pull_out_curve_is_named(finished, tmp_path):
     assert snapshot(finished) == before
 
 
-def test_a_run_that_fails_late_leaves_no_verdict_standing(finished, tmp_path):
+def test_a_run_that_fails_late_marks_the_last_good_results_not_current(finished, tmp_path):
     """A task the config checks accept (its reach ratio 9.5 is within the family's 10.2) that no
-    sampled design holds: Stage 1 fails, and the earlier run's verdict is withdrawn."""
+    sampled design holds: Stage 1 fails, naming its rule, and the last good run's summary,
+    datasheet and design files are marked NOT CURRENT with the key that changed."""
     verdict = (finished / "results/summary.md").read_text().split("\n\n")[1]
     assert verdict.startswith(("**Ready to build", "**NOT READY TO BUILD"))
     late = tmp_path / "late.yaml"
@@ -108,9 +111,29 @@ def test_a_run_that_fails_late_leaves_no_verdict_standing(finished, tmp_path):
     assert (
         "no design holds the task" in (finished / "results/logs/select_mechanisms.log").read_text()
     )
-    assert not (finished / "results/summary.md").exists()
-    assert not (finished / "results/html/summary.html").exists()
-    assert "was an earlier run's verdict, not this config's, and is removed" in out.stderr
+    changed = "the run failed in select_mechanisms, and the config changed since the last good"
+    assert f"{changed} run (task.points)" in out.stderr
+    for name in ("summary.md", "datasheet.md"):
+        text = (finished / "results" / name).read_text()
+        assert text.startswith("> **NOT CURRENT**: a later run failed in select_mechanisms")
+    assert "(task.points)" in (finished / "results/realization/NOT_CURRENT.md").read_text()
+
+
+def test_two_runs_started_together_one_is_refused(finished, tmp_path):
+    """Two runs started together in one directory, Snakemake's own lock set aside
+    (``--nolock``, as a race in the same second does), each rerunning the cycle (seconds of
+    work): the workflow's lock lets one through and refuses the other, naming the holder."""
+    cmd = [sys.executable, "-m", "snakemake", "--cores", "1", "--nolock", "--forcerun",
+           "cycle_time", "--until", "cycle_time", "--configfile", "config/test.yaml"]  # fmt: skip
+    logs = [tmp_path / f"run{k}.log" for k in (1, 2)]
+    runs = [
+        subprocess.Popen(cmd, cwd=finished, stdout=subprocess.DEVNULL, stderr=log.open("w"))
+        for log in logs
+    ]
+    codes = [r.wait(timeout=900) for r in runs]
+    assert sorted(rc == 0 for rc in codes) == [False, True]
+    refused = next(log.read_text() for rc, log in zip(codes, logs, strict=True) if rc != 0)
+    assert "another qsm run is working in this directory (process" in refused
 
 
 def test_truncated_parquet_between_stages_names_the_file(finished):

@@ -12,8 +12,10 @@ import numpy as np
 import pytest
 import yaml
 
-from qsm.config.checks import config_warnings, largest_reach
+from qsm.config.checks import config_warnings, first_mode_bound_hz, largest_reach
 from qsm.config.reading import ConfigError, load_config, merge_config, validate_config
+from qsm.embodiment.stiffness.frame import FrameSections
+from qsm.embodiment.stiffness.modes import loaded_first_mode_hz
 from qsm.physics.kinematics import end_effector
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -158,6 +160,11 @@ ERRORS = [
     ({"task": {"cycle": {"order": [1, 2, 2]}}}, "task.cycle.order", "point 2 follows itself"),
     ({"task": {"cycle": {"order": [0, 2]}}}, "task.cycle.order.0", "less than the minimum of 1"),
     ({"task": {"cycle": {"dwell_s": -1}}}, "task.cycle.dwell_s", "less than the minimum of 0"),
+    (
+        {"task": {"min_first_mode_hz": 10000}},
+        "task.min_first_mode_hz",
+        "10000 Hz is more than any arm of this task can reach",
+    ),
 ]
 
 
@@ -451,3 +458,21 @@ def test_an_implausible_catalogue_cell_fails_at_config_time(tmp_path, file, colu
         validate_config({"drives": {"catalogue": str(folder)}})
     assert f"{file}, line {row + 1}, column '{column}'" in str(info.value)
     assert says in str(info.value)
+
+
+def test_the_first_mode_bound_is_the_hand_formula_and_bounds_the_frame_model():
+    """The default config's bound is sqrt(4 E A / (r m)) / 2 pi by hand (the largest section
+    80 x 40 mm, the farthest default point 0.7102 m out, 5 kg); and the frame model of an arm
+    of that section everywhere, gearboxes of 1e9 N m/rad and nearly massless links, reaching
+    that far, rings below it at two poses: no arm the realisation builds passes it."""
+    config = load_config()
+    by_hand = np.sqrt(4 * 2.2e9 * 0.08 * 0.04 / (np.hypot(-0.70, 0.12) * 5.0)) / (2 * np.pi)
+    assert first_mode_bound_hz(config) == pytest.approx(by_hand, rel=1e-9)
+    design = np.array([0.55, 0.22, 0.5, 0.16, 0.42, 0.12])  # m
+    sections = FrameSections(np.full(4, 0.08), np.full(4, 0.04), 2.2e9, 0.35)
+    for t1, t2 in np.radians([[60.0, 150.0], [120.0, 180.0]]):
+        reach = float(np.hypot(*end_effector(design, t1, t2)))
+        config["task"]["points"] = [[-reach, 0.0], [-0.5 * reach, 0.0]]
+        f = loaded_first_mode_hz(design, t1, t2, sections, np.full(4, 1e-6), 5.0,
+                                 np.full(2, 1e9), np.zeros(2))  # fmt: skip
+        assert 0 < f < first_mode_bound_hz(config)

@@ -192,22 +192,3 @@ def print_headline(summary, started):
     )
     stale = "" if path.stat().st_mtime >= started else " (from an earlier run)"
     logger.info(f"qsm: {verdict}\nqsm: the summary{stale}: {path.resolve()}")
-
-
-def withdraw_stale_summary(summary, started, logs):
-    """When a run fails: an earlier run's summary (older than this run, ``started`` seconds
-    since the epoch) is no verdict of the current config, so it is removed (with its report
-    page and the datasheet), and the log says so. A summary this run wrote stays. ``logs``: Snakemake's log
-    file(s) of the run."""
-    path = Path(summary)
-    if not path.exists() or path.stat().st_mtime >= started:
-        return
-    path.unlink()
-    Path(RESULTS, "html", "summary.html").unlink(missing_ok=True)
-    Path(RESULTS, "datasheet.md").unlink(missing_ok=True)  # it states the same verdict
-    Path(RESULTS, "html", "datasheet.html").unlink(missing_ok=True)
-    logger.error(
-        f"qsm: the run failed; {path} was an earlier run's verdict, not this config's, and is "
-        f"removed (a successful run writes it again). Snakemake's log: "
-        + ", ".join([logs] if isinstance(logs, str) else logs)
-    )

@@ -51,6 +51,7 @@ def check_config(config: dict[str, Any]) -> None:
     _check_task(config)
     _check_cycle(config["task"])
     _check_cad(config)
+    _check_first_mode(config)
     _check_materials(config)
     check_drives(config)
     check_payload(config)
@@ -319,6 +320,38 @@ def _check_cad(config: dict[str, Any]) -> None:
             f"{cad['width_m']} m wide need links longer than {needed:.3g} m, but at scale.max_m "
             f"{scale} m the sampled ranges give a crank or coupler of at most {scale * longest:.3g}"
             f" m: smaller bosses, or scale.max_m above {needed / longest:.3g} m{cause}"
+        )
+
+
+def first_mode_bound_hz(config: dict[str, Any]) -> float:
+    """An upper bound (Hz) on the loaded arm's first mode at the farthest task point: the
+    payload alone (no link, tool flange or rotor mass) on four bars in parallel, each of the
+    largest section the realisation may take (``cad``'s, or ``cad.sized``'s largest) and as
+    long as that point's distance from the base, in pure tension (no bending, rigid gearboxes):
+    sqrt(4 E A / (r m)) / 2 pi. Four links carry the tool, and every path through them to the
+    base is at least that long."""
+    cad = config["cad"]
+    area = max(cad["width_m"], cad["sized"]["width_m"][1]) * max(
+        cad["thickness_m"], cad["sized"]["thickness_m"][1]
+    )
+    reach = float(np.hypot(*np.asarray(config["task"]["points"], dtype=float).T).max())
+    stiffness = 4 * config["material"]["youngs_modulus_pa"] * area / reach
+    return math.sqrt(stiffness / config["task"]["payload_kg"]) / (2 * math.pi)
+
+
+def _check_first_mode(config: dict[str, Any]) -> None:
+    """A ``task.min_first_mode_hz`` that some arm could reach (:func:`first_mode_bound_hz`)."""
+    wanted = config["task"].get("min_first_mode_hz")
+    if wanted is None:
+        return
+    bound = first_mode_bound_hz(config)
+    if wanted > bound:
+        raise ConfigError(
+            f"config key 'task.min_first_mode_hz': {wanted:g} Hz is more than any arm of this "
+            f"task can reach: even the {config['task']['payload_kg']:g} kg payload alone on four "
+            f"bars of the largest section (cad, cad.sized) in tension, as long as the farthest "
+            f"task point is from the base, with rigid gearboxes, rings at {bound:.0f} Hz. Ask for "
+            f"less than that"
         )
 
 

@@ -1,0 +1,170 @@
+"""What a run leaves a person: one run at a time in a working directory, and, when a run fails,
+the last good run's results marked as not current where the config has changed since.
+
+A successful run records its config (``results/.last_good_config.json``). A failed run compares
+the config it was given with that record: where keys changed, the last good run's summary and
+datasheet get a NOT CURRENT banner (their modification times kept, so Snakemake reruns nothing
+for it) and ``NOT_CURRENT.md`` is written beside the design files, naming the failed rule and
+the keys; where nothing changed, the results still describe the config and stay as they are.
+The next successful run takes the marks away.
+"""
+
+from __future__ import annotations
+
+import fcntl
+import json
+import os
+import re
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass
+from pathlib import Path
+from typing import IO, Any
+
+#: The record of the last good run's config, under the results folder.
+GOOD_CONFIG = ".last_good_config.json"
+#: The marker written beside the design files of a run that is no longer current.
+MARKER = "NOT_CURRENT.md"
+#: The first line of the banner on a summary or datasheet that is no longer current.
+BANNER = "> **NOT CURRENT**"
+#: The Markdown files a banner is put on, under the results folder.
+BANNERED = ("summary.md", "datasheet.md")
+#: The folders of design files a marker is written into, under the results folder.
+MARKED = (".", "realization")
+
+_HELD: list[IO[str]] = []
+
+
+class RunLocked(RuntimeError):
+    """Another run works in this directory."""
+
+
+def hold_run_lock(path: str | Path) -> None:
+    """Take the directory's run lock at ``path`` for the rest of this process (an exclusive
+    ``flock``, released by the system when the process ends, however it ends); RunLocked,
+    naming the holder's process, when another run holds it."""
+    Path(path).parent.mkdir(parents=True, exist_ok=True)
+    handle = open(path, "a+")  # held open until the process ends
+    try:
+        fcntl.flock(handle, fcntl.LOCK_EX | fcntl.LOCK_NB)
+    except BlockingIOError:
+        handle.seek(0)
+        holder = handle.read().strip() or "unknown"
+        handle.close()
+        raise RunLocked(
+            f"another qsm run is working in this directory (process {holder}); wait for it "
+            f"to end, or stop it, before starting one here ({path})"
+        ) from None
+    handle.truncate(0)
+    handle.write(str(os.getpid()))
+    handle.flush()
+    _HELD.append(handle)
+
+
+def holds_run_lock() -> bool:
+    """Whether this process holds the run lock."""
+    return bool(_HELD)
+
+
+def flat(config: Mapping[str, Any], prefix: str = "") -> dict[str, Any]:
+    """``config`` as dotted keys to JSON values (lists kept whole)."""
+    out: dict[str, Any] = {}
+    for key, value in config.items():
+        name = f"{prefix}{key}"
+        if isinstance(value, Mapping) and value:
+            out |= flat(value, name + ".")
+        else:
+            out[name] = value
+    return out
+
+
+def changed_keys(before: Mapping[str, Any], now: Mapping[str, Any]) -> list[str]:
+    """The dotted keys whose values differ between two configs, sorted."""
+    a, b = flat(before), flat(json.loads(json.dumps(now, default=str)))
+    return sorted(k for k in a.keys() | b.keys() if a.get(k) != b.get(k))
+
+
+def failed_rules(log_text: str) -> list[str]:
+    """The rules Snakemake's log says failed, in order, once each."""
+    return list(dict.fromkeys(re.findall(r"Error in rule (\w+):", log_text)))
+
+
+@dataclass(frozen=True)
+class Failure:
+    """A failed run: the ``rules`` that failed and the config ``changed`` keys since the last
+    good run (None: no record of its config)."""
+
+    rules: tuple[str, ...]
+    changed: tuple[str, ...] | None
+
+    def message(self, results: Path) -> str:
+        """What the console says."""
+        where = ", ".join(self.rules) or "a rule the log does not name"
+        if self.changed == ():
+            return (
+                f"qsm: the run failed in {where}; the config is the last good run's, so its "
+                f"results in {results} still describe it and stay as they are"
+            )
+        why = (
+            "no record of the last good run's config was found"
+            if self.changed is None
+            else "the config changed since the last good run (" + ", ".join(self.changed[:8])
+            + (", ..." if len(self.changed) > 8 else "") + ")"
+        )  # fmt: skip
+        return (
+            f"qsm: the run failed in {where}, and {why}: the design files, summary and datasheet "
+            f"in {results} are the last good run's, not this config's, and are marked NOT "
+            f"CURRENT ({results / MARKER}); a successful run replaces them"
+        )
+
+    def banner(self) -> str:
+        """The Markdown banner on a summary or datasheet."""
+        where = ", ".join(self.rules) or "a rule"
+        keys = "an unknown config" if self.changed is None else ", ".join(self.changed)
+        return (
+            f"{BANNER}: a later run failed in {where} after the config changed ({keys}); this "
+            "is the last good run's, for its own config.\n\n"
+        )
+
+
+def failure(results: Path, config: Mapping[str, Any], logs: Iterable[str]) -> Failure:
+    """The failed run's :class:`Failure`, from Snakemake's ``logs`` and the last good config."""
+    text = "".join(Path(p).read_text(errors="replace") for p in logs if Path(p).exists())
+    record = results / GOOD_CONFIG
+    changed = (
+        tuple(changed_keys(json.loads(record.read_text()), config)) if record.exists() else None
+    )
+    return Failure(tuple(failed_rules(text)), changed)
+
+
+def mark_not_current(results: Path, failed: Failure) -> None:
+    """Banner the last good run's summary and datasheet and write the marker beside its design
+    files (none where the config did not change), their modification times kept."""
+    if failed.changed == ():
+        return
+    for name in BANNERED:
+        path = results / name
+        if path.exists() and not path.read_text().startswith(BANNER):
+            _rewrite(path, failed.banner() + path.read_text())
+    for folder in MARKED:
+        if (results / folder).is_dir():
+            (results / folder / MARKER).write_text(failed.banner())
+
+
+def clear_marks(results: Path, config: Mapping[str, Any]) -> None:
+    """After a successful run: no banner, no marker, and its config recorded as the last good."""
+    for name in BANNERED:
+        path = results / name
+        if path.exists() and path.read_text().startswith(BANNER):
+            _rewrite(path, path.read_text().split("\n\n", 1)[1])
+    for folder in MARKED:
+        (results / folder / MARKER).unlink(missing_ok=True)
+    if results.is_dir():
+        text = json.dumps(config, default=str, sort_keys=True, allow_nan=False)
+        (results / GOOD_CONFIG).write_text(text)
+
+
+def _rewrite(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` keeping its modification time."""
+    stat = path.stat()
+    path.write_text(text)
+    os.utime(path, ns=(stat.st_atime_ns, stat.st_mtime_ns))

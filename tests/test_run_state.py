@@ -1,0 +1,112 @@
+"""What a run leaves a person (qsm.workflow.run_state): one run at a time in a directory, and a
+failed run's marks on the last good run's results where the config changed."""
+
+import json
+import os
+import subprocess
+import sys
+import time
+
+import pytest
+
+from qsm.workflow import run_state as rs
+
+LAST_GOOD = {"task": {"payload_kg": 5.0, "points": [[-0.6, 0.1], [-0.5, 0.1]]}, "seed": 1}
+LOG = """Error in rule cycle_time:
+    jobid: 3
+Error in rule cycle_time:
+Error in rule topology_optimize:
+"""
+
+
+def _results(tmp_path):
+    results = tmp_path / "results"
+    (results / "realization").mkdir(parents=True)
+    (results / "summary.md").write_text("# summary\n\n**Ready to build**\n")
+    (results / "datasheet.md").write_text("# datasheet\n")
+    os.utime(results / "summary.md", ns=(1_000_000_000, 1_000_000_000))
+    rs.clear_marks(results, LAST_GOOD)  # the last good run
+    return results
+
+
+def test_the_changed_keys_are_named_dotted():
+    now = {"task": {"payload_kg": 0.5, "points": [[-0.6, 0.1], [-0.5, 0.1]]}, "extra": {"a": 1}}
+    assert rs.changed_keys(LAST_GOOD, now) == ["extra.a", "seed", "task.payload_kg"]
+    assert rs.changed_keys(LAST_GOOD, LAST_GOOD) == []
+
+
+def test_the_failed_rules_come_from_snakemakes_log_once_each():
+    assert rs.failed_rules(LOG) == ["cycle_time", "topology_optimize"]
+    assert rs.failed_rules("Nothing to be done") == []
+
+
+def test_a_failure_after_a_config_change_marks_the_results_and_a_success_clears_them(tmp_path):
+    results = _results(tmp_path)
+    log = tmp_path / "run.log"
+    log.write_text(LOG)
+    mtime = (results / "summary.md").stat().st_mtime_ns
+    changed = LAST_GOOD | {"seed": 2}
+    failed = rs.failure(results, changed, [str(log)])
+    assert failed.changed == ("seed",)
+    rs.mark_not_current(results, failed)
+    summary = (results / "summary.md").read_text()
+    assert summary.startswith(rs.BANNER) and "cycle_time, topology_optimize" in summary
+    assert summary.endswith("# summary\n\n**Ready to build**\n")
+    assert (results / "summary.md").stat().st_mtime_ns == mtime  # nothing reruns for it
+    assert "(seed)" in (results / "realization" / rs.MARKER).read_text()
+    assert "the config changed since the last good run (seed)" in failed.message(results)
+    rs.mark_not_current(results, failed)  # twice: one banner
+    assert (results / "summary.md").read_text().count(rs.BANNER) == 1
+    rs.clear_marks(results, changed)
+    assert (results / "summary.md").read_text() == "# summary\n\n**Ready to build**\n"
+    assert not (results / rs.MARKER).exists()
+    assert not (results / "realization" / rs.MARKER).exists()
+    assert json.loads((results / rs.GOOD_CONFIG).read_text()) == changed
+
+
+def test_a_failure_with_the_same_config_leaves_the_results_unmarked(tmp_path):
+    results = _results(tmp_path)
+    failed = rs.failure(results, LAST_GOOD, [])
+    rs.mark_not_current(results, failed)
+    assert not (results / "summary.md").read_text().startswith(rs.BANNER)
+    assert not (results / rs.MARKER).exists()
+    message = failed.message(results)
+    assert "the config is the last good run's" in message and "still describe it" in message
+
+
+def test_without_a_record_of_the_last_good_config_the_results_are_marked(tmp_path):
+    results = _results(tmp_path)
+    (results / rs.GOOD_CONFIG).unlink()
+    failed = rs.failure(results, LAST_GOOD, [])
+    assert failed.changed is None
+    rs.mark_not_current(results, failed)
+    assert (results / "datasheet.md").read_text().startswith(rs.BANNER)
+    assert "no record of the last good run's config" in failed.message(results)
+
+
+def test_the_run_lock_refuses_a_second_process_and_frees_with_the_first(tmp_path):
+    lock = tmp_path / ".snakemake" / "qsm_run.lock"
+    holder = subprocess.Popen(
+        [sys.executable, "-c",
+         f"from qsm.workflow.run_state import hold_run_lock; import time\n"
+         f"hold_run_lock({str(lock)!r}); print('held', flush=True); time.sleep(30)"],
+        stdout=subprocess.PIPE, text=True,
+    )  # fmt: skip
+    try:
+        assert holder.stdout.readline().strip() == "held"
+        with pytest.raises(rs.RunLocked, match=f"another qsm run .*process {holder.pid}"):
+            rs.hold_run_lock(lock)
+        assert not rs.holds_run_lock()
+    finally:
+        holder.kill()
+        holder.wait()
+    deadline = time.monotonic() + 10
+    while True:  # the system frees the lock with the process
+        try:
+            rs.hold_run_lock(lock)
+            break
+        except rs.RunLocked:
+            assert time.monotonic() < deadline
+            time.sleep(0.1)
+    assert rs.holds_run_lock()
+    rs._HELD.pop().close()
