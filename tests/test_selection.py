@@ -6,7 +6,7 @@ import pandas as pd
 import pytest
 
 from qsm.dataset.columns import DRIVE_COLUMNS, STRENGTH_COLUMNS
-from qsm.embodiment.parts.printing import box_excess_mm
+from qsm.embodiment.parts.printing import box_excess_mm, smallest_build_volume
 from qsm.optimization.ranking import rule_scores
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
@@ -17,6 +17,7 @@ from qsm.realization.selection.choice import (
     choose_design,
     printing_advice,
 )
+from qsm.report.selection_record import _printing_failure
 
 CAD = CadSettings()
 PRINTER = (600.0, 350.0, 350.0)
@@ -201,3 +202,23 @@ def test_fastest_takes_the_shortest_cycle_and_the_knee_without_cycles():
     np.testing.assert_array_equal(rule_scores(table, "fastest"), [3.0, np.inf, 2.5])
     bare = table.drop(columns="time_optimal_cycle_s")
     np.testing.assert_array_equal(rule_scores(bare, "fastest"), rule_scores(bare, "knee"))
+
+
+@pytest.mark.parametrize("strong_exists", [True, False])
+def test_a_design_too_weak_gets_no_printer_of_its_own(strong_exists):
+    """Not printable and not strong: no printer size for this design (it would stay too weak),
+    only the smallest printer of a design that holds its loads, where one does; a design that
+    holds them gets its own scale and section too."""
+    advice = printing_advice(np.array(LARGE), CAD, PRINTER, Disk((-0.9, 0.1), 0.2))
+    pool = dataset([SMALL, LARGE], 1.0, utilization=[0.5 if strong_exists else 1.5, 1.5])
+    advice["smallest_over_designs"] = smallest_build_volume(pool, pool["holds_loads"], CAD)
+    weak = _printing_failure({"printing_advice": advice, "holds_loads": False}, CAD, PRINTER)
+    assert "at least 730 x" not in weak and "scaled by" not in weak
+    if strong_exists:
+        assert "would leave this design NOT STRONG ENOUGH" in weak
+        assert "a printer of at least 560 x" in weak  # SMALL's upper arm: 510 + 2 x 25 mm
+    else:
+        assert "no larger printer would help: none holds its loads" in weak
+        assert "a printer of at least" not in weak
+    held = _printing_failure({"printing_advice": advice, "holds_loads": True}, CAD, PRINTER)
+    assert "scaled by" in held and "thinner section" in held

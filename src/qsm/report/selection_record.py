@@ -72,18 +72,26 @@ def _strength_failure(
 def _printing_failure(
     record: Mapping[str, Any], cad: CadSettings, volume_mm: tuple[float, float, float]
 ) -> str:
-    """The not-printable verdict, from the record's ``printing_advice``."""
+    """The not-printable verdict, from the record's ``printing_advice``: for a design that
+    holds its loads, what would make it or another printable; for one that does not, only a
+    printer for a design that holds them (a printer alone would leave it too weak)."""
     advice = record["printing_advice"]
-    return (
-        "NOT PRINTABLE on the configured printer: no design of the fronts or the dataset "
-        + ("that holds its loads " if record["holds_loads"] else "")
-        + "fits it. What would change that: "
-        + "; ".join(
-            [
-                advice_sentence(advice["smallest_over_designs"], volume_mm),
-                *advice_sentences(advice, cad)[1:],
-            ]
+    head = "NOT PRINTABLE on the configured printer: no design of the fronts or the dataset "
+    if record["holds_loads"]:
+        fixes = [
+            advice_sentence(advice["smallest_over_designs"], volume_mm),
+            *advice_sentences(advice, cad)[1:],
+        ]
+        return head + "that holds its loads fits it. What would change that: " + "; ".join(fixes)
+    smallest = advice["smallest_over_designs"]
+    if smallest is None:
+        return (
+            head + "fits it, and no larger printer would help: none holds its loads, so a "
+            "printer alone would leave it NOT STRONG ENOUGH"
         )
+    return (
+        head + "fits it. A larger printer alone would leave this design NOT STRONG ENOUGH; "
+        "for one that holds its loads: " + advice_sentence(smallest, volume_mm)
     )
 
 

@@ -125,9 +125,8 @@ def chosen_machine(
         advice = printing_advice(record["design_m"], cad, volume_mm, disk)
         pool = candidate_pool(fronts, dataset)
         strong = pool["holds_loads"].astype(bool)
-        advice["smallest_over_designs"] = smallest_build_volume(
-            pool, strong if record["holds_loads"] else np.ones(len(pool), bool), cad
-        )
+        # a printer for a design that fails its strength fixes nothing: only strong designs
+        advice["smallest_over_designs"] = smallest_build_volume(pool, strong, cad)
         record["printing_advice"] = advice
     return record, done
 
