@@ -144,7 +144,7 @@ def _draw_link(ax: plt.Axes, name: str, part: LinkPart, d: np.ndarray) -> None:
     holes = len(part.polygon.interiors) - sum(b.diameter_m > 0 for b in part.bores)
     plural = "s" if holes > 1 else ""
     openings = (
-        f"; {holes} hole{plural} besides the joint bores (openings, hub screws)" if holes else ""
+        f"\n{holes} hole{plural} besides the joint bores (openings, hub screws)" if holes else ""
     )
     ax.set_title(
         f"{name}: section width {mm(part.section.width_m)} x thickness "
