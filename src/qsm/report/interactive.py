@@ -8,7 +8,8 @@ mass on the loop's duty) and, in a second legend group switched off at first, at
 (Stage 1 and the MuJoCo dynamics). Hovering a design shows its rank
 (:mod:`qsm.optimization.ranking`) with the command that exports it, its six lengths, NSGA-II's
 and the true objectives, whether it truly holds the task and whether it is printable. Designs
-that fail either check are drawn as crosses.
+that fail a check (the task, the printer, the strength, the drives) are drawn as crosses in the
+pairs and as open circles in 3D.
 """
 
 from __future__ import annotations
@@ -134,8 +135,9 @@ def front_figure(
         & _flag(verified, "holds_loads")
         & _flag(verified, "has_drives")
     )
-    symbol_3d = np.where(good, "circle", "x").tolist()
-    symbol_2d = np.where(good, "circle", "x-thin-open").tolist()
+    # 3D markers are drawn as font glyphs: "x" is an emoji that most fonts lack (an empty box)
+    symbol_3d = np.where(good, "circle", "circle-open").tolist()
+    symbol_2d = np.where(good, "circle", "x").tolist()
     colour = verified["scale_m"].to_numpy(float)
     fig = make_subplots(
         rows=3,
@@ -198,7 +200,8 @@ def _add_values(
         **marker,
         "size": 8 if which == 0 else 7,
         "symbol": symbol_2d if which == 0 else "diamond-open",
-        "line": {"width": 1.5 if which == 1 else 0.5},
+        # an outline keeps the colour scale's pale end visible on the light background
+        "line": {"width": 1.5} if which == 1 else {"width": 0.6, "color": "#333"},
     }
     for row, (i, j) in enumerate(PAIRS, start=1):
         trace = go.Scatter(x=values[i], y=values[j], showlegend=False, marker=flat, **common)
@@ -253,7 +256,7 @@ def _lay_out(
             "text": (
                 f"{front} front: {n} Pareto designs; {held} truly hold the task, {printable} "
                 f"printable, {strong} hold their loads, {driven} have drives, {n_good} all four "
-                "(crosses: not all)"
+                "(crosses, open in 3D: not all)"
                 + (f"<br><sup>constraints: {constraints}</sup>" if constraints else "")
             ),
             "font": {"size": 15},
