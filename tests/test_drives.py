@@ -14,7 +14,7 @@ from qsm.embodiment.drives.catalogue import (
 from qsm.embodiment.drives.selection import offer, select_drives
 from qsm.embodiment.drives.utilization import CHECKS, utilization
 from qsm.report.drive_text import shortfall
-from qsm.report.headline import drive_problems
+from qsm.report.readiness import drive_problems
 
 MOTORS = """key,manufacturer,ID,type,V,k_t,R,L,mass,inertia,omega_nl,I_nl,I_nom,max_int_torque,\
 max_int_speed,max_cont_speed,max_cont_power,source

@@ -146,7 +146,7 @@ def test_a_sized_export_builds_each_link_at_its_checked_section(tmp_path) -> Non
 def test_a_printed_part_too_large_for_the_printer_is_not_ready() -> None:
     """``printable`` is decided on the configured section; a part drawn larger (sized) that
     does not fit is named once, with its box."""
-    from qsm.report.headline import build_verdict
+    from qsm.report.readiness import build_verdict
 
     links = {key: {"holds": True} for key in LINK_NAMES}
     strength = {"links": links, "bearings": {}, "holds_loads": True}
@@ -178,7 +178,7 @@ def test_a_mesh_with_a_hole_is_mended_and_one_that_stays_open_is_not_ready() -> 
     """A box with one face removed is open; trimesh's repairs close it. A printed part whose
     mesh stays open makes the run NOT READY, naming the part."""
     from qsm.realization.selection.outputs import watertight
-    from qsm.report.headline import build_verdict
+    from qsm.report.readiness import build_verdict
 
     box = trimesh.creation.box((1.0, 2.0, 3.0))
     box.update_faces(np.arange(1, len(box.faces)))

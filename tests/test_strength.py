@@ -280,7 +280,7 @@ def test_peak_joint_forces_and_their_poses(duty):
 def test_a_joint_without_a_bearing_is_not_ready_to_build():
     """The headline's verdict names a joint whose load no bearing carries, even when every
     link holds."""
-    from qsm.report.headline import build_verdict
+    from qsm.report.readiness import build_verdict
 
     link = {"holds": True}
     strength = {
@@ -303,7 +303,7 @@ def test_parts_drawn_at_another_section_than_the_checked_one_are_not_ready():
     """Each link's part must be drawn at the section (width x thickness) its strength was checked
     with, link by link (sized sections differ per link): ready when every link matches, not ready
     with both numbers when one does not."""
-    from qsm.report.headline import build_verdict
+    from qsm.report.readiness import build_verdict
 
     checked = {
         "lower_arm": [40.0, 20.0],
@@ -330,7 +330,7 @@ def test_parts_drawn_at_another_section_than_the_checked_one_are_not_ready():
 def test_a_link_that_fails_by_another_check_than_its_stress_is_named_with_that_check():
     """A link can fail by its bearing seat while its peak stress is within the allowable: the
     strength record marks it as not holding, and the verdict names the check and its use."""
-    from qsm.report.headline import build_verdict
+    from qsm.report.readiness import build_verdict
 
     ok = {"holds": True, "stress_peak_MPa": 9.0, "allowable_MPa": 15.5}
     strength = {

@@ -123,6 +123,9 @@ def assert_one_machine(work: Path) -> None:
         assert f"| placing error | {worst:.2f} mm worst" in datasheet
     verdict = summary.split("\n\n")[1]
     assert verdict.startswith("**") and verdict.split("\n")[0] in datasheet
+    if "What fails, worst first:" in summary:  # the same lines head both, each with its ratio
+        lines = summary.split("What fails, worst first:\n\n")[1].split("\n\n")[0]
+        assert lines in datasheet and lines.startswith("1. ")
     _assert_sized_as_printed(real, selected, machine, topology, kit, datasheet)
 
 

@@ -9,8 +9,9 @@ from qsm.physics.workspace import operating_reach
 from qsm.realization.kit.kit_hardware import mass_kg, moving_mass_kg
 from qsm.report.datasheet import datasheet_markdown
 from qsm.report.envelope_figure import envelope_figure
-from qsm.report.headline import headline_markdown, verdict_sentence
+from qsm.report.headline import headline_markdown
 from qsm.report.kit_report import kit_markdown
+from qsm.report.readiness import failures, verdict_lines, verdict_sentence
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table
 
@@ -30,7 +31,8 @@ with logged(snakemake.log[0]) as log:
     text += "\n" + kit_markdown(kit)
     with open(out.summary, "w") as fh:
         fh.write(text)
-    verdict = verdict_sentence(loaded["selected"], loaded["topology"], loaded["payload"])
+    records = (loaded["selected"], loaded["topology"], loaded["payload"])
+    verdict = (verdict_sentence(*records), verdict_lines(failures(*records)))
     params = snakemake.params
     reach = operating_reach(
         loaded["selected"]["design_m"], params.theta1_deg, params.theta2_min_deg

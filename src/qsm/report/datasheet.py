@@ -287,12 +287,13 @@ def datasheet_markdown(
     selected: Mapping[str, Any],
     bom: pd.DataFrame,
     density_kg_m3: float,
-    verdict: str,
+    verdict: tuple[str, list[str]],
     reach: Reach,
     hardware_kg: tuple[float, float],
 ) -> str:
     """The datasheet page (Markdown) of the realised design ``selected`` with its ``bom`` and
-    the printed material's density (kg/m^3); ``verdict`` is the run's overall sentence,
+    the printed material's density (kg/m^3); ``verdict`` is the run's overall sentence and the
+    lines of what fails (:mod:`qsm.report.readiness`),
     ``reach`` the tool's within the operating range
     (:func:`qsm.physics.workspace.operating_reach`) and ``hardware_kg`` the bearings' and
     fasteners' mass, all and moving (:func:`qsm.realization.kit.kit_hardware.mass_kg`,
@@ -311,8 +312,9 @@ def datasheet_markdown(
         [
             "# Datasheet of the realised design",
             "",
-            f"**{verdict}**",
+            f"**{verdict[0]}**",
             "",
+            *verdict[1],
             "| quantity | value |",
             "| --- | --- |",
             *_machine_rows(selected, bom, reach, hardware_kg),

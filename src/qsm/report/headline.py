@@ -7,20 +7,18 @@ from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pandas as pd
 
-from qsm.embodiment.parts.printing import box_fits
-from qsm.report.accuracy_report import accuracy_lines, repeatability_problem
-from qsm.report.cycle_report import cycle_lines, cycle_problems
-from qsm.report.drive_text import shortfall, use_text
+from qsm.report.accuracy_report import accuracy_lines
+from qsm.report.cycle_report import cycle_lines
+from qsm.report.drive_text import use_text
 from qsm.report.headline_tables import (
     drive_failures,
     drive_rows,
-    factor_text,
     strength_rows,
     topology_rows,
 )
+from qsm.report.readiness import failures, verdict_lines, verdict_sentence
 
 
 def _pct(x: float) -> str:
@@ -34,148 +32,6 @@ def _drive_mass(kg: float | None) -> str:
 
 def _ratio(counts: Mapping[str, Any]) -> float:
     return counts["hold_loads"] / counts["with_dynamics"] if counts["with_dynamics"] else 0.0
-
-
-def build_verdict(
-    selected: Mapping[str, Any], topology: Mapping[str, Any], payload: Mapping[str, Any]
-) -> tuple[bool, list[str]]:
-    """Whether the realised design is ready to build, and each reason it is not (with the
-    run's numbers): not printable, a solid link, a joint bearing or a printed plate that does not
-    hold its loads, a part drawn at another section (width x thickness) than the one its
-    strength was checked with, a printed part (as drawn) too large for the printer, a motor
-    without a drive, a failed payload test, an accuracy budget past the tolerance, a cycle that
-    fails its checks, a part of the builder's kit (pins, hubs, base, tool flange) that does not
-    hold, a repeatability past the task's."""
-    problems = []
-    if not selected["printable"]:
-        problems.append(_not_printable(selected))
-    problems += _strength_problems(selected["strength"])
-    drawn = topology.get("parts", {}).get("section_mm", {})
-    for link, r in selected["strength"]["links"].items():
-        checked, built = [r.get("width_mm"), r.get("thickness_mm")], drawn.get(link)
-        if built and None not in checked and not np.allclose(checked, built, rtol=1e-6):
-            problems.append(
-                f"the {link.replace('_', ' ')} was checked with the section "
-                f"{checked[0]:.1f} x {checked[1]:.1f} mm, but its part, drawing and BOM are "
-                f"drawn at {built[0]:.1f} x {built[1]:.1f} mm"
-            )
-    for link, r in topology.get("parts", {}).get("printer", {}).items():
-        if not r["watertight"]:
-            problems.append(
-                f"the {link.replace('_', ' ')}'s STL is not watertight after trimesh's repairs: "
-                "a slicer may not print it as drawn"
-            )
-    if selected["printable"]:  # checked on the configured section: the parts as drawn too
-        for link, r in topology.get("parts", {}).get("printer", {}).items():
-            if not r["fits"]:
-                problems.append(
-                    f"the printed {link.replace('_', ' ')} "
-                    f"({' x '.join(f'{v:.1f}' for v in r['box_mm'])} mm) does not fit the printer"
-                )
-    for link, r in topology["links"].items():
-        if not r["carries_loads"]:
-            problems.append(
-                f"the printed {link.replace('_', ' ')} plate reaches "
-                f"{r['max_von_mises_after_MPa']:.1f} MPa in the FE check, "
-                f"{r['allowable_stress_MPa']:.1f} MPa allowed"
-            )
-    problems += drive_problems(selected.get("drives", {}).get("motors", {}))
-    if not payload["passed"]:
-        problems.append(
-            f"the payload test failed (max tracking error {payload['max_tracking_error_deg']:.3f}"
-            " deg)"
-        )
-    budget = selected.get("stiffness")
-    if budget is not None and not budget["meets_requirements"]:
-        problems.append(budget["verdict"])
-    if rp := repeatability_problem(selected.get("iso9283")):
-        problems.append(rp)
-    problems += cycle_problems(selected.get("cycle"))
-    kit = topology.get("parts", {}).get("kit")
-    if kit is not None and not kit["holds"]:
-        problems += [f"the builder's kit: {p}" for p in kit["problems"]]
-    return not problems, problems
-
-
-def _not_printable(selected: Mapping[str, Any]) -> str:
-    """The verdict's line for a design that does not print: each link whose box (mm) does not
-    fit the printer's build volume, with both."""
-    volume = selected["printer_volume_mm"]
-    over = [
-        f"the {name.replace('_', ' ')} ({' x '.join(f'{v:.0f}' for v in box)} mm)"
-        for name, box in selected["printer_box_mm"].items()
-        if not box_fits(box, volume)
-    ]
-    where = f"the printer's {' x '.join(f'{v:g}' for v in volume)} mm build volume"
-    return f"not printable: {', '.join(over)} {'does' if len(over) == 1 else 'do'} not fit {where}"
-
-
-def _strength_problems(strength: Mapping[str, Any]) -> list[str]:
-    """The verdict's lines for the links and bearings of a strength record that do not hold;
-    one for the check as a whole where it fails and no line names a link or a bearing."""
-    problems = []
-    for link, r in strength["links"].items():
-        if not r["holds"] and link == strength["weakest_link"]:
-            problems.append(
-                f"the {link.replace('_', ' ')} does not hold its loads: its "
-                f"{strength['weakest_check']} is at {strength['utilisation']:.2f} of what it may "
-                f"take ({r['stress_peak_MPa']:.1f} MPa peak stress, {r['allowable_MPa']:.1f} MPa "
-                f"allowed)"
-            )
-        elif not r["holds"]:
-            problems.append(
-                f"the {link.replace('_', ' ')} does not hold its loads "
-                f"({r['stress_peak_MPa']:.1f} MPa, {r['allowable_MPa']:.1f} MPa allowed; "
-                f"buckling factor {factor_text(r['buckling_factor'])}, "
-                f"{r['required_buckling_factor']:g} required)"
-            )
-    for joint, b in strength.get("bearings", {}).items():
-        if not b["designation"]:
-            problems.append(
-                f"no bearing of the catalogue fits joint {joint} ({b['peak_force_N']:.0f} N peak, "
-                f"static safety {strength['required_bearing_safety']:g} required, within the boss)"
-            )
-    if not strength["holds_loads"] and not problems:
-        problems.append(
-            f"the strength check fails: the {strength['weakest_link'].replace('_', ' ')}'s "
-            f"{strength['weakest_check']} is at {strength['utilisation']:.2f} of what it may "
-            "take (at most 1)"
-        )
-    return problems
-
-
-def drive_problems(motors: Mapping[str, Any]) -> list[str]:
-    """One verdict line per motor of a drive report's ``motors`` without a drive: why its
-    nearest drive does not do, with its number."""
-    return [
-        f"motor {key.removeprefix('motor')} ({m['drives']}) has no drive in the catalogue "
-        f"(the nearest {shortfall(m)})"
-        for key, m in motors.items()
-        if not m["has_drive"]
-    ]
-
-
-def verdict_sentence(
-    selected: Mapping[str, Any], topology: Mapping[str, Any], payload: Mapping[str, Any]
-) -> str:
-    """The run's overall verdict: ready to build, with its accuracy, or each reason it is not
-    (:func:`build_verdict`)."""
-    ready, problems = build_verdict(selected, topology, payload)
-    if ready:
-        return (
-            "Ready to build: printable, every part holds its loads, each motor has a drive, "
-            "payload test passed, " + _accuracy_clause(selected) + "."
-        )
-    return "NOT READY TO BUILD: " + "; ".join(problems) + "."
-
-
-def _accuracy_clause(selected: Mapping[str, Any]) -> str:
-    """The ready verdict's accuracy clause, with the run's numbers."""
-    worst = selected["stiffness"]["worst"]
-    return (
-        f"placing error at most {worst['error_budget_mm']:.1f} mm "
-        f"(tolerance {selected['stiffness']['tolerance_mm']:g} mm)"
-    )
 
 
 def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom: str) -> list[str]:
@@ -253,6 +109,7 @@ def headline_markdown(
         "",
         "**" + verdict_sentence(selected, topology, payload) + "**",
         "",
+        *verdict_lines(failures(selected, topology, payload)),
         *_mirror_lines(selected.get("task", {})),
         *_build_section(selected, topology, bom),
         *accuracy_lines(selected.get("stiffness")),

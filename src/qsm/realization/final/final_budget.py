@@ -137,7 +137,9 @@ def final_record(
     record = dict(choice)
     if cycle is not None:
         record["cycle"] = dict(cycle)
-    budget["would_meet"] = sizing_note(done.accuracy, budget) + budget["would_meet"]
+    note = sizing_note(done.accuracy, budget)
+    budget["would_meet"] = note + budget["would_meet"]
+    budget["sizing_note"] = note  # the first of would_meet that says what the sizing did
     record["stiffness"] = budget | {"built_for_tolerance": done.accuracy.record()}
     if iso is not None:
         mirrored = bool(choice.get("task", {}).get("mirrored", False))

@@ -1,0 +1,50 @@
+"""The verdict that leads (qsm.report.readiness): one line per failed check, worst first by how
+far past its limit, each with its number and the run's own fix; one bold line ahead of them."""
+
+from qsm.physics.kinematics import LINK_NAMES
+from qsm.report.readiness import failures, verdict_lines, verdict_sentence
+
+FIX = "a stiffer gearbox on motor 1: 32,000 N m/rad or more"
+
+
+def _record(error_mm=10.4, utilisation=1.12, drive=False):
+    """A design 10.4 mm from a 5 mm tolerance, its coupler at 1.12 of its strength, motor 2
+    without a drive."""
+    ok = {"holds": True}
+    weak = {"holds": False, "stress_peak_MPa": 17.4, "allowable_MPa": 15.5}
+    links = dict.fromkeys(LINK_NAMES, ok) | ({"coupler": weak} if utilisation > 1 else {})
+    strength = {"links": links, "bearings": {}, "holds_loads": utilisation <= 1,
+                "utilisation": utilisation, "weakest_link": "coupler",
+                "weakest_check": "stress"}  # fmt: skip
+    budget = {"meets_requirements": error_mm <= 5.0, "tolerance_mm": 5.0,
+              "worst": {"error_budget_mm": error_mm}, "would_meet": [FIX],
+              "verdict": f"NOT STIFF ENOUGH: the error reaches {error_mm:.2f} mm"}  # fmt: skip
+    motors = {"motor2": {"has_drive": drive, "drives": "crank", "failing": {"peak": 0.3}}}
+    return {"printable": True, "strength": strength, "stiffness": budget,
+            "drives": {"motors": motors}}  # fmt: skip
+
+
+def test_the_failed_checks_come_worst_first_with_their_numbers_and_fixes():
+    found = failures(_record(), {"links": {}}, {"passed": True})
+    assert [f.ratio for f in found][:2] == [10.4 / 5.0, 1.12]
+    assert found[0].text.startswith("NOT STIFF ENOUGH") and found[0].fix == FIX
+    assert found[1].text.startswith("the coupler does not hold its loads")
+    assert found[2].text.startswith("motor 2 (crank) has no drive") and found[2].ratio is None
+    lines = verdict_lines(found)
+    assert lines[2] == f"1. {found[0].text} (2.08 times its limit). What would meet it: {FIX}."
+    assert lines[3].startswith("2. the coupler") and "(1.12 times its limit)." in lines[3]
+    sentence = verdict_sentence(_record(), {"links": {}}, {"passed": True})
+    assert sentence.startswith("NOT READY TO BUILD: 3 checks fail; the worst: NOT STIFF ENOUGH")
+
+
+def test_a_stronger_failure_leads_when_it_is_further_past_its_limit():
+    found = failures(_record(error_mm=5.5, utilisation=1.4), {"links": {}}, {"passed": True})
+    assert [f.ratio for f in found][:2] == [1.4, 5.5 / 5.0]
+
+
+def test_a_ready_design_has_one_line_and_no_list():
+    record = _record(error_mm=4.0, utilisation=0.8, drive=True)
+    assert failures(record, {"links": {}}, {"passed": True}) == []
+    assert verdict_lines([]) == []
+    sentence = verdict_sentence(record, {"links": {}}, {"passed": True})
+    assert sentence.startswith("Ready to build") and "at most 4.0 mm (tolerance 5 mm)" in sentence
