@@ -110,3 +110,13 @@ def test_the_run_lock_refuses_a_second_process_and_frees_with_the_first(tmp_path
             time.sleep(0.1)
     assert rs.holds_run_lock()
     rs._HELD.pop().close()
+
+
+def test_a_first_run_that_fails_marks_nothing_and_says_there_is_nothing_earlier(tmp_path):
+    results = tmp_path / "results"
+    (results / "realization").mkdir(parents=True)
+    failed = rs.failure(results, LAST_GOOD, [])
+    assert not failed.earlier
+    rs.mark_not_current(results, failed)
+    assert not (results / rs.MARKER).exists()
+    assert "no earlier run left results" in failed.message(results)

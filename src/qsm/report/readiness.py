@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from qsm.embodiment.parts.printing import advice_sentence, box_fits
+from qsm.realization.selection.choice import printer_sentence
 from qsm.report.accuracy_report import repeatability_problem
 from qsm.report.cycle_report import cycle_problems
 from qsm.report.drive_text import shortfall
@@ -110,8 +111,11 @@ def _printer_failures(selected: Mapping[str, Any], topology: Mapping[str, Any]) 
         over = [f"the {n.replace('_', ' ')} ({' x '.join(f'{v:.0f}' for v in b)} mm)"
                 for n, b in boxes.items() if not box_fits(b, volume)]  # fmt: skip
         where = f"the printer's {' x '.join(f'{v:g}' for v in selected['printer_volume_mm'])} mm"
-        smallest = (selected.get("printing_advice") or {}).get("smallest_over_designs")
+        advice = selected.get("printing_advice") or {}
+        smallest = advice.get("smallest_over_designs")
         fix = None if smallest is None else advice_sentence(smallest, volume)
+        if fix is None and selected["holds_loads"] and "needed_volume_mm" in advice:
+            fix = printer_sentence(advice)  # this design, as realised, on a larger printer
         return [Failure(
             f"not printable: {', '.join(over)} {'does' if len(over) == 1 else 'do'} not fit "
             f"{where} build volume", _box_ratio(boxes.values(), volume), fix,

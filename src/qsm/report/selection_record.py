@@ -20,7 +20,7 @@ from qsm.embodiment.strength.verdict import strength_verdict
 from qsm.physics.cad import CadSettings
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import OperatingRange
-from qsm.realization.selection.choice import advice_sentences
+from qsm.realization.selection.choice import advice_sentences, printer_sentence
 from qsm.report.drive_text import drive_sentences
 from qsm.report.figures import draw_design
 
@@ -77,11 +77,10 @@ def _printing_failure(
     printer for a design that holds them (a printer alone would leave it too weak)."""
     advice = record["printing_advice"]
     head = "NOT PRINTABLE on the configured printer: no design of the fronts or the dataset "
-    if record["holds_loads"]:
-        fixes = [
-            advice_sentence(advice["smallest_over_designs"], volume_mm),
-            *advice_sentences(advice, cad)[1:],
-        ]
+    if record["holds_loads"]:  # the smallest printer of a strong design, else its own
+        smallest = advice["smallest_over_designs"]
+        first = advice_sentence(smallest, volume_mm) if smallest else printer_sentence(advice)
+        fixes = [first, *advice_sentences(advice, cad)[1:]]
         return head + "that holds its loads fits it. What would change that: " + "; ".join(fixes)
     smallest = advice["smallest_over_designs"]
     if smallest is None:

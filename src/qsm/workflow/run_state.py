@@ -90,15 +90,19 @@ def failed_rules(log_text: str) -> list[str]:
 
 @dataclass(frozen=True)
 class Failure:
-    """A failed run: the ``rules`` that failed and the config ``changed`` keys since the last
-    good run (None: no record of its config)."""
+    """A failed run: the ``rules`` that failed, the config ``changed`` keys since the last
+    good run (None: no record of its config) and whether an ``earlier`` run left results (a
+    summary or a recorded config)."""
 
     rules: tuple[str, ...]
     changed: tuple[str, ...] | None
+    earlier: bool = True
 
     def message(self, results: Path) -> str:
         """What the console says."""
         where = ", ".join(self.rules) or "a rule the log does not name"
+        if not self.earlier:
+            return f"qsm: the run failed in {where}; no earlier run left results in {results}"
         if self.changed == ():
             return (
                 f"qsm: the run failed in {where}; the config is the last good run's, so its "
@@ -133,13 +137,14 @@ def failure(results: Path, config: Mapping[str, Any], logs: Iterable[str]) -> Fa
     changed = (
         tuple(changed_keys(json.loads(record.read_text()), config)) if record.exists() else None
     )
-    return Failure(tuple(failed_rules(text)), changed)
+    earlier = record.exists() or (results / BANNERED[0]).exists()
+    return Failure(tuple(failed_rules(text)), changed, earlier)
 
 
 def mark_not_current(results: Path, failed: Failure) -> None:
     """Banner the last good run's summary and datasheet and write the marker beside its design
     files (none where the config did not change), their modification times kept."""
-    if failed.changed == ():
+    if failed.changed == () or not failed.earlier:
         return
     for name in BANNERED:
         path = results / name

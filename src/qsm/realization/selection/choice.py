@@ -283,11 +283,17 @@ def _largest(fits: Callable[[float], bool], lo: float, hi: float) -> float | Non
     return lo
 
 
-def advice_sentences(advice: Mapping[str, Any], cad: CadSettings) -> list[str]:
-    """The advice as plain sentences, every number from ``advice``."""
+def printer_sentence(advice: Mapping[str, Any]) -> str:
+    """The printer this design needs (``advice``'s ``needed_volume_mm``, whole mm up) against
+    the configured one."""
     need = " x ".join(f"{math.ceil(v - 1e-6)}" for v in advice["needed_volume_mm"])
     have = " x ".join(f"{v:g}" for v in advice["build_volume_mm"])
-    lines = [f"a printer of at least {need} mm (configured: {have} mm)"]
+    return f"a printer of at least {need} mm (configured: {have} mm)"
+
+
+def advice_sentences(advice: Mapping[str, Any], cad: CadSettings) -> list[str]:
+    """The advice as plain sentences, every number from ``advice``."""
+    lines = [printer_sentence(advice)]
     k = advice.get("scale_factor")
     if k is not None:
         lines.append(

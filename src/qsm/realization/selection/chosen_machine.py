@@ -123,6 +123,8 @@ def chosen_machine(
         record["strength_advice"] = strength_advice(record["design_m"], carried)
     if not how["printable"]:
         advice = printing_advice(record["design_m"], cad, volume_mm, disk)
+        boxes = np.sort(np.asarray(list(record["printer_box_mm"].values())), axis=1)[:, ::-1]
+        advice["needed_volume_mm"] = boxes.max(axis=0).tolist()  # its links as realised
         pool = candidate_pool(fronts, dataset)
         strong = pool["holds_loads"].astype(bool)
         # a printer for a design that fails its strength fixes nothing: only strong designs
