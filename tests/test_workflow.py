@@ -285,7 +285,8 @@ def test_the_cycle_is_within_the_drives_and_no_faster_than_their_top_speeds(run)
     moves = sum(m["time_s"] for m in cycle["moves"])
     assert cycle["cycle_time_s"] == pytest.approx(moves + sum(cycle["dwells_s"]), abs=1e-9)
     for m in cycle["moves"]:
-        assert (np.asarray(m["peak_jerk_rad_s3"]) <= np.asarray(m["jerk_limit_rad_s3"])).all()
+        peak, limit = np.asarray(m["peak_jerk_rad_s3"]), np.asarray(m["jerk_limit_rad_s3"])
+        assert (peak <= limit * (1 + 1e-9)).all()  # the ramps as run reach it, to rounding
 
 
 def test_each_front_design_s_cycle_is_no_faster_than_its_drives_top_speeds(run):

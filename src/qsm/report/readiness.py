@@ -114,7 +114,7 @@ def _printer_failures(selected: Mapping[str, Any], topology: Mapping[str, Any]) 
         advice = selected.get("printing_advice") or {}
         smallest = advice.get("smallest_over_designs")
         fix = None if smallest is None else advice_sentence(smallest, volume)
-        if fix is None and selected["holds_loads"] and "needed_volume_mm" in advice:
+        if fix is None and selected["strength"]["holds_loads"] and "needed_volume_mm" in advice:
             fix = printer_sentence(advice)  # this design, as realised, on a larger printer
         return [Failure(
             f"not printable: {', '.join(over)} {'does' if len(over) == 1 else 'do'} not fit "
