@@ -255,10 +255,12 @@ def checked_cycle(
         cycle = timed(left[0].factor, left[0].jerk_time_s)
         cycle, arrivals = (cycle, ()) if settling is None else settled(cycle, settling)
         sim = _simulated(done, props, arm, points, test, cycle)
-        if sim["passed"] or len(left) == 1:
+        if sim["passed"]:
             break
         last = f"MuJoCo's run at {cycle.factor:g}x: {sim['reason']}"
-        left = _slower(left, left[0]) or left[:1]
+        if not (slower := _slower(left, left[0])):
+            break  # the slowest failed too: kept
+        left = slower
     util = link_utilisation(cycle, done, arm.payload_kg)
     # what stands at the speed kept: the kinds that even the slowest does not meet
     problems = _problems(cycle, arm, done, drives)
