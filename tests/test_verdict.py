@@ -48,3 +48,16 @@ def test_a_ready_design_has_one_line_and_no_list():
     assert verdict_lines([]) == []
     sentence = verdict_sentence(record, {"links": {}}, {"passed": True})
     assert sentence.startswith("Ready to build") and "at most 4.0 mm (tolerance 5 mm)" in sentence
+
+
+def test_a_first_mode_too_low_or_a_saturated_drive_is_not_ranked_below_its_limit():
+    """A budget within its tolerance that fails on the first mode is ranked by the required
+    mode over the arm's (12 / 8 Hz); a payload test within its tracking tolerance that failed
+    on its drives has no ratio, not one below 1."""
+    record = _record(error_mm=4.0, utilisation=0.8, drive=True)
+    record["stiffness"] |= {"meets_requirements": False, "min_first_mode_hz": 12.0,
+                            "worst": {"error_budget_mm": 4.0, "first_mode_hz": 8.0}}  # fmt: skip
+    payload = {"passed": False, "max_tracking_error_deg": 0.2, "tracking_tolerance_deg": 0.5,
+               "reason": "requested torque exceeds the drives' envelopes"}  # fmt: skip
+    found = failures(record, {"links": {}}, payload)
+    assert [f.ratio for f in found] == [1.5, None]

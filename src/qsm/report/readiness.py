@@ -147,6 +147,8 @@ def _strength_failures(strength: Mapping[str, Any]) -> list[Failure]:
         if r["holds"]:
             continue
         ratio = r["stress_peak_MPa"] / r["allowable_MPa"]
+        if r.get("buckling_factor"):  # the buckling factor's shortfall where it is larger
+            ratio = max(ratio, r["required_buckling_factor"] / r["buckling_factor"])
         if link == strength["weakest_link"]:
             found.append(Failure(
                 f"the {link.replace('_', ' ')} does not hold its loads: its "
@@ -226,9 +228,9 @@ def _payload_failures(payload: Mapping[str, Any]) -> list[Failure]:
     against = "" if limit is None else f", {limit:g} deg allowed"
     reason = payload.get("reason")
     why = f": {reason}" if reason and reason != "ok" else ""
+    ratio = error / limit if limit and error > limit else None  # else it failed on its drives
     return [Failure(
-        f"the payload test failed (max tracking error {error:.3f} deg{against}){why}",
-        None if not limit else error / limit,
+        f"the payload test failed (max tracking error {error:.3f} deg{against}){why}", ratio,
     )]  # fmt: skip
 
 
@@ -238,12 +240,21 @@ def _accuracy_failures(selected: Mapping[str, Any]) -> list[Failure]:
     found = []
     budget = selected.get("stiffness")
     if budget is not None and not budget["meets_requirements"]:
-        worst = budget["worst"]["error_budget_mm"]
         note = budget.get("sizing_note") or []  # what the sizing did: no change to make
         fixes = [w for w in budget.get("would_meet") or [] if w not in note]
-        found.append(Failure(budget["verdict"], worst / budget["tolerance_mm"],
-                             fixes[0] if fixes else None))  # fmt: skip
+        found.append(Failure(budget["verdict"], _budget_ratio(budget), fixes[0] if fixes else None))
     if rp := repeatability_problem(selected.get("iso9283")):
         iso = selected["iso9283"]
         found.append(Failure(rp, iso["rp_mm"][iso["worst_point"] - 1] / iso["repeatability_mm"]))
     return found
+
+
+def _budget_ratio(budget: Mapping[str, Any]) -> float | None:
+    """How far a failed budget is past its limit: the placing error over the tolerance, else
+    (a first mode too low) the required mode over the arm's; None where neither is past."""
+    worst = budget["worst"]
+    ratios = [worst["error_budget_mm"] / budget["tolerance_mm"]]
+    wanted, mode = budget.get("min_first_mode_hz"), worst.get("first_mode_hz")
+    if wanted and mode:
+        ratios.append(wanted / mode)
+    return max(ratios) if max(ratios) > 1.0 else None

@@ -192,8 +192,8 @@ def fastest(
     """The timings (slow-down in ``factors``, jerk time in ``jerk_times_s``; ``timed`` gives
     each cycle) by their cycle time, fastest first, each stop dwelling until it settles by the
     single-mode check: more slowing rings less, a longer ramp rings less, and both lengthen the
-    moves. A timing at another jerk time than the first is left out where not ``within`` the
-    tolerance's load (the first is, at every factor). Where the ``settling`` check
+    moves. A timing at another jerk time than the first is left out where not ``within`` what
+    the cycle must meet (the first is, at every factor). Where the ``settling`` check
     cannot weigh them (none, or static terms that alone miss the tolerance): the first jerk
     time only, at each slow-down, least first."""
     weighs = settling is not None and settling.allowed_m > 0.0
@@ -249,8 +249,8 @@ def checked_cycle(
     while fixable := _fixable(timed(factors[0]), arm, done, drives, slowest):  # never the last
         last = fixable[0]
         factors.pop(0)
-    within = lambda c: max_load_N is None or peak_load_N(c, arm) <= max_load_N  # noqa: E731
-    choices = left = fastest(timed, factors, jerk_times_s, settling, within)
+    meets = _meets(max_load_N, arm, (done, drives), slowest)
+    choices = left = fastest(timed, factors, jerk_times_s, settling, meets)
     while True:
         cycle = timed(left[0].factor, left[0].jerk_time_s)
         cycle, arrivals = (cycle, ()) if settling is None else settled(cycle, settling)
@@ -262,13 +262,31 @@ def checked_cycle(
             break  # the slowest failed too: kept
         left = slower
     util = link_utilisation(cycle, done, arm.payload_kg)
-    # what stands at the speed kept: the kinds that even the slowest does not meet
-    problems = _problems(cycle, arm, done, drives)
-    unfixable = [f"{p} (not met at {slowest_factor:g}x either)" for p in problems.values()]
+    problems = _problems(cycle, arm, done, drives)  # what stands: what even the slowest fails
+    unfixable = [f"{p} (not met at {slowest_factor:g}x either)" for k, p in problems.items()
+                 if k in slowest]  # fmt: skip
     slower = [last] if cycle.factor > start and last else []
     notes = first + slower + _settling_note(choices, left[0]) + unfixable
     optimal = timed(1.0, left[0].jerk_time_s)
     return CheckedCycle(cycle, optimal, util, sim, notes, arrivals, choices)
+
+
+def _meets(
+    max_load_N: float | None,
+    arm: Arm,
+    checked: tuple[Realization, DriveArrays],
+    slowest: dict[str, str],
+) -> Callable[[Cycle], bool]:
+    """Whether a timing is within the tolerance's load (``max_load_N``, N; None: any) and fails
+    nothing (strength, heat; ``checked``: the realisation and its drives) that the ``slowest``
+    cycle meets."""
+    done, drives = checked
+
+    def meets(cycle: Cycle) -> bool:
+        load = max_load_N is None or peak_load_N(cycle, arm) <= max_load_N
+        return load and not _fixable(cycle, arm, done, drives, slowest)
+
+    return meets
 
 
 def _fixable(
