@@ -25,7 +25,7 @@ def _results(tmp_path):
     (results / "summary.md").write_text("# summary\n\n**Ready to build**\n")
     (results / "datasheet.md").write_text("# datasheet\n")
     os.utime(results / "summary.md", ns=(1_000_000_000, 1_000_000_000))
-    rs.clear_marks(results, LAST_GOOD)  # the last good run
+    rs.clear_marks(results, LAST_GOOD, 0.0)  # the last good run
     return results
 
 
@@ -57,7 +57,9 @@ def test_a_failure_after_a_config_change_marks_the_results_and_a_success_clears_
     assert "the config changed since the last good run (seed)" in failed.message(results)
     rs.mark_not_current(results, failed)  # twice: one banner
     assert (results / "summary.md").read_text().count(rs.BANNER) == 1
-    rs.clear_marks(results, changed)
+    rs.clear_marks(results, changed, time.time() + 60)  # a run of one rule: kept
+    assert (results / "summary.md").read_text().startswith(rs.BANNER)
+    rs.clear_marks(results, changed, 0.0)  # a run that wrote the summary
     assert (results / "summary.md").read_text() == "# summary\n\n**Ready to build**\n"
     assert not (results / rs.MARKER).exists()
     assert not (results / "realization" / rs.MARKER).exists()

@@ -13,10 +13,11 @@ from qsm.embodiment.strength.loads import Inertials
 from qsm.physics.batch_mass import batch_mass_properties
 from qsm.physics.cad import DEFAULT_CAD
 from qsm.realization.accuracy.accuracy_budget import ArmModel
-from qsm.realization.final.cycle_check import fastest
+from qsm.realization.final.cycle_check import CheckedCycle, SpeedChoice, fastest
 from qsm.realization.final.settling import Settling, amplitude_m, mode_at, response, settled
 from qsm.realization.motion.cycle import (
     Arm,
+    Cycle,
     jerk_limited_cycle,
     move_jerk,
     plan_cycle,
@@ -112,3 +113,17 @@ def test_a_slowed_cycle_ramps_as_long_as_it_states(case, factor):
         jerk = move_jerk(move, cycle.jerk_time_s, cycle.dt)
         peak, limit = np.array(jerk["peak_jerk_rad_s3"]), np.array(jerk["jerk_limit_rad_s3"])
         np.testing.assert_allclose(peak, limit, rtol=0.02)
+
+
+def test_the_jerk_time_is_said_to_be_chosen_only_where_the_fastest_pair_was_kept():
+    """Several jerk times weighed and the fastest pair run: chosen. A slower pair kept because
+    MuJoCo's run failed the fastest, or one jerk time only: not chosen."""
+    pairs = (SpeedChoice(1.0, 0.05, 1.6), SpeedChoice(1.0, 0.1, 1.7), SpeedChoice(2.0, 0.05, 2.1))
+
+    def kept(factor, choices=pairs):
+        cycle = Cycle((), 0.5, DT, True, factor=factor)
+        return CheckedCycle(cycle, cycle, 0.5, {}, [], (), choices)
+
+    assert kept(1.0).jerk_chosen
+    assert not kept(2.0).jerk_chosen
+    assert not kept(1.0, (pairs[0], pairs[2])).jerk_chosen

@@ -18,11 +18,11 @@ with logged(snakemake.log[0]) as log:
         c.done, c.props, c.settings, c.test, task, c.raster_speed_deg_s, c.limit_N,
         c.jerk.candidates(), c.settling,
     )  # fmt: skip
-    if checked is not None:
-        chosen = len({x.jerk_time_s for x in checked.choices}) > 1  # jerk times weighed
-        record["jerk"] = c.jerk.record(checked.cycle.jerk_time_s, chosen)
-    else:
-        record["jerk"] = c.jerk.record()
+    record["jerk"] = (
+        c.jerk.record()
+        if checked is None
+        else c.jerk.record(checked.cycle.jerk_time_s, checked.jerk_chosen)
+    )
     write_json(out.cycle, record)
     cycle = None if checked is None else checked.cycle
     trajectory_table(cycle, arm).to_csv(out.trajectory, index=False)

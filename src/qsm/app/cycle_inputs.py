@@ -90,8 +90,9 @@ class JerkTime:
         if jerk is None:
             source = "none: no first mode known"
         periods = None if jerk is None or self.first_mode_hz is None else jerk * self.first_mode_hz
-        return {"jerk_time_s": jerk, "from": source, "first_mode_hz": self.first_mode_hz,
-                "periods": periods, "chosen_with_slow_down": chosen}  # fmt: skip
+        return {"jerk_time_s": jerk, "stated_s": self.jerk_time_s, "from": source,
+                "first_mode_hz": self.first_mode_hz, "periods": periods,
+                "chosen_with_slow_down": chosen}  # fmt: skip
 
 
 def _read(path: str) -> Any:

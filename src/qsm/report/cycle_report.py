@@ -80,6 +80,9 @@ def jerk_text(jerk: Mapping[str, Any] | None) -> str:
         return "moves timed by TOPP-RA without a jerk limit"
     ramp = f"each move's acceleration ramped over {1e3 * jerk['jerk_time_s']:.0f} ms"
     if jerk["first_mode_hz"] is None:
+        stated = jerk.get("stated_s")
+        if stated and not math.isclose(stated, jerk["jerk_time_s"]):  # slowed with the moves
+            return f"{ramp} (task.cycle.jerk_time_s, {1e3 * stated:.0f} ms, times the slow-down)"
         return f"{ramp} (task.cycle.jerk_time_s)"
     periods = jerk.get("periods") or 1.0
     count = "one period" if math.isclose(periods, 1.0) else f"{periods:.2g} periods"

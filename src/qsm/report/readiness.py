@@ -75,8 +75,8 @@ def verdict_sentence(
 ) -> str:
     """The run's overall verdict in one line: ready to build, with its accuracy, or how many
     checks fail and the worst of them (:func:`failures`)."""
-    found = failures(selected, topology, payload)
-    if not found:
+    ready, found = build_verdict(selected, topology, payload)
+    if ready:
         worst = selected["stiffness"]["worst"]
         return (
             "Ready to build: printable, every part holds its loads, each motor has a drive, "
@@ -84,8 +84,8 @@ def verdict_sentence(
             f"(tolerance {selected['stiffness']['tolerance_mm']:g} mm)."
         )
     if len(found) == 1:
-        return f"NOT READY TO BUILD: {found[0].text}."
-    return f"NOT READY TO BUILD: {len(found)} checks fail; the worst: {found[0].text}."
+        return f"NOT READY TO BUILD: {found[0]}."
+    return f"NOT READY TO BUILD: {len(found)} checks fail; the worst: {found[0]}."
 
 
 def verdict_lines(found: list[Failure]) -> list[str]:

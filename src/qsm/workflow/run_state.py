@@ -6,7 +6,7 @@ the config it was given with that record: where keys changed, the last good run'
 datasheet get a NOT CURRENT banner (their modification times kept, so Snakemake reruns nothing
 for it) and ``NOT_CURRENT.md`` is written beside the design files, naming the failed rule and
 the keys; where nothing changed, the results still describe the config and stay as they are.
-The next successful run takes the marks away.
+The next successful run that writes the summary takes the marks away.
 """
 
 from __future__ import annotations
@@ -155,8 +155,13 @@ def mark_not_current(results: Path, failed: Failure) -> None:
             (results / folder / MARKER).write_text(failed.banner())
 
 
-def clear_marks(results: Path, config: Mapping[str, Any]) -> None:
-    """After a successful run: no banner, no marker, and its config recorded as the last good."""
+def clear_marks(results: Path, config: Mapping[str, Any], started: float) -> None:
+    """After a successful run that wrote the summary (at or after ``started``, seconds since
+    the epoch; a run of one rule leaves the marks): no banner, no marker, and its config
+    recorded as the last good."""
+    summary = results / BANNERED[0]
+    if not summary.exists() or summary.stat().st_mtime < started:
+        return
     for name in BANNERED:
         path = results / name
         if path.exists() and path.read_text().startswith(BANNER):

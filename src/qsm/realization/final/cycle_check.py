@@ -22,6 +22,7 @@ slower ones.
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
@@ -84,6 +85,13 @@ class CheckedCycle(NamedTuple):
     slowed_for: list[str]
     arrivals: tuple[Arrival, ...] = ()
     choices: tuple[SpeedChoice, ...] = ()
+
+    @property
+    def jerk_chosen(self) -> bool:
+        """Whether its jerk time was chosen with its slow-down: several were weighed and the
+        fastest pair was kept (not a slower one that MuJoCo's run asked for)."""
+        weighed = len({c.jerk_time_s for c in self.choices}) > 1
+        return weighed and self.choices[0].factor == self.cycle.factor
 
 
 def cycle_duty(cycle: Cycle) -> Duty:
@@ -236,13 +244,13 @@ def checked_cycle(
     the shortest (:func:`fastest`)."""
     points, angles = route
     topp = plan_cycle(arm, angles, task[0], TIMESTEP_S, task[1])
-    plans = {jerk: jerk_limited_cycle(topp, arm, jerk) for jerk in jerk_times_s}
-    start, first = _for_tolerance(plans[jerk_times_s[0]], arm, max_load_N)
+    plan = functools.cache(lambda jerk: jerk_limited_cycle(topp, arm, jerk))  # those weighed
+    start, first = _for_tolerance(plan(jerk_times_s[0]), arm, max_load_N)
     factors = [start, *(f for f in SLOWER if f > start)]
 
     def timed(factor: float, jerk: float | None = jerk_times_s[0]) -> Cycle:
         """The cycle ramped over ``jerk`` s, then slowed ``factor`` times."""
-        return slowed(plans[jerk], arm, factor)
+        return slowed(plan(jerk), arm, factor)
 
     slowest = _problems(timed(factors[-1]), arm, done, drives)
     last, slowest_factor = "", factors[-1]
