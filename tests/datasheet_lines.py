@@ -116,9 +116,10 @@ def _placing(v: str, r: dict[str, Any]) -> None:
     per = r["selected"]["stiffness"]["per_point"]
     i = int(np.argmax(per["error_budget_mm"]))
     total = _numbers(v)[0]
-    assert total == round(per["error_budget_mm"][i], 2) and f"task point {i + 1}" in v
+    worst = per["error_budget_mm"][i]  # to 2 decimals, at most 4 significant digits
+    assert abs(total - worst) <= 0.005 + 5e-4 * worst and f"task point {i + 1}" in v
     terms = [float(x) for x in re.findall(r"(?:sag|creep|motion|error|base) ([0-9.]+) mm", v)]
-    assert abs(sum(terms) - total) <= 0.021
+    assert abs(sum(terms) - total) <= 0.021 + 3e-3 * total
 
 
 def _mode(v: str, r: dict[str, Any]) -> None:

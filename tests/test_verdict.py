@@ -61,3 +61,19 @@ def test_a_first_mode_too_low_or_a_saturated_drive_is_not_ranked_below_its_limit
                "reason": "requested torque exceeds the drives' envelopes"}  # fmt: skip
     found = failures(record, {"links": {}}, payload)
     assert [f.ratio for f in found] == [1.5, None]
+
+
+def test_a_failed_payload_test_says_why_once_and_what_its_drives_would_need():
+    """Its reason names the tracking error once; motor 1 past its top speed for 2 % of the test
+    is told to move slower or take a faster drive, motor 2 at 1.00 of its torque a stronger
+    one; a drive below its limit gets no advice."""
+    record = _record(error_mm=4.0, utilisation=0.8, drive=True)
+    reason = "requested torque exceeds the drives' envelopes; tracking error 2.5 deg > 0.5 deg"
+    payload = {"passed": False, "max_tracking_error_deg": 2.5, "tracking_tolerance_deg": 0.5,
+               "reason": reason, "past_top_speed_fraction": [0.02, 0.0, 0.0],
+               "peak_torque_over_available": [None, 1.0, 0.6]}  # fmt: skip
+    (found,) = failures(record, {"links": {}}, payload)
+    assert found.text.count("2.5 deg") == 1 and found.ratio == 5.0
+    assert found.fix.startswith("motor 1's drive runs past its top speed for 2.0 % of the test")
+    assert "payload_test.segment_duration_s" in found.fix
+    assert "motor 2's drive gives 1.00 of its torque" in found.fix and "motor 3" not in found.fix

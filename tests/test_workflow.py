@@ -12,6 +12,7 @@ import pytest
 import trimesh
 import yaml
 from datasheet_lines import check_lines, run_records
+from prose_checks import assert_plain_numbers
 from workflow_helpers import (
     ROOT,
     assert_one_machine,
@@ -702,6 +703,7 @@ def test_a_far_heavy_task_completes_with_the_verdicts(tmp_path):
         assert "g12 dropped" in verification["constraints"]
         assert "g13 dropped" in verification["constraints"]
     assert_one_machine(work)
+    assert_plain_numbers(work / "results")  # a verdict of large numbers
 
 
 def strict_json(path: Path) -> object:
@@ -766,6 +768,7 @@ def test_a_catalogue_where_no_drive_fits_gives_valid_files_and_plain_words(tmp_p
         assert "RuntimeWarning" not in log.read_text(), log
     assert "RuntimeWarning" not in out.stderr
     assert_one_machine(work)
+    assert_plain_numbers(results)
 
 
 def _cells(row: str) -> list[str]:
@@ -801,6 +804,11 @@ def test_every_markdown_table_has_as_many_cells_per_row_as_its_header(run):
                     break
                 assert len(_cells(lines[k])) == width, f"{page}:{k + 1}: {lines[k]}"
     assert tables >= 5
+
+
+def test_every_page_writes_its_numbers_for_a_person(run):
+    """No list brackets, no repr, no float at full precision in any Markdown page's prose."""
+    assert_plain_numbers(run / "results")
 
 
 def test_the_end_of_a_run_names_the_headline_and_the_summary(run, tmp_path):

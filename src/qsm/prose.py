@@ -3,6 +3,7 @@ Python list or an array's repr)."""
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 from numpy.typing import ArrayLike
@@ -27,3 +28,16 @@ def listed(values: Sequence[float], digits: int, unit: str) -> str:
     text = [f"{float(v):.{digits}f}" for v in values]
     head = ", ".join(text[:-1])
     return f"{head} and {text[-1]} {unit}" if head else f"{text[-1]} {unit}"
+
+
+def fixed(value: float, digits: int, significant: int = 4) -> str:
+    """``value`` with ``digits`` decimals, fewer where that would show more than ``significant``
+    significant digits: ``fixed(167.604, 2)`` is ``167.6``, ``fixed(0.4321, 2)`` is ``0.43``."""
+    value = float(value)
+    if not math.isfinite(value) or value == 0:
+        return f"{value:.{digits}f}"
+    whole = math.floor(math.log10(abs(value))) + 1
+    places = max(0, min(digits, significant - whole))
+    if places and abs(round(value, places)) >= 10.0**whole:  # 9.9996 rounds up to 10.000
+        places -= 1
+    return f"{value:.{places}f}"

@@ -80,7 +80,7 @@ def accuracy_lines(budget: Mapping[str, Any] | None) -> list[str]:
     joints = [
         f"- {name}: {j.get('gearbox')}, backlash {j.get('backlash_arcmin')} arcmin "
         f"({j.get('backlash_from')}), {spared[j['torque_reverses']]}; "
-        f"stiffness {j.get('torsional_stiffness_Nm_rad')} N m/rad ({j.get('stiffness_from')})."
+        f"stiffness {stiffness_text(j)} N m/rad ({j.get('stiffness_from')})."
         for name, j in budget["joints"].items()
     ]
     serial = budget.get("serial_arm")
@@ -201,3 +201,9 @@ def accuracy_figure(
     fig.tight_layout()
     fig.savefig(path, dpi=120)
     plt.close(fig)
+
+
+def stiffness_text(drive: dict[str, Any]) -> str:
+    """A gearbox's torsional stiffness (N m/rad) to the newton metre, ``-`` when unknown."""
+    k = drive.get("torsional_stiffness_Nm_rad")
+    return "-" if k is None else f"{k:,.0f}"

@@ -13,6 +13,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from qsm.embodiment.drives.envelope import OutputEnvelope
+from qsm.prose import fixed
 from qsm.realization.final.cycle_check import (
     cycle_torques,
 )
@@ -49,8 +50,8 @@ def cycle_lines(cycle: dict[str, Any] | None) -> list[str]:
         f" N m continuous (thermal use {_pair(cycle['thermal_use'], 2)}, gear losses by the "
         f"torque's direction); links at {cycle['strength_utilisation']:.2f} of their strength.",
         f"- MuJoCo: {'passed' if sim['passed'] else 'FAILED'} ({sim['reason']}), tracking "
-        f"{sim['max_tracking_error_deg']:.3f} deg, at the points "
-        f"{max(sim['point_error_mm']):.2f} mm at most.",
+        f"{fixed(sim['max_tracking_error_deg'], 3)} deg, at the points "
+        f"{fixed(max(sim['point_error_mm']), 2)} mm at most.",
         "",
     ]
 

@@ -19,7 +19,9 @@ import pandas as pd
 
 from qsm.embodiment.drives.selection import drive_of
 from qsm.physics.workspace import Reach
+from qsm.prose import fixed
 from qsm.realization.accuracy.accuracy_budget import term_phrases
+from qsm.report.accuracy_report import stiffness_text
 from qsm.report.cycle_report import cycle_problems, dwell_text, jerk_text
 
 #: Volumetric printing rate (mm^3/s) of the print-time rule.
@@ -126,7 +128,7 @@ def _machine_rows(
         *(
             _row(f"drive {j}", f"{x['motor']} + {x['gearbox']} ({x['ratio']:g}:1, "
                  f"{x['mass_kg']:.2f} kg; backlash {x.get('backlash_arcmin', '-')} arcmin, "
-                 f"{x.get('torsional_stiffness_Nm_rad', '-')} N m/rad)")
+                 f"{stiffness_text(x)} N m/rad)")
             for j, x in enumerate(drives, start=1)
         ),
         _row("torque limits", _pair(selected["torque_limits_Nm"], 1, "N m") + " at the joints: "
@@ -173,7 +175,7 @@ def _performance_rows(selected: Mapping[str, Any]) -> list[str]:
         per = budget["per_point"]
         i = int(np.argmax(per["error_budget_mm"]))  # the worst point's own terms
         rows += [
-            _row("placing error", f"{per['error_budget_mm'][i]:.2f} mm worst, at task point "
+            _row("placing error", f"{fixed(per['error_budget_mm'][i], 2)} mm worst, at task point "
                  f"{i + 1} ({', '.join(term_phrases(per, i))}; "
                  f"tolerance {budget['tolerance_mm']:g} mm)"),
             _row("first mode", f"{w['first_mode_hz']:.1f} Hz (loaded, lowest at the task points)"),

@@ -9,6 +9,7 @@ from typing import Any
 
 import pandas as pd
 
+from qsm.prose import fixed
 from qsm.report.accuracy_report import accuracy_lines
 from qsm.report.cycle_report import cycle_lines
 from qsm.report.drive_text import use_text
@@ -126,8 +127,8 @@ def headline_markdown(
     for key in ("tau1_Nm", "tau2_Nm"):
         b, a = torques["before"][key], torques["after"][key]
         lines.append(
-            f"- {key.removesuffix('_Nm')}: {b:.2f} -> {a:.2f} N m after topology optimisation "
-            f"({_pct((b - a) / b)} lower)."
+            f"- {key.removesuffix('_Nm')}: {fixed(b, 2)} -> {fixed(a, 2)} N m after topology "
+            f"optimisation ({_pct((b - a) / b)} lower)."
         )
     lines.append(_payload_line(payload))
     return "\n".join(lines) + "\n"
@@ -167,7 +168,7 @@ def _dataset_lines(
         "",
         "## Stage 3: surrogate",
         f"- test R^2 eta {r2['eta']:.4f}, tau1 {r2['tau1']:.4f}, tau2 {r2['tau2']:.4f} "
-        f"(all {r2['all']:.4f}; paper 0.98700); fit {metrics['fit_seconds']:.1f} s, on "
+        f"(all {r2['all']:.4f}; paper 0.987); fit {metrics['fit_seconds']:.1f} s, on "
         f"{metrics['n_train']:,} training and {metrics['n_test']:,} test designs.",
         "- The surrogate's figures do not enter the verdict: the optimiser's fronts are verified "
         "and the realised design is checked against the true physics (MuJoCo, the strength, "
@@ -255,6 +256,6 @@ def _payload_line(payload: Mapping[str, Any]) -> str:
     return (
         f"- payload test ({payload['payload_kg']:g} kg): "
         f"{'passed' if payload['passed'] else 'FAILED: ' + payload.get('reason', '')}, max "
-        f"tracking error {payload['max_tracking_error_deg']:.3f} deg, peak torques {peak} N m "
-        f"({limits})." + (f" {note[0].upper()}{note[1:]}." if note else "")
+        f"tracking error {fixed(payload['max_tracking_error_deg'], 3)} deg, peak torques {peak} "
+        f"N m ({limits})." + (f" {note[0].upper()}{note[1:]}." if note else "")
     )

@@ -16,6 +16,7 @@ from typing import Any
 import numpy as np
 
 from qsm.embodiment.parts.printing import advice_sentence, box_fits
+from qsm.prose import fixed
 from qsm.realization.selection.choice import printer_sentence
 from qsm.report.accuracy_report import repeatability_problem
 from qsm.report.cycle_report import cycle_problems
@@ -220,18 +221,38 @@ def drive_problems(motors: Mapping[str, Any]) -> list[str]:
 
 
 def _payload_failures(payload: Mapping[str, Any]) -> list[Failure]:
-    """The payload test, where it fails: its tracking error against its tolerance."""
+    """The payload test, where it fails: why (its reason, which names the tracking error past
+    its tolerance), its tracking error over the tolerance, and what its drives would need."""
     if payload["passed"]:
         return []
     error = payload["max_tracking_error_deg"]
     limit = payload.get("tracking_tolerance_deg")
-    against = "" if limit is None else f", {limit:g} deg allowed"
     reason = payload.get("reason")
-    why = f": {reason}" if reason and reason != "ok" else ""
+    if reason and reason != "ok":
+        text = f"the payload test failed: {reason}"
+    else:
+        allowed = "" if limit is None else f", {limit:g} deg allowed"
+        text = f"the payload test failed (max tracking error {fixed(error, 3)} deg{allowed})"
     ratio = error / limit if limit and error > limit else None  # else it failed on its drives
-    return [Failure(
-        f"the payload test failed (max tracking error {error:.3f} deg{against}){why}", ratio,
-    )]  # fmt: skip
+    return [Failure(text, ratio, _payload_fix(payload))]
+
+
+def _payload_fix(payload: Mapping[str, Any]) -> str | None:
+    """What the test's drives would need, from its record: those past their top speed, a
+    slower test or a faster drive; those at their torque limit, a drive with more torque."""
+    fixes = []
+    past = payload.get("past_top_speed_fraction") or []
+    uses = payload.get("peak_torque_over_available") or []
+    for k, (share, use) in enumerate(zip(past, uses, strict=False), start=1):
+        if share and share > 0:
+            fixes.append(
+                f"motor {k}'s drive runs past its top speed for {100 * share:.1f} % of the "
+                "test: longer moves (payload_test.segment_duration_s) or a drive with a higher "
+                "top speed"
+            )
+        elif use is not None and use >= 0.995:
+            fixes.append(f"motor {k}'s drive gives {use:.2f} of its torque: a drive with more")
+    return "; ".join(fixes) or None
 
 
 def _accuracy_failures(selected: Mapping[str, Any]) -> list[Failure]:

@@ -54,6 +54,7 @@ from qsm.embodiment.strength.printed import PrintedMaterial
 from qsm.physics.duty import Duty
 from qsm.physics.dynamics import loop_state
 from qsm.physics.inverse_kinematics import joint_path
+from qsm.prose import fixed
 from qsm.realization.motion.payload import PayloadSettings, reference_trajectory
 from qsm.schema.defaults import default
 
@@ -322,13 +323,17 @@ def term_phrases(per_point: dict[str, Any], i: int) -> list[str]:
     larger of the static and the dynamic sag (the one the error counts), creep, lost motion,
     tracking error and base, where the budget has them; they add up to ``error_budget_mm``."""
     static, dynamic = per_point["sag_mm"][i], per_point["dynamic_sag_mm"][i]
-    sag = f"static sag {static:.2f} mm" if static >= dynamic else f"dynamic sag {dynamic:.2f} mm"
-    parts = [sag, f"creep {per_point['creep_mm'][i]:.2f} mm"]
-    parts.append(f"lost motion {per_point['lost_motion_mm'][i]:.2f} mm")
+    sag = (
+        f"static sag {fixed(static, 2)} mm"
+        if static >= dynamic
+        else (f"dynamic sag {fixed(dynamic, 2)} mm")
+    )
+    parts = [sag, f"creep {fixed(per_point['creep_mm'][i], 2)} mm"]
+    parts.append(f"lost motion {fixed(per_point['lost_motion_mm'][i], 2)} mm")
     if per_point["tracking_error_mm"] is not None:
-        parts.append(f"tracking error {per_point['tracking_error_mm'][i]:.2f} mm")
+        parts.append(f"tracking error {fixed(per_point['tracking_error_mm'][i], 2)} mm")
     if per_point.get("base_mm") is not None:
-        parts.append(f"base {per_point['base_mm'][i]:.2f} mm")
+        parts.append(f"base {fixed(per_point['base_mm'][i], 2)} mm")
     return parts
 
 
@@ -340,7 +345,7 @@ def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str
     mode = float(np.min(per_point["first_mode_hz"]))
     tol, low = settings.tolerance_mm, settings.min_first_mode_hz
     parts = term_phrases(per_point, i)
-    detail = f"{budget[i]:.2f} mm at point {i + 1} ({', '.join(parts)}; tolerance {tol:g} mm)"
+    detail = f"{fixed(budget[i], 2)} mm at point {i + 1} ({', '.join(parts)}; tolerance {tol:g} mm)"
     problems = []
     if not budget[i] <= tol:
         problems.append(f"{_label(per_point, i)}: the tool's placing error reaches {detail}")

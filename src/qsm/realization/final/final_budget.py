@@ -16,6 +16,7 @@ from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import LINK_NAMES
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.task_points import visited_points
+from qsm.prose import fixed
 from qsm.realization.accuracy.accuracy_budget import with_base
 from qsm.realization.accuracy.accuracy_sizing import STRUCTURE_SHARE, AccuracyChoice
 from qsm.realization.accuracy.iso9283 import largest_plane, play_opens, pose_characteristics
@@ -95,7 +96,7 @@ def iso_figures(
     if not payload.get("passed"):
         return {"simulated": False, "reason": (
             f"the payload test failed (max tracking error "
-            f"{payload.get('max_tracking_error_deg', float('nan')):.3f} deg), so the servo's "
+            f"{fixed(payload.get('max_tracking_error_deg', float('nan')), 3)} deg), so the servo's "
             "settling, one of the random terms, is not known"
         )}  # fmt: skip
     topology, props = parts

@@ -51,6 +51,7 @@ from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import as_design, pose
 from qsm.physics.mjcf import model_spec
 from qsm.physics.task_points import visited_points
+from qsm.prose import fixed
 from qsm.schema.defaults import default
 
 
@@ -346,7 +347,7 @@ def _failure_reasons(
         )
         reasons.append(f"requested torque exceeds the {what} ({per})")
     if not max_err <= tolerance_deg:  # NaN included
-        reasons.append(f"tracking error {max_err:.3f} deg > {tolerance_deg} deg")
+        reasons.append(f"tracking error {fixed(max_err, 3)} deg > {tolerance_deg:g} deg")
     return reasons
 
 
