@@ -18,12 +18,16 @@ Error in rule cycle_time:
 Error in rule topology_optimize:
 """
 
+HTML = "<html>\n<head><title>summary</title></head>\n<body>\n<h1>summary</h1>\n</body>\n</html>\n"
+
 
 def _results(tmp_path):
     results = tmp_path / "results"
     (results / "realization").mkdir(parents=True)
     (results / "summary.md").write_text("# summary\n\n**Ready to build**\n")
     (results / "datasheet.md").write_text("# datasheet\n")
+    (results / "html").mkdir()
+    (results / "html/summary.html").write_text(HTML)
     os.utime(results / "summary.md", ns=(1_000_000_000, 1_000_000_000))
     rs.clear_marks(results, LAST_GOOD, 0.0)  # the last good run
     return results
@@ -55,12 +59,17 @@ def test_a_failure_after_a_config_change_marks_the_results_and_a_success_clears_
     assert (results / "summary.md").stat().st_mtime_ns == mtime  # nothing reruns for it
     assert "(seed)" in (results / "realization" / rs.MARKER).read_text()
     assert "the config changed since the last good run (seed)" in failed.message(results)
+    page = (results / "html/summary.html").read_text()  # the HTML copy says so too
+    assert page.startswith("<html>\n<head><title>summary</title></head>\n<body>\n<p class=")
+    assert "<strong>NOT CURRENT</strong>: a later run failed in cycle_time" in page
     rs.mark_not_current(results, failed)  # twice: one banner
     assert (results / "summary.md").read_text().count(rs.BANNER) == 1
+    assert (results / "html/summary.html").read_text() == page
     rs.clear_marks(results, changed, time.time() + 60)  # a run of one rule: kept
     assert (results / "summary.md").read_text().startswith(rs.BANNER)
     rs.clear_marks(results, changed, 0.0)  # a run that wrote the summary
     assert (results / "summary.md").read_text() == "# summary\n\n**Ready to build**\n"
+    assert (results / "html/summary.html").read_text() == HTML
     assert not (results / rs.MARKER).exists()
     assert not (results / "realization" / rs.MARKER).exists()
     assert json.loads((results / rs.GOOD_CONFIG).read_text()) == changed

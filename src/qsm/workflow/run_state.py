@@ -12,6 +12,7 @@ The next successful run that writes the summary takes the marks away.
 from __future__ import annotations
 
 import fcntl
+import html
 import json
 import os
 import re
@@ -30,6 +31,10 @@ BANNER = "> **NOT CURRENT**"
 BANNERED = ("summary.md", "datasheet.md")
 #: The folders of design files a marker is written into, under the results folder.
 MARKED = (".", "realization")
+#: The HTML copies of the bannered pages (rule markdown_pages), under the results folder.
+BANNERED_HTML = ("html/summary.html", "html/datasheet.html")
+#: The banner's element in an HTML copy, put first in its body.
+HTML_BANNER = '<p class="not-current"><strong>NOT CURRENT</strong>: {}</p>\n'
 
 _HELD: list[IO[str]] = []
 
@@ -122,11 +127,19 @@ class Failure:
 
     def banner(self) -> str:
         """The Markdown banner on a summary or datasheet."""
+        return f"{BANNER}: {self._why()}\n\n"
+
+    def html_banner(self) -> str:
+        """The banner on an HTML copy of a summary or datasheet."""
+        return HTML_BANNER.format(html.escape(self._why()))
+
+    def _why(self) -> str:
+        """Why a page is not current: where the later run failed and the keys that changed."""
         where = ", ".join(self.rules) or "a rule"
         keys = "an unknown config" if self.changed is None else ", ".join(self.changed)
         return (
-            f"{BANNER}: a later run failed in {where} after the config changed ({keys}); this "
-            "is the last good run's, for its own config.\n\n"
+            f"a later run failed in {where} after the config changed ({keys}); this is the last "
+            "good run's, for its own config."
         )
 
 
@@ -150,6 +163,7 @@ def mark_not_current(results: Path, failed: Failure) -> None:
         path = results / name
         if path.exists() and not path.read_text().startswith(BANNER):
             _rewrite(path, failed.banner() + path.read_text())
+    _banner_html(results, failed.html_banner())
     for folder in MARKED:
         if (results / folder).is_dir():
             (results / folder / MARKER).write_text(failed.banner())
@@ -166,11 +180,28 @@ def clear_marks(results: Path, config: Mapping[str, Any], started: float) -> Non
         path = results / name
         if path.exists() and path.read_text().startswith(BANNER):
             _rewrite(path, path.read_text().split("\n\n", 1)[1])
+    _banner_html(results, None)
     for folder in MARKED:
         (results / folder / MARKER).unlink(missing_ok=True)
     if results.is_dir():
         text = json.dumps(config, default=str, sort_keys=True, allow_nan=False)
         (results / GOOD_CONFIG).write_text(text)
+
+
+def _banner_html(results: Path, banner: str | None) -> None:
+    """Put ``banner`` first in the body of each HTML copy of a bannered page (once), or, with
+    None, take it out."""
+    for name in BANNERED_HTML:
+        path = results / name
+        if not path.exists():
+            continue
+        lines = path.read_text().splitlines(keepends=True)
+        kept = [x for x in lines if 'class="not-current"' not in x]
+        if banner is not None:
+            body = next((i for i, x in enumerate(kept) if x.startswith("<body")), -1)
+            kept.insert(body + 1, banner)
+        if kept != lines:
+            _rewrite(path, "".join(kept))
 
 
 def _rewrite(path: Path, text: str) -> None:
