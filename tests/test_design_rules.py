@@ -9,7 +9,12 @@ from SALib.test_functions import Ishigami
 
 from qsm.design_rules.claims import Evidence
 from qsm.design_rules.correlations import FEATURES_MM, correlations
-from qsm.design_rules.eta_derivatives import eta_gradient, true_etas
+from qsm.design_rules.eta_derivatives import (
+    batch_gradients,
+    eta_gradient,
+    sampled_rows,
+    true_etas,
+)
 from qsm.design_rules.findings import findings, summary_markdown
 from qsm.design_rules.sensitivity import ranking, sobol_indices
 from qsm.design_rules.trees import fit_tree, mining_designs, rule_sentence
@@ -93,6 +98,22 @@ def test_eta_derivatives_satisfy_eulers_theorem():
         assert float(d @ grad) == pytest.approx(-2 * eta, rel=1e-4)
         half = eta_gradient(d, OP, DISK, Resolution(), rel_step=5e-4)
         np.testing.assert_allclose(grad, half, rtol=1e-2, atol=1e-3)
+
+
+def test_designs_differentiated_together_give_each_design_s_own_derivatives():
+    designs = np.array([[0.4, 0.12, 0.4, 0.2, 0.48, 0.16], [0.45, 0.1, 0.5, 0.22, 0.55, 0.2]])
+    one_by_one = [eta_gradient(d, OP, DISK, Resolution()) for d in designs]
+    np.testing.assert_allclose(batch_gradients(designs, OP, DISK, Resolution()), one_by_one,
+                               rtol=1e-12)  # fmt: skip
+
+
+def test_the_derivatives_stop_growing_with_the_dataset():
+    """Up to the bound every row, beyond it that many distinct rows, the same for a seed."""
+    np.testing.assert_array_equal(sampled_rows(1500, 2000, 7), np.arange(1500))
+    rows = sampled_rows(110_800, 20_000, 7)
+    assert len(np.unique(rows)) == 20_000 and np.all(np.diff(rows) > 0) and rows[-1] < 110_800
+    np.testing.assert_array_equal(rows, sampled_rows(110_800, 20_000, 7))
+    assert not np.array_equal(rows, sampled_rows(110_800, 20_000, 8))
 
 
 def agreeing_evidence():

@@ -11,7 +11,14 @@ import pandas as pd
 import pytest
 from sklearn.neighbors import KNeighborsRegressor
 
-from qsm.optimization.infill import InfillSettings, Steps, front_errors, infill, meets_goals
+from qsm.optimization.infill import (
+    InfillSettings,
+    Steps,
+    front_errors,
+    infill,
+    meets_goals,
+    refit_rows,
+)
 from qsm.optimization.nsga import FrontTables
 from qsm.optimization.ranking import OBJECTIVE_SETS, PREDICTION_COLUMNS
 from qsm.surrogate.model import INPUTS
@@ -103,3 +110,21 @@ def test_the_rounds_stop_at_the_budget():
     settings = InfillSettings(rounds=1, offspring=0, generations=1, median_goal=1e-9, p90_goal=1e-9)
     result = infill(Neighbour(SEED, truth_of(SEED)), steps(), settings, lambda t: 0.0)
     assert [r["round"] for r in result.rounds] == [0, 1]
+
+
+def test_a_refit_takes_the_true_designs_neighbourhood_and_a_bounded_sample():
+    """Up to the bound, every training row; beyond it, exactly the bound: each true design's
+    nearest rows (found here by brute force) and a seeded sample of the rest."""
+    rng = np.random.default_rng(0)
+    train = rng.uniform([0.2, 0.05, 0.2, 0.1, 0.2, 0.05], [0.8, 0.3, 0.8, 0.4, 1.0, 0.4],
+                        (5000, 6))  # fmt: skip
+    near = train[[10, 20]] + 1e-4
+    np.testing.assert_array_equal(refit_rows(train, near, 5000, 1), np.arange(5000))
+    rows = refit_rows(train, near, 1000, 1)
+    assert len(rows) == 1000 and np.all(np.diff(rows) > 0)
+    scaled = (train - train.min(0)) / np.ptp(train, 0)
+    for point in (near - train.min(0)) / np.ptp(train, 0):
+        nearest = np.argsort(np.linalg.norm(scaled - point, axis=1))[:250]
+        assert set(nearest) <= set(rows)  # 500 / 2 designs: 250 neighbours each
+    np.testing.assert_array_equal(rows, refit_rows(train, near, 1000, 1))
+    assert not np.array_equal(rows, refit_rows(train, near, 1000, 2))

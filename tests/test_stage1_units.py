@@ -17,7 +17,7 @@ from qsm.mechanisms.sampling import latin_hypercube
 from qsm.mechanisms.scale import examined_fits, fit_counts, fit_designs, select_mechanisms
 from qsm.physics.kinematics import RATIO_NAMES, pose
 from qsm.physics.workspace import OperatingRange
-from qsm.workflow.sharding import shard_slice
+from qsm.workflow.sharding import shard_count, shard_slice
 from qsm.workflow.tables import TableError, read_meta, read_table, write_table
 
 OP = OperatingRange.from_degrees([45.0, 180.0], -37.5)
@@ -61,6 +61,16 @@ def test_filter_counts_follow_the_definitions():
 def test_shards_cover_every_row_once(n, k):
     rows = np.concatenate([np.arange(n)[shard_slice(n, k, i)] for i in range(k)])
     np.testing.assert_array_equal(rows, np.arange(n))
+
+
+@pytest.mark.parametrize(
+    ("n", "least", "most", "count"),
+    [(11080, 2, 50000, 2), (110800, 2, 50000, 3), (1108000, 2, 50000, 23), (5, 3, 1000, 3)],
+)
+def test_no_shard_holds_more_than_its_rows(n, least, most, count):
+    assert shard_count(n, least, most) == count
+    sizes = [len(range(n)[shard_slice(n, count, i)]) for i in range(count)]
+    assert max(sizes) <= most and sum(sizes) == n
 
 
 def test_shard_arguments_are_checked():

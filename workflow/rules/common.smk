@@ -4,6 +4,7 @@ import functools
 from qsm.config.sections import accuracy_section, iso_section
 from qsm.physics.task_points import MOTION_KEYS, design_task, task_cycle
 from qsm.workflow.provenance import source_hash
+from qsm.workflow.sharding import shard_count
 
 ENV = "../envs/qsm.yaml"
 RESULTS = "results"

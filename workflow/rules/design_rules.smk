@@ -95,6 +95,8 @@ rule eta_derivatives_shard:
         code=code("eta_derivatives_shard.py"),
         shards=config["design_rules"]["shards"],
         step=config["design_rules"]["derivative_step"],
+        most_designs=config["design_rules"]["derivative_designs"],
+        seed=config["design_rules"]["seed"],
         operating_range=config["operating_range"],
         task_points=TASK_POINTS,
         resolution={k: config["workspace"][k] for k in ("n_delta", "n_levels")},

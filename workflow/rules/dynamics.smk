@@ -1,6 +1,13 @@
-# Stage 2: link solids, MuJoCo models and closed-chain inverse dynamics, in fixed shards.
+# Stage 2: link solids, MuJoCo models and closed-chain inverse dynamics, in shards of at most
+# dynamics.rows_per_shard mechanisms (qsm.workflow.sharding.shard_count).
 
-DYNAMICS_SHARDS = range(config["dynamics"]["shards"])
+DYNAMICS_SHARDS = range(
+    shard_count(
+        config["sampling"]["n_mechanisms"],
+        config["dynamics"]["shards"],
+        config["dynamics"]["rows_per_shard"],
+    )
+)
 STAGE2_OUTPUTS = [
     f"{RESULTS}/dataset.parquet",
     f"{RESULTS}/dynamics/status.json",
@@ -24,7 +31,7 @@ rule dynamics:
         ENV
     params:
         code=code("dynamics_shard.py"),
-        shards=config["dynamics"]["shards"],
+        shards=len(DYNAMICS_SHARDS),
         load_case=load_case(),
         strength=config["strength"],
         drives=drive_settings(),

@@ -7,7 +7,7 @@ from qsm.config.settings import actuation, links, optimization, physics, surroga
 from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import ok_rows
 from qsm.optimization.comparison import true_hypervolume
-from qsm.optimization.infill import Steps, infill
+from qsm.optimization.infill import Steps, infill, refit_rows
 from qsm.optimization.nsga import optimize
 from qsm.optimization.ranking import OBJECTIVE_SETS
 from qsm.optimization.verify import verify_front
@@ -39,12 +39,16 @@ with logged(snakemake.log[0]) as log:
     rows = training_rows(len(dataset), training)[0]  # the surrogate's own training rows
     x0, y0 = dataset[list(INPUTS)].to_numpy()[rows], dataset[list(OUTPUTS)].to_numpy()[rows]
     fits: list[Training] = []
+    settings = surrogate.infill(p.surrogate)
 
     def refitted(x: np.ndarray, y: np.ndarray) -> object:
-        """The surrogate on its training rows and every true design so far, warm-started from
-        the last refit where its normalisation holds them."""
-        fits.append(refit(np.vstack([x0, x]), np.vstack([y0, y]), training, (fits or [None])[-1]))
-        log.info("refit on %d designs: %s", len(x0) + len(x), fits[-1].metrics)
+        """The surrogate on its training rows (at most ``refit_rows``, the true designs'
+        neighbourhood first) and every true design so far, warm-started from the last refit
+        where its normalisation holds them."""
+        keep = refit_rows(x0, x, settings.refit_rows, training.seed)
+        xs, ys = np.vstack([x0[keep], x]), np.vstack([y0[keep], y])
+        fits.append(refit(xs, ys, training, (fits or [None])[-1]))
+        log.info("refit on %d designs: %s", len(xs), fits[-1].metrics)
         return fits[-1].model
 
     objectives = OBJECTIVE_SETS[p.optimization.get("objectives", "torques")]
@@ -57,7 +61,6 @@ with logged(snakemake.log[0]) as log:
         ),
         refit=refitted,
     )
-    settings = surrogate.infill(p.surrogate)
     result = infill(
         model,
         steps,

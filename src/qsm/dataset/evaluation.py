@@ -63,16 +63,38 @@ def evaluate_table(
     return out
 
 
+#: Mechanisms evaluated together (rows): bounds a dynamics job's memory whatever its shard's size
+#: (the vectorised checks hold about 50 kB per row); each row's numbers do not depend on it.
+CHUNK_ROWS = 2048
+
+
 def evaluate_shard(
     rows: pd.DataFrame,
     case: LoadCase,
     strength: StrengthCheck,
     drives: DriveCheck,
     sag: SagCheck,
+    chunk_rows: int = CHUNK_ROWS,
 ) -> pd.DataFrame:
     """Stage 2's columns (:data:`qsm.dataset.columns.DATASET_COLUMNS` but the mechanism's own) of
-    the mechanisms ``rows``: the dynamics at each row's section (sized by ``strength`` when it sizes
-    them), then strength and drives, and ``tool_sag_mm`` at the configured section."""
+    the mechanisms ``rows``, ``chunk_rows`` at a time (:func:`evaluate_chunk`)."""
+    parts = [
+        evaluate_chunk(rows.iloc[start : start + chunk_rows], case, strength, drives, sag)
+        for start in range(0, max(len(rows), 1), chunk_rows)
+    ]
+    return pd.concat(parts, ignore_index=True)
+
+
+def evaluate_chunk(
+    rows: pd.DataFrame,
+    case: LoadCase,
+    strength: StrengthCheck,
+    drives: DriveCheck,
+    sag: SagCheck,
+) -> pd.DataFrame:
+    """Stage 2's columns of the mechanisms ``rows``: the dynamics at each row's section (sized by
+    ``strength`` when it sizes them), then strength and drives, and ``tool_sag_mm`` at the
+    configured section."""
     designs = rows[list(DESIGN_COLUMNS)].to_numpy(float)
     sized = strength.section_scales(designs)  # None: the fixed section
     scales = None if sized is None else sized.scale

@@ -21,6 +21,7 @@ from typing import Any, NamedTuple
 import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
+from sklearn.neighbors import NearestNeighbors
 
 from qsm.optimization.nsga import FrontTables
 from qsm.optimization.ranking import OBJECTIVE_SETS
@@ -35,13 +36,15 @@ OBJECTIVES = OBJECTIVE_SETS["torques"]
 class InfillSettings:
     """``rounds`` (0: one-shot), ``offspring`` (designs of the last population added per round
     beside the front), ``generations`` (NSGA-II's from the last population in each round) and
-    the goals on the front's relative errors: each objective's median and 90th percentile."""
+    the goals on the front's relative errors: each objective's median and 90th percentile;
+    ``refit_rows``, the most training rows a refit takes (:func:`refit_rows`)."""
 
     rounds: int = default("surrogate.infill.rounds")
     offspring: int = default("surrogate.infill.offspring")
     generations: int = default("surrogate.infill.generations")
     median_goal: float = default("surrogate.infill.median_goal")
     p90_goal: float = default("surrogate.infill.p90_goal")
+    refit_rows: int = default("surrogate.infill.refit_rows")
 
 
 class Steps(NamedTuple):
@@ -157,6 +160,28 @@ def infill(
             tables, steps.optimize(model, (tables.population, settings.generations))
         )
     return InfillResult(tables, rounds, pd.concat(evaluated, ignore_index=True))
+
+
+def refit_rows(
+    train_x: NDArray[np.float64], near_x: NDArray[np.float64], most: int, seed: int
+) -> NDArray[np.intp]:
+    """The training rows (sorted) a refit takes beside the true designs ``near_x`` (M, 6): all
+    of ``train_x`` (N, 6) up to ``most``; beyond it, the nearest to the true designs (in the
+    inputs scaled to their range, up to half of ``most``) and a ``seed``-ed sample of the rest,
+    so that a refit's work stops growing with the dataset while it keeps the front's
+    neighbourhood."""
+    n = len(train_x)
+    if n <= most:
+        return np.arange(n)
+    lo, span = train_x.min(axis=0), np.ptp(train_x, axis=0)
+    span = np.where(span > 0, span, 1.0)
+    k = max(1, (most // 2) // max(len(near_x), 1))
+    search = NearestNeighbors(n_neighbors=min(k, n)).fit((train_x - lo) / span)
+    near = np.unique(search.kneighbors((near_x - lo) / span, return_distance=False))
+    near = near[: most // 2]
+    rest = np.setdiff1d(np.arange(n), near)
+    fill = np.random.default_rng(seed).choice(rest, size=most - len(near), replace=False)
+    return np.sort(np.concatenate([near, fill]))
 
 
 def _continued(before: FrontTables, after: FrontTables) -> FrontTables:

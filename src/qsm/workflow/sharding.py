@@ -15,3 +15,11 @@ def shard_slice(n_rows: int, n_shards: int, shard: int) -> slice:
     base, extra = divmod(n_rows, n_shards)
     start = shard * base + min(shard, extra)
     return slice(start, start + base + (shard < extra))
+
+
+def shard_count(n_rows: int, least: int, rows_per_shard: int) -> int:
+    """Shards for ``n_rows`` rows: ``least`` (the jobs to run side by side), more where a shard
+    would hold over ``rows_per_shard`` rows (which bounds each job's memory)."""
+    if least < 1 or rows_per_shard < 1:
+        raise ValueError(f"need least >= 1 and rows_per_shard >= 1, got {least}, {rows_per_shard}")
+    return max(least, -(-n_rows // rows_per_shard))
