@@ -46,6 +46,8 @@ rule decision_trees:
         ),
     log:
         f"{RESULTS}/logs/decision_trees.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/decision_trees.tsv"
     conda:
         ENV
     params:
@@ -68,6 +70,8 @@ rule correlations:
         ),
     log:
         f"{RESULTS}/logs/correlations.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/correlations.tsv"
     conda:
         ENV
     params:
@@ -116,6 +120,8 @@ rule eta_derivatives:
         ),
     log:
         f"{RESULTS}/logs/eta_derivatives.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/eta_derivatives.tsv"
     conda:
         ENV
     params:
@@ -138,6 +144,8 @@ rule design_rules_summary:
         table=f"{RULES_DIR}/findings.parquet",
     log:
         f"{RESULTS}/logs/design_rules_summary.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/design_rules_summary.tsv"
     conda:
         ENV
     params:

@@ -49,6 +49,8 @@ rule gather_dataset:
         status=f"{RESULTS}/dynamics/status.json",
     log:
         f"{RESULTS}/logs/gather_dataset.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/gather_dataset.tsv"
     priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV
@@ -70,6 +72,8 @@ rule plot_dynamics:
         ),
     log:
         f"{RESULTS}/logs/plot_dynamics.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/plot_dynamics.tsv"
     conda:
         ENV
     params:

@@ -14,6 +14,8 @@ rule sample:
         f"{RESULTS}/mechanisms/samples.parquet",
     log:
         f"{RESULTS}/logs/sample.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/sample.tsv"
     conda:
         ENV
     params:
@@ -31,6 +33,8 @@ rule filter_kinematics:
         counts=f"{RESULTS}/mechanisms/kinematic_filters.json",
     log:
         f"{RESULTS}/logs/filter_kinematics.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/filter_kinematics.tsv"
     conda:
         ENV
     params:
@@ -75,6 +79,8 @@ rule select_mechanisms:
         report=f"{RESULTS}/mechanisms/filter_report.json",
     log:
         f"{RESULTS}/logs/select_mechanisms.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/select_mechanisms.tsv"
     conda:
         ENV
     params:
@@ -101,6 +107,8 @@ rule plot_mechanisms:
         ),
     log:
         f"{RESULTS}/logs/plot_mechanisms.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/plot_mechanisms.tsv"
     conda:
         ENV
     params:

@@ -114,6 +114,8 @@ rule compare_fronts:
         data=f"{OPT}/comparison.json",
     log:
         f"{RESULTS}/logs/compare_fronts.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/compare_fronts.tsv"
     conda:
         ENV
     params:

@@ -29,6 +29,8 @@ rule select_design:
         ),
     log:
         f"{RESULTS}/logs/select_design.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/select_design.tsv"
     priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV
@@ -241,6 +243,8 @@ rule accuracy_budget:
         ),
     log:
         f"{RESULTS}/logs/accuracy_budget.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/accuracy_budget.tsv"
     priority: 10  # the critical path: ahead of the design-rule shards
     conda:
         ENV

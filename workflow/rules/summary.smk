@@ -25,6 +25,8 @@ rule summary:
         ),
     log:
         f"{RESULTS}/logs/summary.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/summary.tsv"
     conda:
         ENV
     params:
@@ -71,6 +73,8 @@ rule markdown_pages:
         },
     log:
         f"{RESULTS}/logs/markdown_pages.log",
+    benchmark:
+        f"{RESULTS}/benchmarks/markdown_pages.tsv"
     conda:
         ENV
     params:
