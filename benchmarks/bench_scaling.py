@@ -9,7 +9,7 @@ peak memory (max RSS), and it writes one JSON record per run to ``--out`` (appen
 to stdout. Runs of two commits side by side alternate (``--commit A --commit B``).
 
     python benchmarks/bench_scaling.py [--multiples 1 10] [--commit HEAD] [--cores 2]
-        [--out benchmarks/scaling.jsonl]
+        [--out benchmarks/scaling.jsonl] [--keep DIR]
 
 100x takes hours on 2 cores: run it alone (``--multiples 100``), not in CI.
 """
@@ -56,8 +56,9 @@ def jobs(work: Path) -> pd.DataFrame:
     return pd.DataFrame(rows)
 
 
-def run(commit: str, k: int, cores: int, tmp: Path) -> dict:
-    """One from-scratch run of ``commit`` at ``k`` times the paper's dataset: its record."""
+def run(commit: str, k: int, cores: int, tmp: Path, keep: Path | None = None) -> dict:
+    """One from-scratch run of ``commit`` at ``k`` times the paper's dataset: its record; the
+    finished directory moves into ``keep`` when given (else it is deleted)."""
     work = tree(commit, tmp / f"{commit.replace('/', '_')}-{k}x")
     size = {key: k * n for key, n in PAPER.items()}
     (work / "size.yaml").write_text(yaml.safe_dump({"sampling": size}))
@@ -70,7 +71,11 @@ def run(commit: str, k: int, cores: int, tmp: Path) -> dict:
     table = jobs(work)
     summary = (work / "results" / "summary.md").read_text() if out.returncode == 0 else ""
     verdict = next((x.strip("*") for x in summary.splitlines() if x.startswith("**")), "failed")
-    shutil.rmtree(work)
+    if keep is None:
+        shutil.rmtree(work)
+    else:
+        keep.mkdir(parents=True, exist_ok=True)
+        shutil.move(work, keep / work.name)
     largest = table.loc[table["peak_MB"].idxmax()] if len(table) else None
     return {
         "commit": commit, "multiple": k, "cores": cores, "wall_s": round(wall, 1),
@@ -88,12 +93,13 @@ def main() -> None:
     parser.add_argument("--commit", action="append", help="commits side by side (HEAD)")
     parser.add_argument("--cores", type=int, default=2)
     parser.add_argument("--out", type=Path, default=ROOT / "benchmarks" / "scaling.jsonl")
+    parser.add_argument("--keep", type=Path, help="keep each finished run in this folder")
     args = parser.parse_args()
     commits = args.commit or ["HEAD"]
     with tempfile.TemporaryDirectory(prefix="qsm-scaling-") as tmp:
         for k in args.multiples:
             for commit in commits:  # alternating, so that the machine's drift hits both
-                record = run(commit, k, args.cores, Path(tmp))
+                record = run(commit, k, args.cores, Path(tmp), args.keep)
                 with args.out.open("a") as fh:
                     fh.write(json.dumps(record) + "\n")
                 line = (

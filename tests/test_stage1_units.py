@@ -8,20 +8,56 @@ import subprocess
 import numpy as np
 import pandas as pd
 import pytest
+from scipy.stats import qmc
 
 from qsm.app.cli import main
 from qsm.config.reading import load_config
 from qsm.config.settings import physics
-from qsm.mechanisms.filters import kinematic_filters
-from qsm.mechanisms.sampling import latin_hypercube
-from qsm.mechanisms.scale import examined_fits, fit_counts, fit_designs, select_mechanisms
+from qsm.mechanisms.filters import filter_batches, kinematic_filters
+from qsm.mechanisms.sampling import latin_hypercube, lhs_batches
+from qsm.mechanisms.scale import (
+    examined_fits,
+    fit_counts,
+    fit_designs,
+    gathered_fits,
+    select_mechanisms,
+    shard_quota,
+)
 from qsm.physics.kinematics import RATIO_NAMES, pose
 from qsm.physics.workspace import OperatingRange
 from qsm.workflow.sharding import shard_count, shard_slice
-from qsm.workflow.tables import TableError, read_meta, read_table, write_table
+from qsm.workflow.tables import (
+    TableError,
+    read_batches,
+    read_meta,
+    read_table,
+    write_batches,
+    write_table,
+)
 
 OP = OperatingRange.from_degrees([45.0, 180.0], -37.5)
 BOUNDS = load_config()["sampling"]["bounds"]
+
+
+def test_lhs_in_batches_is_scipys_sample_and_streams_through_parquet(tmp_path):
+    """The batches (three, the last short) hold scipy's Latin hypercube, scaled by qmc.scale,
+    bit for bit; written one at a time and read back in other batches they are one table, and
+    the filters of its batches are the filters of the whole."""
+    lo = np.array([BOUNDS[n][0] for n in RATIO_NAMES])
+    hi = np.array([BOUNDS[n][1] for n in RATIO_NAMES])
+    expected = qmc.scale(qmc.LatinHypercube(d=5, seed=4).random(2500), lo, hi)
+    path = tmp_path / "samples.parquet"
+    assert write_batches(lhs_batches(2500, BOUNDS, 4, rows=1000), path, {"k": 1}) == 2500
+    table = read_table(path)
+    np.testing.assert_array_equal(table[list(RATIO_NAMES)].to_numpy(), expected)
+    np.testing.assert_array_equal(table["sample_id"], np.arange(2500))
+    assert read_meta(path)["k"] == 1
+    whole = kinematic_filters(table, OP, 30.0)
+    parts = filter_batches(read_batches(path, ["sample_id", *RATIO_NAMES], rows=700), OP, 30.0)
+    pd.testing.assert_frame_equal(parts[0], whole[0])
+    assert parts[1] == whole[1] and 0 < whole[1]["transmission_angle"] < 2500
+    with pytest.raises(TableError, match="lacks column"):
+        next(read_batches(path, ["sample_id", "tau1_Nm"]))
 
 
 def test_lhs_is_seeded_within_bounds_and_stratified():
@@ -99,22 +135,19 @@ def test_selection_does_not_depend_on_sharding():
     assert a["mechanism_id"].is_monotonic_increasing and len(a) == 50
     np.testing.assert_allclose(a["l3_m"], a["l3"] * a["scale_m"])
 
-    # shards that stop after 30 feasible designs each give the same selection and counts
+    # interleaved shards that stop after their quota give the same selection and counts, the
+    # candidates fitted on where the quotas fell short (a quota of 4 in 4 shards: 16 < 30)
     first = select_mechanisms(whole, 30)
-    for n_shards in (1, 2, 3):
+    for n_shards, quota in ((1, shard_quota(30, 1)), (2, shard_quota(30, 2)), (4, 4)):
         stopped = pd.concat(
             [
-                fit_designs(
-                    candidates.iloc[shard_slice(len(candidates), n_shards, i)],
-                    fit_settings,
-                    stop_after=30,
-                )
+                fit_designs(candidates.iloc[i::n_shards], fit_settings, stop_after=quota)
                 for i in range(n_shards)
             ],
             ignore_index=True,
         )
         assert len(stopped) < len(whole)
-        examined = examined_fits(stopped, 30)
+        examined = gathered_fits(stopped, candidates, 30, fit_settings)
         pd.testing.assert_frame_equal(select_mechanisms(examined, 30), first)
         counts = fit_counts(examined)
         assert counts == fit_counts(examined_fits(whole, 30))

@@ -74,6 +74,7 @@ rule select_mechanisms:
     input:
         fits=expand(f"{RESULTS}/mechanisms/fits/shard-{{shard}}.parquet", shard=STAGE1_SHARDS),
         counts=rules.filter_kinematics.output.counts,
+        candidates=rules.filter_kinematics.output.candidates,
     output:
         mechanisms=f"{RESULTS}/mechanisms/mechanisms.parquet",
         report=f"{RESULTS}/mechanisms/filter_report.json",

@@ -1,15 +1,18 @@
-"""Rule select_mechanisms: gather the shards, keep the first n feasible designs, count filters."""
+"""Rule select_mechanisms: gather the shards (fitting on where they fell short), keep the first n
+feasible designs, count filters."""
 
 import json
 
 import pandas as pd
 
+from qsm.config.settings import physics
 from qsm.mechanisms.scale import (
     MECHANISM_COLUMNS,
-    examined_fits,
     fit_counts,
+    gathered_fits,
     select_mechanisms,
 )
+from qsm.physics.kinematics import RATIO_NAMES
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_table, settings_hash, write_table
@@ -20,7 +23,11 @@ with logged(snakemake.log[0]) as log:
         [read_table(f, ["sample_id", "feasible", "reason"]) for f in snakemake.input.fits],
         ignore_index=True,
     )
-    fits = examined_fits(fits, p.n_mechanisms)
+    candidates = read_table(snakemake.input.candidates, ["sample_id", *RATIO_NAMES])
+    candidates = candidates.sort_values("sample_id", ignore_index=True)
+    s = p.settings
+    fit = physics.fit(s["operating_range"], s["task_points"], s["scale"], s["workspace"])
+    fits = gathered_fits(fits, candidates, p.n_mechanisms, fit)
     with open(snakemake.input.counts) as fh:
         counts = json.load(fh)
     counts.update(fit_counts(fits))

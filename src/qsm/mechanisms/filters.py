@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 import numpy as np
 import pandas as pd
 
@@ -57,3 +59,16 @@ def kinematic_filters(
         keep &= ok
         counts[step] = int(keep.sum())
     return samples.loc[keep].reset_index(drop=True), counts
+
+
+def filter_batches(
+    batches: Iterable[pd.DataFrame], op: OperatingRange, min_transmission_angle_deg: float
+) -> tuple[pd.DataFrame, dict[str, int]]:
+    """:func:`kinematic_filters` of a table read in ``batches``: the rows that pass, in order,
+    and the counts of the whole table."""
+    parts, counts = [], {}
+    for batch in batches:
+        kept, batch_counts = kinematic_filters(batch, op, min_transmission_angle_deg)
+        parts.append(kept)
+        counts = {k: counts.get(k, 0) + n for k, n in batch_counts.items()}
+    return pd.concat(parts, ignore_index=True), counts

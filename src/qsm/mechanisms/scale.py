@@ -10,7 +10,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from qsm.physics.containment import minimal_scales, radial_misfit
 from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
@@ -147,12 +147,44 @@ def fit_designs(
     return pd.concat([examined, fits], axis=1)
 
 
+def shard_quota(n_mechanisms: int, shards: int) -> int:
+    """The feasible designs each of ``shards`` interleaved shards of the candidates looks for:
+    its share of the selection and 10 % more, so that together they have most likely examined
+    every candidate up to the ``n_mechanisms``-th feasible one (:func:`covered_fits`)."""
+    return -(-11 * n_mechanisms // (10 * shards))
+
+
+def covered_fits(fits: pd.DataFrame, candidate_ids: ArrayLike) -> tuple[pd.DataFrame, int]:
+    """The ``fits`` of the longest run of ``candidate_ids`` from the first (in sample order)
+    that were all examined, and that run's length."""
+    ids = np.sort(np.asarray(candidate_ids))
+    examined = np.isin(ids, fits["sample_id"].to_numpy())
+    prefix = len(ids) if examined.all() else int(np.argmin(examined))
+    last = ids[prefix - 1] if prefix else -1
+    return fits.loc[fits["sample_id"].to_numpy() <= last], prefix
+
+
+def gathered_fits(
+    fits: pd.DataFrame, candidates: pd.DataFrame, n_mechanisms: int, settings: FitSettings
+) -> pd.DataFrame:
+    """The shards' ``fits`` of the ``candidates`` (sample order) up to the ``n_mechanisms``-th
+    feasible one (:func:`examined_fits`), the candidates after those the shards covered fitted
+    here where the shards' quotas (:func:`shard_quota`) fell short."""
+    fits, covered = covered_fits(fits, candidates["sample_id"])
+    short = n_mechanisms - int(fits["feasible"].sum())
+    if short > 0 and covered < len(candidates):
+        log.info("the shards cover %d candidates, %d fits short: fitting on", covered, short)
+        more = fit_designs(candidates.iloc[covered:], settings, stop_after=short)
+        fits = pd.concat([fits, more], ignore_index=True)
+    return examined_fits(fits, n_mechanisms)
+
+
 def examined_fits(fits: pd.DataFrame, n_mechanisms: int) -> pd.DataFrame:
     """The fits of every candidate up to the ``n_mechanisms``-th feasible one in sample order
     (all of them if fewer are feasible).
 
-    Shards stop after ``n_mechanisms`` feasible designs each, so how far each got depends on the
-    sharding; this prefix does not, and every candidate in it was examined.
+    How far each shard got depends on the sharding; this prefix of fits that cover every
+    candidate up to their last (:func:`covered_fits`) does not.
     """
     fits = fits.sort_values("sample_id")
     feasible = fits["feasible"].to_numpy(dtype=bool)

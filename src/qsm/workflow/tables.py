@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Iterable, Mapping
+from collections.abc import Iterable, Iterator, Mapping
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -46,12 +46,31 @@ def write_table(
 ) -> None:
     """Write ``table`` to Parquet with ``meta`` (strict JSON, :func:`qsm.workflow.json_files.plain`)
     and the package versions in its metadata."""
-    arrow = pa.Table.from_pandas(table, preserve_index=False)
+    write_batches([table], path, meta)
+
+
+def write_batches(
+    batches: Iterable[pd.DataFrame], path: str | Path, meta: Mapping[str, Any] | None = None
+) -> int:
+    """Write the tables ``batches`` (one schema) one after another to one Parquet file, as
+    :func:`write_table` writes one table, holding one batch at a time; the rows written."""
     info = {"package_versions": package_versions(), **(meta or {})}
     text = json.dumps(plain(info), default=str, allow_nan=False)  # strict: NaN as null
-    merged = {**(arrow.schema.metadata or {}), META_KEY: text.encode()}
     Path(path).parent.mkdir(parents=True, exist_ok=True)
-    pq.write_table(arrow.replace_schema_metadata(merged), path)
+    writer, rows = None, 0
+    try:
+        for batch in batches:
+            arrow = pa.Table.from_pandas(batch, preserve_index=False)
+            arrow = arrow.replace_schema_metadata(
+                {**(arrow.schema.metadata or {}), META_KEY: text.encode()}
+            )
+            writer = writer or pq.ParquetWriter(path, arrow.schema)
+            writer.write_table(arrow)
+            rows += len(batch)
+    finally:
+        if writer is not None:
+            writer.close()
+    return rows
 
 
 def read_table(path: str | Path, columns: Iterable[str] = ()) -> pd.DataFrame:
@@ -72,6 +91,25 @@ def read_table(path: str | Path, columns: Iterable[str] = ()) -> pd.DataFrame:
     if missing:
         raise TableError(f"table '{path}' lacks column(s) {', '.join(missing)}{_remedy(path)}")
     return table.to_pandas()
+
+
+def read_batches(
+    path: str | Path, columns: Iterable[str] = (), rows: int = 1_000_000
+) -> Iterator[pd.DataFrame]:
+    """The table at ``path`` ``rows`` at a time (its ``columns``, each required; all when none
+    are named), with :func:`read_table`'s errors naming the file."""
+    columns = list(columns)
+    try:
+        table = pq.ParquetFile(path)
+        missing = [c for c in columns if c not in table.schema_arrow.names]
+        if missing:
+            raise TableError(f"table '{path}' lacks column(s) {', '.join(missing)}{_remedy(path)}")
+        for batch in table.iter_batches(batch_size=rows, columns=columns or None):
+            yield batch.to_pandas()
+    except FileNotFoundError as exc:
+        raise TableError(f"table '{path}' does not exist: run the workflow first") from exc
+    except (OSError, pa.ArrowException) as exc:
+        raise TableError(f"cannot read table '{path}': {exc}{_remedy(path)}") from exc
 
 
 def read_meta(path: str | Path) -> dict[str, Any]:
