@@ -16,6 +16,8 @@ import pyarrow.parquet as pq
 from qsm.workflow.json_files import plain
 
 META_KEY = b"qsm"
+#: Rows converted to Arrow and written at a time.
+ROW_GROUP = 250_000
 PACKAGES = ("qsm-design", "numpy", "scipy", "pandas", "pyarrow")
 
 
@@ -45,8 +47,10 @@ def write_table(
     table: pd.DataFrame, path: str | Path, meta: Mapping[str, Any] | None = None
 ) -> None:
     """Write ``table`` to Parquet with ``meta`` (strict JSON, :func:`qsm.workflow.json_files.plain`)
-    and the package versions in its metadata."""
-    write_batches([table], path, meta)
+    and the package versions in its metadata, :data:`ROW_GROUP` rows at a time (Arrow holds a
+    copy of one group, not of the table)."""
+    groups = range(0, max(len(table), 1), ROW_GROUP)
+    write_batches((table.iloc[start : start + ROW_GROUP] for start in groups), path, meta)
 
 
 def write_batches(
@@ -90,7 +94,7 @@ def read_table(path: str | Path, columns: Iterable[str] = ()) -> pd.DataFrame:
     missing = [c for c in columns if c not in table.column_names]
     if missing:
         raise TableError(f"table '{path}' lacks column(s) {', '.join(missing)}{_remedy(path)}")
-    return table.to_pandas()
+    return table.to_pandas(split_blocks=True, self_destruct=True)  # Arrow's memory freed as read
 
 
 def read_batches(
