@@ -18,8 +18,9 @@ def shard_slice(n_rows: int, n_shards: int, shard: int) -> slice:
 
 
 def shard_count(n_rows: int, least: int, rows_per_shard: int) -> int:
-    """Shards for ``n_rows`` rows: ``least`` (the jobs to run side by side), more where a shard
-    would hold over ``rows_per_shard`` rows (which bounds each job's memory)."""
+    """Shards for ``n_rows`` rows: ``least`` (the jobs to run side by side), or a multiple of it
+    where a shard would hold over ``rows_per_shard`` rows (which bounds each job's memory), so
+    that the jobs run in full rounds of ``least``."""
     if least < 1 or rows_per_shard < 1:
         raise ValueError(f"need least >= 1 and rows_per_shard >= 1, got {least}, {rows_per_shard}")
-    return max(least, -(-n_rows // rows_per_shard))
+    return least * max(1, -(-n_rows // (least * rows_per_shard)))
