@@ -1,6 +1,7 @@
 """Sampling, filters, sharding, tables and the command line of Stage 1."""
 
 import contextlib
+import functools
 import io
 import json
 import subprocess
@@ -13,7 +14,7 @@ from scipy.stats import qmc
 from qsm.app.cli import main
 from qsm.config.reading import load_config
 from qsm.config.settings import physics
-from qsm.mechanisms.filters import filter_batches, kinematic_filters
+from qsm.mechanisms.filters import added, filter_batches, kinematic_filters
 from qsm.mechanisms.sampling import latin_hypercube, lhs_batches
 from qsm.mechanisms.scale import (
     examined_fits,
@@ -53,9 +54,13 @@ def test_lhs_in_batches_is_scipys_sample_and_streams_through_parquet(tmp_path):
     np.testing.assert_array_equal(table["sample_id"], np.arange(2500))
     assert read_meta(path)["k"] == 1
     whole = kinematic_filters(table, OP, 30.0)
-    parts = filter_batches(read_batches(path, ["sample_id", *RATIO_NAMES], rows=700), OP, 30.0)
-    pd.testing.assert_frame_equal(parts[0], whole[0])
-    assert parts[1] == whole[1] and 0 < whole[1]["transmission_angle"] < 2500
+    parts = list(
+        filter_batches(read_batches(path, ["sample_id", *RATIO_NAMES], rows=700), OP, 30.0)
+    )
+    assert len(parts) == 4
+    pd.testing.assert_frame_equal(pd.concat([t for t, _ in parts], ignore_index=True), whole[0])
+    assert functools.reduce(added, [c for _, c in parts], {}) == whole[1]
+    assert 0 < whole[1]["transmission_angle"] < 2500
     with pytest.raises(TableError, match="lacks column"):
         next(read_batches(path, ["sample_id", "tau1_Nm"]))
 

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from collections.abc import Iterable
+from collections.abc import Iterable, Iterator
 
 import numpy as np
 import pandas as pd
@@ -63,12 +63,13 @@ def kinematic_filters(
 
 def filter_batches(
     batches: Iterable[pd.DataFrame], op: OperatingRange, min_transmission_angle_deg: float
-) -> tuple[pd.DataFrame, dict[str, int]]:
-    """:func:`kinematic_filters` of a table read in ``batches``: the rows that pass, in order,
-    and the counts of the whole table."""
-    parts, counts = [], {}
+) -> Iterator[tuple[pd.DataFrame, dict[str, int]]]:
+    """:func:`kinematic_filters` of a table read in ``batches``, one batch at a time: the rows of
+    each that pass, in order, and its counts (:func:`added` sums them to the whole table's)."""
     for batch in batches:
-        kept, batch_counts = kinematic_filters(batch, op, min_transmission_angle_deg)
-        parts.append(kept)
-        counts = {k: counts.get(k, 0) + n for k, n in batch_counts.items()}
-    return pd.concat(parts, ignore_index=True), counts
+        yield kinematic_filters(batch, op, min_transmission_angle_deg)
+
+
+def added(total: dict[str, int], counts: dict[str, int]) -> dict[str, int]:
+    """Filter counts ``total`` with a batch's ``counts`` added, step by step."""
+    return {k: total.get(k, 0) + n for k, n in counts.items()}

@@ -129,11 +129,12 @@ def fit_designs(
     :func:`examined_fits`).
     """
     ratios = designs[list(RATIO_NAMES)].to_numpy()
-    rows = []
-    found = 0
+    columns: dict[str, list[Any]] = {key: [] for key in _infeasible("", 0.0)}  # lighter than rows
+    found = i = 0
     start = time.perf_counter()
     for i, row in enumerate(fit_rows(ratios, settings), 1):
-        rows.append(row)
+        for key, value in row.items():
+            columns[key].append(value)
         found += row["feasible"]
         done = stop_after is not None and found >= stop_after
         if i % log_every == 0 or i == len(ratios) or done:
@@ -142,8 +143,8 @@ def fit_designs(
         if done:
             log.info("%d feasible designs found: the remaining rows are not needed", found)
             break
-    fits = pd.DataFrame(rows, columns=list(_infeasible("", 0.0)))
-    examined = designs[["sample_id", *RATIO_NAMES]].iloc[: len(rows)].reset_index(drop=True)
+    fits = pd.DataFrame(columns)
+    examined = designs[["sample_id", *RATIO_NAMES]].iloc[:i].reset_index(drop=True)
     return pd.concat([examined, fits], axis=1)
 
 
