@@ -75,6 +75,20 @@ def test_a_failure_after_a_config_change_marks_the_results_and_a_success_clears_
     assert json.loads((results / rs.GOOD_CONFIG).read_text()) == changed
 
 
+def test_a_run_back_on_the_last_good_config_clears_the_marks_without_rerunning(tmp_path):
+    """A failure after a change marks the results; a run on the last good config again, with
+    nothing to do (it writes no summary), finds them current and takes the marks away."""
+    results = _results(tmp_path)
+    rs.mark_not_current(results, rs.failure(results, LAST_GOOD | {"seed": 2}, []))
+    assert (results / "summary.md").read_text().startswith(rs.BANNER)
+    rs.clear_marks(results, LAST_GOOD | {"seed": 2}, time.time() + 60)  # the changed one: kept
+    assert (results / "realization" / rs.MARKER).exists()
+    rs.clear_marks(results, LAST_GOOD, time.time() + 60)
+    assert (results / "summary.md").read_text() == "# summary\n\n**Ready to build**\n"
+    assert not (results / "realization" / rs.MARKER).exists()
+    assert json.loads((results / rs.GOOD_CONFIG).read_text()) == LAST_GOOD
+
+
 def test_a_failure_with_the_same_config_leaves_the_results_unmarked(tmp_path):
     results = _results(tmp_path)
     failed = rs.failure(results, LAST_GOOD, [])

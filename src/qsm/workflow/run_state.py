@@ -171,10 +171,13 @@ def mark_not_current(results: Path, failed: Failure) -> None:
 
 def clear_marks(results: Path, config: Mapping[str, Any], started: float) -> None:
     """After a successful run that wrote the summary (at or after ``started``, seconds since
-    the epoch; a run of one rule leaves the marks): no banner, no marker, and its config
-    recorded as the last good."""
-    summary = results / BANNERED[0]
-    if not summary.exists() or summary.stat().st_mtime < started:
+    the epoch), or one whose config is the last good run's again (the results describe it): no
+    banner, no marker, and the config recorded as the last good. A run of one rule under
+    another config leaves the marks."""
+    summary, record = results / BANNERED[0], results / GOOD_CONFIG
+    wrote = summary.exists() and summary.stat().st_mtime >= started
+    same = record.exists() and not changed_keys(json.loads(record.read_text()), config)
+    if not (wrote or same):
         return
     for name in BANNERED:
         path = results / name
@@ -183,9 +186,9 @@ def clear_marks(results: Path, config: Mapping[str, Any], started: float) -> Non
     _banner_html(results, None)
     for folder in MARKED:
         (results / folder / MARKER).unlink(missing_ok=True)
-    if results.is_dir():
+    if wrote:
         text = json.dumps(config, default=str, sort_keys=True, allow_nan=False)
-        (results / GOOD_CONFIG).write_text(text)
+        record.write_text(text)
 
 
 def _banner_html(results: Path, banner: str | None) -> None:
