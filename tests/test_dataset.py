@@ -11,12 +11,19 @@ import pytest
 
 from qsm.config.reading import load_config
 from qsm.config.settings import physics
-from qsm.dataset.columns import DRIVE_COLUMNS, DYNAMICS_COLUMNS, STIFFNESS_COLUMNS, STRENGTH_COLUMNS
-from qsm.dataset.gathering import DatasetError, gather
+from qsm.dataset.columns import (
+    DATASET_COLUMNS,
+    DRIVE_COLUMNS,
+    DYNAMICS_COLUMNS,
+    STIFFNESS_COLUMNS,
+    STRENGTH_COLUMNS,
+)
+from qsm.dataset.gathering import DatasetError, check_coverage, gather, gathered_batches
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
 from qsm.physics.duty import duty_cycle
 from qsm.physics.dynamics import joint_torques, loop_state
 from qsm.physics.kinematics import DESIGN_NAMES, pose
+from qsm.workflow.tables import read_table, table_schema, write_batches, write_table
 
 
 def mechanisms(ids):
@@ -40,6 +47,37 @@ def test_gather_keeps_the_mechanism_order_and_every_status():
     out = gather(table, full)
     assert list(out["mechanism_id"]) == [5, 3, 9, 1]
     assert list(out["status"]) == ["singular", "ok", "ok", "ok"]
+
+
+def test_a_dataset_written_shard_by_shard_is_the_gathered_one(tmp_path):
+    """Shards in the mechanisms' order, the first with no failure (its reasons all null), joined
+    and written one at a time with the schema of all the files, read back as the whole join."""
+    columns = ["mechanism_id", *DYNAMICS_COLUMNS, *STRENGTH_COLUMNS, *DRIVE_COLUMNS]
+    columns += list(STIFFNESS_COLUMNS)
+    table = mechanisms([5, 3, 9, 1])
+    parts = [shard([5, 3]), shard([9, 1], status="singular")]
+    full = [p.reindex(columns=columns) for p in parts]
+    for p, src in zip(full, parts, strict=True):
+        p["status"] = src["status"].to_numpy()
+    full[1]["status_reason"] = "theta1=1.2: the coupler and rocker align"
+    paths = [tmp_path / "mechanisms.parquet", tmp_path / "a.parquet", tmp_path / "b.parquet"]
+    for frame, path in zip([table, *full], paths, strict=True):
+        write_table(frame, path)
+    assert check_coverage(table["mechanism_id"], [p["mechanism_id"] for p in full])
+    assert not check_coverage(table["mechanism_id"], [[9, 1], [5, 3]])  # covered, not in order
+    schema = table_schema(paths, DATASET_COLUMNS)
+    shards = (read_table(path) for path in paths[1:])
+    write_batches(gathered_batches(table, shards), tmp_path / "dataset.parquet", None, schema)
+    expected = gather(table, full)
+    got = read_table(tmp_path / "dataset.parquet")
+    assert list(got["status_reason"].isna()) == [True, True, False, False]
+    pd.testing.assert_frame_equal(got, read_table(_written(expected, tmp_path)))
+
+
+def _written(frame, tmp_path):
+    """``frame`` written whole and its path."""
+    write_table(frame, tmp_path / "whole.parquet")
+    return tmp_path / "whole.parquet"
 
 
 @pytest.mark.parametrize(

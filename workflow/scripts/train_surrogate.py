@@ -1,7 +1,6 @@
 """Rule train_surrogate: fit the MLP, write the model (JSON), metrics and parity plots."""
 
 from qsm.config.settings import surrogate
-from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import ok_rows
 from qsm.report.figures import parity_figure
 from qsm.surrogate.model import INPUTS, OUTPUTS, metrics_markdown, train
@@ -12,7 +11,8 @@ from qsm.workflow.tables import read_table
 with logged(snakemake.log[0]) as log:
     out = snakemake.output
     surrogate_settings = surrogate.surrogate(snakemake.params.surrogate)
-    dataset = ok_rows(read_table(snakemake.input[0], DATASET_COLUMNS))
+    needed = ["status", *INPUTS, *OUTPUTS]  # of the dataset's columns, the only ones read
+    dataset = ok_rows(read_table(snakemake.input[0], needed, only=True))
     x = dataset[list(INPUTS)].to_numpy()
     y = dataset[list(OUTPUTS)].to_numpy()
     log.info("training on %d designs (status ok) with %s", len(x), surrogate_settings)

@@ -3,11 +3,12 @@ the healthy rows the later stages read (light: no MuJoCo, no trimesh)."""
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Iterable, Iterator, Sequence
 from typing import Any
 
 import numpy as np
 import pandas as pd
+from numpy.typing import ArrayLike
 
 from qsm.dataset.columns import DATASET_COLUMNS, MOTORS
 
@@ -22,8 +23,17 @@ def gather(mechanisms: pd.DataFrame, shards: Sequence[pd.DataFrame]) -> pd.DataF
     Raises :class:`DatasetError` unless every mechanism id appears exactly once in the shards.
     """
     dyn = pd.concat(shards, ignore_index=True)
-    counts = dyn["mechanism_id"].value_counts()
-    expected = pd.Index(mechanisms["mechanism_id"])
+    check_coverage(mechanisms["mechanism_id"], [dyn["mechanism_id"]])
+    table = mechanisms.merge(dyn, on="mechanism_id", how="left", validate="one_to_one")
+    return table[list(DATASET_COLUMNS)]
+
+
+def check_coverage(mechanism_ids: ArrayLike, shard_ids: Sequence[ArrayLike]) -> bool:
+    """Raise :class:`DatasetError` unless every mechanism id appears exactly once in the shards'
+    ids; whether the shards, one after another, hold them in the mechanisms' order."""
+    ids = np.concatenate([np.asarray(x) for x in shard_ids]) if shard_ids else np.zeros(0, int)
+    counts = pd.Series(ids).value_counts()
+    expected = pd.Index(mechanism_ids)
     missing = expected.difference(counts.index)
     extra = counts.index.difference(expected)
     repeated = counts[counts > 1].index
@@ -32,8 +42,19 @@ def gather(mechanisms: pd.DataFrame, shards: Sequence[pd.DataFrame]) -> pd.DataF
             "dynamics shards do not cover the mechanisms exactly once: "
             f"missing {_ids(missing)}, unknown {_ids(extra)}, repeated {_ids(repeated)}"
         )
-    table = mechanisms.merge(dyn, on="mechanism_id", how="left", validate="one_to_one")
-    return table[list(DATASET_COLUMNS)]
+    return bool(np.array_equal(ids, np.asarray(mechanism_ids)))
+
+
+def gathered_batches(
+    mechanisms: pd.DataFrame, shards: Iterable[pd.DataFrame]
+) -> Iterator[pd.DataFrame]:
+    """:func:`gather`'s table shard by shard, for shards that hold the mechanisms in their order
+    (:func:`check_coverage`): each joined with its run of the mechanism table."""
+    start = 0
+    for dyn in shards:
+        rows = mechanisms.iloc[start : start + len(dyn)]
+        start += len(dyn)
+        yield gather(rows, [dyn])
 
 
 def _ids(ids: pd.Index) -> str:

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import hashlib
 import json
-from collections.abc import Iterable, Iterator, Mapping
+from collections.abc import Iterable, Iterator, Mapping, Sequence
 from importlib import metadata
 from pathlib import Path
 from typing import Any
@@ -54,17 +54,25 @@ def write_table(
 
 
 def write_batches(
-    batches: Iterable[pd.DataFrame], path: str | Path, meta: Mapping[str, Any] | None = None
+    batches: Iterable[pd.DataFrame],
+    path: str | Path,
+    meta: Mapping[str, Any] | None = None,
+    schema: pa.Schema | None = None,
 ) -> int:
-    """Write the tables ``batches`` (one schema) one after another to one Parquet file, as
-    :func:`write_table` writes one table, holding one batch at a time; the rows written."""
+    """Write the tables ``batches`` one after another to one Parquet file, as :func:`write_table`
+    writes one table, holding one batch at a time; the rows written. Each batch is cast to
+    ``schema`` (None: the first batch's), so that a column one batch holds only as nulls keeps
+    its type."""
     info = {"package_versions": package_versions(), **(meta or {})}
     text = json.dumps(plain(info), default=str, allow_nan=False)  # strict: NaN as null
     Path(path).parent.mkdir(parents=True, exist_ok=True)
     writer, rows = None, 0
     try:
         for batch in batches:
-            arrow = pa.Table.from_pandas(batch, preserve_index=False)
+            if schema is None:
+                arrow = pa.Table.from_pandas(batch, preserve_index=False)
+            else:
+                arrow = _as_schema(batch.reset_index(drop=True), schema)
             arrow = arrow.replace_schema_metadata(
                 {**(arrow.schema.metadata or {}), META_KEY: text.encode()}
             )
@@ -77,21 +85,26 @@ def write_batches(
     return rows
 
 
-def read_table(path: str | Path, columns: Iterable[str] = ()) -> pd.DataFrame:
+def read_table(path: str | Path, columns: Iterable[str] = (), only: bool = False) -> pd.DataFrame:
     """Read a Parquet table, raising ``TableError`` naming the file on any problem.
 
-    ``columns`` are required; a missing one is reported by name.
+    ``columns`` are required; a missing one is reported by name. With ``only``, just those
+    columns are read (a job that needs a few columns of a large table holds only them).
     """
+    columns = list(columns)
     if not Path(path).exists():
         raise TableError(
             f"table '{path}' does not exist: run the workflow that writes it first "
             f"(snakemake --cores 2), or give the folder of a run that did"
         )
     try:
-        table = pq.read_table(path)
+        names = pq.read_schema(path).names
+        missing = [c for c in columns if c not in names]
+        table = (
+            None if missing else pq.read_table(path, columns=columns if only and columns else None)
+        )
     except (OSError, pa.ArrowException) as exc:
         raise TableError(f"cannot read table '{path}': {exc}{_remedy(path)}") from exc
-    missing = [c for c in columns if c not in table.column_names]
     if missing:
         raise TableError(f"table '{path}' lacks column(s) {', '.join(missing)}{_remedy(path)}")
     return table.to_pandas(split_blocks=True, self_destruct=True)  # Arrow's memory freed as read
@@ -131,3 +144,26 @@ def settings_hash(settings: Mapping[str, Any]) -> str:
     """Short SHA-256 of the canonical JSON of ``settings`` (what a stage's output depends on)."""
     text = json.dumps(settings, sort_keys=True, separators=(",", ":"), default=str)
     return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def table_schema(paths: Iterable[str | Path], columns: Sequence[str]) -> pa.Schema:
+    """The schema of ``columns`` across the tables at ``paths``: a column that one table holds
+    as text is text (another may hold it only as nulls, written as numbers), for
+    :func:`write_batches`."""
+    schemas = [pq.read_schema(p) for p in paths]
+    fields = []
+    for name in columns:
+        found = [s.field(name) for s in schemas if name in s.names]
+        text = [f for f in found if pa.types.is_string(f.type) or pa.types.is_large_string(f.type)]
+        fields.append((text or found)[0])
+    return pa.schema(fields)
+
+
+def _as_schema(batch: pd.DataFrame, schema: pa.Schema) -> pa.Table:
+    """``batch`` in ``schema``: a text column it holds only as missing numbers becomes nulls."""
+    batch = batch[schema.names]
+    for field in schema:
+        text = pa.types.is_string(field.type) or pa.types.is_large_string(field.type)
+        if text and batch[field.name].dtype.kind == "f" and batch[field.name].isna().all():
+            batch = batch.assign(**{field.name: pd.Series([None] * len(batch), dtype=object)})
+    return pa.Table.from_pandas(batch, schema=schema, preserve_index=False)
