@@ -3,7 +3,7 @@
 import json
 
 from qsm.dataset.columns import DATASET_COLUMNS
-from qsm.dataset.gathering import ok_rows
+from qsm.dataset.gathering import OK_ROWS, ok_rows
 from qsm.design_rules.claims import Evidence, Study
 from qsm.design_rules.correlations import FEATURES_MM, OBJECTIVES, correlations
 from qsm.design_rules.findings import findings, summary_markdown
@@ -16,7 +16,7 @@ with logged(snakemake.log[0]) as log:
     inp = snakemake.input
     with open(inp.first_splits) as fh:
         trees = json.load(fh)
-    dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS))
+    dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS, where=OK_ROWS))
     gradients = read_table(inp.derivatives)
     study = None
     if "lengths" in inp.keys():

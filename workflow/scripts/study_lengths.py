@@ -2,7 +2,7 @@
 
 from qsm.config.settings import physics
 from qsm.dataset.columns import DATASET_COLUMNS
-from qsm.dataset.gathering import ok_rows
+from qsm.dataset.gathering import OK_ROWS, ok_rows
 from qsm.design_rules.experiments import INDEPENDENT_COLUMNS, independent_lengths
 from qsm.design_rules.plots import study_lengths_figure
 from qsm.design_rules.study import lengths_outcome
@@ -14,7 +14,7 @@ from qsm.workflow.tables import read_table, write_table
 with logged(snakemake.log[0]) as log:
     p = snakemake.params
     out = snakemake.output
-    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS))
+    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS, where=OK_ROWS))
     duty = duty_cycle(physics.duty(p.duty, p.operating_range))
     sample = independent_lengths(
         dataset,

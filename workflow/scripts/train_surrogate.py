@@ -1,7 +1,7 @@
 """Rule train_surrogate: fit the MLP, write the model (JSON), metrics and parity plots."""
 
 from qsm.config.settings import surrogate
-from qsm.dataset.gathering import ok_rows
+from qsm.dataset.gathering import OK_ROWS, ok_rows
 from qsm.report.figures import parity_figure
 from qsm.surrogate.model import INPUTS, OUTPUTS, metrics_markdown, train
 from qsm.workflow.json_files import write_json
@@ -12,7 +12,7 @@ with logged(snakemake.log[0]) as log:
     out = snakemake.output
     surrogate_settings = surrogate.surrogate(snakemake.params.surrogate)
     needed = ["status", *INPUTS, *OUTPUTS]  # of the dataset's columns, the only ones read
-    dataset = ok_rows(read_table(snakemake.input[0], needed, only=True))
+    dataset = ok_rows(read_table(snakemake.input[0], needed, only=True, where=OK_ROWS))
     x = dataset[list(INPUTS)].to_numpy()
     y = dataset[list(OUTPUTS)].to_numpy()
     log.info("training on %d designs (status ok) with %s", len(x), surrogate_settings)

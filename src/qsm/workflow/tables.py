@@ -85,11 +85,17 @@ def write_batches(
     return rows
 
 
-def read_table(path: str | Path, columns: Iterable[str] = (), only: bool = False) -> pd.DataFrame:
+def read_table(
+    path: str | Path,
+    columns: Iterable[str] = (),
+    only: bool = False,
+    where: list[tuple[str, str, Any]] | None = None,
+) -> pd.DataFrame:
     """Read a Parquet table, raising ``TableError`` naming the file on any problem.
 
     ``columns`` are required; a missing one is reported by name. With ``only``, just those
-    columns are read (a job that needs a few columns of a large table holds only them).
+    columns are read, and with ``where`` (pyarrow's filters, such as ``[("status", "==",
+    "ok")]``) just those rows: a job that needs part of a large table holds only that part.
     """
     columns = list(columns)
     if not Path(path).exists():
@@ -100,9 +106,8 @@ def read_table(path: str | Path, columns: Iterable[str] = (), only: bool = False
     try:
         names = pq.read_schema(path).names
         missing = [c for c in columns if c not in names]
-        table = (
-            None if missing else pq.read_table(path, columns=columns if only and columns else None)
-        )
+        wanted = columns if only and columns else None
+        table = None if missing else pq.read_table(path, columns=wanted, filters=where)
     except (OSError, pa.ArrowException) as exc:
         raise TableError(f"cannot read table '{path}': {exc}{_remedy(path)}") from exc
     if missing:
