@@ -4,12 +4,11 @@ figures."""
 import numpy as np
 
 from qsm.config.settings import actuation, links, optimization, physics, surrogate
-from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import OK_ROWS, ok_rows
 from qsm.optimization.comparison import true_hypervolume
 from qsm.optimization.infill import Steps, infill, refit_rows
 from qsm.optimization.nsga import optimize
-from qsm.optimization.ranking import OBJECTIVE_SETS
+from qsm.optimization.ranking import OBJECTIVE_SETS, OPTIMISATION_COLUMNS
 from qsm.optimization.verify import verify_front
 from qsm.report.figures import infill_figure, pareto_figures, representatives_figure
 from qsm.surrogate.model import INPUTS, OUTPUTS, Training, load, refit, training_rows
@@ -21,7 +20,9 @@ with logged(snakemake.log[0]) as log:
     p = snakemake.params
     out = snakemake.output
     model = load(snakemake.input.model)
-    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS, where=OK_ROWS))
+    dataset = ok_rows(
+        read_table(snakemake.input.dataset, OPTIMISATION_COLUMNS, only=True, where=OK_ROWS)
+    )
     fit = physics.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
     every = max(1, p.optimization["generations"] // 10)
 

@@ -22,6 +22,8 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from qsm.physics.kinematics import DESIGN_COLUMNS
+
 #: Selection rules of :func:`rule_scores` (and ``printing.selection_rule``).
 RULES: tuple[str, ...] = ("min_tau1", "min_tau2", "min_torque_sum", "min_eta", "knee", "fastest")
 
@@ -52,6 +54,12 @@ OBJECTIVE_SETS: dict[str, tuple[Objective, ...]] = {
     "torques": (ETA, TAU1, TAU2),
     "drive_mass": (ETA, DRIVE_MASS),
 }
+#: The dataset's columns the optimisation and the fronts' comparison read (its designs, labels,
+#: objectives and tool sag): at 100x the paper a job holds these, not the whole dataset.
+OPTIMISATION_COLUMNS: tuple[str, ...] = tuple(dict.fromkeys([
+    "status", *DESIGN_COLUMNS, "eta", "tau1_Nm", "tau2_Nm", "tool_sag_mm",
+    *(o.dataset for objectives in OBJECTIVE_SETS.values() for o in objectives),
+]))  # fmt: skip
 #: The surrogate's predictions every front holds, whatever it was optimised on.
 PREDICTION_COLUMNS: tuple[str, ...] = tuple(o.predicted for o in OBJECTIVE_SETS["torques"])
 #: The true values every verified table holds (eta, tau1, tau2), all minimised.
