@@ -47,7 +47,7 @@ import yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 SHARD_RULES = ("fit_task", "dynamics", "eta_derivatives_shard")
-# docs/performance.md, growth with the number of mechanisms (2 cores, the default config):
+# benchmarks/LOG.md, 2026-11-22, growth with the number of mechanisms (2 cores, the default config):
 # marginal wall seconds per mechanism from the growth table (bench_scaling.py, 5,000-20,000
 # mechanisms) for Stages 1-3; the eta derivatives, 2 shards of 15.5 s for 11,080 mechanisms; the
 # jobs whose cost does not grow with the mechanisms, in seconds.
