@@ -8,6 +8,7 @@ import subprocess
 
 import numpy as np
 import pandas as pd
+import pyarrow.parquet as pq
 import pytest
 from scipy.stats import qmc
 
@@ -28,6 +29,7 @@ from qsm.physics.kinematics import RATIO_NAMES, pose
 from qsm.physics.workspace import OperatingRange
 from qsm.workflow.sharding import shard_count, shard_slice
 from qsm.workflow.tables import (
+    ROW_GROUP,
     TableError,
     read_batches,
     read_meta,
@@ -63,6 +65,17 @@ def test_lhs_in_batches_is_scipys_sample_and_streams_through_parquet(tmp_path):
     assert 0 < whole[1]["transmission_angle"] < 2500
     with pytest.raises(TableError, match="lacks column"):
         next(read_batches(path, ["sample_id", "tau1_Nm"]))
+
+
+def test_a_large_table_is_written_in_groups_with_one_schema(tmp_path):
+    """Three row groups; a text column that the first holds only as None stays text."""
+    n = 2 * ROW_GROUP + 10
+    reason = np.where(np.arange(n) < ROW_GROUP + 5, None, "too thin").astype(object)
+    table = pd.DataFrame({"sample_id": np.arange(n), "reason": pd.Series(reason, dtype=object)})
+    write_table(table, tmp_path / "t.parquet")
+    assert pq.ParquetFile(tmp_path / "t.parquet").num_row_groups == 3
+    back = read_table(tmp_path / "t.parquet")
+    assert back["reason"].isna().sum() == ROW_GROUP + 5 and back["reason"].iloc[-1] == "too thin"
 
 
 def test_lhs_is_seeded_within_bounds_and_stratified():

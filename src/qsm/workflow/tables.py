@@ -50,7 +50,9 @@ def write_table(
     and the package versions in its metadata, :data:`ROW_GROUP` rows at a time (Arrow holds a
     copy of one group, not of the table)."""
     groups = range(0, max(len(table), 1), ROW_GROUP)
-    write_batches((table.iloc[start : start + ROW_GROUP] for start in groups), path, meta)
+    # one schema for every group (an object column may hold only None in one of them)
+    schema = pa.Schema.from_pandas(table, preserve_index=False) if len(groups) > 1 else None
+    write_batches((table.iloc[start : start + ROW_GROUP] for start in groups), path, meta, schema)
 
 
 def write_batches(
