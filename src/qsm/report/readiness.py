@@ -36,7 +36,7 @@ class Failure:
 
     def line(self) -> str:
         """Markdown: the failure, its ratio and its fix."""
-        ratio = "" if self.ratio is None else f" ({self.ratio:.2f} times its limit)"
+        ratio = "" if self.ratio is None else f" ({fixed(self.ratio, 2)} times its limit)"
         fix = "" if self.fix is None else f". What would meet it: {self.fix}"
         return f"{self.text}{ratio}{fix}."
 

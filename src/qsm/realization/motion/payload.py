@@ -341,8 +341,9 @@ def _failure_reasons(
     if saturated:
         peaks = np.abs(req).max(axis=0)
         per = "; ".join(
-            f"motor {k}: {'past its top speed' if u is None else f'{u:.2f} of what it can give'}"
-            f", peak {p:.1f} N m ({lim:.1f} N m at standstill)"
+            f"motor {k}: "
+            f"{'past its top speed' if u is None else f'{fixed(u, 2)} of what it can give'}"
+            f", peak {fixed(p, 1)} N m ({fixed(lim, 1)} N m at standstill)"
             for k, (u, p, lim) in enumerate(zip(use, peaks, limit, strict=True), start=1)
         )
         reasons.append(f"requested torque exceeds the {what} ({per})")
