@@ -242,7 +242,7 @@ def _realization_lines(selected: Mapping[str, Any], topology: Mapping[str, Any])
 def _payload_line(payload: Mapping[str, Any]) -> str:
     """The summary's line of the payload test: passed or why not, tracking error, torques and
     the limits they met (the drives' envelopes with each motor's peak use, or fixed limits)."""
-    peak = ", ".join(f"{v:.1f}" for v in payload["peak_torque_Nm"])
+    peak = ", ".join(fixed(v, 1) for v in payload["peak_torque_Nm"])
     limit = ", ".join(f"{v:.0f}" for v in payload["limit_Nm"])
     if payload.get("drives"):
         used = use_text(payload["peak_torque_over_available"])
