@@ -5,10 +5,10 @@ from qsm.dataset.columns import (
     DATASET_COLUMNS,
     DRIVE_COLUMNS,
     DYNAMICS_COLUMNS,
-    MOTORS,
     STRENGTH_COLUMNS,
 )
 from qsm.dataset.gathering import (
+    COUNTED_COLUMNS,
     check_coverage,
     drive_counts,
     gather,
@@ -26,12 +26,6 @@ from qsm.workflow.tables import (
     write_batches,
     write_table,
 )
-
-# the columns the counts below read back from the written dataset
-COUNTED = [
-    "mechanism_id", "status", "status_reason", "holds_loads", "weakest_link", "has_drives",
-    *(f"drive{j}_{key}" for j in MOTORS for key in ("violation", "motor", "gearbox")),
-]  # fmt: skip
 
 with logged(snakemake.log[0]) as log:
     p = snakemake.params
@@ -53,7 +47,7 @@ with logged(snakemake.log[0]) as log:
     else:
         shards = [read_table(path, columns) for path in inp.shards]
         write_table(gather(mechanisms, shards), out.dataset, meta)
-    dataset = read_table(out.dataset, COUNTED, only=True)
+    dataset = read_table(out.dataset, COUNTED_COLUMNS, only=True)
     counts = status_counts(dataset)
     failed = dataset.loc[dataset["status"] != "ok"]
     for status, group in failed.groupby("status"):

@@ -63,6 +63,14 @@ def _ids(ids: pd.Index) -> str:
     return f"{len(ids)} ({head}{', ...' if len(ids) > 5 else ''})"
 
 
+#: The dataset's columns the counts below read (:func:`status_counts`, :func:`strength_counts`,
+#: :func:`drive_counts`) and the failures' ids and reasons.
+COUNTED_COLUMNS: tuple[str, ...] = (
+    "mechanism_id", "status", "status_reason", "holds_loads", "weakest_link", "has_drives",
+    *(f"drive{j}_{key}" for j in MOTORS for key in ("violation", "motor", "gearbox")),
+)  # fmt: skip
+
+
 def status_counts(dataset: pd.DataFrame) -> dict[str, int]:
     """How many mechanisms ended in each status."""
     return {str(k): int(v) for k, v in dataset["status"].value_counts().sort_index().items()}
