@@ -1,11 +1,14 @@
-"""Damaged or foreign intermediate tables: an error naming the file and saying to delete it."""
+"""Intermediate tables: part of one read as Arrow reads it; damaged or foreign ones give an error
+naming the file and saying to delete it."""
 
 import json
 
+import numpy as np
 import pandas as pd
 import pyarrow.parquet as pq
 import pytest
 
+from qsm.workflow import tables
 from qsm.workflow.tables import META_KEY, TableError, read_meta, read_table, write_table
 
 
@@ -68,3 +71,36 @@ def test_a_missing_table_says_to_run_the_workflow_not_to_delete_it(tmp_path):
     with pytest.raises(TableError) as info:
         read_table(path)
     assert f"'{path}' does not exist" in str(info.value) and "delete" not in str(info.value)
+
+
+@pytest.mark.parametrize(
+    ("columns", "only", "where"),
+    [
+        ((), False, None),
+        (["x"], True, None),
+        (["x", "name"], True, [("status", "==", "ok")]),  # the filter's column not asked for
+        (["x"], False, [("status", "==", "ok"), ("x", ">", 4.0)]),
+        (["x"], True, [("status", "==", "lost")]),  # no row kept
+        (["x"], True, [("x", ">=", 0.0)]),  # every row kept
+    ],
+)
+def test_part_of_a_table_read_group_by_group_is_what_arrow_reads(
+    tmp_path, monkeypatch, columns, only, where
+):
+    """:func:`read_table` reads a row group at a time and filters each as it comes: the frame is
+    pyarrow's whole-file read, exactly, over several groups of which some lose rows."""
+    monkeypatch.setattr(tables, "ROW_GROUP", 7)
+    n = 30
+    frame = pd.DataFrame(
+        {
+            "x": np.linspace(0.0, 9.0, n),
+            "status": np.where(np.arange(n) % 4 == 1, "error", "ok"),
+            "name": [f"m{k}" for k in range(n)],
+        }
+    )
+    path = tmp_path / "dataset.parquet"
+    write_table(frame, path)
+    assert pq.read_metadata(path).num_row_groups == 5
+    wanted = list(columns) if only and columns else None
+    arrow = pq.read_table(path, columns=wanted, filters=where).to_pandas()
+    pd.testing.assert_frame_equal(read_table(path, columns, only, where), arrow, check_exact=True)

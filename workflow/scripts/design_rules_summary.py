@@ -2,12 +2,11 @@
 
 import json
 
-from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import OK_ROWS, ok_rows
 from qsm.design_rules.claims import Evidence, Study
 from qsm.design_rules.correlations import FEATURES_MM, OBJECTIVES, correlations
 from qsm.design_rules.findings import findings, summary_markdown
-from qsm.design_rules.study import distinct_rows, elasticities
+from qsm.design_rules.study import RULE_COLUMNS, distinct_rows, elasticities
 from qsm.workflow.logs import logged
 from qsm.workflow.tables import read_meta, read_table, write_table
 
@@ -16,7 +15,7 @@ with logged(snakemake.log[0]) as log:
     inp = snakemake.input
     with open(inp.first_splits) as fh:
         trees = json.load(fh)
-    dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS, where=OK_ROWS))
+    dataset = ok_rows(read_table(inp.dataset, RULE_COLUMNS, only=True, where=OK_ROWS))
     gradients = read_table(inp.derivatives)
     study = None
     if "lengths" in inp.keys():

@@ -2,9 +2,9 @@
 always."""
 
 from qsm.config.settings import links, physics, realization
-from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import OK_ROWS, ok_rows
 from qsm.physics.kinematics import DESIGN_COLUMNS
+from qsm.realization.selection.choice import CANDIDATE_COLUMNS
 from qsm.realization.selection.chosen_machine import chosen_machine
 from qsm.realization.selection.machine import machine_record
 from qsm.report.selection_record import selected_figure, selection_verdict
@@ -20,7 +20,7 @@ with logged(snakemake.log[0]) as log:
     if inp.cycles:  # selection_rule: fastest, on the primary front's cycles
         cycles = read_table(inp.cycles).drop(columns=list(DESIGN_COLUMNS))
         fronts[p.primary] = fronts[p.primary].join(cycles)
-    dataset = ok_rows(read_table(inp.dataset, DATASET_COLUMNS, where=OK_ROWS))
+    dataset = ok_rows(read_table(inp.dataset, CANDIDATE_COLUMNS, only=True, where=OK_ROWS))
     rule = p.printing["selection_rule"]
     op = physics.operating_range(p.load_case["operating_range"])
     case = links.load_case(p.load_case)

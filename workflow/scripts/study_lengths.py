@@ -1,11 +1,10 @@
 """Rule study_lengths: the dataset's designs with the scale drawn apart from their ratios."""
 
 from qsm.config.settings import physics
-from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import OK_ROWS, ok_rows
 from qsm.design_rules.experiments import INDEPENDENT_COLUMNS, independent_lengths
 from qsm.design_rules.plots import study_lengths_figure
-from qsm.design_rules.study import lengths_outcome
+from qsm.design_rules.study import RULE_COLUMNS, lengths_outcome
 from qsm.physics.duty import duty_cycle
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
@@ -14,7 +13,7 @@ from qsm.workflow.tables import read_table, write_table
 with logged(snakemake.log[0]) as log:
     p = snakemake.params
     out = snakemake.output
-    dataset = ok_rows(read_table(snakemake.input.dataset, DATASET_COLUMNS, where=OK_ROWS))
+    dataset = ok_rows(read_table(snakemake.input.dataset, RULE_COLUMNS, only=True, where=OK_ROWS))
     duty = duty_cycle(physics.duty(p.duty, p.operating_range))
     sample = independent_lengths(
         dataset,

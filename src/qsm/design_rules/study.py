@@ -24,8 +24,15 @@ from SALib.analyze import delta
 from scipy import stats
 from sklearn.tree import DecisionTreeRegressor
 
-from qsm.physics.kinematics import DESIGN_NAMES
+from qsm.physics.kinematics import DESIGN_NAMES, RATIO_NAMES
 
+#: The dataset's columns the design-rule stage reads (:func:`elasticities`, the findings'
+#: correlations over all mechanisms, the lengths study and its figure, the healthy-row filter):
+#: its jobs read these, not the whole table.
+RULE_COLUMNS: tuple[str, ...] = (
+    "mechanism_id", "status", *RATIO_NAMES, "scale_m", *(f"{n}_m" for n in DESIGN_NAMES),
+    "eta", "tau1_Nm", "tau2_Nm",
+)  # fmt: skip
 OUTPUTS: dict[str, str] = {"eta": "eta", "tau1_Nm": "tau1", "tau2_Nm": "tau2"}
 #: Table 3 of the paper: torque reduction (%) by topology optimisation.
 PAPER_TABLE3_PCT: dict[str, float] = {"tau1": 25.65, "tau2": 16.50}

@@ -109,12 +109,40 @@ def read_table(
         names = pq.read_schema(path).names
         missing = [c for c in columns if c not in names]
         wanted = columns if only and columns else None
-        table = None if missing else pq.read_table(path, columns=wanted, filters=where)
+        table = None if missing else _read_groups(path, wanted, where)
     except (OSError, pa.ArrowException) as exc:
         raise TableError(f"cannot read table '{path}': {exc}{_remedy(path)}") from exc
     if missing:
         raise TableError(f"table '{path}' lacks column(s) {', '.join(missing)}{_remedy(path)}")
     return table.to_pandas(split_blocks=True, self_destruct=True)  # Arrow's memory freed as read
+
+
+def _read_groups(
+    path: str | Path, columns: list[str] | None, where: list[tuple[str, str, Any]] | None
+) -> pa.Table:
+    """The table at ``path`` (``columns``; all when None), :data:`ROW_GROUP` rows at a time, each
+    batch filtered by ``where`` as it is read: the reader holds one batch's buffers beside the rows
+    kept, not the whole file's (``pq.read_table`` pre-buffers every column and filters a copy)."""
+    file = pq.ParquetFile(path, pre_buffer=False)
+    keys = list(dict.fromkeys(key for key, _, _ in where or []))
+    read = None if columns is None else list(dict.fromkeys([*columns, *keys]))
+    parts = []
+    for batch in file.iter_batches(batch_size=ROW_GROUP, columns=read):
+        part = pa.Table.from_batches([batch])
+        if where:
+            rows = _kept_rows(part.select(keys), where)
+            part = part if len(rows) == part.num_rows else part.take(rows)  # no copy if all stay
+        parts.append(part if columns is None else part.select(columns))
+    if not parts:
+        empty = file.schema_arrow.empty_table()
+        return empty if columns is None else empty.select(columns)
+    return pa.concat_tables(parts)
+
+
+def _kept_rows(keys: pa.Table, where: list[tuple[str, str, Any]]) -> pa.Array:
+    """The positions of the rows of ``keys`` (the filter's columns) that ``where`` keeps."""
+    numbered = keys.append_column("__row__", pa.array(range(keys.num_rows), pa.int64()))
+    return numbered.filter(pq.filters_to_expression(where))["__row__"].combine_chunks()
 
 
 def read_batches(

@@ -31,6 +31,7 @@ from typing import Any
 
 import numpy as np
 import pandas as pd
+from numpy.typing import NDArray
 
 from qsm.dataset.columns import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.embodiment.parts.printing import (
@@ -51,6 +52,14 @@ class NoFeasibleDesign(ValueError):
     """Neither a front nor the dataset holds a truly feasible design."""
 
 
+#: The dataset's columns a design taken from it carries (:func:`dataset_candidates`): the rule
+#: reads these, not the whole table.
+CANDIDATE_COLUMNS: tuple[str, ...] = (
+    "mechanism_id", *DESIGN_COLUMNS, "scale_m", "eta", "tau1_Nm", "tau2_Nm", "status",
+    *STRENGTH_COLUMNS, *DRIVE_COLUMNS,
+)  # fmt: skip
+
+
 def dataset_candidates(dataset: pd.DataFrame) -> pd.DataFrame:
     """Dataset rows (every one holds the task at its scale) in the shape of a verified front."""
     out = dataset.loc[:, ["mechanism_id", *DESIGN_COLUMNS]].copy()
@@ -66,8 +75,21 @@ def dataset_candidates(dataset: pd.DataFrame) -> pd.DataFrame:
 
 
 def _feasible(table: pd.DataFrame) -> pd.DataFrame:
-    ok = table[table["feasible"].astype(bool) & table["dynamics_status"].eq("ok")]
-    return ok[np.isfinite(ok.loc[:, true_columns(ok)].to_numpy(float)).all(axis=1)]
+    return table[_feasible_rows(table)]
+
+
+def _feasible_rows(table: pd.DataFrame) -> NDArray[np.bool_]:
+    """Which rows are feasible, dynamically verified and have finite true values."""
+    ok = (table["feasible"].astype(bool) & table["dynamics_status"].eq("ok")).to_numpy()
+    return ok & np.isfinite(table.loc[:, true_columns(table)].to_numpy(float)).all(axis=1)
+
+
+def _tiers(table: pd.DataFrame) -> tuple[NDArray[np.bool_], ...]:
+    """Row masks of ``table``: truly feasible; of those, holding their loads; of those, with a
+    drive for each motor (masks, not copies: the dataset's tiers hold most of its rows)."""
+    feasible = _feasible_rows(table)
+    strong = feasible & table["holds_loads"].astype(bool).to_numpy()
+    return feasible, strong, strong & _has_drives(table).to_numpy()
 
 
 def _printable(table: pd.DataFrame, cad: CadSettings, volume_mm: tuple[float, ...]) -> pd.Series:
@@ -102,11 +124,10 @@ def select_design(
     ]
     if missing:
         raise ValueError(f"verified table lacks columns {missing}")
-    ok = verified[(verified["feasible"].astype(bool)) & (verified["dynamics_status"] == "ok")]
-    ok = ok[np.isfinite(ok.loc[:, true_columns(ok)].to_numpy(float)).all(axis=1)]
-    designs = ok.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)
+    ok = np.flatnonzero(_feasible_rows(verified))
+    designs = verified.loc[:, list(DESIGN_COLUMNS)].to_numpy(float)[ok]
     fit = np.array([all_links_fit(d, cad, volume_mm) for d in designs], dtype=bool)
-    cand = ok[fit]
+    cand = verified.iloc[ok[fit]]
     if cand.empty:
         raise ValueError(
             f"no design qualifies: {len(verified)} rows, {len(ok)} feasible with dynamics 'ok', "
@@ -124,15 +145,15 @@ def select_design(
 
 
 def _printable_count(
-    table: pd.DataFrame,
+    n_table: int,
     strong: pd.DataFrame,
     cad: CadSettings,
     volume_mm: tuple[float, float, float],
 ) -> str:
-    """The fallback line's printer count: none of ``table`` prints; when ``table`` is empty
-    (no design with drives), how many of the ``strong`` designs would."""
+    """The fallback line's printer count: none of the ``n_table`` designs prints; when there are
+    none (no design with drives), how many of the ``strong`` designs (their lengths) would."""
     volume = " x ".join(f"{v:g}" for v in volume_mm)
-    if len(table) or not len(strong):
+    if n_table or not len(strong):
         return f", 0 of those printable on {volume} mm"
     n = int(_printable(strong, cad, volume_mm).sum())
     return f" ({n} of the {len(strong)} that hold their loads printable on {volume} mm)"
@@ -163,28 +184,23 @@ def choose_design(
     """
     sources = {name: fronts[name] for name in [primary, *(k for k in fronts if k != primary)]}
     sources["dataset"] = dataset_candidates(dataset)
-    feasible = {name: _feasible(table) for name, table in sources.items()}
-    strong = {name: table[table["holds_loads"].astype(bool)] for name, table in feasible.items()}
-    driven = {name: table[_has_drives(table)] for name, table in strong.items()}
+    tiers = {name: _tiers(table) for name, table in sources.items()}
     skipped: list[str] = []
-    for tier, has_drives in ((driven, True), (strong, False)):
-        for name, table in tier.items():
-            fits = _printable(table, cad, volume_mm)
-            what = "front" if name != "dataset" else "designs"
+    for tier, has_drives in ((2, True), (1, False)):
+        for name, table in sources.items():
+            rows = np.flatnonzero(tiers[name][tier])
+            lengths = table.loc[:, list(DESIGN_COLUMNS)].iloc[rows]
+            fits = _printable(lengths, cad, volume_mm).to_numpy()
             if fits.any():
-                row = select_design(within_tolerance_first(table[fits]), rule, cad, volume_mm)
+                chosen = within_tolerance_first(table.iloc[rows[fits]])
+                row = select_design(chosen, rule, cad, volume_mm)
                 how = {"source": name, "printable": True, "holds_loads": True}
                 how |= {"has_drives": has_drives, "fallback": skipped}
                 return _tag(row, name, True), how
-            skipped.append(
-                f"{name} {what}: {len(sources[name])} designs, {len(feasible[name])} truly "
-                f"feasible, {len(strong[name])} of them hold their loads"
-                + (f", {len(table)} of those have drives" if has_drives else "")
-                + _printable_count(table, strong[name], cad, volume_mm)
-            )
-        for name, table in tier.items():
-            if len(table):
-                row = select_design(table, rule, cad, (np.inf, np.inf, np.inf))
+            skipped.append(_skipped_line(name, table, tiers[name], has_drives, cad, volume_mm))
+        for name, table in sources.items():
+            if tiers[name][tier].any():
+                row = select_design(table[tiers[name][tier]], rule, cad, (np.inf,) * 3)
                 how = {"source": name, "printable": False, "holds_loads": True}
                 how |= {"has_drives": has_drives, "fallback": skipped}
                 return _tag(row, name, False), how
@@ -194,19 +210,52 @@ def choose_design(
                 "a drive in the catalogue for each motor"
             )
     skipped.append("no truly feasible design of the fronts or the dataset holds its loads")
-    for name, table in feasible.items():
-        if len(table):
-            row = table.loc[table["strength_utilisation"].astype(float).idxmin()].copy()
-            row["selection_rule"] = "least strength utilisation"
-            row["selection_score"] = float(row["strength_utilisation"])
-            row["n_candidates"] = len(table)
-            printable = bool(_printable(table.loc[[row.name]], cad, volume_mm).iloc[0])
-            how = {"source": name, "printable": printable, "holds_loads": False}
-            how |= {"has_drives": bool(_has_drives(table.loc[[row.name]]).iloc[0])}
-            return _tag(row, name, printable), {**how, "fallback": skipped}
+    for name, table in sources.items():
+        if tiers[name][0].any():
+            return _least_utilised(table, tiers[name][0], name, cad, volume_mm, skipped)
     raise NoFeasibleDesign(
         "no truly feasible design on any front nor in the dataset: " + "; ".join(skipped)
     )
+
+
+def _skipped_line(
+    name: str,
+    table: pd.DataFrame,
+    tiers: tuple[NDArray[np.bool_], ...],
+    has_drives: bool,
+    cad: CadSettings,
+    volume_mm: tuple[float, float, float],
+) -> str:
+    """Why a source's tier gave no printable design, with its counts."""
+    feasible, strong, driven = (int(mask.sum()) for mask in tiers)
+    n_tier = driven if has_drives else strong
+    strong_lengths = table.loc[tiers[1], list(DESIGN_COLUMNS)]
+    return (
+        f"{name} {'front' if name != 'dataset' else 'designs'}: {len(table)} designs, "
+        f"{feasible} truly feasible, {strong} of them hold their loads"
+        + (f", {driven} of those have drives" if has_drives else "")
+        + _printable_count(n_tier, strong_lengths, cad, volume_mm)
+    )
+
+
+def _least_utilised(
+    table: pd.DataFrame,
+    feasible: NDArray[np.bool_],
+    name: str,
+    cad: CadSettings,
+    volume_mm: tuple[float, float, float],
+    skipped: list[str],
+) -> tuple[pd.Series, dict[str, Any]]:
+    """The truly feasible design of ``table`` nearest to holding its loads, and how it was found."""
+    use = table.loc[feasible, "strength_utilisation"].astype(float)
+    row = table.loc[use.idxmin()].copy()
+    row["selection_rule"] = "least strength utilisation"
+    row["selection_score"] = float(row["strength_utilisation"])
+    row["n_candidates"] = len(use)
+    printable = bool(_printable(table.loc[[row.name]], cad, volume_mm).iloc[0])
+    how = {"source": name, "printable": printable, "holds_loads": False}
+    how |= {"has_drives": bool(_has_drives(table.loc[[row.name]]).iloc[0])}
+    return _tag(row, name, printable), {**how, "fallback": skipped}
 
 
 def candidate_pool(fronts: Mapping[str, pd.DataFrame], dataset: pd.DataFrame) -> pd.DataFrame:
