@@ -203,20 +203,14 @@ def test_a_shard_evaluated_in_chunks_gives_the_same_table() -> None:
     the end) give the table evaluated whole: each row's numbers are its own (to 1e-12, as
     numpy's vectorised and scalar loops may round a last bit apart on another CPU)."""
     from qsm.config.reading import load_config
-    from qsm.config.settings import actuation, links
+    from qsm.config.settings.dataset import dataset_of
     from qsm.dataset.evaluation import evaluate_shard
 
-    config = load_config()
-    case = links.load_case_of(config)
-    checks = (
-        links.strength_check(case, config["strength"]),
-        actuation.drive_check(config["drives"], case),
-        links.sag_check(case, config["task"]["points"]),
-    )
+    settings = dataset_of(load_config())
     rows = [*DESIGNS, [0.1, 0.02, 0.1, 0.04, 0.12, 0.05], DESIGNS[1]]  # the 4th: too small
     df = pd.DataFrame(rows, columns=list(DESIGN_COLUMNS))
     df.insert(0, "mechanism_id", range(len(rows)))
-    whole = evaluate_shard(df, case, *checks, chunk_rows=len(rows))
+    whole = evaluate_shard(df, settings, chunk_rows=len(rows))
     assert list(whole["status"]) == ["ok", "ok", "ok", "cad_invalid", "ok"]
-    chunked = evaluate_shard(df, case, *checks, chunk_rows=2)
+    chunked = evaluate_shard(df, settings, chunk_rows=2)
     pd.testing.assert_frame_equal(chunked, whole, check_exact=False, rtol=1e-12)

@@ -1,8 +1,13 @@
 # Shared definitions: the conda environment, code provenance and the settings rules depend on.
 import functools
 
-from qsm.config.sections import accuracy_section, iso_section
-from qsm.physics.task_points import MOTION_KEYS, design_task, task_cycle
+from qsm.config.sections import (
+    dataset_section,
+    drives_section,
+    iso_section,
+    realization_section,
+)
+from qsm.physics.task_points import design_task, task_cycle
 from qsm.workflow.provenance import source_hash
 from qsm.workflow.sharding import shard_count
 
@@ -28,6 +33,10 @@ CYCLE = task_cycle(
 # The rule scripts, found from this file (workflow/rules) whether the workflow runs from the
 # checkout or as a module of another workflow.
 SCRIPTS = Path(str(workflow.current_basedir)).parent / "scripts"
+# Stage 6's settings, resolved once: the realisation's share of the config, in its shape
+# (qsm.config.sections.realization_section). The realisation's rules take it as one param and
+# build their settings from it as `qsm export` does from the whole config (realization_of).
+REALIZATION = realization_section(config)
 
 
 def stage1_settings():
@@ -57,18 +66,9 @@ def stage2_settings():
 
 @functools.cache
 def drive_settings():
-    """``drives`` with a hash of the catalogue's CSV files: editing the catalogue reruns the
-    rules that choose drives (a config value alone would not). Hashed once per run."""
-    import hashlib
-
-    from qsm.config.drive_limits import catalogue_folder
-
-    digest = hashlib.sha256()
-    folder = Path(catalogue_folder(config))
-    for path in sorted(folder.rglob("*.csv")):
-        digest.update(str(path.relative_to(folder)).encode())
-        digest.update(path.read_bytes())
-    return {**config["drives"], "catalogue_sha256": digest.hexdigest()}
+    """``drives`` with a hash of the catalogue's files (qsm.config.sections.drives_section):
+    editing the catalogue reruns the rules that choose drives. Hashed once per run."""
+    return drives_section(config)
 
 
 def surrogate_settings():
@@ -94,22 +94,10 @@ def load_case():
     }
 
 
-def accuracy_settings():
-    """The keys the realisation's accuracy reads (qsm.config.settings.realization
-    .accuracy_section): the task's points and cycle arrive by other params."""
-    return accuracy_section(config)
-
-
 def iso_settings():
     """The ISO 9283 figures' keys (qsm.config.sections.iso_section): the Monte Carlo, the default
     encoder, the task's repeatability and the servo's gains."""
     return iso_section(config)
-
-
-def motion_settings():
-    """The payload test's keys that shape the task's motion, which the realisation reads
-    (qsm.physics.task_points.MOTION_KEYS): gains and limits rerun only the simulations."""
-    return {k: config["payload_test"][k] for k in MOTION_KEYS}
 
 
 def constraint_settings(formulation):

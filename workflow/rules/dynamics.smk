@@ -32,10 +32,7 @@ rule dynamics:
     params:
         code=code("dynamics_shard.py"),
         shards=len(DYNAMICS_SHARDS),
-        load_case=load_case(),
-        strength=config["strength"],
-        drives=drive_settings(),
-        task_points=TASK_POINTS,
+        dataset=dataset_section(config),
     script:
         "../scripts/dynamics_shard.py"
 

@@ -36,17 +36,10 @@ rule select_design:
         ENV
     params:
         code=code("select_design.py"),
-        printing=config["printing"],
-        kit=config["kit"],
-        load_case=load_case(),
-        strength=config["strength"],
-        drives=drive_settings(),
-        task=accuracy_settings(),
-        motion=motion_settings(),
+        realization=REALIZATION,
+        selection_rule=config["printing"]["selection_rule"],
         primary=config["optimization"]["formulation"],
         formulations=FORMULATIONS,
-        task_points=TASK_POINTS,
-        user_points=config["task"]["points"],
     script:
         "../scripts/select_design.py"
 
@@ -83,15 +76,8 @@ rule topology_optimize:
         ENV
     params:
         code=code("topology_optimize.py"),
+        realization=REALIZATION,
         topology=config["topology"],
-        operating_range=config["operating_range"],
-        load_case=load_case(),
-        strength=config["strength"],
-        drives=drive_settings(),
-        task=accuracy_settings(),
-        motion=motion_settings(),
-        task_points=TASK_POINTS,
-        build_volume_mm=config["printing"]["build_volume_mm"],
     script:
         "../scripts/topology_optimize.py"
 
@@ -179,14 +165,8 @@ rule cycle_time:
         code=code("cycle_time.py"),
         jerk_time_s=jerk_time_s(),
         settling=config["settling"],
-        load_case=load_case(),
-        strength=config["strength"],
-        drives=drive_settings(),
-        task=accuracy_settings(),
-        motion=motion_settings(),
+        realization=REALIZATION,
         payload_test=config["payload_test"],
-        task_points=TASK_POINTS,
-        build_volume_mm=config["printing"]["build_volume_mm"],
         cycle=CYCLE,
     script:
         "../scripts/cycle_time.py"
@@ -212,14 +192,8 @@ rule standard_cycle:
     params:
         code=code("standard_cycle.py"),
         jerk_time_s=jerk_time_s(),
-        load_case=load_case(),
-        strength=config["strength"],
-        drives=drive_settings(),
-        task=accuracy_settings(),
-        motion=motion_settings(),
+        realization=REALIZATION,
         payload_test=config["payload_test"],
-        task_points=TASK_POINTS,
-        build_volume_mm=config["printing"]["build_volume_mm"],
     script:
         "../scripts/standard_cycle.py"
 
@@ -250,13 +224,7 @@ rule accuracy_budget:
         ENV
     params:
         code=code("accuracy_budget.py"),
-        load_case=load_case(),
-        strength=config["strength"],
-        drives=drive_settings(),
-        task=accuracy_settings(),
-        motion=motion_settings(),
-        task_points=TASK_POINTS,
-        build_volume_mm=config["printing"]["build_volume_mm"],
+        realization=REALIZATION,
         iso=iso_settings(),
     script:
         "../scripts/accuracy_budget.py"

@@ -1,7 +1,7 @@
 """Rule dynamics: Stage 2 (closed-chain dynamics, link strength, drives, tool sag) of one shard of
 the mechanisms."""
 
-from qsm.config.settings import actuation, links
+from qsm.config.settings.dataset import dataset_of
 from qsm.dataset.evaluation import evaluate_shard
 from qsm.dataset.gathering import status_counts
 from qsm.mechanisms.scale import MECHANISM_COLUMNS
@@ -13,15 +13,8 @@ with logged(snakemake.log[0]) as log:
     p = snakemake.params
     shard = int(snakemake.wildcards.shard)
     mechanisms = read_table(snakemake.input[0], MECHANISM_COLUMNS)
-    case = links.load_case(p.load_case)
     rows = mechanisms.iloc[shard_slice(len(mechanisms), p.shards, shard)]
-    result = evaluate_shard(
-        rows,
-        case,
-        links.strength_check(case, p.strength),
-        actuation.drive_check(p.drives, case),
-        links.sag_check(case, p.task_points),
-    )
+    result = evaluate_shard(rows, dataset_of(p.dataset))  # p.dataset: Stage 2's share of the config
     log.info(
         "shard %d of %d: %d mechanisms, status %s, %d hold their loads, %d have drives",
         shard,

@@ -1,7 +1,7 @@
 """Rule select_design: the design to realise (choice.json), printable if any is, truly feasible
 always."""
 
-from qsm.config.settings import links, physics, realization
+from qsm.config.settings import physics, realization
 from qsm.dataset.gathering import OK_ROWS, ok_rows
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.realization.selection.choice import CANDIDATE_COLUMNS
@@ -21,15 +21,14 @@ with logged(snakemake.log[0]) as log:
         cycles = read_table(inp.cycles).drop(columns=list(DESIGN_COLUMNS))
         fronts[p.primary] = fronts[p.primary].join(cycles)
     dataset = ok_rows(read_table(inp.dataset, CANDIDATE_COLUMNS, only=True, where=OK_ROWS))
-    rule = p.printing["selection_rule"]
-    op = physics.operating_range(p.load_case["operating_range"])
-    case = links.load_case(p.load_case)
-    volume = tuple(p.printing["build_volume_mm"])
-    settings = realization.realization(
-        case, p.strength, p.drives, p.task, p.motion, p.task_points, volume, p.kit
-    )
+    rule = p.selection_rule
+    r = p.realization  # the realisation's share of the config
+    op = physics.operating_range(r["operating_range"])
+    volume = tuple(r["printing"]["build_volume_mm"])
+    settings = realization.realization_of(r)
+    points = [list(xy) for xy in settings.task_points_m]
     record, done = chosen_machine(
-        fronts, p.primary, dataset, rule, volume, p.task_points, p.user_points, op, settings
+        fronts, p.primary, dataset, rule, volume, points, r["task"]["points"], op, settings
     )
     record["verdict"] = selection_verdict(record, settings.strength, settings.parts.cad, volume)
     if record["task"]["mirrored"]:
@@ -40,5 +39,5 @@ with logged(snakemake.log[0]) as log:
         log.warning(record["verdict"])
     write_json(out.choice, record)
     write_json(out.machine, machine_record(done))  # every later rule reads it: realised once
-    selected_figure(record, rule, op, p.task_points, out.figure)
+    selected_figure(record, rule, op, points, out.figure)
     log.info("selected %s: %s", record["design_m"], record["verdict"])

@@ -17,17 +17,16 @@ with logged(snakemake.log[0]) as log:
     p = snakemake.params
     inp = snakemake.input
     out = snakemake.output
-    case = links.load_case(p.load_case)
-    settings = realization.realization(
-        case, p.strength, p.drives, p.task, p.motion, p.task_points, p.build_volume_mm
-    )
+    r = p.realization  # the realisation's share of the config
+    case = links.load_case_of(r)
+    settings = realization.realization_of(r)
     done = realization_from_record(json.loads(Path(inp.machine).read_text()), settings)
     folder = out.bom_csv.rsplit("/", 1)[0]
-    topo = plates.topology(p.topology, p.load_case["material"], p.strength)
-    volume = tuple(p.build_volume_mm)
+    topo = plates.topology(p.topology, r["material"], r["strength"])
+    volume = tuple(r["printing"]["build_volume_mm"])
     drawing = {"svg": out.drawing, "png": out.drawing_png}
     material = case.material.name
-    kit = realization.kit(p.operating_range, p.drives, settings.accuracy)
+    kit = realization.kit(r["operating_range"], r["drives"], settings.accuracy)
     carried = case.payload_kg + done.tool_kg  # the payload and the tool flange at E
     built = build_links(done, carried, case.cycle(), topo, material, folder, volume, drawing, kit)
     draw_links(done.design, built.parts, f"{folder}/drawing")  # as built, openings included

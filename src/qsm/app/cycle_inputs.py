@@ -101,15 +101,14 @@ def _read(path: str) -> Any:
 
 def cycle_inputs(files: Mapping[str, str], params: Mapping[str, Any]) -> CycleInputs:
     """:class:`CycleInputs` from a cycle rule's input ``files`` (choice, machine, links,
-    topology, payload, kit) and its ``params`` (load_case, strength, drives, task, motion,
-    task_points, build_volume_mm, payload_test, jerk_time_s)."""
+    topology, payload, kit) and its ``params`` (realization: the realisation's share of the
+    config, :func:`qsm.config.sections.realization_section`; payload_test, jerk_time_s and
+    settling)."""
     p = params
     props = as_built(_read(files["links"]), _read(files["kit"]))  # with the kit's moving parts
-    case = links.load_case(p["load_case"])
-    settings = realization.realization(
-        case, p["strength"], p["drives"], p["task"], p["motion"], p["task_points"],
-        p["build_volume_mm"],
-    )  # fmt: skip
+    case = links.load_case_of(p["realization"])
+    settings = realization.realization_of(p["realization"])
+    points = [list(xy) for xy in settings.task_points_m]
     done = realization_from_record(_read(files["machine"]), settings)
     settings = carrying(settings, done.tool_kg)  # the tool flange at E, as realised
     (lo, hi), theta2_min = case.operating_range_deg
@@ -117,9 +116,7 @@ def cycle_inputs(files: Mapping[str, str], params: Mapping[str, Any]) -> CycleIn
     test = simulation.payload_test(p["payload_test"], settings.motion.payload_kg, op)
     base = _read(files["kit"])["base"]["tool_error_mm"]
     parts = (_read(files["topology"]), props)
-    budget = measured_budget(
-        done, parts, _read(files["payload"]), settings, p["task_points"], None, base
-    )
+    budget = measured_budget(done, parts, _read(files["payload"]), settings, points, None, base)
     mirrored = bool(_read(files["choice"]).get("task", {}).get("mirrored", False))
     jerk = JerkTime.of(p["jerk_time_s"], budget)
     model = arm_model(done, settings, props, plate_factors(parts[0]))

@@ -7,7 +7,7 @@ from typing import Any
 
 import numpy as np
 
-from qsm.config.settings import actuation, links, physics
+from qsm.config.settings import physics
 from qsm.embodiment.parts.printing import all_links_fit
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.mechanisms.scale import fit_design
@@ -125,6 +125,7 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     optimisation's verification (under :func:`evaluate_ratios`' keys ``eta``, ``tau1_Nm``,
     ``tau2_Nm``), whether its links fit the configured printer, each link's strength and each
     joint's bearing, and each motor's drive. JSON-friendly (NaN as None)."""
+    from qsm.config.settings.dataset import dataset_of
     from qsm.embodiment.strength.verdict import strength_record
     from qsm.optimization.verify import verify_design
 
@@ -136,8 +137,8 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
         "design_m": dict(zip(DESIGN_NAMES, d.tolist(), strict=True)),
         "mirrored": is_mirrored(config["task"]["points"]),
     }
-    case = links.load_case_of(config)
-    check = links.strength_check(case, config["strength"])
+    stage2 = dataset_of(config)  # the dataset's checks, as the rule dynamics builds them
+    check = stage2.strength
     sized = check.section_scales(d)
     scale = None if sized is None else sized.scale
     true = verify_design(
@@ -151,5 +152,5 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     out["printable"] = bool(all_links_fit(d, cad, volume))
     if out["loop_closes"]:
         out["strength"] = strength_record(d, check)
-        out["drives"] = actuation.drive_check(config["drives"], case).report(d, scale)
+        out["drives"] = stage2.drives.report(d, scale)
     return out

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import logging
 import time
+from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
@@ -68,40 +69,43 @@ def evaluate_table(
 CHUNK_ROWS = 2048
 
 
+@dataclass(frozen=True)
+class DatasetSettings:
+    """Stage 2's settings (:func:`qsm.config.settings.dataset.dataset_of`): the load ``case``,
+    the link check, the drive check and the tool's sag check at the task points."""
+
+    case: LoadCase
+    strength: StrengthCheck
+    drives: DriveCheck
+    sag: SagCheck
+
+
 def evaluate_shard(
-    rows: pd.DataFrame,
-    case: LoadCase,
-    strength: StrengthCheck,
-    drives: DriveCheck,
-    sag: SagCheck,
-    chunk_rows: int = CHUNK_ROWS,
+    rows: pd.DataFrame, settings: DatasetSettings, chunk_rows: int = CHUNK_ROWS
 ) -> pd.DataFrame:
     """Stage 2's columns (:data:`qsm.dataset.columns.DATASET_COLUMNS` but the mechanism's own) of
     the mechanisms ``rows``, ``chunk_rows`` at a time (:func:`evaluate_chunk`)."""
     parts = [
-        evaluate_chunk(rows.iloc[start : start + chunk_rows], case, strength, drives, sag)
+        evaluate_chunk(rows.iloc[start : start + chunk_rows], settings)
         for start in range(0, max(len(rows), 1), chunk_rows)
     ]
     return pd.concat(parts, ignore_index=True)
 
 
-def evaluate_chunk(
-    rows: pd.DataFrame,
-    case: LoadCase,
-    strength: StrengthCheck,
-    drives: DriveCheck,
-    sag: SagCheck,
-) -> pd.DataFrame:
+def evaluate_chunk(rows: pd.DataFrame, settings: DatasetSettings) -> pd.DataFrame:
     """Stage 2's columns of the mechanisms ``rows``: the dynamics at each row's section (sized by
-    ``strength`` when it sizes them), then strength and drives, and ``tool_sag_mm`` at the
+    the link check when it sizes them), then strength and drives, and ``tool_sag_mm`` at the
     configured section."""
+    case, strength = settings.case, settings.strength
     designs = rows[list(DESIGN_COLUMNS)].to_numpy(float)
     sized = strength.section_scales(designs)  # None: the fixed section
     scales = None if sized is None else sized.scale
     result = evaluate_table(rows, strength.duty, case.cad, case.payload_kg, scales=scales)
-    result = with_embodiment(result.reset_index(drop=True), designs, strength, drives, sized)
+    result = with_embodiment(
+        result.reset_index(drop=True), designs, strength, settings.drives, sized
+    )
     ok = result["status"].eq("ok").to_numpy()
-    result["tool_sag_mm"] = np.where(ok, sag.sag_mm(designs), np.nan)
+    result["tool_sag_mm"] = np.where(ok, settings.sag.sag_mm(designs), np.nan)
     return result
 
 
