@@ -127,13 +127,8 @@ rule payload_test:
         ENV
     params:
         code=code("payload_test.py"),
+        realization=REALIZATION,
         payload_test=config["payload_test"],
-        payload_kg=config["task"]["payload_kg"],
-        drives=drive_settings(),
-        cad=config["cad"],
-        material=config["material"],
-        task_points=TASK_POINTS,
-        operating_range=config["operating_range"],
     script:
         "../scripts/payload_test.py"
 

@@ -8,6 +8,7 @@ from qsm.config.settings import actuation, physics, simulation
 from qsm.embodiment.drives.envelope import OutputEnvelope
 from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.drives.torque_limits import limited
+from qsm.physics.task_points import design_task
 from qsm.realization.kit.moving_parts import as_built
 from qsm.realization.motion.payload import payload_test
 from qsm.report.payload_report import (
@@ -30,10 +31,12 @@ with logged(snakemake.log[0]) as log:
     design = np.asarray(selected["design_m"])
     with open(inp.links) as fh, open(inp.kit) as kit:
         props = as_built(json.load(fh), json.load(kit))  # with the kit's moving parts
+    r = p.realization  # the realisation's share of the config
+    payload_kg = r["task"]["payload_kg"]
     tool_kg = selected["tool_flange_kg"]  # the realised tool flange, at E beside the payload
-    carried = p.payload_kg + tool_kg
-    test_settings = simulation.payload_test(p.payload_test, carried, p.operating_range)
-    catalogue = actuation.catalogue(p.drives)
+    carried = payload_kg + tool_kg
+    test_settings = simulation.payload_test(p.payload_test, carried, r["operating_range"])
+    catalogue = actuation.catalogue(r["drives"])
     drives = []
     limits = selected["torque_limits_Nm"]  # each drive's, which its controller keeps
     for (j, m), limit in zip(selected["drives"]["motors"].items(), limits, strict=True):
@@ -42,10 +45,10 @@ with logged(snakemake.log[0]) as log:
             limited(OutputEnvelope.of(catalogue, d["motor_key"], d["gearbox_key"]), limit)
         )
         log.info("%s: %s%s", j, drives[-1].name, "" if d["chosen"] else " (NOT meeting its duty)")
-    result = payload_test(
-        design, p.task_points, physics.cad(p.cad, p.material), props, test_settings, drives
-    )
-    scalars = summary(result) | {"payload_kg": p.payload_kg, "tool_flange_kg": tool_kg}
+    points = design_task(r["task"]["points"])[1]
+    cad = physics.cad(r["cad"], r["material"])
+    result = payload_test(design, points, cad, props, test_settings, drives)
+    scalars = summary(result) | {"payload_kg": payload_kg, "tool_flange_kg": tool_kg}
     scalars.update(drive_duty_note(selected["drives"]["motors"], drives))
     write_json(out.result, scalars)
     write_table(series_table(result), out.series, {"columns": SERIES_COLUMNS})

@@ -9,6 +9,7 @@ heads the summary and the datasheet, :func:`verdict_lines` the numbered list und
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
@@ -54,7 +55,7 @@ def failures(
         *[Failure(p) for p in drive_problems(selected.get("drives", {}).get("motors", {}))],
         *_payload_failures(payload),
         *_accuracy_failures(selected),
-        *[Failure(p) for p in cycle_problems(selected.get("cycle"))],
+        *_cycle_failures(selected.get("cycle")),
     ]
     kit = topology.get("parts", {}).get("kit")
     if kit is not None and not kit["holds"]:
@@ -218,6 +219,29 @@ def drive_problems(motors: Mapping[str, Any]) -> list[str]:
         for key, m in motors.items()
         if not m["has_drive"]
     ]
+
+
+def _cycle_failures(cycle: Mapping[str, Any] | None) -> list[Failure]:
+    """The cycle's problems (:func:`cycle_problems`, in its order: the drives' heat, the links'
+    strength, MuJoCo's run): the heat with its largest thermal use and the continuous torque
+    each hot motor would need (its use x its rating, N m), the links with their utilisation."""
+    problems = cycle_problems(None if cycle is None else dict(cycle))
+    if not problems or not cycle or not cycle["planned"]:
+        return [Failure(p) for p in problems]
+    found = []
+    if cycle["thermal_ok"] is False:
+        rows = enumerate(zip(cycle["thermal_use"], cycle["continuous_torque_Nm"], strict=True))
+        need = [f"a drive for motor {j + 1} rated {fixed(_tenths_up(u * c), 1)} N m continuous "
+                "or more" for j, (u, c) in rows if u > 1.0]  # fmt: skip
+        found.append(Failure(problems[0], max(cycle["thermal_use"]), "; ".join(need)))
+    if not cycle["links_hold"]:
+        found.append(Failure(problems[len(found)], cycle["strength_utilisation"]))
+    return found + [Failure(p) for p in problems[len(found) :]]
+
+
+def _tenths_up(value: float) -> float:
+    """``value`` rounded up to a tenth (what a rating must reach, not a rounding below it)."""
+    return math.ceil(round(10 * value, 6)) / 10
 
 
 def _payload_failures(payload: Mapping[str, Any]) -> list[Failure]:
