@@ -68,6 +68,16 @@ def test_primary_front_first():
     assert row["tau1_true_Nm"] == 50.0  # the larger design has less torque but does not fit
 
 
+def test_a_front_whose_infeasible_designs_were_never_checked_is_read():
+    """An infeasible design's strength was never checked (holds_loads missing, pandas' NA): the
+    choice reads holds_loads on the feasible designs alone, as it filtered them before."""
+    table = front([LARGE, SMALL], [False, True], [40.0, 50.0])
+    table["holds_loads"] = pd.array([pd.NA, True], dtype="boolean")
+    row, how = choose_design({"ratios": table}, "ratios", dataset([SMALL], 70.0), "min_tau1", CAD,
+                             PRINTER)  # fmt: skip
+    assert how["source"] == "ratios" and row["tau1_true_Nm"] == 50.0
+
+
 def test_falls_back_to_the_other_front_then_the_dataset():
     fronts = {"ratios": front([SMALL], False, 5.0), "paper": front([LARGE], True, 5.0)}
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 70.0), "knee", CAD, PRINTER)

@@ -88,7 +88,8 @@ def _tiers(table: pd.DataFrame) -> tuple[NDArray[np.bool_], ...]:
     """Row masks of ``table``: truly feasible; of those, holding their loads; of those, with a
     drive for each motor (masks, not copies: the dataset's tiers hold most of its rows)."""
     feasible = _feasible_rows(table)
-    strong = feasible & table["holds_loads"].astype(bool).to_numpy()
+    strong = feasible.copy()  # read on the feasible rows alone, where holds_loads is set
+    strong[feasible] = table.loc[feasible, "holds_loads"].astype(bool).to_numpy()
     return feasible, strong, strong & _has_drives(table).to_numpy()
 
 
