@@ -20,36 +20,6 @@ from qsm.realization.selection.pipeline import KitSizing, RealizationSettings
 Section = Mapping[str, Any]
 
 
-def realization(
-    case: LoadCase,
-    strength: Section,
-    drives: Section,
-    task: Section,
-    motion: Section,
-    points: Sequence[Sequence[float]],
-    build_volume_mm: Sequence[float],
-    kit_section: Section | None = None,
-) -> RealizationSettings:
-    """The link check, drive check and bored parts of a design under ``case``, with the
-    ``strength`` and ``drives`` sections; the accuracy the ``task`` needs at its design
-    ``points`` (m) and the task's ``motion`` through them (``payload_test``'s
-    :data:`~qsm.physics.task_points.MOTION_KEYS`), which the realisation meets
-    (``task.grow_for_tolerance``, within the printer's ``build_volume_mm``) and the accuracy
-    budget reports; ``kit_section`` (``kit``; None: its defaults, for the rules that rebuild a
-    realisation from its record) sets the loop that adds the tool flange's mass."""
-    (lo, hi), theta2_min = case.operating_range_deg
-    op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
-    return RealizationSettings(
-        strength=strength_check(case, strength),
-        drives=drive_check(drives, case),
-        parts=parts(case, strength),
-        accuracy=accuracy(task, case, points, build_volume_mm),
-        motion=task_motion(motion, case.payload_kg, op),
-        task_points_m=tuple((float(x), float(y)) for x, y in points),
-        kit_sizing=KitSizing() if kit_section is None else kit_sizing(kit_section),
-    )
-
-
 def kit_sizing(section: Section) -> KitSizing:
     """The ``kit`` section's keys of the loop that adds the tool flange's mass."""
     return KitSizing(
@@ -97,16 +67,27 @@ def printed_material(section: Section) -> PrintedMaterial:
 
 
 def realization_of(config: Section) -> RealizationSettings:
-    """:func:`realization` of a whole validated config (``qsm export``, a notebook)."""
-    return realization(
-        load_case_of(config),
-        config["strength"],
-        config["drives"],
-        accuracy_section(config),
-        config["payload_test"],
-        design_task(config["task"]["points"])[1],
-        config["printing"]["build_volume_mm"],
-        config["kit"],
+    """The realisation's settings from a validated config, or from its share of one
+    (:func:`qsm.config.sections.realization_section`, the Stage 6 rules' param): the link check,
+    drive check and bored parts of a design under the config's load case, with the ``strength``
+    and ``drives`` sections; the accuracy the task needs at its design points (m) and the task's
+    motion through them (``payload_test``'s :data:`~qsm.physics.task_points.MOTION_KEYS`), which
+    the realisation meets (``task.grow_for_tolerance``, within the printer's build volume) and
+    the accuracy budget reports; the ``kit`` section's loop that adds the tool flange's mass."""
+    case = load_case_of(config)
+    points = design_task(config["task"]["points"])[1]
+    (lo, hi), theta2_min = case.operating_range_deg
+    op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
+    return RealizationSettings(
+        strength=strength_check(case, config["strength"]),
+        drives=drive_check(config["drives"], case),
+        parts=parts(case, config["strength"]),
+        accuracy=accuracy(
+            accuracy_section(config), case, points, config["printing"]["build_volume_mm"]
+        ),
+        motion=task_motion(config["payload_test"], case.payload_kg, op),
+        task_points_m=tuple((float(x), float(y)) for x, y in points),
+        kit_sizing=kit_sizing(config["kit"]),
     )
 
 
