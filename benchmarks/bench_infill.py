@@ -29,15 +29,13 @@ import pandas as pd
 import yaml
 
 from qsm.config.reading import load_config
-from qsm.config.settings import actuation, links, optimization, physics
+from qsm.config.settings.optimization import front_of
 from qsm.dataset.columns import DATASET_COLUMNS
 from qsm.dataset.gathering import ok_rows
 from qsm.mechanisms.filters import kinematic_checks
 from qsm.optimization.comparison import true_hypervolume
 from qsm.optimization.nsga import optimize
-from qsm.optimization.verify import verify_front
 from qsm.physics.dynamics import evaluate_mechanism
-from qsm.physics.task_points import design_task
 from qsm.physics.workspace import slice_workspace
 from qsm.surrogate.model import load
 from qsm.workflow.tables import read_table
@@ -68,28 +66,6 @@ class TrueModel:
         if dyn["status"] != "ok" or area <= 0:
             return self.far
         return np.array([fit.disk.area / area, dyn["tau1_Nm"], dyn["tau2_Nm"]])
-
-
-def constraint_section(config: dict[str, Any], formulation: str) -> dict[str, Any]:
-    """``optimization.constraints`` as the rule ``optimize`` passes it (the workflow's
-    ``constraint_settings``)."""
-    section = config["optimization"]["constraints"]
-    out = {k: section[k] for k in ("printable", "strong", "drives", "stiff")}
-    out["containment"] = formulation == "paper" and section["containment"]
-    out["tolerance_m"] = section["containment_tolerance_m"]
-    out["load_case"] = {
-        "cad": config["cad"],
-        "material": config["material"],
-        "payload_kg": config["task"]["payload_kg"],
-        "duty": config["dynamics"]["duty"],
-        "operating_range": config["operating_range"],
-    }
-    out["build_volume_mm"] = config["printing"]["build_volume_mm"]
-    out["tolerance_mm"] = config["task"]["tolerance_mm"]
-    out["task_points"] = design_task(config["task"]["points"])[1]
-    out["strength"] = config["strength"]
-    out["drives_section"] = config["drives"]
-    return out
 
 
 def _job_seconds(results: Path, names: tuple[str, ...]) -> float:
@@ -124,12 +100,8 @@ def measure(
     dataset = ok_rows(read_table(res / "dataset.parquet", DATASET_COLUMNS))
     rounds = json.loads((res / f"optimization/{formulation}/infill.json").read_text())["rounds"]
     model = load(res / "surrogate/model.json")
-    task = design_task(config["task"]["points"])[1]
-    fit = physics.fit_of(config)
-    case = links.load_case_of(config)
-    check = links.strength_check(case, config["strength"])
-    drives = actuation.drive_check(config["drives"], case)
-    sag = links.sag_check(case, task, config["task"]["tolerance_mm"])
+    front = front_of(config, formulation)
+    fit, check = front.fit, front.strength
     before = _job_seconds(res, STAGES_BEFORE)
     to_round0, whole = _log_times(res / f"logs/optimize/{formulation}.log")
     evaluated = len(read_table(res / "dataset.parquet"))  # every mechanism's dynamics ran
@@ -137,14 +109,10 @@ def measure(
     section = dict(config["optimization"])
     section["generations"] = max(1, int(budget // section["pop_size"]) - 1)
     truth = TrueModel(model, fit, check)
-    extra = optimization.constraints(constraint_section(config, formulation), fit)
     start = time.perf_counter()
-    tables = optimize(
-        formulation, truth, dataset, section, fit, config["sampling"]["bounds"], extra
-    )
+    tables = optimize(formulation, truth, dataset, section, fit, front.ratio_bounds, front.extra)
     direct_s = time.perf_counter() - start
-    verified = verify_front(tables.pareto, fit, check, config["sampling"]["bounds"],
-                            config["printing"]["build_volume_mm"], drives, sag)  # fmt: skip
+    verified = front.verify(tables.pareto)
     return {
         "one_shot": {"hypervolume": rounds[0]["hypervolume"], "cost_s": before + to_round0,
                      "true_evaluations": evaluated},

@@ -8,9 +8,17 @@ from pathlib import Path
 import pytest
 
 from qsm.config.reading import load_config
-from qsm.config.sections import dataset_section, drives_section, realization_section
+from qsm.config.sections import (
+    cycles_section,
+    dataset_section,
+    drives_section,
+    optimization_section,
+    realization_section,
+)
 from qsm.config.settings.dataset import dataset_of
+from qsm.config.settings.optimization import front_of
 from qsm.config.settings.realization import realization_of
+from qsm.config.settings.simulation import cycles_of
 
 ROOT = Path(__file__).resolve().parents[1]
 CONFIG = load_config(ROOT / "config" / "config.yaml")
@@ -37,6 +45,65 @@ def test_the_datasets_share_builds_what_the_whole_config_builds(name):
     assert pickle.dumps(dataset_of(share)) == pickle.dumps(dataset_of(config))
     assert dataset_section(_changed("optimization.generations", 3)) == dataset_section(CONFIG)
     assert dataset_section(_changed("task.payload_kg", 4.0)) != dataset_section(CONFIG)
+
+
+@pytest.mark.parametrize("name", ["config.yaml", "test.yaml"])
+@pytest.mark.parametrize("formulation", ["paper", "ratios"])
+def test_a_fronts_share_builds_what_the_whole_config_builds(name, formulation):
+    """The rules ``optimize`` and ``verify_pareto`` build a front's settings from their share,
+    a notebook or benchmark from the whole config: the same object; so do ``front_cycles``'s."""
+    config = load_config(ROOT / "config" / "config.yaml", ROOT / "config" / name)
+    share = optimization_section(config, formulation)
+    assert pickle.dumps(front_of(share, formulation)) == pickle.dumps(front_of(config, formulation))
+    assert pickle.dumps(cycles_of(cycles_section(config))) == pickle.dumps(cycles_of(config))
+
+
+def test_the_constraints_apply_to_their_formulation():
+    """g11 only in the paper formulation; its tolerance wherever the task is contained (g11, or
+    the ratios formulation's scale-up): a formulation's share changes with the tolerance
+    exactly when its front uses it."""
+    paper, ratios = front_of(CONFIG, "paper").extra, front_of(CONFIG, "ratios").extra
+    tolerance = CONFIG["optimization"]["constraints"]["containment_tolerance_m"]
+    assert paper.containment and not ratios.containment
+    assert paper.tolerance_m == ratios.tolerance_m == tolerance
+    wider = _changed("optimization.constraints.containment_tolerance_m", 2 * tolerance)
+    assert optimization_section(wider, "ratios") != optimization_section(CONFIG, "ratios")
+    off = _changed("optimization.constraints.containment", False)
+    assert not front_of(off, "paper").extra.containment
+    assert front_of(off, "paper").extra.tolerance_m == 0.0
+    wider["optimization"]["constraints"]["containment"] = False
+    assert optimization_section(wider, "paper") == optimization_section(off, "paper")
+    assert optimization_section(wider, "ratios") != optimization_section(off, "ratios")
+
+
+@pytest.mark.parametrize(
+    ("path", "changes"),
+    [
+        ("optimization.generations", True),
+        ("surrogate.infill.rounds", True),
+        ("task.tolerance_mm", True),
+        ("sampling.bounds.l2", True),
+        ("optimization.formulation", False),  # which front the later stages take
+        ("task.repeatability_mm", False),
+        ("payload_test.dwell_s", False),
+    ],
+)
+def test_a_fronts_share_changes_with_the_keys_it_reads(path, changes):
+    """A key the front's settings read changes its share (so the rules rerun); another does
+    not."""
+    value = {
+        "optimization.generations": 3,
+        "surrogate.infill.rounds": 0,
+        "task.tolerance_mm": 3.0,
+        "sampling.bounds.l2": [0.3, 0.9],
+        "optimization.formulation": "ratios",
+        "task.repeatability_mm": 0.5,
+        "payload_test.dwell_s": 0.8,
+    }[path]
+    changed = _changed(path, value)
+    assert (optimization_section(changed, "paper") != optimization_section(CONFIG, "paper")) is (
+        changes
+    )
 
 
 def _changed(path, value):
@@ -103,3 +170,19 @@ def test_the_catalogue_hash_follows_its_files(tmp_path):
     motors.write_text(motors.read_text() + "\n")
     edited = drives_section(_changed("drives.catalogue", str(tmp_path / "b")))
     assert edited["catalogue_sha256"] != sha[0]
+
+
+def test_a_share_does_not_change_with_the_order_the_configs_were_merged_in():
+    """An override file puts its keys first in the merged config; the rules compare their
+    params by their repr, so every share sorts its keys (no rerun for a value unchanged)."""
+    moved = copy.deepcopy(CONFIG)
+    section = moved["optimization"]
+    moved["optimization"] = {"constraints": section.pop("constraints"), **section}
+    moved["task"] = dict(reversed(moved["task"].items()))
+    for share in (
+        lambda c: optimization_section(c, "paper"),
+        realization_section,
+        dataset_section,
+        cycles_section,
+    ):
+        assert repr(share(moved)) == repr(share(CONFIG))

@@ -190,30 +190,13 @@ def test_config_checks_the_sizing_bounds():
 def test_the_loop_sizes_within_its_allowance():
     """The optimisation's g13 multiplies the utilisation by 1 + LOOP_ALLOWANCE (coarser duty):
     its sized check sizes the links that much lower, so a sized link passes g13."""
-    from qsm.config.settings import optimization, physics
+    from qsm.config.settings.optimization import front_of
     from qsm.optimization.constraint_set import LOOP_ALLOWANCE
 
     config = load_config()
     config["cad"]["section"] = "sized"
-    section = dict(
-        config["optimization"]["constraints"],
-        load_case={
-            "cad": config["cad"],
-            "material": config["material"],
-            "payload_kg": 5.0,
-            "duty": config["dynamics"]["duty"],
-            "operating_range": config["operating_range"],
-        },
-        strength=config["strength"],
-        drives_section=config["drives"],
-        build_volume_mm=config["printing"]["build_volume_mm"],
-        tolerance_mm=config["task"]["tolerance_mm"],
-        task_points=config["task"]["points"],
-    )
-    fit = physics.fit(
-        config["operating_range"], config["task"]["points"], config["scale"], config["workspace"]
-    )
-    check = optimization.constraints(section, fit).strength
+    config["task"]["payload_kg"] = 5.0
+    check = front_of(config, "paper").extra.strength
     assert check.sizing.target == pytest.approx(TARGET / (1 + LOOP_ALLOWANCE))
     table = check.evaluate(DESIGNS)
     y, sf = check.material.yield_strength_pa, check.strength.safety_factor

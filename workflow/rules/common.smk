@@ -2,9 +2,12 @@
 import functools
 
 from qsm.config.sections import (
+    FIT_KEYS,
+    cycles_section,
     dataset_section,
     drives_section,
     iso_section,
+    optimization_section,
     realization_section,
 )
 from qsm.physics.task_points import design_task, task_cycle
@@ -76,57 +79,10 @@ def surrogate_settings():
     return {k: v for k, v in config["surrogate"].items() if k != "infill"}
 
 
-def optimization_settings():
-    """What every NSGA-II run uses: not the choice or list of fronts, nor g11 / g12 / g13."""
-    skip = ("formulation", "formulations", "constraints")
-    return {k: v for k, v in config["optimization"].items() if k not in skip}
-
-
-def load_case():
-    """What the links and drives carry, one param: section, material, payload, duty and the
-    operating range (qsm.config.settings.links.load_case)."""
-    return {
-        "cad": config["cad"],
-        "material": config["material"],
-        "payload_kg": config["task"]["payload_kg"],
-        "duty": config["dynamics"]["duty"],
-        "operating_range": config["operating_range"],
-    }
-
-
 def iso_settings():
     """The ISO 9283 figures' keys (qsm.config.sections.iso_section): the Monte Carlo, the default
     encoder, the task's repeatability and the servo's gains."""
     return iso_section(config)
-
-
-def constraint_settings(formulation):
-    """g11 / g12 / g13 / g14 / g15 as they apply to ``formulation``, with what each needs
-    (nothing when off)."""
-    section = config["optimization"]["constraints"]
-    out = {
-        "containment": False,
-        "printable": section["printable"],
-        "strong": section["strong"],
-        "drives": section["drives"],
-        "stiff": section["stiff"],
-    }
-    if formulation == "ratios" or section["containment"]:
-        out.update(
-            containment=formulation == "paper",
-            tolerance_m=section["containment_tolerance_m"],
-        )
-    if section["printable"] or section["strong"] or section["drives"] or section["stiff"]:
-        out.update(load_case=load_case())
-    if section["printable"]:
-        out.update(build_volume_mm=config["printing"]["build_volume_mm"])
-    if section["stiff"]:
-        out.update(tolerance_mm=config["task"]["tolerance_mm"], task_points=TASK_POINTS)
-    if section["strong"]:
-        out.update(strength=config["strength"])
-    if section["drives"]:
-        out.update(drives_section=drive_settings())
-    return out
 
 
 def jerk_time_s():
@@ -147,7 +103,7 @@ def code(script):
 
 def fit_workspace():
     """The workspace settings of the scale-up (slicing and scale scan), not the shard count."""
-    return {k: config["workspace"][k] for k in ("n_delta", "n_levels", "n_scan")}
+    return {k: config["workspace"][k] for k in FIT_KEYS}
 
 
 def study_inputs(wildcards):

@@ -20,10 +20,7 @@ rule front_cycles:
         ENV
     params:
         code=code("front_cycles.py"),
-        load_case=load_case(),
-        strength=config["strength"],
-        drives=drive_settings(),
-        payload_test=config["payload_test"],
+        cycles=cycles_section(config),
         cycle=CYCLE,
     script:
         "../scripts/front_cycles.py"

@@ -55,20 +55,7 @@ rule optimize:
     params:
         code=code("optimize.py"),
         formulation=lambda w: w.formulation,
-        optimization=optimization_settings(),
-        constraints=lambda w: constraint_settings(w.formulation),
-        ratio_bounds=config["sampling"]["bounds"],
-        operating_range=config["operating_range"],
-        task_points=TASK_POINTS,
-        scale=config["scale"],
-        workspace=fit_workspace(),
-        filters=config["filters"],
-        surrogate=config["surrogate"],
-        load_case=load_case(),
-        strength=config["strength"],
-        drives=drive_settings(),
-        tolerance_mm=config["task"]["tolerance_mm"],
-        build_volume_mm=config["printing"]["build_volume_mm"],
+        front=lambda w: optimization_section(config, w.formulation),
     script:
         "../scripts/optimize.py"
 
@@ -90,17 +77,8 @@ rule verify_pareto:
         ENV
     params:
         code=code("verify_pareto.py"),
-        operating_range=config["operating_range"],
-        task_points=TASK_POINTS,
-        scale=config["scale"],
-        workspace=fit_workspace(),
-        filters=config["filters"],
-        load_case=load_case(),
-        strength=config["strength"],
-        drives=drive_settings(),
-        tolerance_mm=config["task"]["tolerance_mm"],
-        ratio_bounds=config["sampling"]["bounds"],
-        build_volume_mm=config["printing"]["build_volume_mm"],
+        formulation=lambda w: w.formulation,
+        front=lambda w: optimization_section(config, w.formulation),
     script:
         "../scripts/verify_pareto.py"
 

@@ -3,13 +3,12 @@ figures."""
 
 import numpy as np
 
-from qsm.config.settings import actuation, links, optimization, physics, surrogate
+from qsm.config.settings.optimization import front_of
 from qsm.dataset.gathering import OK_ROWS, ok_rows
 from qsm.optimization.comparison import true_hypervolume
 from qsm.optimization.infill import Steps, infill, refit_rows
 from qsm.optimization.nsga import optimize
 from qsm.optimization.ranking import OBJECTIVE_SETS, OPTIMISATION_COLUMNS
-from qsm.optimization.verify import verify_front
 from qsm.report.figures import infill_figure, pareto_figures, representatives_figure
 from qsm.surrogate.model import INPUTS, OUTPUTS, Training, load, refit, training_rows
 from qsm.workflow.json_files import write_json
@@ -23,24 +22,18 @@ with logged(snakemake.log[0]) as log:
     dataset = ok_rows(
         read_table(snakemake.input.dataset, OPTIMISATION_COLUMNS, only=True, where=OK_ROWS)
     )
-    fit = physics.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
-    every = max(1, p.optimization["generations"] // 10)
+    front = front_of(p.front, p.formulation)
+    every = max(1, front.nsga["generations"] // 10)
 
     def progress(generation: int, hypervolume: float) -> None:
         if generation % every == 0:
             log.info("generation %d: hypervolume %.4f", generation, hypervolume)
 
-    extra = optimization.constraints(p.constraints, fit)
+    extra, fit, training, settings = front.extra, front.fit, front.training, front.infill
     log.info("%s formulation, constraints: %s", p.formulation, extra.label(p.formulation))
-    case = links.load_case(p.load_case)
-    check = links.strength_check(case, p.strength)
-    drives = actuation.drive_check(p.drives, case)
-    sag = links.sag_check(case, p.task_points, p.tolerance_mm)
-    training = surrogate.surrogate(p.surrogate)
     rows = training_rows(len(dataset), training)[0]  # the surrogate's own training rows
     x0, y0 = dataset[list(INPUTS)].to_numpy()[rows], dataset[list(OUTPUTS)].to_numpy()[rows]
     fits: list[Training] = []
-    settings = surrogate.infill(p.surrogate)
 
     def refitted(x: np.ndarray, y: np.ndarray) -> object:
         """The surrogate on its training rows (at most ``refit_rows``, the true designs'
@@ -52,14 +45,12 @@ with logged(snakemake.log[0]) as log:
         log.info("refit on %d designs: %s", len(xs), fits[-1].metrics)
         return fits[-1].model
 
-    objectives = OBJECTIVE_SETS[p.optimization.get("objectives", "torques")]
+    objectives = OBJECTIVE_SETS[front.nsga.get("objectives", "torques")]
     steps = Steps(
         optimize=lambda m, start: optimize(
-            p.formulation, m, dataset, p.optimization, fit, p.ratio_bounds, extra, progress, start
+            p.formulation, m, dataset, front.nsga, fit, front.ratio_bounds, extra, progress, start
         ),
-        truth=lambda designs: verify_front(
-            designs, fit, check, p.ratio_bounds, p.build_volume_mm, drives, sag
-        ),
+        truth=front.verify,
         refit=refitted,
     )
     result = infill(
@@ -73,7 +64,7 @@ with logged(snakemake.log[0]) as log:
     meta = {
         "formulation": p.formulation,
         "constraints": tables.constraints,
-        "settings": dict(p.optimization),
+        "settings": dict(front.nsga),
         "infill_rounds": len(result.rounds),
     }
     write_table(tables.pareto, out.pareto, meta)
@@ -85,7 +76,7 @@ with logged(snakemake.log[0]) as log:
     infill_figure(result.rounds, goals, p.formulation, out.infill_figure)
     pareto_figures(tables.pareto, tables.hypervolume, out.front_3d, out.front_pairs)
     representatives_figure(
-        tables.pareto, fit.op, fit.disk, p.optimization["n_representatives"], out.designs
+        tables.pareto, fit.op, fit.disk, front.nsga["n_representatives"], out.designs
     )
     log.info("%s formulation: %d Pareto designs", p.formulation, len(tables.pareto))
     log.info("constraints met: %s", tables.constraints)

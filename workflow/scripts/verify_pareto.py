@@ -3,11 +3,11 @@
 import json
 from pathlib import Path
 
-from qsm.config.settings import actuation, links, physics
+from qsm.config.settings.optimization import front_of
 from qsm.optimization.comparison import summary
 from qsm.optimization.infill import final_front
 from qsm.optimization.nsga import PREDICTION_COLUMNS
-from qsm.optimization.verify import TRUE_COLUMNS, verify_front
+from qsm.optimization.verify import TRUE_COLUMNS
 from qsm.surrogate.model import INPUTS
 from qsm.workflow.json_files import write_json
 from qsm.workflow.logs import logged
@@ -19,14 +19,9 @@ with logged(snakemake.log[0]) as log:
     path = snakemake.input.pareto
     pareto = read_table(path, [*INPUTS, *PREDICTION_COLUMNS])
     meta = read_meta(path)
-    fit = physics.fit(p.operating_range, p.task_points, p.scale, p.workspace, p.filters)
-    case = links.load_case(p.load_case)
-    check = links.strength_check(case, p.strength)
-    drives = actuation.drive_check(p.drives, case)
-    sag = links.sag_check(case, p.task_points, p.tolerance_mm)
     table = final_front(read_table(snakemake.input.infill), pareto)  # the infill's last check
     if table is None:
-        table = verify_front(pareto, fit, check, p.ratio_bounds, p.build_volume_mm, drives, sag)
+        table = front_of(p.front, p.formulation).verify(pareto)
     else:
         log.info("the front as the infill's last round verified it")
     result = {"formulation": meta.get("formulation"), "constraints": meta.get("constraints")}

@@ -18,6 +18,17 @@ Section = Mapping[str, Any]
 ACCURACY_KEYS = ("tolerance_mm", "min_first_mode_hz", "grow_for_tolerance")
 
 
+def canonical(value: Any) -> Any:
+    """``value`` with every mapping's keys sorted, at every depth. A rule compares its params with
+    the last run's by their ``repr``: a share must not change with the order in which the config
+    files were merged (an override file puts its keys first)."""
+    if isinstance(value, Mapping):
+        return {k: canonical(value[k]) for k in sorted(value)}
+    if isinstance(value, list | tuple):
+        return [canonical(v) for v in value]
+    return value
+
+
 def accuracy_section(config: Section) -> dict[str, Any]:
     """What :func:`qsm.config.settings.realization.accuracy` reads of a validated config:
     :data:`ACCURACY_KEYS` of ``task``, ``topology.min_stiffness_factor`` and the
@@ -33,11 +44,13 @@ def accuracy_section(config: Section) -> dict[str, Any]:
 def iso_section(config: Section) -> dict[str, Any]:
     """What :func:`qsm.config.settings.realization.iso` reads: ``iso9283``, the task's
     ``repeatability_mm`` and the servo's proportional gains (``payload_test.kp_Nm_rad``)."""
-    return {
-        **config["iso9283"],
-        "repeatability_mm": config["task"]["repeatability_mm"],
-        "kp_Nm_rad": config["payload_test"]["kp_Nm_rad"],
-    }
+    return canonical(
+        {
+            **config["iso9283"],
+            "repeatability_mm": config["task"]["repeatability_mm"],
+            "kp_Nm_rad": config["payload_test"]["kp_Nm_rad"],
+        }
+    )
 
 
 def drives_section(config: Section) -> dict[str, Any]:
@@ -72,21 +85,79 @@ def realization_section(config: Section) -> dict[str, Any]:
     param, and build their settings from it with the same function as ``qsm export`` does from
     the whole config."""
     task, topology = config["task"], config["topology"]
-    return {
-        **_checked_loads(config),
-        "task": {k: task[k] for k in ("points", "payload_kg", *ACCURACY_KEYS)},
-        "topology": {"min_stiffness_factor": topology["min_stiffness_factor"]},
-        "printed_material": config["printed_material"],
-        "payload_test": {k: config["payload_test"][k] for k in MOTION_KEYS},
-        "printing": {"build_volume_mm": config["printing"]["build_volume_mm"]},
-        "kit": config["kit"],
-    }
+    return canonical(
+        {
+            **_checked_loads(config),
+            "task": {k: task[k] for k in ("points", "payload_kg", *ACCURACY_KEYS)},
+            "topology": {"min_stiffness_factor": topology["min_stiffness_factor"]},
+            "printed_material": config["printed_material"],
+            "payload_test": {k: config["payload_test"][k] for k in MOTION_KEYS},
+            "printing": {"build_volume_mm": config["printing"]["build_volume_mm"]},
+            "kit": config["kit"],
+        }
+    )
 
 
 def dataset_section(config: Section) -> dict[str, Any]:
     """Stage 2's share of a validated config, in the config's shape: every key
     :func:`qsm.config.settings.dataset.dataset_of` reads (the rule ``dynamics``'s one param)."""
-    return {
-        **_checked_loads(config),
-        "task": {k: config["task"][k] for k in ("points", "payload_kg")},
-    }
+    return canonical(
+        {
+            **_checked_loads(config),
+            "task": {k: config["task"][k] for k in ("points", "payload_kg")},
+        }
+    )
+
+
+#: The ``workspace`` keys of the scale-up (its slicing and scale scan), not the shard count.
+FIT_KEYS = ("n_delta", "n_levels", "n_scan")
+
+
+def applied_constraints(section: Section, formulation: str) -> dict[str, Any]:
+    """``optimization.constraints`` as they apply to ``formulation``: g11 (``containment``) only
+    in the paper formulation, and ``containment_tolerance_m`` only where the task is contained
+    (g11, or the ratios formulation's scale-up); the other keys as they are."""
+    out = {k: section[k] for k in ("printable", "strong", "drives", "stiff")}
+    out["containment"] = formulation == "paper" and bool(section["containment"])
+    if formulation == "ratios" or out["containment"]:
+        out["containment_tolerance_m"] = section["containment_tolerance_m"]
+    return out
+
+
+def optimization_section(config: Section, formulation: str) -> dict[str, Any]:
+    """Stage 4's share of a validated config for ``formulation``'s front, in the config's shape:
+    every key :func:`qsm.config.settings.optimization.front_of` reads (the rules ``optimize``'s
+    and ``verify_pareto``'s one param), the constraints as they apply to it."""
+    optimization = config["optimization"]
+    return canonical(
+        {
+            **_checked_loads(config),
+            "task": {k: config["task"][k] for k in ("points", "payload_kg", "tolerance_mm")},
+            "scale": config["scale"],
+            "workspace": {k: config["workspace"][k] for k in FIT_KEYS},
+            "filters": config["filters"],
+            "sampling": {"bounds": config["sampling"]["bounds"]},
+            "printing": {"build_volume_mm": config["printing"]["build_volume_mm"]},
+            "surrogate": config["surrogate"],
+            "optimization": {
+                **{
+                    k: v
+                    for k, v in optimization.items()
+                    if k not in ("formulation", "formulations")
+                },
+                "constraints": applied_constraints(optimization["constraints"], formulation),
+            },
+        }
+    )
+
+
+def cycles_section(config: Section) -> dict[str, Any]:
+    """The front's cycles' share of a validated config (the rule ``front_cycles``'s param): the
+    keys :func:`qsm.config.settings.simulation.cycles_of` reads."""
+    return canonical(
+        {
+            **_checked_loads(config),
+            "task": {"payload_kg": config["task"]["payload_kg"]},
+            "payload_test": config["payload_test"],
+        }
+    )

@@ -2,8 +2,9 @@
 
 One function per section, in a module per domain; scripts, the command line and
 ``qsm.app.evaluate`` build their settings here and nowhere else. A stage's ``*_of`` function
-(``realization_of``, ``dataset_of``) takes a whole config or the stage's share of one
-(:mod:`qsm.config.sections`, the rules' one param) and builds the same settings from either.
+(``realization_of``, ``dataset_of``, ``front_of``, ``cycles_of``) takes a whole config or the
+stage's share of one (:mod:`qsm.config.sections`, the rules' one param) and builds the same
+settings from either.
 Each function takes the section(s) as validated by :mod:`qsm.config.reading` (every default
 filled from the schema) and passes every field on, so the schema's defaults are the ones a run
 uses; the dataclasses' own defaults, for direct notebook calls, are read from the same schema
@@ -15,7 +16,8 @@ builds. :mod:`~qsm.config.settings.physics` (motor ranges, the scale-up, link so
 :mod:`~qsm.config.settings.links` (material, strength, sizing, parts),
 :mod:`~qsm.config.settings.actuation` (the drive catalogue and check),
 :mod:`~qsm.config.settings.dataset` (Stage 2's checks together),
-:mod:`~qsm.config.settings.surrogate`, :mod:`~qsm.config.settings.optimization` (g11-g14),
+:mod:`~qsm.config.settings.surrogate`, :mod:`~qsm.config.settings.optimization` (a front's
+NSGA-II, g11-g15 and true check),
 :mod:`~qsm.config.settings.realization`, :mod:`~qsm.config.settings.plates` and
-:mod:`~qsm.config.settings.simulation` (Stage 6).
+:mod:`~qsm.config.settings.simulation` (Stage 6, and the front's cycles).
 """

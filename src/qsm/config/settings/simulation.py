@@ -1,10 +1,15 @@
-"""Settings of the simulated payload test (Stage 6)."""
+"""Settings of the simulated payload test (Stage 6) and of the front's cycles."""
 
 from __future__ import annotations
 
+import dataclasses
 from collections.abc import Mapping
 from typing import Any
 
+from qsm.config.settings.actuation import drive_check
+from qsm.config.settings.links import load_case_of, strength_check
+from qsm.embodiment.drives.catalogue import Catalogue
+from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.realization.motion.payload import PayloadSettings
 
 Section = Mapping[str, Any]
@@ -45,4 +50,25 @@ def task_motion(
         return_to_start=section["return_to_start"],
         theta1_range_deg=tuple(operating_range_section["theta1_deg"]),
         theta2_min_deg=operating_range_section["theta2_min_deg"],
+    )
+
+
+@dataclasses.dataclass(frozen=True)
+class CycleSettings:
+    """What the time-optimal cycle of a front's design needs: its links' check, the drive
+    catalogue and the payload test's settings (payload, gains, operating range)."""
+
+    strength: StrengthCheck
+    catalogue: Catalogue
+    test: PayloadSettings
+
+
+def cycles_of(config: Section) -> CycleSettings:
+    """The front's cycles' settings (the rule ``front_cycles``) from a validated config, or from
+    its share of one (:func:`qsm.config.sections.cycles_section`, the rule's param)."""
+    case = load_case_of(config)
+    return CycleSettings(
+        strength=strength_check(case, config["strength"]),
+        catalogue=drive_check(config["drives"], case).catalogue,
+        test=payload_test(config["payload_test"], case.payload_kg, config["operating_range"]),
     )
