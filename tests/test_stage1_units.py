@@ -165,7 +165,13 @@ def test_selection_does_not_depend_on_sharding():
             ignore_index=True,
         )
         assert len(stopped) < len(whole)
-        examined = gathered_fits(stopped, candidates, 30, fit_settings)
+        examined = gathered_fits(
+            stopped,
+            candidates["sample_id"],
+            lambda last: candidates[candidates["sample_id"] > last].iloc[::-1],
+            30,
+            fit_settings,
+        )
         pd.testing.assert_frame_equal(select_mechanisms(examined, 30), first)
         counts = fit_counts(examined)
         assert counts == fit_counts(examined_fits(whole, 30))

@@ -7,6 +7,7 @@ import pandas as pd
 
 from qsm.config.settings import physics
 from qsm.mechanisms.scale import (
+    FIT_COLUMNS,
     MECHANISM_COLUMNS,
     fit_counts,
     gathered_fits,
@@ -20,14 +21,18 @@ from qsm.workflow.tables import read_table, settings_hash, write_table
 with logged(snakemake.log[0]) as log:
     p = snakemake.params
     fits = pd.concat(
-        [read_table(f, ["sample_id", "feasible", "reason"]) for f in snakemake.input.fits],
-        ignore_index=True,
+        [read_table(f, FIT_COLUMNS, only=True) for f in snakemake.input.fits], ignore_index=True
     )
-    candidates = read_table(snakemake.input.candidates, ["sample_id", *RATIO_NAMES])
-    candidates = candidates.sort_values("sample_id", ignore_index=True)
+    path = snakemake.input.candidates
+    ids = read_table(path, ["sample_id"], only=True)["sample_id"].to_numpy()
+
+    def candidates_after(last: int) -> pd.DataFrame:
+        """The candidates (sample id, ratios) of sample id above ``last``."""
+        return read_table(path, ["sample_id", *RATIO_NAMES], True, [("sample_id", ">", last)])
+
     s = p.settings
     fit = physics.fit(s["operating_range"], s["task_points"], s["scale"], s["workspace"])
-    fits = gathered_fits(fits, candidates, p.n_mechanisms, fit)
+    fits = gathered_fits(fits, ids, candidates_after, p.n_mechanisms, fit)
     with open(snakemake.input.counts) as fh:
         counts = json.load(fh)
     counts.update(fit_counts(fits))

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import logging
 import time
-from collections.abc import Iterator, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -28,6 +28,17 @@ MECHANISM_COLUMNS: dict[str, str] = {
     "workspace_area_m2": "workspace area at the scale (m^2)",
     "eta": "task-disk area / workspace area (-)",
 }
+
+#: The columns of a shard's fits (rule ``fit_task``) that the selection and its counts read.
+FIT_COLUMNS = (
+    "sample_id",
+    *RATIO_NAMES,
+    "feasible",
+    "reason",
+    "scale_m",
+    "workspace_area_m2",
+    "eta",
+)
 
 
 @dataclass(frozen=True)
@@ -155,27 +166,34 @@ def shard_quota(n_mechanisms: int, shards: int) -> int:
     return -(-11 * n_mechanisms // (10 * shards))
 
 
-def covered_fits(fits: pd.DataFrame, candidate_ids: ArrayLike) -> tuple[pd.DataFrame, int]:
+def covered_fits(fits: pd.DataFrame, candidate_ids: ArrayLike) -> tuple[pd.DataFrame, int, int]:
     """The ``fits`` of the longest run of ``candidate_ids`` from the first (in sample order)
-    that were all examined, and that run's length."""
+    that were all examined, that run's length and its last sample id (-1 when empty)."""
     ids = np.sort(np.asarray(candidate_ids))
     examined = np.isin(ids, fits["sample_id"].to_numpy())
     prefix = len(ids) if examined.all() else int(np.argmin(examined))
-    last = ids[prefix - 1] if prefix else -1
-    return fits.loc[fits["sample_id"].to_numpy() <= last], prefix
+    last = int(ids[prefix - 1]) if prefix else -1
+    return fits.loc[fits["sample_id"].to_numpy() <= last], prefix, last
 
 
 def gathered_fits(
-    fits: pd.DataFrame, candidates: pd.DataFrame, n_mechanisms: int, settings: FitSettings
+    fits: pd.DataFrame,
+    candidate_ids: ArrayLike,
+    candidates_after: Callable[[int], pd.DataFrame],
+    n_mechanisms: int,
+    settings: FitSettings,
 ) -> pd.DataFrame:
-    """The shards' ``fits`` of the ``candidates`` (sample order) up to the ``n_mechanisms``-th
-    feasible one (:func:`examined_fits`), the candidates after those the shards covered fitted
-    here where the shards' quotas (:func:`shard_quota`) fell short."""
-    fits, covered = covered_fits(fits, candidates["sample_id"])
+    """The shards' ``fits`` of the candidates (``candidate_ids``) up to the ``n_mechanisms``-th
+    feasible one in sample order (:func:`examined_fits`). Where the shards' quotas
+    (:func:`shard_quota`) fell short, the candidates after those the shards covered are fitted
+    here: ``candidates_after(last)`` gives them (sample id and ratios), those of sample id above
+    ``last``, so that they are read only when needed."""
+    fits, covered, last = covered_fits(fits, candidate_ids)
     short = n_mechanisms - int(fits["feasible"].sum())
-    if short > 0 and covered < len(candidates):
+    if short > 0 and covered < len(candidate_ids):
         log.info("the shards cover %d candidates, %d fits short: fitting on", covered, short)
-        more = fit_designs(candidates.iloc[covered:], settings, stop_after=short)
+        rest = candidates_after(last).sort_values("sample_id", ignore_index=True)
+        more = fit_designs(rest, settings, stop_after=short)
         fits = pd.concat([fits, more], ignore_index=True)
     return examined_fits(fits, n_mechanisms)
 
