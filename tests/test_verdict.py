@@ -82,16 +82,21 @@ def test_a_failed_payload_test_says_why_once_and_what_its_drives_would_need():
 def test_a_cycle_that_overheats_says_how_far_and_what_rating_would_carry_it():
     """Motor 1 at 1.30 of its 10 N m continuous rating: ranked at 1.30, and told to take a drive
     rated 13.0 N m or more; motor 2 within its rating gets no advice; the links past their
-    strength on the cycle rank by their utilisation, MuJoCo's failure has no ratio."""
+    strength on the cycle rank by their utilisation; MuJoCo's run, 3 deg from the motors' path
+    against 0.5 deg allowed, ranks at 6 and names motor 1's drive at its torque limit."""
     record = _record(error_mm=4.0, utilisation=0.8, drive=True)
     record["cycle"] = {"planned": True, "cycle_time_s": 2.5, "thermal_ok": False,
                        "rms_torque_Nm": [11.0, 4.0], "continuous_torque_Nm": [10.0, 8.0],
                        "thermal_use": [1.3, 0.5], "links_hold": False,
                        "strength_utilisation": 1.05,
-                       "simulation": {"passed": False, "reason": "tracking 3 deg"}}  # fmt: skip
+                       "simulation": {"passed": False, "reason": "tracking 3 deg",
+                                      "max_tracking_error_deg": 3.0,
+                                      "tracking_tolerance_deg": 0.5,
+                                      "peak_torque_over_available": [1.0, 0.4]}}  # fmt: skip
     found = failures(record, {"links": {}}, {"passed": True})
-    assert [f.ratio for f in found] == [1.3, 1.05, None]
-    assert found[0].text.startswith("DRIVES OVERHEAT") and "motor 2" not in found[0].fix
-    assert found[0].fix == "a drive for motor 1 rated 13.0 N m continuous or more"
-    assert found[1].text.startswith("the links reach 1.05") and found[1].fix is None
-    assert found[2].text.startswith("MuJoCo's run of the cycle fails")
+    assert [f.ratio for f in found] == [6.0, 1.3, 1.05]
+    assert found[0].text.startswith("MuJoCo's run of the cycle fails")
+    assert found[0].fix == "motor 1's drive gives 1.00 of its torque: a drive with more"
+    assert found[1].text.startswith("DRIVES OVERHEAT") and "motor 2" not in found[1].fix
+    assert found[1].fix == "a drive for motor 1 rated 13.0 N m continuous or more"
+    assert found[2].text.startswith("the links reach 1.05") and found[2].fix is None

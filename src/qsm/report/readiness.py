@@ -224,7 +224,8 @@ def drive_problems(motors: Mapping[str, Any]) -> list[str]:
 def _cycle_failures(cycle: Mapping[str, Any] | None) -> list[Failure]:
     """The cycle's problems (:func:`cycle_problems`, in its order: the drives' heat, the links'
     strength, MuJoCo's run): the heat with its largest thermal use and the continuous torque
-    each hot motor would need (its use x its rating, N m), the links with their utilisation."""
+    each hot motor would need (its use x its rating, N m), the links with their utilisation,
+    MuJoCo's run with its tracking error over the tolerance and what its drives would need."""
     problems = cycle_problems(None if cycle is None else dict(cycle))
     if not problems or not cycle or not cycle["planned"]:
         return [Failure(p) for p in problems]
@@ -236,7 +237,10 @@ def _cycle_failures(cycle: Mapping[str, Any] | None) -> list[Failure]:
         found.append(Failure(problems[0], max(cycle["thermal_use"]), "; ".join(need)))
     if not cycle["links_hold"]:
         found.append(Failure(problems[len(found)], cycle["strength_utilisation"]))
-    return found + [Failure(p) for p in problems[len(found) :]]
+    sim = cycle["simulation"]
+    if not sim["passed"]:
+        found.append(Failure(problems[len(found)], _tracking_ratio(sim), _drive_fix(sim)))
+    return found
 
 
 def _tenths_up(value: float) -> float:
@@ -257,17 +261,25 @@ def _payload_failures(payload: Mapping[str, Any]) -> list[Failure]:
     else:
         allowed = "" if limit is None else f", {limit:g} deg allowed"
         text = f"the payload test failed (max tracking error {fixed(error, 3)} deg{allowed})"
-    ratio = error / limit if limit and error > limit else None  # else it failed on its drives
-    return [Failure(text, ratio, _payload_fix(payload))]
+    return [Failure(text, _tracking_ratio(payload), _drive_fix(payload))]
 
 
-def _payload_fix(payload: Mapping[str, Any]) -> str | None:
-    """What the test's drives would need, from its record: those past their top speed, a
-    slower test or a faster drive; those at their torque limit, a drive with more torque."""
+def _tracking_ratio(run: Mapping[str, Any]) -> float | None:
+    """A simulation's largest tracking error over its tolerance, where it is past it (None: it
+    failed on its drives, or the record has no error)."""
+    error, limit = run.get("max_tracking_error_deg"), run.get("tracking_tolerance_deg")
+    return error / limit if error is not None and limit and error > limit else None
+
+
+def _drive_fix(run: Mapping[str, Any]) -> str | None:
+    """What a simulation's drives would need, from its record (the payload test's, the cycle's
+    MuJoCo run): those past their top speed, slower moves or a faster drive; those at their
+    torque limit, a drive with more torque."""
     fixes = []
-    past = payload.get("past_top_speed_fraction") or []
-    uses = payload.get("peak_torque_over_available") or []
-    for k, (share, use) in enumerate(zip(past, uses, strict=False), start=1):
+    past = run.get("past_top_speed_fraction") or []
+    uses = run.get("peak_torque_over_available") or []
+    for k, use in enumerate(uses, start=1):
+        share = past[k - 1] if k <= len(past) else None
         if share and share > 0:
             fixes.append(
                 f"motor {k}'s drive runs past its top speed for {100 * share:.1f} % of the "
