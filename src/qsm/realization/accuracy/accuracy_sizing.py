@@ -50,7 +50,7 @@ from qsm.realization.accuracy.accuracy_budget import (
     task_motion_torques,
 )
 from qsm.realization.motion.payload import PayloadSettings
-from qsm.realization.topology.plate_loads import OPTIMIZED_LINKS
+from qsm.realization.topology import OPTIMIZED_LINKS
 
 #: The share of the tolerance the structure may take; the rest is kept for the tracking error.
 STRUCTURE_SHARE = 0.7

@@ -30,8 +30,6 @@ from qsm.realization.topology.fe import (
     nodal_forces,
 )
 
-OPTIMIZED_LINKS: tuple[str, ...] = ("lower_arm", "upper_arm")
-
 
 @dataclass(frozen=True)
 class LinkLoads:

@@ -59,6 +59,7 @@ from numpy.typing import ArrayLike, NDArray
 from qsm.physics.cad import CadSettings, MassProperties, link_settings, mass_properties
 from qsm.physics.duty import Duty
 from qsm.physics.kinematics import as_design
+from qsm.realization.topology import OPTIMIZED_LINKS
 from qsm.realization.topology.fe import (
     DEFAULT_TOPOLOGY,
     FeProblem,
@@ -75,7 +76,6 @@ from qsm.realization.topology.geometry import (
     polygons,
 )
 from qsm.realization.topology.plate_loads import (
-    OPTIMIZED_LINKS,
     LinkLoads,
     joint_points,
     link_problem,
