@@ -271,7 +271,7 @@ def test_the_cycle_is_within_the_drives_and_no_faster_than_their_top_speeds(run)
     for j, drive in enumerate(drives):
         speed = np.radians(trajectory[f"omega{j + 1}_deg_s"].to_numpy())
         tau = trajectory[f"tau{j + 1}_Nm"].to_numpy()
-        assert (np.abs(speed) <= top[j] * (1 + 1e-9)).all()
+        assert (np.abs(speed) <= top[j] * (1 + 1e-7)).all()  # the CSV's 8 digits
         assert (np.abs(tau) <= drive.limit(tau, speed) * 1.02 + 1e-9).all()
     sim = cycle["simulation"]
     if sim["passed"]:

@@ -25,7 +25,7 @@ with logged(snakemake.log[0]) as log:
     )
     write_json(out.cycle, record)
     cycle = None if checked is None else checked.cycle
-    trajectory_table(cycle, arm).to_csv(out.trajectory, index=False)
+    trajectory_table(cycle, arm).to_csv(out.trajectory, index=False, float_format="%.8g")
     elastic = None
     if cycle is not None and c.settling is not None:  # the tool's ringing over the cycle
         elastic = (*elastic_error(cycle, c.settling), 1e3 * c.settling.allowed_m)
