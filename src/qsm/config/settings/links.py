@@ -32,19 +32,6 @@ def strength(section: Section) -> StrengthSettings:
     return StrengthSettings(**section)
 
 
-def load_case(section: Section) -> LoadCase:
-    """The rules' ``load_case`` param: the ``cad``, ``material``, ``dynamics.duty`` and
-    ``operating_range`` sections and ``payload_kg``, as one value."""
-    return LoadCase(
-        cad=cad(section["cad"], section["material"]),
-        material=material(section["material"]),
-        payload_kg=float(section["payload_kg"]),
-        duty=duty(section["duty"], section["operating_range"]),
-        sizing=sizing(section["cad"]),
-        largest_scale=_largest_scale(section["cad"], section["material"]),
-    )
-
-
 def _largest_scale(section: Section, material_section: Section) -> float:
     """The largest factor on the ``cad`` section's that ``cad.sized`` allows (1 where its bounds
     admit none: a fixed section's config need not keep them consistent)."""
@@ -55,15 +42,17 @@ def _largest_scale(section: Section, material_section: Section) -> float:
 
 
 def load_case_of(config: Section) -> LoadCase:
-    """:func:`load_case` of a whole validated config."""
-    return load_case(
-        {
-            "cad": config["cad"],
-            "material": config["material"],
-            "payload_kg": config["task"]["payload_kg"],
-            "duty": config["dynamics"]["duty"],
-            "operating_range": config["operating_range"],
-        }
+    """What the links and drives carry, from a validated config or a stage's share of one: the
+    ``cad``, ``material``, ``dynamics.duty`` and ``operating_range`` sections and
+    ``task.payload_kg``, as one value."""
+    cad_section, material_section = config["cad"], config["material"]
+    return LoadCase(
+        cad=cad(cad_section, material_section),
+        material=material(material_section),
+        payload_kg=float(config["task"]["payload_kg"]),
+        duty=duty(config["dynamics"]["duty"], config["operating_range"]),
+        sizing=sizing(cad_section),
+        largest_scale=_largest_scale(cad_section, material_section),
     )
 
 
