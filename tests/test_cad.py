@@ -145,3 +145,21 @@ def test_batch_mass_properties_equal_the_outline_ones_with_any_fillet(ratio) -> 
             assert mass[k, j] == pytest.approx(props[link].mass_kg, rel=1e-12)
             np.testing.assert_allclose(com[k, j], props[link].com_m[:2], atol=1e-14)
             assert izz[k, j] == pytest.approx(props[link].inertia_kg_m2[2, 2], rel=1e-12)
+
+
+def test_an_arc_is_its_circle_point_for_point_and_its_cached_angles_stay_fixed() -> None:
+    """Arcs of one angle range share their cos and sin (a fixed section's every design): each
+    point is still (cx + r cos a, cy + r sin a) at n evenly spaced angles, and the shared
+    arrays cannot be written through."""
+    a0, a1, seg = 0.3, 2 * math.pi - 0.3, 48
+    n = math.ceil((a1 - a0) / (2 * math.pi) * seg) + 1
+    angles = np.linspace(a0, a1, n)
+    for cx, cy, r in ((0.0, 0.0, 0.02), (0.41, -0.1, 0.035)):
+        points = cad.arc(cx, cy, r, a0, a1, seg)
+        expected = np.column_stack([cx + r * np.cos(angles), cy + r * np.sin(angles)])
+        np.testing.assert_array_equal(points, expected)
+        points[:] = 0.0  # the caller's copy
+    cos, _ = cad._unit_arc(a0, a1, seg)
+    with pytest.raises(ValueError, match="read-only"):
+        cos[0] = 2.0
+    np.testing.assert_array_equal(cad.arc(0.0, 0.0, 1.0, a0, a1, seg)[:, 0], np.cos(angles))

@@ -133,6 +133,26 @@ def test_the_infill_refit_warm_starts_only_where_the_normalisation_holds():
     assert outside.model.x_span[0] > first.model.x_span[0]
 
 
+def test_refits_on_subsets_of_one_span_share_its_normalisation_and_warm_start():
+    """The infill refits on a bounded subset of the training rows that changes every round:
+    normalised over the whole ``span``, the second subset (holding rows beyond the first's
+    ranges) keeps the first's normalisation and continues from its weights."""
+    rng = np.random.default_rng(2)
+    x = rng.uniform(0.0, 1.0, size=(400, 6))
+    y = np.column_stack([1 + x[:, 0], 2 + x[:, 1] * x[:, 2], 3 + x[:, 3] ** 2])
+    settings = SurrogateSettings(hidden_layers=(16,), max_epochs=200, n_iter_no_change=7, seed=0)
+    low, high = np.argsort(x[:, 0])[:250], np.argsort(x[:, 0])[150:]
+    first = refit(x[low], y[low], settings, None, (x, y))
+    assert not first.metrics["warm_start"] and first.metrics["n_train"] == 250
+    np.testing.assert_array_equal(first.model.x_min, x.min(axis=0))
+    np.testing.assert_array_equal(first.model.x_span, np.ptp(x, axis=0))
+    np.testing.assert_array_equal(first.model.y_span, np.ptp(y, axis=0))
+    second = refit(x[high], y[high], settings, first, (x, y))
+    assert second.metrics["warm_start"] and second.metrics["epochs"] == 7
+    unspanned = refit(x[high], y[high], settings, refit(x[low], y[low], settings))
+    assert not unspanned.metrics["warm_start"]  # each subset's own ranges: afresh
+
+
 def test_with_early_stopping_every_refit_starts_afresh():
     """partial_fit cannot hold out a validation split: with early_stopping on, a refit whose
     normalisation would hold still fits from scratch, and does not fail."""

@@ -37,11 +37,13 @@ with logged(snakemake.log[0]) as log:
 
     def refitted(x: np.ndarray, y: np.ndarray) -> object:
         """The surrogate on its training rows (at most ``refit_rows``, the true designs'
-        neighbourhood first) and every true design so far, warm-started from the last refit
-        where its normalisation holds them."""
+        neighbourhood first) and every true design so far, normalised over all its training
+        rows and true designs, warm-started from the last refit where its normalisation holds
+        them."""
         keep = refit_rows(x0, x, settings.refit_rows, training.seed)
         xs, ys = np.vstack([x0[keep], x]), np.vstack([y0[keep], y])
-        fits.append(refit(xs, ys, training, (fits or [None])[-1]))
+        span = (np.vstack([x0, x]), np.vstack([y0, y]))
+        fits.append(refit(xs, ys, training, (fits or [None])[-1], span))
         log.info("refit on %d designs: %s", len(xs), fits[-1].metrics)
         return fits[-1].model
 

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from functools import lru_cache
 from typing import NamedTuple
 
 import numpy as np
@@ -127,11 +128,21 @@ class MassProperties(NamedTuple):
     inertia_kg_m2: NDArray[np.float64]
 
 
-def arc(cx: float, cy: float, r: float, a0: float, a1: float, seg: int) -> NDArray[np.float64]:
-    """Points on a CCW arc from angle a0 to a1 > a0 (rad), both ends included."""
+@lru_cache(maxsize=256)
+def _unit_arc(a0: float, a1: float, seg: int) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+    """cos and sin (read-only) of the angles of :func:`arc` from a0 to a1 (rad): a fixed
+    section's arcs have the same angles in every design, so each is computed once."""
     n = max(2, math.ceil((a1 - a0) / (2 * math.pi) * seg) + 1)
     a = np.linspace(a0, a1, n)
-    return np.column_stack([cx + r * np.cos(a), cy + r * np.sin(a)])
+    cos, sin = np.cos(a), np.sin(a)
+    cos.flags.writeable = sin.flags.writeable = False
+    return cos, sin
+
+
+def arc(cx: float, cy: float, r: float, a0: float, a1: float, seg: int) -> NDArray[np.float64]:
+    """Points on a CCW arc from angle a0 to a1 > a0 (rad), both ends included."""
+    cos, sin = _unit_arc(a0, a1, seg)
+    return np.column_stack([cx + r * cos, cy + r * sin])
 
 
 def _bar_outline(length: float, s: CadSettings) -> NDArray[np.float64]:
@@ -207,7 +218,7 @@ def polygon_mass_properties(
     """Exact mass properties of the prism extruding a simple CCW polygon (m) symmetrically in z."""
     p = np.asarray(outline, dtype=float)
     x, y = p[:, 0], p[:, 1]
-    xn, yn = np.roll(x, -1), np.roll(y, -1)
+    xn, yn = np.concatenate((x[1:], x[:1])), np.concatenate((y[1:], y[:1]))  # next vertex
     c = x * yn - xn * y
     area = c.sum() / 2
     if not area > 0:

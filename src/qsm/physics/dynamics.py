@@ -73,7 +73,7 @@ def components_first(*lead: int, last: tuple[int, ...]) -> NDArray[np.float64]:
     """An empty array of shape (*lead, *last) stored with the ``last`` axes first, so that each
     of their entries (a joint's angle, a vector's x) is one contiguous block."""
     k = len(last)
-    return np.moveaxis(np.empty((*last, *lead)), tuple(range(k)), tuple(range(-k, 0)))
+    return np.empty((*last, *lead)).transpose((*range(k, k + len(lead)), *range(k)))
 
 
 def _loop_state(d: NDArray, th: NDArray, dth: NDArray, ddth: NDArray) -> LoopState:

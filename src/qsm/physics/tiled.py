@@ -81,12 +81,13 @@ def tree_forces(
         rows = slice(start, min(start + TILE_STATES, len(q)))
         n = rows.stop - rows.start
         model, data = _tiled_model(n)
-        model.body_pos[1:] = np.tile(pos, (n, 1))
-        model.body_mass[1:] = np.tile(mass, n)
-        model.body_ipos[1:] = np.tile(ipos, (n, 1))
-        model.body_inertia[1:] = np.tile(inertia, (n, 1))
-        model.body_iquat[1:] = np.tile(quat, (n, 1))
-        model.dof_armature[:] = np.tile([armature[0], 0.0, armature[1], 0.0], n)
+        # each copy's rows, written through (n, 4, ...) views of the model's arrays
+        model.body_pos[1:].reshape(n, 4, 3)[:] = pos
+        model.body_mass[1:].reshape(n, 4)[:] = mass
+        model.body_ipos[1:].reshape(n, 4, 3)[:] = ipos
+        model.body_inertia[1:].reshape(n, 4, 3)[:] = inertia
+        model.body_iquat[1:].reshape(n, 4, 4)[:] = quat
+        model.dof_armature.reshape(n, 4)[:] = (armature[0], 0.0, armature[1], 0.0)
         data.qpos[:] = q[rows].ravel()
         data.qvel[:] = qd[rows].ravel()
         data.qacc[:] = qdd[rows].ravel()

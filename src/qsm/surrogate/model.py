@@ -265,16 +265,23 @@ def train(x: ArrayLike, y: ArrayLike, settings: SurrogateSettings) -> Training:
 
 
 def refit(
-    x: ArrayLike, y: ArrayLike, settings: SurrogateSettings, previous: Training | None = None
+    x: ArrayLike,
+    y: ArrayLike,
+    settings: SurrogateSettings,
+    previous: Training | None = None,
+    span: tuple[ArrayLike, ArrayLike] | None = None,
 ) -> Training:
     """The MLP fitted on every row of designs ``x`` (N, 6) and labels ``y`` (N, 3), no split
     (the adaptive infill's: its designs' errors are measured before they join). Warm-started
     from ``previous`` where its normalisation holds every row (the network then sees the same
     inputs) and ``early_stopping`` is off: ``n_iter_no_change`` further epochs from its weights;
-    else from scratch, seeded."""
+    else from scratch, seeded, normalised over the designs and labels ``span`` (a superset of
+    ``x`` and ``y``: then refits on different subsets of it share a normalisation, and the next
+    can warm-start) or over ``x`` and ``y``."""
     x = np.asarray(x, dtype=float)
     y = np.asarray(y, dtype=float)
     target = _target(y, settings)
+    span_x, span_y = (x, y) if span is None else (np.asarray(a, dtype=float) for a in span)
     # partial_fit cannot hold out a validation split: with early_stopping, always afresh
     warm = previous is not None and not settings.early_stopping
     warm = warm and _holds(previous.model, x, target)
@@ -283,7 +290,7 @@ def refit(
         scaling = (m.x_min, m.x_span, m.y_min, m.y_span)
         model, seconds = _fitted(mlp, scaling, x, y, settings, settings.n_iter_no_change)
     else:
-        mlp, scaling = _network(settings), (*_span(x), *_span(target))
+        mlp, scaling = _network(settings), (*_span(span_x), *_span(_target(span_y, settings)))
         model, seconds = _fitted(mlp, scaling, x, y, settings)
     # partial_fit restarts sklearn's n_iter_ count: the warm epochs are the ones run here
     epochs = settings.n_iter_no_change if warm else int(mlp.n_iter_)

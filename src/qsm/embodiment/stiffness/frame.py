@@ -121,7 +121,7 @@ def beam_stiffness(
     k[..., 2, 2] = k[..., 5, 5] = (4 + phi_s) * b * length**2
     k[..., 2, 5] = k[..., 5, 2] = (2 - phi_s) * b * length**2
     r = rotation(start, end)
-    return np.einsum("...ji,...jk,...kl->...il", r, k, r)
+    return np.matmul(np.matmul(r.swapaxes(-1, -2), k), r)  # R^T K R
 
 
 def _section_terms(sec: FrameSections, link: int) -> tuple[NDArray, NDArray, NDArray]:
