@@ -214,3 +214,22 @@ def test_a_shard_evaluated_in_chunks_gives_the_same_table() -> None:
     assert list(whole["status"]) == ["ok", "ok", "ok", "cad_invalid", "ok"]
     chunked = evaluate_shard(df, settings, chunk_rows=2)
     pd.testing.assert_frame_equal(chunked, whole, check_exact=False, rtol=1e-12)
+
+
+def test_loop_states_solved_in_batches_are_each_designs_own() -> None:
+    """The loop states of designs solved :data:`LOOP_BATCH` at a time (more designs than one
+    batch, some whose loop opens at some poses) are each design's own call, field by field
+    (to 1e-12: numpy's vectorised and scalar loops may round a last bit apart on another CPU)."""
+    rng = np.random.default_rng(3)
+    ratios = rng.uniform([0.1, 0.5, 0.1, 0.3, 0.05], [0.6, 1.5, 0.6, 1.5, 0.8], (70, 5))
+    designs = np.array([kinematics.design_from_ratios(r, rng.uniform(0.3, 0.9)) for r in ratios])
+    designs[[5, 66]] = kinematics.design_from_ratios([0.6, 0.8, 0.3, 1.2, 0.4], 0.5)  # opens
+    cycle = duty.duty_cycle()
+    batched = list(dynamics.loop_states(designs, cycle))
+    assert len(batched) == len(designs) > dynamics.LOOP_BATCH
+    for design, state in zip(designs, batched, strict=True):
+        own = dynamics.loop_state(design, cycle.theta, cycle.dtheta, cycle.ddtheta)
+        np.testing.assert_array_equal(state.closes, own.closes)
+        for got, expected in zip(state, own, strict=True):
+            np.testing.assert_allclose(got, expected, rtol=1e-12, atol=0, equal_nan=True)
+    assert not batched[5].closes.all() and batched[0].q.shape == (len(cycle.theta), 4)

@@ -25,7 +25,7 @@ from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.embodiment.strength.sizing import SizedSections
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.duty import Duty, duty_cycle
-from qsm.physics.dynamics import evaluate_mechanism
+from qsm.physics.dynamics import evaluate_mechanism, loop_states
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.results import DYNAMICS_COLUMNS
 
@@ -53,8 +53,9 @@ def evaluate_table(
     rows = []
     start = time.perf_counter()
     factors = [None] * len(designs) if scales is None else np.asarray(scales, dtype=float)
-    for i, (design, scale) in enumerate(zip(designs, factors, strict=True), start=1):
-        rows.append(evaluate_mechanism(design, duty, settings, payload_kg, scale))
+    each = zip(designs, factors, loop_states(designs, duty), strict=True)
+    for i, (design, scale, state) in enumerate(each, start=1):
+        rows.append(evaluate_mechanism(design, duty, settings, payload_kg, scale, state))
         if i % log_every == 0 or i == len(designs):
             elapsed = time.perf_counter() - start
             log.info("dynamics: %d/%d mechanisms, %.1f mechanisms/s", i, len(designs), i / elapsed)
