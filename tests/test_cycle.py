@@ -2,6 +2,7 @@
 bang-bang motion in closed form, with a speed bound, and under gravity against a phase-plane
 reference."""
 
+import contextlib
 import itertools
 
 import numpy as np
@@ -183,3 +184,24 @@ def test_the_fronts_three_speed_bounds_plan_no_faster_and_nearly_as_fast(arm):
     full = plan_cycle(arm, angles, 0.5, 1e-3, returns=True).time_s
     front = plan_cycle(arm, angles, 0.5, 1e-3, returns=True, fractions=FRONT_FRACTIONS).time_s
     assert full * 0.999 <= front <= full * 1.01
+
+
+def test_a_move_is_the_fastest_of_its_speed_bounds_each_planned_alone(arm):
+    """plan_move times the move at every speed bound and samples the fastest only: the move is
+    the one its bound gives planned alone, sample for sample, and no bound alone is faster
+    (the first of equally fast bounds is kept)."""
+    from qsm.realization.motion.cycle import plan_move
+
+    q0, q1 = np.radians([95.0, 20.0]), np.radians([140.0, 60.0])
+    fractions = (0.15, 0.95, 0.5, 0.3)
+    move = plan_move(arm, q0, q1, 1e-3, fractions)
+    alone = {}
+    for f in fractions:
+        with contextlib.suppress(ValueError):  # a bound too fast for the drives' torque
+            alone[f] = plan_move(arm, q0, q1, 1e-3, (f,))
+    assert len(alone) >= 3
+    assert move.duration_s == min(m.duration_s for m in alone.values())
+    fastest = next(f for f in alone if alone[f].duration_s == move.duration_s)
+    for got, expected in zip(move, alone[fastest], strict=True):
+        np.testing.assert_array_equal(got, expected)
+    assert alone[0.15].duration_s > 2 * move.duration_s  # the slow bound's move is the longest

@@ -133,30 +133,84 @@ def motor_torques(arm: Arm, q: ArrayLike, qd: ArrayLike, qdd: ArrayLike) -> NDAr
 InverseDynamics = Callable[[NDArray, NDArray, NDArray], NDArray]
 
 
-class _BatchTorque(toppra.constraint.JointTorqueConstraint):
-    """TOPP-RA's joint torque constraint with the inverse dynamics evaluated at every grid point
-    at once (the parent calls it point by point), in TOPP-RA's interpolation scheme."""
+class TorqueTerms(NamedTuple):
+    """The torques along a path at TOPP-RA's grid points (GRID + 1, dof) N m, as
+    tau = a s'' + b s'^2 + c in the path coordinate s."""
 
-    def __init__(self, inverse: InverseDynamics, torque: NDArray[np.float64]) -> None:
+    a: NDArray[np.float64]
+    b: NDArray[np.float64]
+    c: NDArray[np.float64]
+
+
+def straight_path(q0: ArrayLike, q1: ArrayLike) -> toppra.SplineInterpolator:
+    """The straight joint-space path q0 -> q1 (dof,) rad over s in [0, 1]."""
+    return toppra.SplineInterpolator([0.0, 1.0], np.vstack([q0, q1]), bc_type="natural")
+
+
+def torque_terms(inverse: InverseDynamics, path: toppra.SplineInterpolator) -> TorqueTerms:
+    """:class:`TorqueTerms` of ``path`` at the :data:`GRID` points, ``inverse`` giving the
+    torques of every point at once: one evaluation serves every speed bound of a move."""
+    grid = np.linspace(0.0, 1.0, GRID + 1)
+    p, ps, pss = path(grid), path(grid, 1), path(grid, 2)
+    zero = np.zeros_like(p)
+    c = inverse(p, zero, zero)
+    return TorqueTerms(inverse(p, zero, ps) - c, inverse(p, ps, pss) - c, c)
+
+
+class _BatchTorque(toppra.constraint.JointTorqueConstraint):
+    """TOPP-RA's joint torque constraint from the path's :class:`TorqueTerms` (the parent
+    evaluates the inverse dynamics point by point), in TOPP-RA's interpolation scheme."""
+
+    def __init__(self, terms: TorqueTerms, torque: NDArray[np.float64]) -> None:
         super().__init__(
             None, np.column_stack([-torque, torque]), np.zeros(len(torque)),
             discretization_scheme=toppra.constraint.DiscretizationType.Interpolation,
         )  # fmt: skip
-        self.inverse = inverse
+        self.terms = terms
 
     def compute_constraint_params(self, path, gridpoints):
-        """TOPP-RA's a, b, c, F, g of the torque bounds along ``path`` at ``gridpoints``."""
-        p, ps, pss = path(gridpoints), path(gridpoints, 1), path(gridpoints, 2)
-        zero = np.zeros_like(p)
-        c = self.inverse(p, zero, zero)
-        a = self.inverse(p, zero, ps) - c
-        b = self.inverse(p, ps, pss) - c
-        eye = np.eye(p.shape[1])
+        """TOPP-RA's a, b, c, F, g of the torque bounds at ``gridpoints`` (those of the
+        terms)."""
+        eye = np.eye(self.terms.c.shape[1])
         f = np.vstack([eye, -eye])
         g = np.concatenate([self.tau_lim[:, 1], -self.tau_lim[:, 0]])
         return canlinear_colloc_to_interpolate(
-            a, b, c, f, g, None, None, gridpoints, identical=True
+            *self.terms, f, g, None, None, gridpoints, identical=True
         )
+
+
+def time_optimal_timing(
+    path: toppra.SplineInterpolator, terms: TorqueTerms, speed: ArrayLike, torque: ArrayLike
+) -> toppra.interpolator.AbstractGeometricPath | None:
+    """TOPP-RA's fastest rest-to-rest timing along ``path`` (:func:`straight_path`) with every
+    joint's |speed| (rad/s) and |torque| (N m) bounded, the torques given by ``terms``
+    (:func:`torque_terms`); None where no timing is feasible."""
+    speed, torque = np.asarray(speed, dtype=float), np.asarray(torque, dtype=float)
+    limits = [
+        toppra.constraint.JointVelocityConstraint(np.column_stack([-speed, speed])),
+        _BatchTorque(terms, torque),
+    ]
+    grid = np.linspace(0.0, 1.0, GRID + 1)
+    algorithm = toppra.algorithm.TOPPRA(
+        limits, path, gridpoints=grid, parametrizer="ParametrizeConstAccel"
+    )
+    return algorithm.compute_trajectory(0.0, 0.0)
+
+
+def sampled_end_s(timing: toppra.interpolator.AbstractGeometricPath, dt: float) -> float:
+    """The last sample time (s) of ``timing`` sampled every ``dt`` s, its end held to the next
+    step (:func:`sampled`)."""
+    return math.ceil(timing.duration / dt) * dt
+
+
+def sampled(
+    timing: toppra.interpolator.AbstractGeometricPath, dt: float
+) -> tuple[NDArray, NDArray, NDArray, NDArray]:
+    """``timing`` every ``dt`` s, the end held to the next step: times (N,) s, positions,
+    speeds and accelerations (N, dof)."""
+    t = np.arange(math.ceil(timing.duration / dt) + 1) * dt
+    at = np.minimum(t, timing.duration)
+    return t, timing(at), timing(at, 1), timing(at, 2)
 
 
 def time_optimal_move(
@@ -167,26 +221,11 @@ def time_optimal_move(
     torque: ArrayLike,
     dt: float,
 ) -> tuple[NDArray, NDArray, NDArray, NDArray] | None:
-    """The fastest rest-to-rest timing (TOPP-RA) along the straight joint-space move q0 -> q1
-    (dof,) rad with every joint's |speed| (rad/s) and |torque| (N m) bounded, ``inverse`` giving
-    the torques: times (N,) s every ``dt`` s (the end held to the next step), positions, speeds
-    and accelerations (N, dof); None where no timing is feasible."""
-    speed, torque = np.asarray(speed, dtype=float), np.asarray(torque, dtype=float)
-    path = toppra.SplineInterpolator([0.0, 1.0], np.vstack([q0, q1]), bc_type="natural")
-    limits = [
-        toppra.constraint.JointVelocityConstraint(np.column_stack([-speed, speed])),
-        _BatchTorque(inverse, torque),
-    ]
-    grid = np.linspace(0.0, 1.0, GRID + 1)
-    algorithm = toppra.algorithm.TOPPRA(
-        limits, path, gridpoints=grid, parametrizer="ParametrizeConstAccel"
-    )
-    traj = algorithm.compute_trajectory(0.0, 0.0)
-    if traj is None:
-        return None
-    t = np.arange(math.ceil(traj.duration / dt) + 1) * dt  # the end held to the next step
-    at = np.minimum(t, traj.duration)
-    return t, traj(at), traj(at, 1), traj(at, 2)
+    """:func:`time_optimal_timing` sampled every ``dt`` s (:func:`sampled`); None where no
+    timing is feasible."""
+    path = straight_path(q0, q1)
+    timing = time_optimal_timing(path, torque_terms(inverse, path), speed, torque)
+    return None if timing is None else sampled(timing, dt)
 
 
 def plan_move(
@@ -198,27 +237,30 @@ def plan_move(
     jerk_time_s: float | None = None,
 ) -> Move:
     """The fastest of the moves q0 -> q1 (motor angles (2,) rad) planned at each speed bound of
-    ``fractions`` (of each drive's top speed), sampled every ``dt`` s, then retimed with its
-    acceleration ramped over ``jerk_time_s`` (s; None: TOPP-RA's timing, :func:`jerk_limited`);
-    ValueError when none is feasible (a drive that cannot hold the arm)."""
+    ``fractions`` (of each drive's top speed; the first of equally fast ones), sampled every
+    ``dt`` s, then retimed with its acceleration ramped over ``jerk_time_s`` (s; None: TOPP-RA's
+    timing, :func:`jerk_limited`); ValueError when none is feasible (a drive that cannot hold
+    the arm). Only the fastest timing is sampled: a slow bound's is the longest."""
     q0, q1 = np.asarray(q0, dtype=float), np.asarray(q1, dtype=float)
     top = np.array([top_speed(e) for e in arm.drives])
-    best: Move | None = None
+    path = straight_path(q0, q1)
+    terms = torque_terms(lambda q, qd, qdd: motor_torques(arm, q, qd, qdd), path)
+    timings = []
     for fraction in fractions:
         speed = fraction * top
         torque = np.array([torque_bound(e, v) for e, v in zip(arm.drives, speed, strict=True)])
-        inverse = lambda q, qd, qdd: motor_torques(arm, q, qd, qdd)  # noqa: E731
-        planned = time_optimal_move(inverse, q0, q1, speed, torque, dt)
-        if planned is None or (best is not None and planned[0][-1] >= best.duration_s):
-            continue
-        t, q, qd, qdd = planned
-        tau = motor_torques(arm, q, qd, qdd)
-        best = Move(t, q, qd, qdd, tau, speed, torque, _binding(qd, tau, speed, torque))
-    if best is None:
+        timing = time_optimal_timing(path, terms, speed, torque)
+        if timing is not None:
+            timings.append((sampled_end_s(timing, dt), timing, speed, torque))
+    if not timings:
         raise ValueError(
             f"no timing of the move from motor angles {point(np.degrees(q0), 1, 'deg')} to "
             f"{point(np.degrees(q1), 1, 'deg')} keeps the torques within the drives'"
         )
+    _, timing, speed, torque = min(timings, key=lambda planned: planned[0])
+    t, q, qd, qdd = sampled(timing, dt)
+    tau = motor_torques(arm, q, qd, qdd)
+    best = Move(t, q, qd, qdd, tau, speed, torque, _binding(qd, tau, speed, torque))
     return best if jerk_time_s is None else jerk_limited(best, arm, jerk_time_s, dt)
 
 
