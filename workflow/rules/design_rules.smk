@@ -20,6 +20,7 @@ rule sobol:
         f"{RESULTS}/logs/sobol.log",
     benchmark:
         f"{RESULTS}/benchmarks/sobol.tsv"
+    priority: 5  # the design rules' chain to the summary: ahead of the figures, not last alone
     conda:
         ENV
     params:
@@ -48,6 +49,7 @@ rule decision_trees:
         f"{RESULTS}/logs/decision_trees.log",
     benchmark:
         f"{RESULTS}/benchmarks/decision_trees.tsv"
+    priority: 5  # the design rules' chain to the summary: ahead of the figures, not last alone
     conda:
         ENV
     params:
@@ -72,6 +74,7 @@ rule correlations:
         f"{RESULTS}/logs/correlations.log",
     benchmark:
         f"{RESULTS}/benchmarks/correlations.tsv"
+    priority: 5  # the design rules' chain to the summary: ahead of the figures, not last alone
     conda:
         ENV
     params:
@@ -122,6 +125,7 @@ rule eta_derivatives:
         f"{RESULTS}/logs/eta_derivatives.log",
     benchmark:
         f"{RESULTS}/benchmarks/eta_derivatives.tsv"
+    priority: 5  # the design rules' chain to the summary: ahead of the figures, not last alone
     conda:
         ENV
     params:
@@ -146,6 +150,7 @@ rule design_rules_summary:
         f"{RESULTS}/logs/design_rules_summary.log",
     benchmark:
         f"{RESULTS}/benchmarks/design_rules_summary.tsv"
+    priority: 5  # the design rules' chain to the summary: ahead of the figures, not last alone
     conda:
         ENV
     params:

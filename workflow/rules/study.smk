@@ -51,6 +51,7 @@ rule study_table3:
         f"{RESULTS}/logs/study_table3.log",
     benchmark:
         f"{RESULTS}/benchmarks/study_table3.tsv"
+    priority: 5  # the design rules' chain to the summary: ahead of the figures, not last alone
     conda:
         ENV
     params:
