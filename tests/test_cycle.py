@@ -21,12 +21,29 @@ from qsm.realization.final.cycle_check import (
     thermal_use,
     tolerance_factor,
 )
-from qsm.realization.motion.cycle import Arm, plan_cycle, slowed, time_optimal_move, top_speed
+from qsm.realization.motion.cycle import (
+    Arm,
+    plan_cycle,
+    sampled,
+    slowed,
+    straight_path,
+    time_optimal_timing,
+    top_speed,
+    torque_terms,
+)
 from qsm.realization.motion.front_cycles import FRONT_FRACTIONS
 
 INERTIA = 0.5  # kg m^2 about the joint
 DESIGN = np.array([0.5, 0.15, 0.55, 0.22, 0.6, 0.2])
 DT = 1e-4  # s; a move ends at the next step
+
+
+def time_optimal_move(inverse, q0, q1, speed, torque, dt):
+    """TOPP-RA's timing of the straight move q0 -> q1 under the bounds, sampled every ``dt`` s;
+    None where none is feasible."""
+    path = straight_path(q0, q1)
+    timing = time_optimal_timing(path, torque_terms(inverse, path), speed, torque)
+    return None if timing is None else sampled(timing, dt)
 
 
 def _link(gravity_Nm: float = 0.0):

@@ -213,21 +213,6 @@ def sampled(
     return t, timing(at), timing(at, 1), timing(at, 2)
 
 
-def time_optimal_move(
-    inverse: InverseDynamics,
-    q0: ArrayLike,
-    q1: ArrayLike,
-    speed: ArrayLike,
-    torque: ArrayLike,
-    dt: float,
-) -> tuple[NDArray, NDArray, NDArray, NDArray] | None:
-    """:func:`time_optimal_timing` sampled every ``dt`` s (:func:`sampled`); None where no
-    timing is feasible."""
-    path = straight_path(q0, q1)
-    timing = time_optimal_timing(path, torque_terms(inverse, path), speed, torque)
-    return None if timing is None else sampled(timing, dt)
-
-
 def plan_move(
     arm: Arm,
     q0: ArrayLike,
