@@ -2,6 +2,7 @@
 same settings as the whole config, and changes exactly when a key those settings read changes."""
 
 import copy
+import dataclasses
 import pickle
 from pathlib import Path
 
@@ -10,11 +11,15 @@ import pytest
 from qsm.config.reading import load_config
 from qsm.config.sections import (
     cycles_section,
+    dataset_provenance,
     dataset_section,
     drives_section,
+    mechanisms_section,
     optimization_section,
     realization_section,
+    surrogate_section,
 )
+from qsm.config.settings import physics, surrogate
 from qsm.config.settings.dataset import dataset_of
 from qsm.config.settings.optimization import front_of
 from qsm.config.settings.realization import realization_of
@@ -186,3 +191,51 @@ def test_a_share_does_not_change_with_the_order_the_configs_were_merged_in():
         cycles_section,
     ):
         assert repr(share(moved)) == repr(share(CONFIG))
+
+
+@pytest.mark.parametrize("name", ["config.yaml", "test.yaml"])
+def test_stage_1s_share_scales_up_as_the_whole_config_without_its_filters(name):
+    """The rules ``fit_task`` and ``select_mechanisms`` build the scale-up from Stage 1's share:
+    the whole config's, but for the transmission-angle filter, which ``filter_kinematics`` has
+    applied to the candidates already."""
+    config = load_config(ROOT / "config" / "config.yaml", ROOT / "config" / name)
+    config["filters"]["min_transmission_angle_deg"] = 20.0
+    whole = physics.fit_of(config)
+    assert whole.min_transmission_angle_deg == 20.0
+    expected = dataclasses.replace(whole, min_transmission_angle_deg=0.0)
+    assert pickle.dumps(physics.scale_up(mechanisms_section(config))) == pickle.dumps(expected)
+
+
+def test_stage_1s_share_designs_a_task_beyond_the_base_mirrored():
+    """The share holds the points every stage designs for: a task at x > 0 through x = 0."""
+    mirrored = _changed("task.points", [[-x, y] for x, y in CONFIG["task"]["points"]])
+    assert mechanisms_section(mirrored)["task_points"] == mechanisms_section(CONFIG)["task_points"]
+    assert mechanisms_section(mirrored) == mechanisms_section(CONFIG)
+
+
+@pytest.mark.parametrize(
+    ("path", "value", "stage1", "dataset", "stage3"),
+    [
+        ("workspace.n_scan", 7, True, True, False),
+        ("workspace.shards", 5, False, False, False),
+        ("filters.min_transmission_angle_deg", 20.0, True, True, False),
+        ("task.payload_kg", 4.0, False, True, False),
+        ("strength.safety_factor", 3.0, False, True, False),
+        ("surrogate.alpha", 0.01, False, False, True),
+        ("surrogate.infill.rounds", 0, False, False, False),
+        ("optimization.generations", 3, False, False, False),
+    ],
+)
+def test_stage_1_2_and_3_shares_change_with_the_keys_they_read(
+    path, value, stage1, dataset, stage3
+):
+    """Stage 1's share, what the dataset records it depends on and Stage 3's share change with
+    a key they read (so their rules rerun), and not with the shard counts or another stage's."""
+    changed = _changed(path, value)
+    drives = drives_section(CONFIG)
+    assert (mechanisms_section(changed) != mechanisms_section(CONFIG)) is stage1
+    assert (dataset_provenance(changed, drives) != dataset_provenance(CONFIG, drives)) is dataset
+    assert (surrogate_section(changed) != surrogate_section(CONFIG)) is stage3
+    assert surrogate.surrogate(surrogate_section(CONFIG)) == surrogate.surrogate(
+        CONFIG["surrogate"]
+    )

@@ -2,13 +2,15 @@
 import functools
 
 from qsm.config.sections import (
-    FIT_KEYS,
     cycles_section,
+    dataset_provenance,
     dataset_section,
     drives_section,
     iso_section,
+    mechanisms_section,
     optimization_section,
     realization_section,
+    surrogate_section,
 )
 from qsm.physics.task_points import design_task, task_cycle
 from qsm.workflow.provenance import source_hash
@@ -40,31 +42,9 @@ SCRIPTS = Path(str(workflow.current_basedir)).parent / "scripts"
 # (qsm.config.sections.realization_section). The realisation's rules take it as one param and
 # build their settings from it as `qsm export` does from the whole config (realization_of).
 REALIZATION = realization_section(config)
-
-
-def stage1_settings():
-    """The config sections Stage 1 results depend on (its metadata hash); not the shard count."""
-    return {
-        "sampling": config["sampling"],
-        "operating_range": config["operating_range"],
-        "filters": config["filters"],
-        "task_points": TASK_POINTS,
-        "scale": config["scale"],
-        "workspace": fit_workspace(),
-    }
-
-
-def stage2_settings():
-    """What the dataset depends on beyond Stage 1 (its metadata hash); not the shard count."""
-    return {
-        **stage1_settings(),
-        "duty": config["dynamics"]["duty"],
-        "cad": config["cad"],
-        "material": config["material"],
-        "strength": config["strength"],
-        "drives": drive_settings(),
-        "payload_kg": config["task"]["payload_kg"],
-    }
+# Stage 1's share, resolved once (qsm.config.sections.mechanisms_section): the scale-up's rules
+# take it as one param, and the mechanism table records it.
+MECHANISMS = mechanisms_section(config)
 
 
 @functools.cache
@@ -72,17 +52,6 @@ def drive_settings():
     """``drives`` with a hash of the catalogue's files (qsm.config.sections.drives_section):
     editing the catalogue reruns the rules that choose drives. Hashed once per run."""
     return drives_section(config)
-
-
-def surrogate_settings():
-    """The network and its training: not the infill, which only the optimisation runs."""
-    return {k: v for k, v in config["surrogate"].items() if k != "infill"}
-
-
-def iso_settings():
-    """The ISO 9283 figures' keys (qsm.config.sections.iso_section): the Monte Carlo, the default
-    encoder, the task's repeatability and the servo's gains."""
-    return iso_section(config)
 
 
 def jerk_time_s():
@@ -99,11 +68,6 @@ def primary_front(name):
 def code(script):
     """Hash of the qsm sources ``script`` runs: editing any of them reruns the rule."""
     return source_hash(SCRIPTS / script)
-
-
-def fit_workspace():
-    """The workspace settings of the scale-up (slicing and scale scan), not the shard count."""
-    return {k: config["workspace"][k] for k in FIT_KEYS}
 
 
 def study_inputs(wildcards):

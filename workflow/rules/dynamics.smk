@@ -53,7 +53,7 @@ rule gather_dataset:
         ENV
     params:
         code=code("gather_dataset.py"),
-        settings=stage2_settings(),
+        settings=dataset_provenance(config, drive_settings()),
     script:
         "../scripts/gather_dataset.py"
 

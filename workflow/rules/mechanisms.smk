@@ -62,10 +62,7 @@ rule fit_task:
         code=code("fit_task.py"),
         shards=config["workspace"]["shards"],
         n_mechanisms=config["sampling"]["n_mechanisms"],
-        operating_range=config["operating_range"],
-        task_points=TASK_POINTS,
-        scale=config["scale"],
-        workspace=fit_workspace(),
+        mechanisms=MECHANISMS,
     script:
         "../scripts/fit_task.py"
 
@@ -87,7 +84,7 @@ rule select_mechanisms:
     params:
         code=code("select_mechanisms.py"),
         n_mechanisms=config["sampling"]["n_mechanisms"],
-        settings=stage1_settings(),
+        mechanisms=MECHANISMS,
     script:
         "../scripts/select_mechanisms.py"
 

@@ -220,6 +220,6 @@ rule accuracy_budget:
     params:
         code=code("accuracy_budget.py"),
         realization=REALIZATION,
-        iso=iso_settings(),
+        iso=iso_section(config),
     script:
         "../scripts/accuracy_budget.py"

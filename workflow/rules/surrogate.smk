@@ -29,6 +29,6 @@ rule train_surrogate:
         ENV
     params:
         code=code("train_surrogate.py"),
-        surrogate=surrogate_settings(),
+        surrogate=surrogate_section(config),
     script:
         "../scripts/train_surrogate.py"

@@ -13,6 +13,6 @@ with logged(snakemake.log[0]) as log:
     candidates = read_table(snakemake.input[0], ["sample_id", *RATIO_NAMES])
     rows = candidates.iloc[shard :: p.shards]
     log.info("shard %d of %d: %d designs", shard, p.shards, len(rows))
-    fit_settings = physics.fit(p.operating_range, p.task_points, p.scale, p.workspace)
-    fits = fit_designs(rows, fit_settings, stop_after=shard_quota(p.n_mechanisms, p.shards))
+    fit = physics.scale_up(p.mechanisms)  # p.mechanisms: Stage 1's share of the config
+    fits = fit_designs(rows, fit, stop_after=shard_quota(p.n_mechanisms, p.shards))
     write_table(fits, snakemake.output[0])

@@ -30,14 +30,13 @@ with logged(snakemake.log[0]) as log:
         """The candidates (sample id, ratios) of sample id above ``last``."""
         return read_table(path, ["sample_id", *RATIO_NAMES], True, [("sample_id", ">", last)])
 
-    s = p.settings
-    fit = physics.fit(s["operating_range"], s["task_points"], s["scale"], s["workspace"])
+    fit = physics.scale_up(p.mechanisms)  # p.mechanisms: Stage 1's share of the config
     fits = gathered_fits(fits, ids, candidates_after, p.n_mechanisms, fit)
     with open(snakemake.input.counts) as fh:
         counts = json.load(fh)
     counts.update(fit_counts(fits))
     if counts["task_fits"] == 0:
-        sides = {x > 0 for x, _ in p.settings["task_points"]}
+        sides = {x > 0 for x, _ in p.mechanisms["task_points"]}
         raise ValueError(
             "no design holds the task: check config key 'task.points' (the workspace of this "
             "family lies on one side of the base, x < 0, and a task at x > 0 is designed as its "
@@ -63,8 +62,8 @@ with logged(snakemake.log[0]) as log:
     for step, n in counts.items():
         log.info("%-20s %s", step, n)
     meta = {
-        "settings_hash": settings_hash(p.settings),
-        "settings": p.settings,
+        "settings_hash": settings_hash(p.mechanisms),
+        "settings": p.mechanisms,
         "columns": MECHANISM_COLUMNS,
     }
     write_table(table, snakemake.output.mechanisms, meta)

@@ -9,7 +9,7 @@ from pathlib import Path
 from typing import Any
 
 from qsm.config.drive_limits import catalogue_folder
-from qsm.physics.task_points import MOTION_KEYS
+from qsm.physics.task_points import MOTION_KEYS, design_task
 
 Section = Mapping[str, Any]
 
@@ -111,6 +111,42 @@ def dataset_section(config: Section) -> dict[str, Any]:
 
 #: The ``workspace`` keys of the scale-up (its slicing and scale scan), not the shard count.
 FIT_KEYS = ("n_delta", "n_levels", "n_scan")
+
+
+def mechanisms_section(config: Section) -> dict[str, Any]:
+    """Stage 1's share of a validated config: ``sampling``, ``operating_range``, ``filters``,
+    ``scale``, the scale-up's ``workspace`` keys (:data:`FIT_KEYS`, not the shard count) and
+    ``task_points``, the task's points as every stage designs for them
+    (:func:`qsm.physics.task_points.design_task`). The rules ``fit_task``'s and
+    ``select_mechanisms``'s param, and what the mechanism table records it was made with."""
+    return canonical(
+        {
+            **{k: config[k] for k in ("sampling", "operating_range", "filters", "scale")},
+            "workspace": {k: config["workspace"][k] for k in FIT_KEYS},
+            "task_points": design_task(config["task"]["points"])[1],
+        }
+    )
+
+
+def dataset_provenance(config: Section, drives: Section) -> dict[str, Any]:
+    """What the dataset depends on (the rule ``gather_dataset``'s param, recorded in the
+    dataset): :func:`mechanisms_section` and Stage 2's keys, with the ``drives`` section as
+    :func:`drives_section` gives it (its catalogue's hash included); not the shard counts."""
+    return canonical(
+        {
+            **mechanisms_section(config),
+            "duty": config["dynamics"]["duty"],
+            **{k: config[k] for k in ("cad", "material", "strength")},
+            "drives": drives,
+            "payload_kg": config["task"]["payload_kg"],
+        }
+    )
+
+
+def surrogate_section(config: Section) -> dict[str, Any]:
+    """Stage 3's share: ``surrogate``, the network and its training, without the infill (which
+    only the optimisation runs)."""
+    return canonical({k: v for k, v in config["surrogate"].items() if k != "infill"})
 
 
 def applied_constraints(section: Section, formulation: str) -> dict[str, Any]:

@@ -41,6 +41,15 @@ def fit(
     )
 
 
+def scale_up(section: Section) -> FitSettings:
+    """:func:`fit` of Stage 1's share (:func:`qsm.config.sections.mechanisms_section`): the
+    scale-up of the candidates the kinematic filters passed (their filters are not checked
+    again)."""
+    return fit(
+        section["operating_range"], section["task_points"], section["scale"], section["workspace"]
+    )
+
+
 def fit_of(config: Section) -> FitSettings:
     """:func:`fit` of a whole validated config, its filters included (the checks of one design
     outside the stages: ``qsm evaluate``, ``qsm export``)."""
