@@ -125,3 +125,12 @@ def test_a_light_task_on_a_small_printer_describes_one_machine(tmp_path):
     light.write_text(LIGHT)
     snakemake(work, configs=(str(light),))
     assert_one_machine(work)
+    # no design prints on it: the advice's printer is that of the plates as realised
+    selected = json.loads((work / "results/realization/selected.json").read_text())
+    assert selected["printable"] is False
+    advice = selected["printing_advice"]
+    plates = max(box[2] for box in selected["printer_box_mm"].values())
+    assert min(advice["needed_volume_mm"]) == pytest.approx(plates, rel=1e-9)
+    other = advice["smallest_over_designs"]
+    # realised too: its plates sized up from the configured 20 mm, as this design's are
+    assert other["holds_loads"] is True and min(other["exact_volume_mm"]) > 20.0

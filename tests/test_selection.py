@@ -15,6 +15,7 @@ from qsm.realization.selection.choice import (
     NoFeasibleDesign,
     advice_sentences,
     choose_design,
+    printer_fix,
     printing_advice,
 )
 from qsm.report.selection_record import _printing_failure
@@ -182,6 +183,52 @@ def test_advice_finds_the_boss_radius_that_fits():
     assert advice["max_boss_radius_mm"] == pytest.approx(22.5, abs=0.03)
 
 
+def test_advice_at_the_realised_sections_by_hand():
+    """The advice holds each link's section as realised: the upper arm's scaled by 1.2 has
+    bosses of 30 mm and a 24 mm plate."""
+    scale = [1.0, 1.0, 1.0, 1.2]
+    disk = Disk((-0.9, 0.1), 0.2)
+    advice = printing_advice(np.array(LARGE), CAD, PRINTER, disk, scale)
+    # l4 + EE_x + 2 x 30 = 740 mm by (30 + 160 + 30) mm, 24 mm thick
+    np.testing.assert_allclose(advice["needed_volume_mm"], [740, 220, 24])
+    # the lengths scale, the 60 mm of bosses do not: 680 k + 60 = 600
+    assert advice["scale_factor"] == pytest.approx(540 / 680, rel=1e-9)
+    # on a 735 mm printer: 680 + 2 x 1.2 r = 735 at r = 22.92 mm (25 mm at scale 1 would fit)
+    wide = printing_advice(np.array(LARGE), CAD, (735.0, 350.0, 350.0), disk, scale)
+    assert wide["max_boss_radius_mm"] == pytest.approx(55 / 2.4, abs=1e-6)
+    assert printing_advice(np.array(LARGE), CAD, (735.0, 350.0, 350.0), disk)[
+        "max_boss_radius_mm"
+    ] == pytest.approx(25.0)
+
+
+@pytest.mark.parametrize(
+    ("own_holds", "other_holds", "other_volume", "expected"),
+    [
+        (True, True, [600.0, 200.0, 20.0], "for design 3"),  # another, smaller printer
+        (True, True, [800.0, 200.0, 20.0], "at least 740 x 220 x 24 mm"),  # its own is smaller
+        (True, False, [600.0, 200.0, 20.0], "at least 740 x 220 x 24 mm"),  # the other is weak
+        (False, False, [600.0, 200.0, 20.0], "do not hold their loads (strength utilisation 1.30"),
+    ],
+)
+def test_the_printer_fix_is_one_that_holds_its_loads(
+    own_holds, other_holds, other_volume, expected
+):
+    """The fix: this design's own printer as realised, unless another design that holds its
+    loads as realised needs a smaller one; a weak design only gets the other's, with its
+    strength as realised."""
+    advice = printing_advice(np.array(LARGE), CAD, PRINTER, Disk((-0.9, 0.1), 0.2), [1, 1, 1, 1.2])
+    advice["smallest_over_designs"] = {
+        "needed_volume_mm": [int(np.ceil(v)) for v in other_volume],
+        "exact_volume_mm": other_volume,
+        "row": 3,
+        "mechanism_id": 3,
+        "designs_holding": 9,
+        "holds_loads": other_holds,
+        "strength_utilisation": 0.8 if other_holds else 1.3,
+    }
+    assert expected in printer_fix(advice, own_holds, PRINTER)
+
+
 def test_a_printable_design_within_the_tolerance_comes_first():
     """The front's designs within task.tolerance_mm (verification's within_tolerance) are
     chosen from when any is: min_tau1 takes the one within, not the lower-torque one outside."""
@@ -231,4 +278,4 @@ def test_a_design_too_weak_gets_no_printer_of_its_own(strong_exists):
         assert "no larger printer would help: none holds its loads" in weak
         assert "a printer of at least" not in weak
     held = _printing_failure({"printing_advice": advice, "holds_loads": True}, CAD, PRINTER)
-    assert "scaled by" in held and "thinner section" in held
+    assert "scaled by" in held and "bosses" in held

@@ -209,7 +209,7 @@ def _printability(
         "links": links,
     }
     if not printable:
-        printability["advice"] = printing_advice(d, cad, volume, disk)
+        printability["advice"] = printing_advice(d, cad, volume, disk, scale)
     return printability
 
 

@@ -16,9 +16,9 @@ from typing import Any
 
 import numpy as np
 
-from qsm.embodiment.parts.printing import advice_sentence, box_fits
+from qsm.embodiment.parts.printing import box_fits
 from qsm.prose import fixed
-from qsm.realization.selection.choice import printer_sentence
+from qsm.realization.selection.choice import printer_fix
 from qsm.report.accuracy_report import repeatability_problem
 from qsm.report.cycle_report import cycle_problems
 from qsm.report.drive_text import shortfall
@@ -113,11 +113,9 @@ def _printer_failures(selected: Mapping[str, Any], topology: Mapping[str, Any]) 
         over = [f"the {n.replace('_', ' ')} ({' x '.join(f'{v:.0f}' for v in b)} mm)"
                 for n, b in boxes.items() if not box_fits(b, volume)]  # fmt: skip
         where = f"the printer's {' x '.join(f'{v:g}' for v in selected['printer_volume_mm'])} mm"
-        advice = selected.get("printing_advice") or {}
-        smallest = advice.get("smallest_over_designs")
-        fix = None if smallest is None else advice_sentence(smallest, volume)
-        if fix is None and selected["strength"]["holds_loads"] and "needed_volume_mm" in advice:
-            fix = printer_sentence(advice)  # this design, as realised, on a larger printer
+        advice = selected.get("printing_advice")
+        holds = selected["strength"]["holds_loads"]
+        fix = None if advice is None else printer_fix(advice, holds, given)
         return [Failure(
             f"not printable: {', '.join(over)} {'does' if len(over) == 1 else 'do'} not fit "
             f"{where} build volume", _box_ratio(boxes.values(), volume), fix,

@@ -13,14 +13,14 @@ from typing import Any
 import matplotlib.pyplot as plt
 import numpy as np
 
-from qsm.embodiment.parts.printing import advice_sentence, box_fits
+from qsm.embodiment.parts.printing import box_fits
 from qsm.embodiment.strength.advice import advice_sentences as strength_sentences
 from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.embodiment.strength.verdict import strength_verdict
 from qsm.physics.cad import CadSettings
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import OperatingRange
-from qsm.realization.selection.choice import advice_sentences, printer_sentence
+from qsm.realization.selection.choice import advice_sentences, printer_fix
 from qsm.report.drive_text import drive_sentences
 from qsm.report.figures import draw_design
 
@@ -77,20 +77,18 @@ def _printing_failure(
     printer for a design that holds them (a printer alone would leave it too weak)."""
     advice = record["printing_advice"]
     head = "NOT PRINTABLE on the configured printer: no design of the fronts or the dataset "
-    if record["holds_loads"]:  # the smallest printer of a strong design, else its own
-        smallest = advice["smallest_over_designs"]
-        first = advice_sentence(smallest, volume_mm) if smallest else printer_sentence(advice)
-        fixes = [first, *advice_sentences(advice, cad)[1:]]
+    fix = printer_fix(advice, record["holds_loads"], volume_mm)
+    if record["holds_loads"]:
+        fixes = [fix, *advice_sentences(advice, cad)[1:]]
         return head + "that holds its loads fits it. What would change that: " + "; ".join(fixes)
-    smallest = advice["smallest_over_designs"]
-    if smallest is None:
+    if fix is None:
         return (
             head + "fits it, and no larger printer would help: none holds its loads, so a "
             "printer alone would leave it NOT STRONG ENOUGH"
         )
     return (
         head + "fits it. A larger printer alone would leave this design NOT STRONG ENOUGH; "
-        "for one that holds its loads: " + advice_sentence(smallest, volume_mm)
+        "instead, " + fix
     )
 
 

@@ -159,9 +159,18 @@ def advice_sentence(advice: dict[str, Any] | None, volume_mm: ArrayLike) -> str:
     if isinstance(who, float) and who.is_integer():
         who = int(who)
     where = f" ({advice['source']})" if "source" in advice else ""
+    sentence = (
+        f"a printer of at least {need} mm (configured: {have} mm) for design {who}{where}, "
+        f"the one of the {advice['designs_holding']} designs that hold their loads with the "
+        "smallest printer at the configured section"
+    )
+    if "holds_loads" not in advice:
+        return sentence
+    if advice["holds_loads"]:
+        return sentence + ", its links as this run realises them"
     return (
-        f"a printer of at least {need} mm (configured: {have} mm): the smallest that fits a design "
-        f"holding the task, design {who}{where}, of {advice['designs_holding']} that hold it"
+        sentence + ", its links as this run realises them; as realised they do not hold their "
+        f"loads (strength utilisation {advice['strength_utilisation']:.2f}, at most 1)"
     )
 
 
@@ -233,6 +242,19 @@ def printability_violation_mm(
     return np.maximum(excess, shortfall_m(d, cad).max(axis=1) * 1e3)
 
 
+def section_boxes_mm(
+    design: ArrayLike, cad: CadSettings, scale: ArrayLike | None
+) -> NDArray[np.float64]:
+    """Bounding boxes (4, 3) in mm of the four links of ``design`` (6 lengths, m), each of
+    ``cad``'s section scaled by its entry of ``scale`` (4,) (None: ``cad``'s):
+    :func:`link_boxes_mm` link by link."""
+    d = np.asarray(as_design(design), dtype=float)
+    sections = link_settings(cad, scale)
+    return np.stack(
+        [link_boxes_mm(d[None], None, sections[n])[0, k] for k, n in enumerate(LINK_NAMES)]
+    )
+
+
 def link_printability(
     design: ArrayLike, cad: CadSettings, scale: ArrayLike | None, volume_mm: tuple[float, ...]
 ) -> dict[str, Any]:
@@ -249,9 +271,7 @@ def link_printability(
         ext = (poly.max(axis=0) - poly.min(axis=0)) * 1e3
         dims = (float(ext[0]), float(ext[1]), sections[name].thickness_m * 1e3)
         links[name] = {"fits": box_fits(dims, vol), "dims_mm": dims}
-    boxes = np.stack(
-        [link_boxes_mm(d[None], None, sections[n])[0, k] for k, n in enumerate(LINK_NAMES)]
-    )
+    boxes = section_boxes_mm(d, cad, scale)
     excess = max(
         max(float((np.sort(boxes[k]) - vol).max()), 1e3 * shortfall_m(d, sections[n])[0, k])
         for k, n in enumerate(LINK_NAMES)

@@ -25,22 +25,22 @@ Every step that is skipped is recorded with its counts, so the output says why i
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Mapping
+from collections.abc import Callable, Mapping, Sequence
 from dataclasses import replace
 from typing import Any
 
 import numpy as np
 import pandas as pd
-from numpy.typing import NDArray
+from numpy.typing import ArrayLike, NDArray
 
 from qsm.dataset.columns import DRIVE_COLUMNS, STRENGTH_COLUMNS
 from qsm.embodiment.parts.printing import (
     BUILD_VOLUME_MM,
+    advice_sentence,
     all_links_fit,
-    box_excess_mm,
     fits_build_volume,
-    needed_volume_mm,
     printability_violation_mm,
+    section_boxes_mm,
 )
 from qsm.optimization.ranking import OBJECTIVES, RULES, rule_scores, true_columns
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
@@ -284,39 +284,44 @@ def _tag(row: pd.Series, source: str, printable: bool) -> pd.Series:
 
 
 def printing_advice(
-    design: np.ndarray, cad: CadSettings, volume_mm: tuple[float, float, float], disk: Disk
+    design: np.ndarray,
+    cad: CadSettings,
+    volume_mm: tuple[float, float, float],
+    disk: Disk,
+    scale: ArrayLike | None = None,
 ) -> dict[str, Any]:
-    """What would make ``design`` (6 lengths, m) printable, each with numbers for this design.
+    """What would make ``design`` (6 lengths, m) printable, each with numbers for this design at
+    its links' sections: ``cad``'s, scaled link by link by ``scale`` (4,) as realised (None:
+    ``cad``'s for every link).
 
     ``needed_volume_mm``: the smallest build volume (sorted, mm); ``scale_factor``: the largest
-    factor k <= 1 with k x design printable (None if none) and the task it then holds (the task
-    disk scaled by k about the base: containment does not depend on the scale);
-    ``max_boss_radius_mm``: the largest boss radius, at most the configured one, that lets every
-    link fit with the bar width unchanged (None if even width_m / 2 is too large).
+    factor k <= 1 with the lengths k x design printable, the sections kept (None if none), and
+    the task it then holds (the task disk scaled by k about the base: containment does not
+    depend on the scale); ``max_boss_radius_mm``: the largest ``cad.boss_radius_m`` (mm), at
+    most the configured one, that lets every link fit with the bar width and the links' scales
+    unchanged (None if even width_m / 2 is too large).
     """
     d = np.asarray(design, dtype=float)
+    vol = np.sort(np.asarray(volume_mm, dtype=float))
+
+    def fits(lengths: NDArray[np.float64], section: CadSettings) -> bool:
+        return bool((np.sort(section_boxes_mm(lengths, section, scale)) - vol).max() <= 0)
+
+    boxes = np.sort(section_boxes_mm(d, cad, scale), axis=-1)[..., ::-1]
     out: dict[str, Any] = {
-        "needed_volume_mm": needed_volume_mm(d, None, cad)[0].tolist(),
+        "needed_volume_mm": boxes.max(axis=0).tolist(),
         "build_volume_mm": [float(v) for v in volume_mm],
     }
-
-    def fits_at(k: float) -> bool:  # every link's box grows with the scale k
-        return bool(box_excess_mm(d * k, cad, volume_mm)[0] <= 0)
-
-    k = _largest(fits_at, 1e-6, 1.0)
+    k = _largest(lambda k: fits(d * k, cad), 1e-6, 1.0)
     out["scale_factor"] = k
     if k is not None:
         out["scaled_l1_m"] = float(k * d[0])
         out["scaled_task_distance_m"] = k * disk.distance
         out["scaled_task_radius_m"] = k * disk.radius
-
-    def fits_with(radius_mm: float) -> bool:  # the in-plane sides grow with the boss radius
-        section = replace(cad, boss_radius_m=radius_mm * 1e-3)
-        return bool(box_excess_mm(d, section, volume_mm)[0] <= 0)
-
     smallest = 500 * cad.width_m * (1 + 1e-9)  # the bosses must be wider than the bar
-    r = _largest(fits_with, smallest, 1e3 * cad.boss_radius_m)
-    out["max_boss_radius_mm"] = r
+    out["max_boss_radius_mm"] = _largest(
+        lambda r: fits(d, replace(cad, boss_radius_m=r * 1e-3)), smallest, 1e3 * cad.boss_radius_m
+    )
     return out
 
 
@@ -341,26 +346,43 @@ def printer_sentence(advice: Mapping[str, Any]) -> str:
     return f"a printer of at least {need} mm (configured: {have} mm)"
 
 
+def printer_fix(
+    advice: Mapping[str, Any], holds_loads: bool, volume_mm: Sequence[float]
+) -> str | None:
+    """The printer that would make the design printable and strong: its own as realised
+    (``advice``'s ``needed_volume_mm``) for a design that ``holds_loads``, unless the
+    ``smallest_over_designs`` holds its loads as realised with a smaller printer (sides compared
+    from the largest); for one that does not, only the smallest over the designs (None: none)."""
+    other = advice.get("smallest_over_designs")
+    if other is None:
+        return printer_sentence(advice) if holds_loads else None
+    smaller = list(other["exact_volume_mm"]) < list(advice["needed_volume_mm"])
+    if holds_loads and not (other.get("holds_loads", True) and smaller):
+        return printer_sentence(advice)
+    return advice_sentence(other, volume_mm)
+
+
 def advice_sentences(advice: Mapping[str, Any], cad: CadSettings) -> list[str]:
     """The advice as plain sentences, every number from ``advice``."""
     lines = [printer_sentence(advice)]
     k = advice.get("scale_factor")
     if k is not None:
         lines.append(
-            f"a nearer, smaller task: this design scaled by {k:.3f} (l1 "
-            f"{advice['scaled_l1_m']:.3f} m) fits and holds the task circle scaled by the same "
-            f"factor towards the base (centre {advice['scaled_task_distance_m']:.3f} m from the "
-            f"base, radius {advice['scaled_task_radius_m']:.3f} m)"
+            f"a nearer, smaller task: this design's lengths scaled by {k:.3f}, its links' "
+            f"sections kept (l1 {advice['scaled_l1_m']:.3f} m), fit and hold the task circle "
+            "scaled by the same factor towards the base (centre "
+            f"{advice['scaled_task_distance_m']:.3f} m from the base, radius "
+            f"{advice['scaled_task_radius_m']:.3f} m)"
         )
     r = advice.get("max_boss_radius_mm")
     if r is not None:
         lines.append(
-            f"a thinner section: joint bosses of radius {r:.1f} mm or less (cad.boss_radius_m, "
-            f"now {1e3 * cad.boss_radius_m:g} mm)"
+            f"smaller bosses: cad.boss_radius_m of {r:.1f} mm or less (now "
+            f"{1e3 * cad.boss_radius_m:g} mm), the bar width and each link's section scale kept"
         )
     else:
         lines.append(
-            "no thinner section: with the smallest bosses the bar width allows "
+            "no smaller bosses: with the smallest the bar width allows "
             f"(cad.width_m / 2 = {500 * cad.width_m:g} mm) a link still exceeds the printer"
         )
     return lines

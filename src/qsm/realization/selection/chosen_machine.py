@@ -12,7 +12,12 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
-from qsm.embodiment.parts.printing import link_printability, smallest_build_volume
+from qsm.embodiment.parts.printing import (
+    link_printability,
+    round_up_mm,
+    section_boxes_mm,
+    smallest_build_volume,
+)
 from qsm.embodiment.strength.advice import strength_advice
 from qsm.physics.clearance import disk_clearance_m
 from qsm.physics.kinematics import DESIGN_COLUMNS
@@ -122,15 +127,36 @@ def chosen_machine(
         carried = carrying(settings, done.tool_kg).strength  # the tool flange's mass included
         record["strength_advice"] = strength_advice(record["design_m"], carried)
     if not how["printable"]:
-        advice = printing_advice(record["design_m"], cad, volume_mm, disk)
-        boxes = np.sort(np.asarray(list(record["printer_box_mm"].values())), axis=1)[:, ::-1]
-        advice["needed_volume_mm"] = boxes.max(axis=0).tolist()  # its links as realised
+        advice = printing_advice(done.design, cad, volume_mm, disk, done.scale)
         pool = candidate_pool(fronts, dataset)
-        strong = pool["holds_loads"].astype(bool)
-        # a printer for a design that fails its strength fixes nothing: only strong designs
-        advice["smallest_over_designs"] = smallest_build_volume(pool, strong, cad)
+        advice["smallest_over_designs"] = _smallest_realised(pool, done, settings)
         record["printing_advice"] = advice
     return record, done
+
+
+def _smallest_realised(
+    pool: pd.DataFrame, done: Realization, settings: RealizationSettings
+) -> dict[str, Any] | None:
+    """The design of ``pool`` that holds its loads with the smallest printer at the configured
+    section (:func:`smallest_build_volume`; a printer for a design that fails its strength fixes
+    nothing), realised as this run realises ``done``: its ``needed_volume_mm`` (whole mm up) and
+    ``exact_volume_mm`` those of its links as realised, with ``holds_loads`` and
+    ``strength_utilisation`` as realised; None when no design holds its loads."""
+    cad = settings.parts.cad
+    smallest = smallest_build_volume(pool, pool["holds_loads"].astype(bool), cad)
+    if smallest is None:
+        return None
+    d = np.asarray(smallest["design_m"], dtype=float)
+    other = done if np.array_equal(d, done.design) else realize(d, settings)
+    boxes = np.sort(section_boxes_mm(other.design, cad, other.scale), axis=-1)[..., ::-1]
+    need = boxes.max(axis=0)
+    smallest.update(
+        needed_volume_mm=round_up_mm(need),
+        exact_volume_mm=need.tolist(),
+        holds_loads=bool(other.strength["holds_loads"]),
+        strength_utilisation=float(other.strength["utilisation"]),
+    )
+    return smallest
 
 
 #: The candidate's fields that are the realised machine's as well: its lengths and how it was
