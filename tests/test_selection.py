@@ -12,6 +12,7 @@ from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task import Disk
 from qsm.realization.selection.choice import (
+    HowChosen,
     NoFeasibleDesign,
     advice_sentences,
     choose_design,
@@ -59,13 +60,7 @@ def dataset(designs, tau1, utilization=0.5):
 def test_primary_front_first():
     fronts = {"ratios": front([SMALL, LARGE], True, [50.0, 40.0]), "paper": front([SMALL], True, 1)}
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0), "min_tau1", CAD, PRINTER)
-    assert how == {
-        "source": "ratios",
-        "printable": True,
-        "holds_loads": True,
-        "has_drives": True,
-        "fallback": [],
-    }
+    assert how == HowChosen("ratios", True, True, True, ())
     assert row["tau1_true_Nm"] == 50.0  # the larger design has less torque but does not fit
 
 
@@ -76,15 +71,15 @@ def test_a_front_whose_infeasible_designs_were_never_checked_is_read():
     table["holds_loads"] = pd.array([pd.NA, True], dtype="boolean")
     row, how = choose_design({"ratios": table}, "ratios", dataset([SMALL], 70.0), "min_tau1", CAD,
                              PRINTER)  # fmt: skip
-    assert how["source"] == "ratios" and row["tau1_true_Nm"] == 50.0
+    assert how.source == "ratios" and row["tau1_true_Nm"] == 50.0
 
 
 def test_falls_back_to_the_other_front_then_the_dataset():
     fronts = {"ratios": front([SMALL], False, 5.0), "paper": front([LARGE], True, 5.0)}
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 70.0), "knee", CAD, PRINTER)
-    assert how["source"] == "dataset" and how["printable"]
-    assert how["fallback"][0].startswith("ratios front: 1 designs, 0 truly feasible")
-    assert how["fallback"][1].startswith(
+    assert how.source == "dataset" and how.printable
+    assert how.fallback[0].startswith("ratios front: 1 designs, 0 truly feasible")
+    assert how.fallback[1].startswith(
         "paper front: 1 designs, 1 truly feasible, 1 of them hold their loads, 1 of those have "
         "drives, 0 of those printable"
     )
@@ -97,9 +92,9 @@ def test_a_front_without_drives_counts_its_printable_designs_truly():
     fronts = {"ratios": front([SMALL, LARGE], True, 5.0, drives=False)}
     data = strong(dataset([SMALL], 5.0), 0.5, drives=False)
     row, how = choose_design(fronts, "ratios", data, "knee", CAD, PRINTER)
-    assert how["source"] == "ratios" and how["printable"] and not how["has_drives"]
+    assert how.source == "ratios" and how.printable and not how.has_drives
     assert list(row[list(DESIGN_COLUMNS)]) == SMALL
-    assert how["fallback"][0] == (
+    assert how.fallback[0] == (
         "ratios front: 2 designs, 2 truly feasible, 2 of them hold their loads, 0 of those have "
         "drives (1 of the 2 that hold their loads printable on 600 x 350 x 350 mm)"
     )
@@ -108,7 +103,7 @@ def test_a_front_without_drives_counts_its_printable_designs_truly():
 def test_nothing_printable_gives_the_best_feasible_design_marked():
     fronts = {"ratios": front([LARGE, LARGE], True, [30.0, 20.0])}
     row, how = choose_design(fronts, "ratios", dataset([LARGE], 1.0), "min_tau1", CAD, PRINTER)
-    assert how["source"] == "ratios" and not how["printable"] and len(how["fallback"]) == 2
+    assert how.source == "ratios" and not how.printable and len(how.fallback) == 2
     assert row["tau1_true_Nm"] == 20.0
 
 
@@ -116,7 +111,7 @@ def test_strength_comes_before_printability():
     """A printable design that breaks loses to a strong one that needs a larger printer."""
     fronts = {"ratios": front([SMALL, LARGE], True, [5.0, 50.0], utilization=[1.2, 0.9])}
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 1.5), "knee", CAD, PRINTER)
-    assert how["holds_loads"] and not how["printable"]
+    assert how.holds_loads and not how.printable
     assert row["tau1_true_Nm"] == 50.0
 
 
@@ -129,30 +124,23 @@ def test_drives_come_after_strength_and_before_printability():
         )
     }
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 1.5), "knee", CAD, PRINTER)
-    assert how["holds_loads"] and how["has_drives"] and not how["printable"]
+    assert how.holds_loads and how.has_drives and not how.printable
     assert row["tau1_true_Nm"] == 50.0
     # no strong design has drives: the strong printable one, marked without drives
     fronts["ratios"]["has_drives"] = [False, False, True]
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 1.5), "knee", CAD, PRINTER)
-    assert how["holds_loads"] and not how["has_drives"] and how["printable"]
+    assert how.holds_loads and not how.has_drives and how.printable
     assert row["tau1_true_Nm"] == 5.0
-    assert any("has a drive in the catalogue for each motor" in line for line in how["fallback"])
+    assert any("has a drive in the catalogue for each motor" in line for line in how.fallback)
 
 
 def test_nothing_strong_gives_the_least_utilized_design_marked():
     fronts = {"ratios": front([SMALL, SMALL], True, [5.0, 50.0], utilization=[1.3, 1.1])}
     row, how = choose_design(fronts, "ratios", dataset([SMALL], 1.0, 2.0), "knee", CAD, PRINTER)
-    assert how == {
-        "source": "ratios",
-        "printable": True,
-        "holds_loads": False,
-        "has_drives": True,
-        "fallback": how["fallback"],
-    }
+    assert how == HowChosen("ratios", True, False, True, how.fallback)
     assert row["strength_utilisation"] == 1.1
     assert (
-        how["fallback"][-1]
-        == "no truly feasible design of the fronts or the dataset holds its loads"
+        how.fallback[-1] == "no truly feasible design of the fronts or the dataset holds its loads"
     )
 
 

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Mapping, Sequence
-from dataclasses import replace
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
@@ -46,6 +46,23 @@ from qsm.optimization.ranking import OBJECTIVES, RULES, rule_scores, true_column
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.task import Disk
+
+
+@dataclass(frozen=True)
+class HowChosen:
+    """How :func:`choose_design` found a design: the front or ``dataset`` it came from
+    (``source``), whether it fits the printer, holds its loads and has a drive in the catalogue
+    for each motor, and one line per step skipped, with its counts (``fallback``)."""
+
+    source: str
+    printable: bool
+    holds_loads: bool
+    has_drives: bool
+    fallback: tuple[str, ...]
+
+    def tier(self) -> tuple[bool, bool, bool]:
+        """What the design met: printable, holds its loads, has drives."""
+        return self.printable, self.holds_loads, self.has_drives
 
 
 class NoFeasibleDesign(ValueError):
@@ -176,13 +193,8 @@ def choose_design(
     rule: str,
     cad: CadSettings,
     volume_mm: tuple[float, float, float],
-) -> tuple[pd.Series, dict[str, Any]]:
-    """The design to realise (see the module docstring) and how it was found.
-
-    Returns the row and ``{"source", "printable", "holds_loads", "has_drives", "fallback"}``:
-    the front or ``dataset`` it came from, whether it fits the printer, holds its loads and has a
-    drive in the catalogue for each motor, and one line per skipped step with its counts.
-    """
+) -> tuple[pd.Series, HowChosen]:
+    """The design to realise (see the module docstring) and how it was found."""
     sources = {name: fronts[name] for name in [primary, *(k for k in fronts if k != primary)]}
     sources["dataset"] = dataset_candidates(dataset)
     tiers = {name: _tiers(table) for name, table in sources.items()}
@@ -195,15 +207,13 @@ def choose_design(
             if fits.any():
                 chosen = within_tolerance_first(table.iloc[rows[fits]])
                 row = select_design(chosen, rule, cad, volume_mm)
-                how = {"source": name, "printable": True, "holds_loads": True}
-                how |= {"has_drives": has_drives, "fallback": skipped}
+                how = HowChosen(name, True, True, has_drives, tuple(skipped))
                 return _tag(row, name, True), how
             skipped.append(_skipped_line(name, table, tiers[name], has_drives, cad, volume_mm))
         for name, table in sources.items():
             if tiers[name][tier].any():
                 row = select_design(table[tiers[name][tier]], rule, cad, (np.inf,) * 3)
-                how = {"source": name, "printable": False, "holds_loads": True}
-                how |= {"has_drives": has_drives, "fallback": skipped}
+                how = HowChosen(name, False, True, has_drives, tuple(skipped))
                 return _tag(row, name, False), how
         if has_drives:
             skipped.append(
@@ -246,7 +256,7 @@ def _least_utilised(
     cad: CadSettings,
     volume_mm: tuple[float, float, float],
     skipped: list[str],
-) -> tuple[pd.Series, dict[str, Any]]:
+) -> tuple[pd.Series, HowChosen]:
     """The truly feasible design of ``table`` nearest to holding its loads, and how it was found."""
     use = table.loc[feasible, "strength_utilisation"].astype(float)
     row = table.loc[use.idxmin()].copy()
@@ -254,9 +264,9 @@ def _least_utilised(
     row["selection_score"] = float(row["strength_utilisation"])
     row["n_candidates"] = len(use)
     printable = bool(_printable(table.loc[[row.name]], cad, volume_mm).iloc[0])
-    how = {"source": name, "printable": printable, "holds_loads": False}
-    how |= {"has_drives": bool(_has_drives(table.loc[[row.name]]).iloc[0])}
-    return _tag(row, name, printable), {**how, "fallback": skipped}
+    has_drives = bool(_has_drives(table.loc[[row.name]]).iloc[0])
+    how = HowChosen(name, printable, False, has_drives, tuple(skipped))
+    return _tag(row, name, printable), how
 
 
 def candidate_pool(fronts: Mapping[str, pd.DataFrame], dataset: pd.DataFrame) -> pd.DataFrame:

@@ -6,6 +6,7 @@ optimiser's row. :mod:`qsm.report.selection_record` states its verdict."""
 from __future__ import annotations
 
 from collections.abc import Callable, Mapping, Sequence
+from dataclasses import replace
 from typing import Any
 
 import numpy as np
@@ -25,7 +26,12 @@ from qsm.physics.mirror import task_record
 from qsm.physics.task import min_enclosing_circle
 from qsm.physics.workspace import OperatingRange
 from qsm.prose import listed
-from qsm.realization.selection.choice import candidate_pool, choose_design, printing_advice
+from qsm.realization.selection.choice import (
+    HowChosen,
+    candidate_pool,
+    choose_design,
+    printing_advice,
+)
 from qsm.realization.selection.machine import fixed_point_record
 from qsm.realization.selection.outputs import selection_record
 from qsm.realization.selection.pipeline import (
@@ -51,15 +57,10 @@ def _without(table: pd.DataFrame, designs: list[NDArray[np.float64]]) -> pd.Data
     return table[~gone]
 
 
-def _tier(how: Mapping[str, Any]) -> tuple[bool, bool, bool]:
-    """What a chosen design met: printable, holds its loads, has drives."""
-    return bool(how["printable"]), bool(how["holds_loads"]), bool(how["has_drives"])
-
-
 def _buildable(
-    choose: Callable[[list[NDArray[np.float64]]], tuple[pd.Series, dict[str, Any]]],
+    choose: Callable[[list[NDArray[np.float64]]], tuple[pd.Series, HowChosen]],
     settings: RealizationSettings,
-) -> tuple[pd.Series, dict[str, Any], Realization]:
+) -> tuple[pd.Series, HowChosen, Realization]:
     """The design ``choose`` gives (:func:`choose_design` without the designs it is passed),
     realised: the best that the realisation can build for the tolerance (its structure within
     the target, :mod:`qsm.realization.accuracy.accuracy_sizing`) among the first :data:`TRIES`
@@ -67,13 +68,13 @@ def _buildable(
     ``fallback`` with its numbers; the first when none can."""
     skipped: list[NDArray[np.float64]] = []
     notes: list[str] = []
-    tried: list[tuple[pd.Series, dict[str, Any], Realization]] = []
+    tried: list[tuple[pd.Series, HowChosen, Realization]] = []
     for _ in range(TRIES):
         try:
             row, how = choose(skipped)
         except ValueError:  # nothing left once these are skipped
             break
-        if tried and _tier(how) != _tier(tried[0][1]):  # a worse tier: keep the first's
+        if tried and how.tier() != tried[0][1].tier():  # a worse tier: keep the first's
             break
         done = realize(selection_record(row)["design_m"], settings)
         tried.append((row, how, done))
@@ -83,7 +84,7 @@ def _buildable(
         record = done.accuracy.record()
         structure = record["structure_mm"]
         notes.append(
-            f"{how['source']} design of lengths {listed(1e3 * done.design, 1, 'mm')}: the "
+            f"{how.source} design of lengths {listed(1e3 * done.design, 1, 'mm')}: the "
             f"realisation cannot build it for the tolerance (structure "
             + ("not defined" if structure is None else f"{structure:.2f} mm")
             + f", target {record['target_mm']:.2f} mm)"
@@ -92,8 +93,7 @@ def _buildable(
     if done.accuracy.meets is False:  # none can: the rule's own choice, which the verdict judges
         row, how, done = tried[0]
         notes = []
-    how["fallback"] = [*notes[: len(tried) - 1], *how["fallback"]]
-    return row, how, done
+    return row, replace(how, fallback=(*notes[: len(tried) - 1], *how.fallback)), done
 
 
 def chosen_machine(
@@ -115,7 +115,7 @@ def chosen_machine(
     cad = settings.parts.cad
     disk = min_enclosing_circle(task_points)
 
-    def choose(skipped: list[NDArray[np.float64]]) -> tuple[pd.Series, dict[str, Any]]:
+    def choose(skipped: list[NDArray[np.float64]]) -> tuple[pd.Series, HowChosen]:
         kept = {name: _without(t, skipped) for name, t in fronts.items()}
         return choose_design(kept, primary, _without(dataset, skipped), rule, cad, volume_mm)
 
@@ -126,7 +126,7 @@ def chosen_machine(
     if not record["holds_loads"]:
         carried = carrying(settings, done.tool_kg).strength  # the tool flange's mass included
         record["strength_advice"] = strength_advice(record["design_m"], carried)
-    if not how["printable"]:
+    if not how.printable:
         advice = printing_advice(done.design, cad, volume_mm, disk, done.scale)
         pool = candidate_pool(fronts, dataset)
         advice["smallest_over_designs"] = _smallest_realised(pool, done, settings)
@@ -169,17 +169,19 @@ SHARED_KEYS = (
 
 
 def machine_top(
-    row: pd.Series, how: Mapping[str, Any], done: Realization, volume_mm: tuple[float, ...]
+    row: pd.Series, how: HowChosen, done: Realization, volume_mm: tuple[float, ...]
 ) -> dict[str, Any]:
     """The top of ``choice.json``: the realised machine (its lengths, how it was chosen, its
     printer fit, strength and drives as realised) and, in ``candidate``, the optimiser's
     candidate as it was chosen (every column of its row; ``printable``, ``holds_loads`` and
     ``has_drives`` of the tier it was chosen in)."""
     candidate = selection_record(row)
-    candidate.update({k: how[k] for k in ("printable", "holds_loads", "has_drives")})
+    candidate.update(
+        printable=how.printable, holds_loads=how.holds_loads, has_drives=how.has_drives
+    )
     fit = link_printability(done.design, done.part_settings.cad, done.scale, volume_mm)["links"]
     record = {k: candidate[k] for k in SHARED_KEYS if k in candidate}
-    record["source"], record["fallback"] = how["source"], how["fallback"]
+    record["source"], record["fallback"] = how.source, list(how.fallback)
     record["printable"] = all(link["fits"] for link in fit.values())
     record["printer_box_mm"] = {name: list(link["dims_mm"]) for name, link in fit.items()}
     record["printer_volume_mm"] = [float(v) for v in volume_mm]
