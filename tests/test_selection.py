@@ -189,6 +189,22 @@ def test_advice_at_the_realised_sections_by_hand():
     ] == pytest.approx(25.0)
 
 
+def test_the_scaled_design_still_holds_its_bosses():
+    """SMALL's upper arm is 150 + 360 + 2 x 25 mm long: on a 260 mm printer it fits at
+    k = 210 / 510. On a 230 mm one the box alone would fit at 180 / 510 = 0.353, but its leg
+    EE_y (120 k mm) must exceed a boss overlap, half a width and the fillet, 15 + 20 + 10 mm:
+    k > 0.375, so no scale fits."""
+    disk = Disk((-0.6, 0.0), 0.1)
+    fits = printing_advice(np.array(SMALL), CAD, (260.0, 260.0, 260.0), disk)
+    assert fits["scale_factor"] == pytest.approx(210 / 510, rel=1e-9)
+    short = printing_advice(np.array(SMALL), CAD, (230.0,) * 3, disk)
+    assert short["scale_factor"] is None
+    assert short["smallest_scale"] == pytest.approx(45 / 120, rel=1e-8)
+    assert "hold their bosses only with the lengths scaled by 0.375 or more" in " ".join(
+        advice_sentences(short, CAD)
+    )
+
+
 @pytest.mark.parametrize(
     ("own_holds", "other_holds", "other_volume", "expected"),
     [

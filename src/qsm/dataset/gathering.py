@@ -111,7 +111,8 @@ OK_ROWS = [("status", "==", "ok")]
 def ok_rows(dataset: pd.DataFrame) -> pd.DataFrame:
     """Mechanisms whose dynamics succeeded and whose labels are finite (the table itself, not a
     copy, where every row is)."""
-    ok = dataset["status"].eq("ok") & np.isfinite(dataset[["tau1_Nm", "tau2_Nm", "eta"]]).all(1)
+    labels = dataset[["tau1_Nm", "tau2_Nm", "eta"]]
+    ok = dataset["status"].eq("ok") & np.isfinite(labels).all(axis=1)
     if ok.all():
         return dataset.reset_index(drop=True)
     return dataset.loc[ok].reset_index(drop=True)

@@ -272,12 +272,28 @@ def link_printability(
         dims = (float(ext[0]), float(ext[1]), sections[name].thickness_m * 1e3)
         links[name] = {"fits": box_fits(dims, vol), "dims_mm": dims}
     boxes = section_boxes_mm(d, cad, scale)
-    excess = max(
-        max(float((np.sort(boxes[k]) - vol).max()), 1e3 * shortfall_m(d, sections[n])[0, k])
-        for k, n in enumerate(LINK_NAMES)
-    )
     return {
         "links": links,
         "needed_volume_mm": np.sort(boxes, axis=-1)[..., ::-1].max(axis=0).tolist(),
-        "print_excess_mm": excess,
+        "print_excess_mm": section_excess_mm(d, cad, scale, vol),
     }
+
+
+def section_excess_mm(
+    design: ArrayLike, cad: CadSettings, scale: ArrayLike | None, volume_mm: ArrayLike
+) -> float:
+    """g12 (:func:`printability_violation_mm`) link by link, each link of ``cad``'s section
+    scaled by its entry of ``scale`` (4,) (None: ``cad``'s): the largest excess (mm) of a link's
+    sorted box over the sorted build volume, or of its bosses over its length (<= 0 fits)."""
+    boxes = np.sort(section_boxes_mm(design, cad, scale), axis=-1)
+    vol = np.sort(np.asarray(volume_mm, dtype=float))
+    return max(float((boxes - vol).max()), 1e3 * section_shortfall_m(design, cad, scale))
+
+
+def section_shortfall_m(design: ArrayLike, cad: CadSettings, scale: ArrayLike | None) -> float:
+    """:func:`shortfall_m` link by link, each link of ``cad``'s section scaled by its entry of
+    ``scale`` (4,) (None: ``cad``'s): how much (m) the link furthest from holding its bosses
+    falls short (<= 0: every link holds them)."""
+    d = np.asarray(as_design(design), dtype=float)
+    sections = link_settings(cad, scale)
+    return max(float(shortfall_m(d, sections[n])[0, k]) for k, n in enumerate(LINK_NAMES))

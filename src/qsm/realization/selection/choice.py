@@ -41,6 +41,8 @@ from qsm.embodiment.parts.printing import (
     fits_build_volume,
     printability_violation_mm,
     section_boxes_mm,
+    section_excess_mm,
+    section_shortfall_m,
 )
 from qsm.optimization.ranking import OBJECTIVES, RULES, rule_scores, true_columns
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
@@ -79,15 +81,11 @@ CANDIDATE_COLUMNS: tuple[str, ...] = (
 
 def dataset_candidates(dataset: pd.DataFrame) -> pd.DataFrame:
     """Dataset rows (every one holds the task at its scale) in the shape of a verified front."""
-    out = dataset.loc[:, ["mechanism_id", *DESIGN_COLUMNS]].copy()
-    out["scale_m"] = dataset["scale_m"]
-    out["eta_true"] = dataset["eta"]
-    out["tau1_true_Nm"] = dataset["tau1_Nm"]
-    out["tau2_true_Nm"] = dataset["tau2_Nm"]
-    out["feasible"] = True
-    out["dynamics_status"] = dataset["status"]
-    for column in [*STRENGTH_COLUMNS, *DRIVE_COLUMNS]:
-        out[column] = dataset[column]
+    renamed = {"eta": "eta_true", "tau1_Nm": "tau1_true_Nm", "tau2_Nm": "tau2_true_Nm"}
+    columns = ["mechanism_id", *DESIGN_COLUMNS, "scale_m", *renamed, "status"]
+    out = dataset.loc[:, [*columns, *STRENGTH_COLUMNS, *DRIVE_COLUMNS]]
+    out = out.rename(columns={**renamed, "status": "dynamics_status"})
+    out.insert(columns.index("status"), "feasible", True)  # in one block: no fragmented frame
     return out.reset_index(drop=True)
 
 
@@ -272,11 +270,14 @@ def _least_utilised(
 def candidate_pool(fronts: Mapping[str, pd.DataFrame], dataset: pd.DataFrame) -> pd.DataFrame:
     """The truly feasible designs of every front and of the dataset in one table, each with its
     ``source`` (the front's name or ``dataset``)."""
-    tables = [
-        _feasible(table).assign(source=name)
+    tables = {
+        name: _feasible(table)
         for name, table in {**fronts, "dataset": dataset_candidates(dataset)}.items()
-    ]
-    return pd.concat(tables, ignore_index=True)
+    }
+    pool = pd.concat(tables.values(), ignore_index=True)
+    sizes = [len(table) for table in tables.values()]
+    source = pd.Series(np.repeat(list(tables), sizes), name="source")
+    return pd.concat([pool, source], axis=1)  # a column of its own: Arrow's split blocks stay
 
 
 def _has_drives(table: pd.DataFrame) -> pd.Series:
@@ -304,26 +305,29 @@ def printing_advice(
     its links' sections: ``cad``'s, scaled link by link by ``scale`` (4,) as realised (None:
     ``cad``'s for every link).
 
-    ``needed_volume_mm``: the smallest build volume (sorted, mm); ``scale_factor``: the largest
-    factor k <= 1 with the lengths k x design printable, the sections kept (None if none), and
-    the task it then holds (the task disk scaled by k about the base: containment does not
-    depend on the scale); ``max_boss_radius_mm``: the largest ``cad.boss_radius_m`` (mm), at
-    most the configured one, that lets every link fit with the bar width and the links' scales
-    unchanged (None if even width_m / 2 is too large).
+    ``needed_volume_mm``: the smallest build volume (sorted, mm); ``smallest_scale``: the
+    smallest factor k of the lengths at which every link still holds its bosses;
+    ``scale_factor``: the largest k <= 1 with k x design printable, the sections kept and every
+    link holding its bosses (None if none), and the task it then holds (the task disk scaled by
+    k about the base: containment does not depend on the scale); ``max_boss_radius_mm``: the
+    largest ``cad.boss_radius_m`` (mm), at most the configured one, that lets every link fit
+    with the bar width and the links' scales unchanged (None if even width_m / 2 is too large).
     """
     d = np.asarray(design, dtype=float)
     vol = np.sort(np.asarray(volume_mm, dtype=float))
 
     def fits(lengths: NDArray[np.float64], section: CadSettings) -> bool:
-        return bool((np.sort(section_boxes_mm(lengths, section, scale)) - vol).max() <= 0)
+        return section_excess_mm(lengths, section, scale, vol) <= 0
 
     boxes = np.sort(section_boxes_mm(d, cad, scale), axis=-1)[..., ::-1]
     out: dict[str, Any] = {
         "needed_volume_mm": boxes.max(axis=0).tolist(),
         "build_volume_mm": [float(v) for v in volume_mm],
     }
-    k = _largest(lambda k: fits(d * k, cad), 1e-6, 1.0)
-    out["scale_factor"] = k
+    # too short a link cannot hold its bosses: the scale is sought above that
+    shortest = _smallest(lambda k: section_shortfall_m(d * k, cad, scale) <= 0, 1e-6, 1.0)
+    k = None if shortest is None else _largest(lambda k: fits(d * k, cad), shortest, 1.0)
+    out["scale_factor"], out["smallest_scale"] = k, shortest
     if k is not None:
         out["scaled_l1_m"] = float(k * d[0])
         out["scaled_task_distance_m"] = k * disk.distance
@@ -333,6 +337,19 @@ def printing_advice(
         lambda r: fits(d, replace(cad, boss_radius_m=r * 1e-3)), smallest, 1e3 * cad.boss_radius_m
     )
     return out
+
+
+def _smallest(fits: Callable[[float], bool], lo: float, hi: float) -> float | None:
+    """Smallest x in [lo, hi] with ``fits(x)`` for a ``fits`` false below some threshold and
+    true above it (bisection to 1e-9 relative); None if ``fits(hi)`` is false."""
+    if not fits(hi):
+        return None
+    if fits(lo):
+        return lo
+    while hi - lo > 1e-9 * hi:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if fits(mid) else (mid, hi)
+    return hi
 
 
 def _largest(fits: Callable[[float], bool], lo: float, hi: float) -> float | None:
@@ -383,6 +400,11 @@ def advice_sentences(advice: Mapping[str, Any], cad: CadSettings) -> list[str]:
             "scaled by the same factor towards the base (centre "
             f"{advice['scaled_task_distance_m']:.3f} m from the base, radius "
             f"{advice['scaled_task_radius_m']:.3f} m)"
+        )
+    elif advice.get("smallest_scale") is not None:
+        lines.append(
+            "no nearer, smaller task: its links hold their bosses only with the lengths scaled "
+            f"by {advice['smallest_scale']:.3f} or more, where a link still exceeds the printer"
         )
     r = advice.get("max_boss_radius_mm")
     if r is not None:
