@@ -341,28 +341,28 @@ def printing_advice(
 
 def _smallest(fits: Callable[[float], bool], lo: float, hi: float) -> float | None:
     """Smallest x in [lo, hi] with ``fits(x)`` for a ``fits`` false below some threshold and
-    true above it (bisection to 1e-9 relative); None if ``fits(hi)`` is false."""
-    if not fits(hi):
-        return None
-    if fits(lo):
-        return lo
-    while hi - lo > 1e-9 * hi:
-        mid = 0.5 * (lo + hi)
-        lo, hi = (lo, mid) if fits(mid) else (mid, hi)
-    return hi
+    true above it (to 1e-9 relative); None if ``fits(hi)`` is false."""
+    if fits(lo) or not fits(hi):
+        return lo if fits(lo) else None
+    return _bracket(fits, lo, hi)[1]
 
 
 def _largest(fits: Callable[[float], bool], lo: float, hi: float) -> float | None:
     """Largest x in [lo, hi] with ``fits(x)`` for a ``fits`` true below some threshold and false
-    above it (bisection to 1e-9 relative); None if ``fits(lo)`` is false."""
-    if not fits(lo):
-        return None
-    if fits(hi):
-        return hi
+    above it (to 1e-9 relative); None if ``fits(lo)`` is false."""
+    if fits(hi) or not fits(lo):
+        return hi if fits(hi) else None
+    return _bracket(fits, lo, hi)[0]
+
+
+def _bracket(test: Callable[[float], bool], lo: float, hi: float) -> tuple[float, float]:
+    """Where ``test`` changes its answer between ``lo`` and ``hi`` (which it answers apart):
+    a bracket 1e-9 of ``hi`` wide, by bisection."""
+    at_lo = test(lo)
     while hi - lo > 1e-9 * hi:
         mid = 0.5 * (lo + hi)
-        lo, hi = (mid, hi) if fits(mid) else (lo, mid)
-    return lo
+        lo, hi = (mid, hi) if test(mid) == at_lo else (lo, mid)
+    return lo, hi
 
 
 def printer_sentence(advice: Mapping[str, Any]) -> str:
