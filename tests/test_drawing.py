@@ -5,6 +5,7 @@ from __future__ import annotations
 import matplotlib.pyplot as plt
 import numpy as np
 import shapely
+from matplotlib.text import Annotation
 
 from qsm.embodiment.parts import bearings
 from qsm.embodiment.parts import link_parts as parts
@@ -70,4 +71,25 @@ def test_no_label_overlaps_another_and_the_openings_are_drawn() -> None:
     assert "1 hole besides the joint bores" in fig.axes[0].get_title(loc="left")
     patch = fig.axes[0].patches[0]
     assert len(patch.get_path().to_polygons()) == 1 + 2 + 1  # outline, bores A and B, opening
+    plt.close(fig)
+
+
+def test_the_joint_notes_stay_clear_of_the_overall_length() -> None:
+    """A long arm with its sections doubled (a heavy task's: the upper arm 930 mm over all,
+    bosses of 50 mm): each view's joint notes, at its bottom left, sit below the overall
+    length's dimension line and label, measured on the rendered figure."""
+    heavy = np.array([0.5024, 0.2007, 0.6099, 0.3238, 0.5058, 0.1782])
+    table = bearings.load_catalogue()
+    idx = [int(np.flatnonzero(table.designation == n)[0]) for n in ("6005", "6000", "608", "608")]
+    built = parts.link_parts(heavy, idx, parts.PartSettings(scale=(2.0, 2.0, 2.0, 2.0)))
+    fig = drawing_figure(heavy, built)
+    renderer = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        notes = [t for t in ax.texts if t.get_transform() == ax.transAxes]
+        label = next(t for t in ax.texts if t.get_text().startswith("overall"))
+        arrows = [t.xy for t in ax.texts if isinstance(t, Annotation) and t.arrow_patch]
+        line = ax.transData.transform(min(arrows, key=lambda xy: xy[1]))[1]  # the lowest
+        top = max(n.get_window_extent(renderer).y1 for n in notes)
+        assert top < label.get_window_extent(renderer).y0, ax.get_title(loc="left")
+        assert top < line, ax.get_title(loc="left")
     plt.close(fig)

@@ -39,8 +39,9 @@ def _patch(part: LinkPart) -> PathPatch:
     return PathPatch(MplPath(verts, codes), facecolor="0.88", edgecolor="k", lw=0.8)
 
 
-def _dimension(ax, p0, p1, offset, text, color="tab:blue") -> None:
-    """A dimension line between points p0 and p1 (mm), shifted by ``offset`` (mm) normal to it."""
+def _dimension(ax, p0, p1, offset, text, color="tab:blue") -> Text:
+    """A dimension line between points p0 and p1 (mm), shifted by ``offset`` (mm) normal to it;
+    returns its label."""
     p0, p1 = np.asarray(p0, float), np.asarray(p1, float)
     u = p1 - p0
     n = np.array([-u[1], u[0]]) / max(np.hypot(*u), 1e-12)
@@ -57,7 +58,7 @@ def _dimension(ax, p0, p1, offset, text, color="tab:blue") -> None:
     if angle > 90 or angle < -90:
         angle -= 180 * np.sign(angle)
     mid = 0.5 * (a + b) + 0.04 * abs(offset) * n * np.sign(offset)
-    ax.text(
+    return ax.text(
         *mid,
         text,
         color=color,
@@ -115,23 +116,44 @@ def drawing_figure(design: ArrayLike, parts: Mapping[str, LinkPart], title: str 
     # 2 x 2 links in 12 x 8.5 in: the report's viewer shows the SVG at its natural size,
     # centred, so it must fit a laptop's window (about 1200 x 900 px) to be seen whole
     fig, axes = plt.subplots(2, 2, figsize=DRAWING_SIZE_IN)
-    axes = axes.flat
-    for ax, name in zip(axes, LINK_NAMES, strict=True):
-        _draw_link(ax, name, parts[name], d)
+    below = [_draw_link(ax, n, parts[n], d) for ax, n in zip(axes.flat, LINK_NAMES, strict=True)]
     fig.suptitle(
         title or "Links of the design as built, dimensions in mm (link frames)", fontsize=10
     )
     fig.tight_layout()
+    _clear_notes(fig, below)
     return fig
 
 
-def _draw_link(ax: plt.Axes, name: str, part: LinkPart, d: np.ndarray) -> None:
-    """One link's outline, dimensions and joint notes on ``ax``."""
+def _clear_notes(fig: plt.Figure, pairs: list[tuple[Text, Text]], gap_px: float = 3.0) -> None:
+    """Lower each view's bottom edge until its joint notes (the first of each pair, at the
+    bottom left) sit ``gap_px`` below the overall length's label (the second), measured on the
+    rendered figure: the notes' height is in points, the view's scale depends on its size."""
+    for _ in range(3):  # an equal-aspect view may shrink as it grows: settle in a few passes
+        fig.canvas.draw()
+        renderer = fig.canvas.get_renderer()
+        moved = False
+        for notes, label in pairs:
+            ax = notes.axes
+            overlap = notes.get_window_extent(renderer).y1 + gap_px
+            overlap -= Text.get_window_extent(label, renderer).y0
+            if overlap > 0:
+                bottom, top = ax.get_ylim()
+                per_px = (top - bottom) / ax.get_window_extent(renderer).height
+                ax.set_ylim(bottom - 1.2 * overlap * per_px, top)
+                moved = True
+        if not moved:
+            return
+
+
+def _draw_link(ax: plt.Axes, name: str, part: LinkPart, d: np.ndarray) -> tuple[Text, Text]:
+    """One link's outline, dimensions and joint notes on ``ax``: returns the notes and the
+    overall length's label."""
     ax.add_patch(_patch(part))
     x0, y0, x1, y1 = (1e3 * v for v in part.polygon.bounds)
     span = max(x1 - x0, y1 - y0)
     below = -0.06 * span - 15
-    _dimension(ax, (x0, y0), (x1, y0), below, f"overall {x1 - x0:.1f}", color="tab:red")
+    overall = _dimension(ax, (x0, y0), (x1, y0), below, f"overall {x1 - x0:.1f}", color="tab:red")
     for k, (p, q, text) in enumerate(_centre_dims(name, d)):
         _dimension(ax, p, q, 0.06 * span + 15 + 14 * k, text)
     for bore in part.bores:
@@ -140,7 +162,7 @@ def _draw_link(ax: plt.Axes, name: str, part: LinkPart, d: np.ndarray) -> None:
         ax.plot([cx, cx], [cy - 4, cy + 4], color="k", lw=0.4)
         ax.annotate(bore.joint, (cx, cy), (3, 3), textcoords="offset points", fontsize=7)
     notes = "\n".join(_joint_note(b) for b in sorted(part.bores, key=lambda b: b.centre_m[0]))
-    ax.text(0.01, 0.02, notes, transform=ax.transAxes, fontsize=6.5, va="bottom", ha="left")
+    note = ax.text(0.01, 0.02, notes, transform=ax.transAxes, fontsize=6.5, va="bottom")
     holes = len(part.polygon.interiors) - sum(b.diameter_m > 0 for b in part.bores)
     plural = "s" if holes > 1 else ""
     openings = (
@@ -158,6 +180,7 @@ def _draw_link(ax: plt.Axes, name: str, part: LinkPart, d: np.ndarray) -> None:
     ax.set_ylim(y0 + below - 25 - 14 * len(part.bores), y1 + pad + 14 * len(_centre_dims(name, d)))
     ax.tick_params(labelsize=6)
     ax.grid(True, lw=0.2)
+    return note, overall
 
 
 def _joint_note(bore: Bore) -> str:
