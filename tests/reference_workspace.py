@@ -22,7 +22,8 @@ def _circle_intersections(c0, r0, c1, r1):
     d_vec = c1 - c0
     d = np.linalg.norm(d_vec, axis=-1)
     a = (r0**2 - r1**2 + d**2) / (2 * d)
-    h = np.sqrt(r0**2 - a**2)  # NaN where they do not meet
+    with np.errstate(invalid="ignore"):
+        h = np.sqrt(r0**2 - a**2)  # NaN where they do not meet
     u = d_vec / d[..., None]
     base = c0 + a[..., None] * u
     perp = np.stack([-u[..., 1], u[..., 0]], axis=-1)
