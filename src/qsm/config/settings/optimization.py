@@ -13,7 +13,7 @@ from qsm.config.sections import applied_constraints, canonical
 from qsm.config.settings.actuation import drive_check
 from qsm.config.settings.links import load_case_of, sag_check, strength_check
 from qsm.config.settings.physics import fit
-from qsm.config.settings.surrogate import infill, surrogate
+from qsm.config.settings.surrogate import surrogate
 from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.embodiment.load_case import LoadCase
 from qsm.embodiment.stiffness.sag_check import SagCheck
@@ -32,6 +32,12 @@ from qsm.physics.task_points import design_task, visited_points
 from qsm.surrogate.model import SurrogateSettings
 
 Section = Mapping[str, Any]
+
+
+def infill(section: Section) -> InfillSettings:
+    """``surrogate.infill``: the rounds of true evaluations and refits after NSGA-II."""
+    return InfillSettings(**section["infill"])
+
 
 #: The ``optimization`` keys that are not NSGA-II's own: which fronts run, and g11-g15.
 NOT_NSGA = ("formulation", "formulations", "constraints")
