@@ -7,6 +7,7 @@ import pytest
 from prose_checks import raw_values, significant_digits
 
 from qsm.prose import fixed, listed, per_motor, point
+from qsm.report import accuracy_report
 
 
 def test_numbers_read_as_words_not_lists():
@@ -52,3 +53,18 @@ def test_the_scan_finds_what_a_program_writes(tmp_path):
     )
     found = raw_values(page)
     assert [hit.split(":")[1] for hit in found] == ["1", "2", "5"]
+
+
+def test_the_gearboxes_built_for_the_tolerance_read_per_motor():
+    """0 N m/rad is "any gearbox", a stiffness is written with its thousands."""
+    built = {
+        "target_mm": 1.4,
+        "structure_share": 0.7,
+        "structure_mm": 11.77,
+        "meets_target": False,
+        "section_scale": {"lower_arm": 2.0, "upper_arm": 1.5},
+        "min_gearbox_stiffness_Nm_rad": [0.0, 24700.0],
+    }
+    (line,) = accuracy_report._built_for(built)
+    assert "(motor 1: any gearbox, motor 2: a gearbox of at least 24,700 N m/rad)" in line
+    assert "comes nearest at 11.77 mm with sections lower arm 2.00x, upper arm 1.50x" in line

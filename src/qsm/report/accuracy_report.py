@@ -102,7 +102,10 @@ def _built_for(built: Mapping[str, Any] | None) -> list[str]:
     if not built or built["target_mm"] is None:
         return []
     scales = ", ".join(f"{k.replace('_', ' ')} {v:.2f}x" for k, v in built["section_scale"].items())
-    least = " and ".join(f"{k:g}" for k in built["min_gearbox_stiffness_Nm_rad"])
+    least = ", ".join(
+        f"motor {m}: " + ("any gearbox" if k == 0 else f"a gearbox of at least {k:,.0f} N m/rad")
+        for m, k in enumerate(built["min_gearbox_stiffness_Nm_rad"], start=1)
+    )
     error = built["structure_mm"]
     met = "meets it" if built["meets_target"] else "comes nearest"
     return [
@@ -111,7 +114,7 @@ def _built_for(built: Mapping[str, Any] | None) -> list[str]:
         f"may take {built['target_mm']:.2f} mm ({100 * built['structure_share']:.0f} %, the rest "
         f"kept for tracking); the realised arm {met} at "
         f"{'-' if error is None else f'{error:.2f}'} mm with sections {scales} the configured "
-        f"one and gearboxes of at least {least} N m/rad (motors 1 and 2; 0: any)."
+        f"one ({least})."
     ]
 
 
