@@ -100,3 +100,14 @@ def test_a_cycle_that_overheats_says_how_far_and_what_rating_would_carry_it():
     assert found[1].text.startswith("DRIVES OVERHEAT") and "motor 2" not in found[1].fix
     assert found[1].fix == "a drive for motor 1 rated 13.0 N m continuous or more"
     assert found[2].text.startswith("the links reach 1.05") and found[2].fix is None
+
+
+def test_every_alternative_is_a_fix_and_the_sizing_says_why_it_stopped():
+    """Each of the budget's alternatives is offered, and the sizing's note (what it did, not a
+    change to make) follows them in brackets rather than standing as a fix."""
+    note = "more than the sizing may give: it stopped at the crank at 2.00x its section"
+    other = "a material of Young's modulus 25.0 GPa or more"
+    record = _record(utilisation=0.9, drive=True)
+    record["stiffness"] |= {"would_meet": [note, FIX, other], "sizing_note": [note]}
+    (found,) = failures(record, {"links": {}}, {"passed": True})
+    assert found.fix == f"{FIX}; or {other} ({note})"

@@ -290,14 +290,18 @@ def _drive_fix(run: Mapping[str, Any]) -> str | None:
 
 
 def _accuracy_failures(selected: Mapping[str, Any]) -> list[Failure]:
-    """The accuracy budget past its tolerance (the run's own ``would_meet``, its first, as the
-    fix), and the ISO 9283 repeatability past the task's."""
+    """The accuracy budget past its tolerance (the run's own ``would_meet``, each alternative,
+    as the fix, with the sizing's note on why it did not reach it), and the ISO 9283
+    repeatability past the task's."""
     found = []
     budget = selected.get("stiffness")
     if budget is not None and not budget["meets_requirements"]:
         note = budget.get("sizing_note") or []  # what the sizing did: no change to make
         fixes = [w for w in budget.get("would_meet") or [] if w not in note]
-        found.append(Failure(budget["verdict"], _budget_ratio(budget), fixes[0] if fixes else None))
+        fix = "; or ".join(fixes) or None
+        if fix and note:  # why the sizing did not reach it, with its numbers
+            fix += f" ({note[0]})"
+        found.append(Failure(budget["verdict"], _budget_ratio(budget), fix))
     if rp := repeatability_problem(selected.get("iso9283")):
         iso = selected["iso9283"]
         found.append(Failure(rp, iso["rp_mm"][iso["worst_point"] - 1] / iso["repeatability_mm"]))
