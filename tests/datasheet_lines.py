@@ -85,7 +85,7 @@ def _cycles(v: str, r: dict[str, Any]) -> None:
     if not c["planned"]:
         assert v == f"none: no cycle could be planned ({c['reason']})"
         return
-    assert v.startswith(f"{3600 / c['cycle_time_s']:.0f} on the task ({c['cycle_time_s']:.2f} s")
+    assert v.startswith(f"{3600 / c['cycle_time_s']:,.0f} on the task ({c['cycle_time_s']:.2f} s")
     assert ("checks pass" in v) == bool(c["ok"])
     if c.get("settling"):
         assert f"at most {max(s['ringing_mm'] for s in c['settling']):.2f} mm on arrival" in v

@@ -354,7 +354,7 @@ def test_the_datasheet_states_this_runs_figures(run):
     selected = json.loads((real / "selected.json").read_text())
     cycle = selected["cycle"]
     assert sheet.splitlines()[2] == summary.splitlines()[2]  # the run's verdict, word for word
-    assert f"| cycles per hour | {cycle['cycles_per_hour']:.0f} on the task" in sheet
+    assert f"| cycles per hour | {cycle['cycles_per_hour']:,.0f} on the task" in sheet
     worst = selected["stiffness"]["worst"]["error_budget_mm"]  # at most 4 significant digits
     stated = re.search(r"\| placing error \| ([0-9.]+) mm worst", sheet)
     assert stated and abs(float(stated.group(1)) - worst) <= 0.005 + 5e-4 * worst

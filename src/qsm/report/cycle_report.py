@@ -39,7 +39,7 @@ def cycle_lines(cycle: dict[str, Any] | None) -> list[str]:
     sim = cycle["simulation"]
     return [
         "## Cycle",
-        f"- {cycle['cycle_time_s']:.2f} s per cycle, {cycle['cycles_per_hour']:.0f} cycles per "
+        f"- {cycle['cycle_time_s']:.2f} s per cycle, {cycle['cycles_per_hour']:,.0f} cycles per "
         f"hour ({slowed}); {cycle['faster_than_raster']:.1f}x as fast as the raster's speed "
         f"({cycle['raster_cycle_s']:.2f} s); {dwell_text(cycle)}.",
         f"- moves (what binds the time-optimal timing): {moves}; {jerk_text(cycle.get('jerk'))}.",

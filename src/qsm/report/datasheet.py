@@ -157,7 +157,7 @@ def _performance_rows(selected: Mapping[str, Any]) -> list[str]:
         rows.append(_row("cycles per hour", f"none: no cycle could be planned ({cycle['reason']})"))
     elif cycle:
         rows += [
-            _row("cycles per hour", f"{cycle['cycles_per_hour']:.0f} on the task "
+            _row("cycles per hour", f"{cycle['cycles_per_hour']:,.0f} on the task "
                  f"({cycle['cycle_time_s']:.2f} s per cycle, {dwell_text(cycle)}, "
                  f"{jerk_text(cycle.get('jerk'))}; {_cycle_checks(cycle)})"),
             _row("mechanical power", f"peak {_pair(cycle['peak_power_W'], 0, 'W')}, RMS "
