@@ -311,7 +311,7 @@ def cycle_markdown(rows: list[dict[str, Any]]) -> str:
         slowed = f"{c['slowed_by']:g}x" + (f" ({c['slowed_for'][0][:60]})" if c["slowed_for"]
                                            else "")  # fmt: skip
         lines.append(
-            f"| {r['task']} | {c['cycle_time_s']:.2f} | {c['cycles_per_hour']:.0f} | "
+            f"| {r['task']} | {c['cycle_time_s']:.2f} | {c['cycles_per_hour']:,.0f} | "
             f"{c['time_optimal_s']:.2f}, {' / '.join(c['binding'])} | {slowed} | "
             f"{c['faster_than_raster']:.1f} | {c['strength_utilisation']:.2f} | "
             f"{'ok' if c['thermal_ok'] else c['thermal_ok']} | {c['mujoco'][:40]} |"

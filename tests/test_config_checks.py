@@ -196,6 +196,34 @@ def test_a_bad_drive_catalogue_fails_at_config_time_naming_file_line_column(tmp_
     validate_config({"drives": {"catalogue": str(default_catalogue_folder())}})
 
 
+@pytest.mark.parametrize(
+    ("old", "new", "cause"),
+    [
+        (",6,M4,71,", ",6,M7,71,", "column 'flange_thread': 'M7' is not in ISO 4762's table"),
+        ("TM_AK80-6_GB,flange,", "TM_AK80-6_GB,spline,", "'shaft' or 'flange', got 'spline'"),
+        (",85,8,M3,", ",85,4.7,M3,", "column 'mount_bolts': a whole number of bolts, got '4.7'"),
+        ("SO_EG17-G50,shaft,", "SO_EG17-G5O,shaft,", "key 'SO_EG17-G5O' is no gearbox"),
+        ("SO_EG17-G50,shaft,", "TM_AK80-6_GB,shaft,", "key 'TM_AK80-6_GB' has a row above"),
+    ],
+)
+def test_a_bad_interface_row_fails_at_config_time(tmp_path, old, new, cause):
+    """interfaces.csv is checked before the run: a thread the kit has no screw for, an output
+    of neither kind, a fraction of a bolt, a key of no gearbox and a key given twice."""
+    from qsm.embodiment.drives.catalogue import default_catalogue_folder
+
+    folder = tmp_path / "cat"
+    folder.mkdir()
+    for f in default_catalogue_folder().glob("*.csv"):
+        (folder / f.name).write_text(f.read_text())
+    interfaces = folder / "interfaces.csv"
+    assert old in interfaces.read_text()
+    interfaces.write_text(interfaces.read_text().replace(old, new, 1))
+    with pytest.raises(ConfigError) as info:
+        validate_config({"drives": {"catalogue": str(folder)}})
+    assert "config key 'drives.catalogue'" in str(info.value)
+    assert "interfaces.csv" in str(info.value) and cause in str(info.value)
+
+
 def test_the_smallest_dataset_splits_into_two_designs_each_side():
     """scikit-learn's split of the smallest count gives two designs to test and two to train
     on, and one fewer does not (the rule behind sampling.n_mechanisms' minimum)."""

@@ -102,12 +102,15 @@ def test_a_cycle_that_overheats_says_how_far_and_what_rating_would_carry_it():
     assert found[2].text.startswith("the links reach 1.05") and found[2].fix is None
 
 
-def test_every_alternative_is_a_fix_and_the_sizing_says_why_it_stopped():
-    """Each of the budget's alternatives is offered, and the sizing's note (what it did, not a
-    change to make) follows them in brackets rather than standing as a fix."""
+def test_every_alternative_is_a_fix_and_the_sizing_note_is_not_one():
+    """Each of the budget's alternatives is offered ("or"), the first mode's need besides them
+    ("and"); the sizing's note (what it did, not a change to make) is pointed to, not given as
+    a fix."""
     note = "more than the sizing may give: it stopped at the crank at 2.00x its section"
     other = "a material of Young's modulus 25.0 GPa or more"
+    mode = "for a first mode of 8 Hz: an arm 1.5x as stiff for its mass"
     record = _record(utilisation=0.9, drive=True)
-    record["stiffness"] |= {"would_meet": [note, FIX, other], "sizing_note": [note]}
+    record["stiffness"] |= {"would_meet": [note, FIX, other, mode], "sizing_note": [note]}
     (found,) = failures(record, {"links": {}}, {"passed": True})
-    assert found.fix == f"{FIX}; or {other} ({note})"
+    assert found.fix.startswith(f"{FIX}; or {other}; and {mode} (why the sizing did not reach")
+    assert note not in found.fix

@@ -31,10 +31,15 @@ def check_drives(config: dict[str, Any]) -> None:
 
     folder = catalogue_folder(config)
     try:
-        load_catalogue(folder)
-        read_interfaces(folder)
+        gearboxes = load_catalogue(folder).gearboxes.index
+        unknown = [key for key in read_interfaces(folder) if key not in gearboxes]
     except (ValueError, FileNotFoundError) as exc:
-        raise ConfigError(f"config key 'drives.catalogue': {folder}: {exc}") from None
+        raise ConfigError(f"config key 'drives.catalogue': {exc}") from None
+    if unknown:
+        raise ConfigError(
+            f"config key 'drives.catalogue': {folder}/interfaces.csv: key {unknown[0]!r} is no "
+            "gearbox of the catalogue's gearboxes (a row for it would never be used)"
+        )
 
 
 def motor_limits_Nm(config: dict[str, Any]) -> tuple[list[float], str]:

@@ -129,14 +129,14 @@ def _clear_notes(fig: plt.Figure, pairs: list[tuple[Text, Text]], gap_px: float 
     """Lower each view's bottom edge until its joint notes (the first of each pair, at the
     bottom left) sit ``gap_px`` below the overall length's label (the second), measured on the
     rendered figure: the notes' height is in points, the view's scale depends on its size."""
-    for _ in range(3):  # an equal-aspect view may shrink as it grows: settle in a few passes
+    for _ in range(10):  # an equal-aspect view may shrink as it grows: settle in a few passes
         fig.canvas.draw()
         renderer = fig.canvas.get_renderer()
         moved = False
         for notes, label in pairs:
             ax = notes.axes
             overlap = notes.get_window_extent(renderer).y1 + gap_px
-            overlap -= Text.get_window_extent(label, renderer).y0
+            overlap -= label.get_window_extent(renderer).y0
             if overlap > 0:
                 bottom, top = ax.get_ylim()
                 per_px = (top - bottom) / ax.get_window_extent(renderer).height

@@ -18,6 +18,7 @@ import numpy as np
 
 from qsm.embodiment.parts.printing import box_fits
 from qsm.prose import fixed
+from qsm.realization.accuracy.accuracy_budget import FIRST_MODE_FIX
 from qsm.realization.selection.choice import printer_fix
 from qsm.report.accuracy_report import repeatability_problem
 from qsm.report.cycle_report import cycle_problems
@@ -289,19 +290,26 @@ def _drive_fix(run: Mapping[str, Any]) -> str | None:
     return "; ".join(fixes) or None
 
 
+def _accuracy_fix(fixes: list[str], note: list[str]) -> str | None:
+    """The budget's advice as one fix: the tolerance's alternatives joined by "or", the first
+    mode's need by "and"; where the sizing did not reach the tolerance (``note``), where to
+    read why."""
+    mode = [w for w in fixes if w.startswith(FIRST_MODE_FIX)]
+    fix = "; and ".join(filter(None, ["; or ".join(w for w in fixes if w not in mode), *mode]))
+    if fix and note:
+        fix += " (why the sizing did not reach it: the summary's Accuracy section)"
+    return fix or None
+
+
 def _accuracy_failures(selected: Mapping[str, Any]) -> list[Failure]:
-    """The accuracy budget past its tolerance (the run's own ``would_meet``, each alternative,
-    as the fix, with the sizing's note on why it did not reach it), and the ISO 9283
-    repeatability past the task's."""
+    """The accuracy budget past its tolerance (the run's own ``would_meet`` as the fix,
+    :func:`_accuracy_fix`), and the ISO 9283 repeatability past the task's."""
     found = []
     budget = selected.get("stiffness")
     if budget is not None and not budget["meets_requirements"]:
         note = budget.get("sizing_note") or []  # what the sizing did: no change to make
         fixes = [w for w in budget.get("would_meet") or [] if w not in note]
-        fix = "; or ".join(fixes) or None
-        if fix and note:  # why the sizing did not reach it, with its numbers
-            fix += f" ({note[0]})"
-        found.append(Failure(budget["verdict"], _budget_ratio(budget), fix))
+        found.append(Failure(budget["verdict"], _budget_ratio(budget), _accuracy_fix(fixes, note)))
     if rp := repeatability_problem(selected.get("iso9283")):
         iso = selected["iso9283"]
         found.append(Failure(rp, iso["rp_mm"][iso["worst_point"] - 1] / iso["repeatability_mm"]))

@@ -82,9 +82,17 @@ def _printing_failure(
         fixes = [fix, *advice_sentences(advice, cad)[1:]]
         return head + "that holds its loads fits it. What would change that: " + "; ".join(fixes)
     if fix is None:
+        other = advice["smallest_over_designs"]
+        why = (
+            "none holds its loads"
+            if other is None
+            else "the design that holds them with the smallest printer at the configured "
+            "section does not as realised (strength utilisation "
+            f"{other['strength_utilisation']:.2f})"
+        )
         return (
-            head + "fits it, and no larger printer would help: none holds its loads, so a "
-            "printer alone would leave it NOT STRONG ENOUGH"
+            head + f"fits it, and no larger printer would help: {why}, so a printer alone "
+            "would leave it NOT STRONG ENOUGH"
         )
     return (
         head + "fits it. A larger printer alone would leave this design NOT STRONG ENOUGH; "

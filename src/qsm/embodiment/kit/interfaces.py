@@ -105,19 +105,35 @@ def read_interfaces(folder: str | Path | None = None) -> dict[str, DriveInterfac
     except UnicodeDecodeError as exc:
         raise ValueError(f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
     rows = csv.DictReader(line for _, line in lines)
-    out = {}
+    out: dict[str, DriveInterface] = {}
     for row, (k, _) in zip(rows, lines[1:], strict=False):
         missing = [c for c in COLUMNS if c not in row]
         if missing:
             raise ValueError(f"{path}: column {missing[0]!r} missing")
-        values: dict[str, Any] = {c: row[c] for c in COLUMNS}
-        for c in COLUMNS:
-            if c.endswith("_mm") or c.endswith("_bolts"):
-                values[c] = _number(row[c] or "", f"{path}, line {k}, column {c!r}")
-            if c.endswith("_bolts"):
-                values[c] = int(values[c])
-        out[row["key"]] = DriveInterface(**values)
+        if row["key"] in out:
+            raise ValueError(f"{path}, line {k}: key {row['key']!r} has a row above already")
+        out[row["key"]] = DriveInterface(**_values(row, f"{path}, line {k}"))
     return out
+
+
+def _values(row: dict[str, str], where: str) -> dict[str, Any]:
+    """A row's values, each checked: sizes numbers (mm), bolts whole numbers, threads of ISO
+    4762's table, the output ``shaft`` or ``flange``; ``where`` names the file and line."""
+    values: dict[str, Any] = {c: row[c] or "" for c in COLUMNS}
+    if values["output"] not in ("shaft", "flange"):
+        raise ValueError(f"{where}, column 'output': 'shaft' or 'flange', got {row['output']!r}")
+    threads = [r["thread"] for r in fs.table("iso4762")]
+    for c in COLUMNS:
+        at = f"{where}, column {c!r}"
+        if c.endswith("_mm") or c.endswith("_bolts"):
+            values[c] = _number(values[c], at)
+        if c.endswith("_bolts"):
+            if values[c] != int(values[c]):
+                raise ValueError(f"{at}: a whole number of bolts, got {row[c]!r}")
+            values[c] = int(values[c])
+        if c.endswith("_thread") and values[c] and values[c] not in threads:
+            raise ValueError(f"{at}: {row[c]!r} is not in ISO 4762's table ({', '.join(threads)})")
+    return values
 
 
 def _assumed_shaft_mm(peak_torque_Nm: float) -> float:

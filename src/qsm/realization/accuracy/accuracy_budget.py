@@ -359,6 +359,11 @@ def _verdict(per_point: dict[str, Any], settings: AccuracySettings) -> tuple[str
     )
 
 
+#: How the advice for the first mode begins (the tolerance's advice are alternatives to each
+#: other; this one is needed besides them).
+FIRST_MODE_FIX = "for a first mode of"
+
+
 def _would_meet(
     model: ArmModel, angles: NDArray, payload: PayloadSettings, peak_N: float, reverses: NDArray,
     track: NDArray | None, settings: AccuracySettings, terms: dict[str, NDArray],
@@ -374,7 +379,7 @@ def _would_meet(
     low, mode = settings.min_first_mode_hz, float(np.min(terms["first_mode_hz"]))
     if low is not None and not mode >= low:
         out.append(
-            f"for a first mode of {low:g} Hz: an arm {(low / mode) ** 2:.1f}x as stiff for its "
+            f"{FIRST_MODE_FIX} {low:g} Hz: an arm {(low / mode) ** 2:.1f}x as stiff for its "
             f"mass, or a lighter payload and links"
         )
     return out

@@ -40,6 +40,7 @@ from qsm.embodiment.parts.printing import (
     all_links_fit,
     fits_build_volume,
     printability_violation_mm,
+    round_up_mm,
     section_boxes_mm,
     section_excess_mm,
     section_shortfall_m,
@@ -274,7 +275,7 @@ def candidate_pool(fronts: Mapping[str, pd.DataFrame], dataset: pd.DataFrame) ->
         name: _feasible(table)
         for name, table in {**fronts, "dataset": dataset_candidates(dataset)}.items()
     }
-    pool = pd.concat(tables.values(), ignore_index=True)
+    pool = pd.concat(tables.values(), ignore_index=True).drop(columns="source", errors="ignore")
     sizes = [len(table) for table in tables.values()]
     source = pd.Series(np.repeat(list(tables), sizes), name="source")
     return pd.concat([pool, source], axis=1)  # a column of its own: Arrow's split blocks stay
@@ -306,7 +307,8 @@ def printing_advice(
     ``cad``'s for every link).
 
     ``needed_volume_mm``: the smallest build volume (sorted, mm); ``smallest_scale``: the
-    smallest factor k of the lengths at which every link still holds its bosses;
+    smallest factor k <= 1 of the lengths at which every link still holds its bosses (None if
+    none, and then no scale is advised);
     ``scale_factor``: the largest k <= 1 with k x design printable, the sections kept and every
     link holding its bosses (None if none), and the task it then holds (the task disk scaled by
     k about the base: containment does not depend on the scale); ``max_boss_radius_mm``: the
@@ -376,17 +378,25 @@ def printer_sentence(advice: Mapping[str, Any]) -> str:
 def printer_fix(
     advice: Mapping[str, Any], holds_loads: bool, volume_mm: Sequence[float]
 ) -> str | None:
-    """The printer that would make the design printable and strong: its own as realised
-    (``advice``'s ``needed_volume_mm``) for a design that ``holds_loads``, unless the
-    ``smallest_over_designs`` holds its loads as realised with a smaller printer (sides compared
-    from the largest); for one that does not, only the smallest over the designs (None: none)."""
+    """The printer that would make a design printable and strong, from ``advice``: for a design
+    that ``holds_loads``, its own as realised (``needed_volume_mm``), the
+    ``smallest_over_designs``' instead where that one holds its loads as realised and needs no
+    side larger and one smaller (whole mm, sides from the largest), both where neither does;
+    for one that does not, only the other's, where it holds its loads (None: no printer)."""
     other = advice.get("smallest_over_designs")
-    if other is None:
-        return printer_sentence(advice) if holds_loads else None
-    smaller = list(other["exact_volume_mm"]) < list(advice["needed_volume_mm"])
-    if holds_loads and not (other.get("holds_loads", True) and smaller):
-        return printer_sentence(advice)
-    return advice_sentence(other, volume_mm)
+    strong = other is not None and other.get("holds_loads", True)
+    if not holds_loads:
+        return advice_sentence(other, volume_mm) if strong else None
+    own = printer_sentence(advice)
+    if not strong:
+        return own
+    mine = np.asarray(round_up_mm(advice["needed_volume_mm"]))
+    theirs = np.asarray(other["needed_volume_mm"])
+    if (mine <= theirs).all():
+        return own
+    if (theirs <= mine).all():
+        return advice_sentence(other, volume_mm)
+    return own + "; or " + advice_sentence(other, volume_mm)
 
 
 def advice_sentences(advice: Mapping[str, Any], cad: CadSettings) -> list[str]:
@@ -403,8 +413,9 @@ def advice_sentences(advice: Mapping[str, Any], cad: CadSettings) -> list[str]:
         )
     elif advice.get("smallest_scale") is not None:
         lines.append(
-            "no nearer, smaller task: its links hold their bosses only with the lengths scaled "
-            f"by {advice['smallest_scale']:.3f} or more, where a link still exceeds the printer"
+            "no nearer, smaller task: this design's links hold their bosses only with its lengths "
+            f"scaled by {advice['smallest_scale']:.3f} or more, where a link still exceeds the "
+            "printer"
         )
     r = advice.get("max_boss_radius_mm")
     if r is not None:
