@@ -4,6 +4,7 @@ import copy
 import csv
 import io
 import os
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -456,6 +457,22 @@ def test_a_number_yaml_reads_as_text_says_how_to_write_it():
         validate_config(yaml.safe_load("task: {payload_kg: five}"))
     assert "YAML reads" not in str(info.value)
     validate_config(yaml.safe_load("task: {payload_kg: 5.0e-1}"))
+
+
+@pytest.mark.parametrize(("text", "value"), [("5e-1", 0.5), ("2.25e9", 2.25e9), ("1e-7", 1e-7)])
+def test_both_ways_the_hint_offers_read_as_the_number(text, value):
+    """The two spellings the hint gives (a dot and a signed exponent, or positional) are each
+    read by YAML as the number meant."""
+    from qsm.config.reading import _yaml_hint
+
+    class Error:
+        validator, instance = "type", text
+
+    hint = _yaml_hint(Error())
+    scientific, positional = re.search(r"exponent, (\S+), or as (\S+)\)", hint).groups()
+    assert scientific != positional
+    for spelled in (scientific, positional):
+        assert yaml.safe_load(spelled) == pytest.approx(value, rel=1e-12), spelled
 
 
 @pytest.mark.parametrize(

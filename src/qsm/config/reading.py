@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import Any
 
 import jsonschema
+import numpy as np
 import yaml
 
 from qsm.config.checks import check_config
@@ -44,7 +45,8 @@ def _yaml_hint(err: Any) -> str:
         return ""
     return (
         f" (YAML reads {err.instance} as text, not a number: write it with a dot and a signed "
-        f"exponent, {value:.1e}, or as {value:g})"
+        f"exponent, {np.format_float_scientific(value, trim='0')}, or as "
+        f"{np.format_float_positional(value, trim='-')})"
     )
 
 

@@ -186,9 +186,9 @@ def _rows(path: Path):
 HEAVIEST_KG = 100.0
 
 
-def _number(text: str, default: float, where: str) -> float:
+def _number(text: str, default: float, where: str, optional: bool = True) -> float:
     """A cell's number, ``default`` where empty; a written number must be finite (an empty cell
-    is how the catalogue says the maker gives none)."""
+    is how the catalogue says the maker gives none, where the cell is ``optional``)."""
     if text == "":
         return default
     try:
@@ -196,10 +196,8 @@ def _number(text: str, default: float, where: str) -> float:
     except ValueError:
         raise CatalogueError(f"{where}: {text!r} is not a number") from None
     if not np.isfinite(value):
-        raise CatalogueError(
-            f"{where}: {text!r} is not a finite number (leave the cell empty when the maker "
-            f"gives none)"
-        )
+        hint = " (leave the cell empty when the maker gives none)" if optional else ""
+        raise CatalogueError(f"{where}: {text!r} is not a finite number{hint}")
     return value
 
 
@@ -343,7 +341,7 @@ def _read_points(path: Path) -> list[tuple[int, str, float, float]]:
         vals = []
         for i, name in ((i_s, "speed_rad_s"), (i_t, "torque_Nm")):
             where = f"{path}, line {line}, column {name!r}"
-            value = _number(cells[i], np.nan, where)
+            value = _number(cells[i], np.nan, where, optional=False)
             if not value >= 0:
                 raise CatalogueError(f"{where}: needs a value >= 0, got {cells[i]!r}")
             vals.append(value)

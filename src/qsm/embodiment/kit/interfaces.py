@@ -103,7 +103,9 @@ def read_interfaces(folder: str | Path | None = None) -> dict[str, DriveInterfac
         with open(path, newline="", encoding="utf-8-sig") as fh:
             lines = [(k, x) for k, x in enumerate(fh, 1) if x.strip() and not x.startswith("#")]
     except UnicodeDecodeError as exc:
-        raise ValueError(f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start})") from None
+        raise ValueError(
+            f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start}); save it as UTF-8"
+        ) from None
     rows = csv.DictReader(line for _, line in lines)
     out: dict[str, DriveInterface] = {}
     for row, (k, _) in zip(rows, lines[1:], strict=False):
