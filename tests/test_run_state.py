@@ -109,6 +109,50 @@ def test_without_a_record_of_the_last_good_config_the_results_are_marked(tmp_pat
     assert "no record of the last good run's config" in failed.message(results)
 
 
+def _design_files(results):
+    """A summary that names the bill of materials and the parts, both there, before the last
+    good run's record."""
+    (results / "summary.md").write_text(
+        "# summary\n\n**Ready to build**\n\n- bill of materials: results/realization/bom.csv; "
+        "parts to print: results/realization/stl/*.stl; the kit: results/realization/kit/.\n"
+    )
+    (results / "realization/stl").mkdir()
+    (results / "realization/kit").mkdir()
+    for name in ("bom.csv", "choice.json", "stl/lower_arm.stl"):
+        (results / "realization" / name).write_text("x")
+    (results / "logs").mkdir()
+    rs.clear_marks(results, LAST_GOOD, 0.0)
+    later = (results / rs.GOOD_CONFIG).stat().st_mtime_ns + 10**9
+    return later
+
+
+def test_a_failed_run_names_what_it_rewrote_and_what_is_gone(tmp_path):
+    """Jobs of the failed run rewrote choice.json (and a log) under the new config, and
+    Snakemake removed the failed job's bom.csv: the message, the banner and the marker name
+    both; a run back on the last good config keeps the marks while they hold."""
+    results = _results(tmp_path)
+    later = _design_files(results)
+    os.utime(results / "realization/choice.json", ns=(later, later))
+    (results / "logs/x.log").write_text("log")  # a log: not a result
+    os.utime(results / "logs/x.log", ns=(later, later))
+    (results / "realization/bom.csv").unlink()
+    failed = rs.failure(results, LAST_GOOD | {"seed": 2}, [])
+    assert (failed.rewritten, failed.missing) == (
+        ("realization/choice.json",),
+        ("realization/bom.csv",),
+    )
+    message = failed.message(results)
+    assert "the failed run rewrote realization/choice.json for its own config" in message
+    assert "realization/bom.csv, which the summary names, is gone" in message
+    rs.mark_not_current(results, failed)
+    banner = (results / "summary.md").read_text().split("\n\n", 1)[0]
+    assert "rewrote realization/choice.json" in banner and "bom.csv, which" in banner
+    rs.clear_marks(results, LAST_GOOD, time.time() + 60)  # the last good config, one rule run
+    assert (results / "realization" / rs.MARKER).exists()  # its results are still a mix
+    same = rs.failure(results, LAST_GOOD, [])  # a failure with the last good config
+    assert "but for realization/bom.csv, which the summary names, is gone" in same.message(results)
+
+
 def test_the_run_lock_refuses_a_second_process_and_frees_with_the_first(tmp_path):
     lock = tmp_path / ".snakemake" / "qsm_run.lock"
     holder = subprocess.Popen(

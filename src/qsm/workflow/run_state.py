@@ -35,6 +35,10 @@ MARKED = (".", "realization")
 BANNERED_HTML = ("html/summary.html", "html/datasheet.html")
 #: The banner's element in an HTML copy, put first in its body.
 HTML_BANNER = '<p class="not-current"><strong>NOT CURRENT</strong>: {}</p>\n'
+#: Folders under the results that hold the jobs' logs and timings, not results.
+NOT_RESULTS = ("logs", "benchmarks")
+#: How many file names a message lists before "and N more".
+LISTED = 4
 
 _HELD: list[IO[str]] = []
 
@@ -96,12 +100,16 @@ def failed_rules(log_text: str) -> list[str]:
 @dataclass(frozen=True)
 class Failure:
     """A failed run: the ``rules`` that failed, the config ``changed`` keys since the last
-    good run (None: no record of its config) and whether an ``earlier`` run left results (a
-    summary or a recorded config)."""
+    good run (None: no record of its config), whether an ``earlier`` run left results (a
+    summary or a recorded config), and since the last good run the result files ``rewritten``
+    (by the failed run's jobs that succeeded) and the ones the summary names that are
+    ``missing`` (Snakemake removes a failed job's outputs), relative to the results folder."""
 
     rules: tuple[str, ...]
     changed: tuple[str, ...] | None
     earlier: bool = True
+    rewritten: tuple[str, ...] = ()
+    missing: tuple[str, ...] = ()
 
     def message(self, results: Path) -> str:
         """What the console says."""
@@ -112,6 +120,7 @@ class Failure:
             return (
                 f"qsm: the run failed in {where}; the config is the last good run's, so its "
                 f"results in {results} still describe it and stay as they are"
+                + (f", but for {self._gone()}" if self.missing else "")
             )
         why = (
             "no record of the last good run's config was found"
@@ -120,9 +129,9 @@ class Failure:
             + (", ..." if len(self.changed) > 8 else "") + ")"
         )  # fmt: skip
         return (
-            f"qsm: the run failed in {where}, and {why}: the design files, summary and datasheet "
-            f"in {results} are the last good run's, not this config's, and are marked NOT "
-            f"CURRENT ({results / MARKER}); a successful run replaces them"
+            f"qsm: the run failed in {where}, and {why}: the summary and datasheet in {results} "
+            f"are the last good run's, not this config's, and are marked NOT CURRENT "
+            f"({results / MARKER}); {self._mixed()}; a successful run replaces them"
         )
 
     def banner(self) -> str:
@@ -139,8 +148,30 @@ class Failure:
         keys = "an unknown config" if self.changed is None else ", ".join(self.changed)
         return (
             f"a later run failed in {where} after the config changed ({keys}); this is the last "
-            "good run's, for its own config."
+            f"good run's, for its own config; {self._mixed()}."
         )
+
+    def _mixed(self) -> str:
+        """Which result files are no longer the last good run's: rewritten or gone."""
+        parts = []
+        if self.rewritten:
+            parts.append(f"the failed run rewrote {_some(self.rewritten)} for its own config")
+        if self.missing:
+            parts.append(_gone_text(self.missing))
+        return "; ".join(parts) or "no result file was rewritten or removed since"
+
+    def _gone(self) -> str:
+        return _gone_text(self.missing)
+
+
+def _some(names: tuple[str, ...]) -> str:
+    """The first :data:`LISTED` of ``names``, and how many more."""
+    more = len(names) - LISTED
+    return ", ".join(names[:LISTED]) + (f" and {more} more" if more > 0 else "")
+
+
+def _gone_text(missing: tuple[str, ...]) -> str:
+    return f"{_some(missing)}, which the summary names, {'is' if len(missing) == 1 else 'are'} gone"
 
 
 def failure(results: Path, config: Mapping[str, Any], logs: Iterable[str]) -> Failure:
@@ -151,7 +182,31 @@ def failure(results: Path, config: Mapping[str, Any], logs: Iterable[str]) -> Fa
         tuple(changed_keys(json.loads(record.read_text()), config)) if record.exists() else None
     )
     earlier = record.exists() or (results / BANNERED[0]).exists()
-    return Failure(tuple(failed_rules(text)), changed, earlier)
+    return Failure(tuple(failed_rules(text)), changed, earlier, *departures(results))
+
+
+def departures(results: Path) -> tuple[tuple[str, ...], tuple[str, ...]]:
+    """Since the last good run (its recorded config's time): the result files written later
+    (:func:`_written_since`), and the files the summary names that are gone; each relative to
+    ``results``, sorted."""
+    record, summary = results / GOOD_CONFIG, results / BANNERED[0]
+    if not record.exists() or not summary.exists():
+        return (), ()
+    named = re.findall(rf"{re.escape(results.name)}/[\w./*-]*\w", summary.read_text())
+    missing = {n.split("/", 1)[1] for n in named if not any(results.parent.glob(n))}
+    return _written_since(results, record.stat().st_mtime_ns), tuple(sorted(missing))
+
+
+def _written_since(results: Path, since_ns: int) -> tuple[str, ...]:
+    """The result files under ``results`` written after ``since_ns`` (not the jobs' logs and
+    timings, nor the marks), the design files first."""
+    names = [
+        str(p.relative_to(results))
+        for p in results.rglob("*")
+        if p.is_file() and p.stat().st_mtime_ns > since_ns and p.name not in (GOOD_CONFIG, MARKER)
+    ]
+    kept = [n for n in names if n.split("/", 1)[0] not in NOT_RESULTS]
+    return tuple(sorted(kept, key=lambda name: (not name.startswith("realization/"), name)))
 
 
 def mark_not_current(results: Path, failed: Failure) -> None:
@@ -171,13 +226,13 @@ def mark_not_current(results: Path, failed: Failure) -> None:
 
 def clear_marks(results: Path, config: Mapping[str, Any], started: float) -> None:
     """After a successful run that wrote the summary (at or after ``started``, seconds since
-    the epoch), or one whose config is the last good run's again (the results describe it): no
-    banner, no marker, and the config recorded as the last good. A run of one rule under
-    another config leaves the marks."""
+    the epoch), or one whose config is the last good run's again with no result file written
+    or gone since (:func:`departures`: the results describe it): no banner, no marker, and the
+    config recorded as the last good. A run of one rule leaves the marks."""
     summary, record = results / BANNERED[0], results / GOOD_CONFIG
     wrote = summary.exists() and summary.stat().st_mtime >= started
     same = record.exists() and not changed_keys(json.loads(record.read_text()), config)
-    if not (wrote or same):
+    if not (wrote or (same and departures(results) == ((), ()))):
         return
     for name in BANNERED:
         path = results / name
