@@ -119,8 +119,8 @@ def front_table(results: str | Path, front: str) -> pd.DataFrame:
         have = ", ".join(fronts) if fronts else "none (run the workflow first)"
         raise ValueError(f"unknown front '{front}' (--front): {folder} holds the fronts: {have}")
     table = read_table(path)
-    table.insert(0, "rank", front_ranks(table))
-    return table
+    rank = pd.Series(front_ranks(table), index=table.index, name="rank")
+    return pd.concat([rank, table], axis=1)  # Arrow's split blocks: no insert into them
 
 
 def front_design(results: str | Path, front: str, rank: int) -> tuple[np.ndarray, dict[str, Any]]:

@@ -106,7 +106,7 @@ def _stiffness_and_cycle(row: pd.Series) -> list[str]:
         time_s = row["time_optimal_cycle_s"]
         lines.append(
             f"time-optimal cycle: {_number(time_s, 2)} s, "
-            f"{_number(3600.0 / time_s, 0)} per hour (not slowed for the tolerance or MuJoCo)"
+            f"{3600.0 / time_s:,.0f} per hour (not slowed for the tolerance or MuJoCo)"
             if np.isfinite(time_s)
             else f"time-optimal cycle: none ({row.get('cycle_note', '')})"
         )

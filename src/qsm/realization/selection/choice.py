@@ -84,10 +84,11 @@ def dataset_candidates(dataset: pd.DataFrame) -> pd.DataFrame:
     """Dataset rows (every one holds the task at its scale) in the shape of a verified front."""
     renamed = {"eta": "eta_true", "tau1_Nm": "tau1_true_Nm", "tau2_Nm": "tau2_true_Nm"}
     columns = ["mechanism_id", *DESIGN_COLUMNS, "scale_m", *renamed, "status"]
-    out = dataset.loc[:, [*columns, *STRENGTH_COLUMNS, *DRIVE_COLUMNS]]
+    out = dataset.loc[:, [*columns, *STRENGTH_COLUMNS, *DRIVE_COLUMNS]].reset_index(drop=True)
     out = out.rename(columns={**renamed, "status": "dynamics_status"})
-    out.insert(columns.index("status"), "feasible", True)  # in one block: no fragmented frame
-    return out.reset_index(drop=True)
+    at = columns.index("status")  # concatenated, not inserted: Arrow's blocks stay as read
+    feasible = pd.Series(True, index=out.index, name="feasible")
+    return pd.concat([out.iloc[:, :at], feasible, out.iloc[:, at:]], axis=1)
 
 
 def _feasible(table: pd.DataFrame) -> pd.DataFrame:
