@@ -120,7 +120,7 @@ class Failure:
             return (
                 f"qsm: the run failed in {where}; the config is the last good run's, so its "
                 f"results in {results} still describe it and stay as they are"
-                + (f", but for {self._gone()}" if self.missing else "")
+                + (f", but for {_gone_text(self.missing)}" if self.missing else "")
             )
         why = (
             "no record of the last good run's config was found"
@@ -159,9 +159,6 @@ class Failure:
         if self.missing:
             parts.append(_gone_text(self.missing))
         return "; ".join(parts) or "no result file was rewritten or removed since"
-
-    def _gone(self) -> str:
-        return _gone_text(self.missing)
 
 
 def _some(names: tuple[str, ...]) -> str:
@@ -232,7 +229,8 @@ def clear_marks(results: Path, config: Mapping[str, Any], started: float) -> Non
     summary, record = results / BANNERED[0], results / GOOD_CONFIG
     wrote = summary.exists() and summary.stat().st_mtime >= started
     same = record.exists() and not changed_keys(json.loads(record.read_text()), config)
-    if not (wrote or (same and departures(results) == ((), ()))):
+    marked = any((results / folder / MARKER).exists() for folder in MARKED)
+    if not (wrote or (same and marked and departures(results) == ((), ()))):
         return
     for name in BANNERED:
         path = results / name

@@ -164,14 +164,8 @@ def advice_sentence(advice: dict[str, Any] | None, volume_mm: ArrayLike) -> str:
         f"the one of the {advice['designs_holding']} designs that hold their loads with the "
         "smallest printer at the configured section"
     )
-    if "holds_loads" not in advice:
-        return sentence
-    if advice["holds_loads"]:
-        return sentence + ", its links as this run realises them"
-    return (
-        sentence + ", its links as this run realises them; as realised they do not hold their "
-        f"loads (strength utilisation {advice['strength_utilisation']:.2f}, at most 1)"
-    )
+    realised = ", its links as this run realises them" if "holds_loads" in advice else ""
+    return sentence + realised
 
 
 def outline_boxes_mm(design: ArrayLike, cad: CadSettings) -> dict[str, tuple[float, float, float]]:
@@ -255,6 +249,14 @@ def section_boxes_mm(
     )
 
 
+def section_needed_mm(
+    design: ArrayLike, cad: CadSettings, scale: ArrayLike | None
+) -> NDArray[np.float64]:
+    """Smallest build volume (3,) holding every link of :func:`section_boxes_mm`, sides from the
+    largest (mm, exact): :func:`needed_volume_mm` with each link at its own section."""
+    return np.sort(section_boxes_mm(design, cad, scale), axis=-1)[..., ::-1].max(axis=0)
+
+
 def link_printability(
     design: ArrayLike, cad: CadSettings, scale: ArrayLike | None, volume_mm: tuple[float, ...]
 ) -> dict[str, Any]:
@@ -271,10 +273,9 @@ def link_printability(
         ext = (poly.max(axis=0) - poly.min(axis=0)) * 1e3
         dims = (float(ext[0]), float(ext[1]), sections[name].thickness_m * 1e3)
         links[name] = {"fits": box_fits(dims, vol), "dims_mm": dims}
-    boxes = section_boxes_mm(d, cad, scale)
     return {
         "links": links,
-        "needed_volume_mm": np.sort(boxes, axis=-1)[..., ::-1].max(axis=0).tolist(),
+        "needed_volume_mm": section_needed_mm(d, cad, scale).tolist(),
         "print_excess_mm": section_excess_mm(d, cad, scale, vol),
     }
 

@@ -41,8 +41,8 @@ from qsm.embodiment.parts.printing import (
     fits_build_volume,
     printability_violation_mm,
     round_up_mm,
-    section_boxes_mm,
     section_excess_mm,
+    section_needed_mm,
     section_shortfall_m,
 )
 from qsm.optimization.ranking import OBJECTIVES, RULES, rule_scores, true_columns
@@ -322,9 +322,8 @@ def printing_advice(
     def fits(lengths: NDArray[np.float64], section: CadSettings) -> bool:
         return section_excess_mm(lengths, section, scale, vol) <= 0
 
-    boxes = np.sort(section_boxes_mm(d, cad, scale), axis=-1)[..., ::-1]
     out: dict[str, Any] = {
-        "needed_volume_mm": boxes.max(axis=0).tolist(),
+        "needed_volume_mm": section_needed_mm(d, cad, scale).tolist(),
         "build_volume_mm": [float(v) for v in volume_mm],
     }
     # too short a link cannot hold its bosses: the scale is sought above that
@@ -345,23 +344,24 @@ def printing_advice(
 def _smallest(fits: Callable[[float], bool], lo: float, hi: float) -> float | None:
     """Smallest x in [lo, hi] with ``fits(x)`` for a ``fits`` false below some threshold and
     true above it (to 1e-9 relative); None if ``fits(hi)`` is false."""
-    if fits(lo) or not fits(hi):
-        return lo if fits(lo) else None
-    return _bracket(fits, lo, hi)[1]
+    if fits(lo):
+        return lo
+    return _bracket(fits, lo, hi, False)[1] if fits(hi) else None
 
 
 def _largest(fits: Callable[[float], bool], lo: float, hi: float) -> float | None:
     """Largest x in [lo, hi] with ``fits(x)`` for a ``fits`` true below some threshold and false
     above it (to 1e-9 relative); None if ``fits(lo)`` is false."""
-    if fits(hi) or not fits(lo):
-        return hi if fits(hi) else None
-    return _bracket(fits, lo, hi)[0]
+    if not fits(lo):
+        return None
+    return hi if fits(hi) else _bracket(fits, lo, hi, True)[0]
 
 
-def _bracket(test: Callable[[float], bool], lo: float, hi: float) -> tuple[float, float]:
-    """Where ``test`` changes its answer between ``lo`` and ``hi`` (which it answers apart):
-    a bracket 1e-9 of ``hi`` wide, by bisection."""
-    at_lo = test(lo)
+def _bracket(
+    test: Callable[[float], bool], lo: float, hi: float, at_lo: bool
+) -> tuple[float, float]:
+    """Where ``test`` changes its answer from ``at_lo`` (at ``lo``) to the other (at ``hi``): a
+    bracket 1e-9 of ``hi`` wide, by bisection."""
     while hi - lo > 1e-9 * hi:
         mid = 0.5 * (lo + hi)
         lo, hi = (mid, hi) if test(mid) == at_lo else (lo, mid)

@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 from qsm.embodiment.parts.printing import (
     link_printability,
     round_up_mm,
-    section_boxes_mm,
+    section_needed_mm,
     smallest_build_volume,
 )
 from qsm.embodiment.strength.advice import strength_advice
@@ -148,8 +148,7 @@ def _smallest_realised(
         return None
     d = np.asarray(smallest["design_m"], dtype=float)
     other = done if np.array_equal(d, done.design) else realize(d, settings)
-    boxes = np.sort(section_boxes_mm(other.design, cad, other.scale), axis=-1)[..., ::-1]
-    need = boxes.max(axis=0)
+    need = section_needed_mm(other.design, cad, other.scale)
     smallest.update(
         needed_volume_mm=round_up_mm(need),
         exact_volume_mm=need.tolist(),
