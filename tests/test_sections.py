@@ -2,6 +2,7 @@
 same settings as the whole config, and changes exactly when a key those settings read changes."""
 
 import copy
+import csv
 import dataclasses
 import pickle
 from pathlib import Path
@@ -158,8 +159,9 @@ def test_a_key_it_does_not_read_leaves_its_share_alone(path, value):
 
 
 def test_the_catalogue_hash_follows_its_files(tmp_path):
-    """Editing a catalogue file changes ``drives.catalogue_sha256``; the same files give the same
-    hash wherever the folder is."""
+    """Editing a value of a catalogue file changes ``drives.catalogue_sha256``; the same values
+    give the same hash wherever the folder is, and however the file is saved (a byte-order mark,
+    CRLF line ends, a comment, blank lines, spaces around the cells)."""
     from qsm.embodiment.drives.catalogue import catalogue_folder
 
     for folder in (tmp_path / "a", tmp_path / "b"):
@@ -172,7 +174,18 @@ def test_the_catalogue_hash_follows_its_files(tmp_path):
            for f in ("a", "b")]  # fmt: skip
     assert sha[0] == sha[1] == drives_section(CONFIG)["catalogue_sha256"]
     motors = next((tmp_path / "b").rglob("*motor*.csv"))
-    motors.write_text(motors.read_text() + "\n")
+    with motors.open(newline="", encoding="utf-8") as f:
+        rows = list(csv.reader(f))
+    with motors.open("w", newline="", encoding="utf-8-sig") as f:  # a byte-order mark, CRLF
+        f.write("# saved again\r\n\r\n")
+        csv.writer(f).writerows([[f" {c} " for c in row] for row in rows])
+    again = drives_section(_changed("drives.catalogue", str(tmp_path / "b")))
+    assert again["catalogue_sha256"] == sha[0]  # the same values, saved another way
+    header = next(k for k, row in enumerate(rows) if row and not row[0].startswith("#"))
+    column = rows[header].index("mass")
+    rows[header + 1][column] = repr(float(rows[header + 1][column]) + 0.01)
+    with motors.open("w", newline="", encoding="utf-8") as f:
+        csv.writer(f).writerows(rows)
     edited = drives_section(_changed("drives.catalogue", str(tmp_path / "b")))
     assert edited["catalogue_sha256"] != sha[0]
 

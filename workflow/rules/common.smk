@@ -49,7 +49,7 @@ MECHANISMS = mechanisms_section(config)
 
 @functools.cache
 def drive_settings():
-    """``drives`` with a hash of the catalogue's files (qsm.config.sections.drives_section):
+    """``drives`` with a digest of the catalogue's values (qsm.config.sections.drives_section):
     editing the catalogue reruns the rules that choose drives. Hashed once per run."""
     return drives_section(config)
 

@@ -3,9 +3,7 @@ and the library's calls alike. Light: the Snakefile imports it."""
 
 from __future__ import annotations
 
-import hashlib
 from collections.abc import Mapping
-from pathlib import Path
 from typing import Any
 
 from qsm.config.drive_limits import catalogue_folder
@@ -54,15 +52,14 @@ def iso_section(config: Section) -> dict[str, Any]:
 
 
 def drives_section(config: Section) -> dict[str, Any]:
-    """``drives`` with ``catalogue_sha256``, a hash of the catalogue's CSV files (their paths in
-    the folder and their bytes): editing the catalogue reruns the rules that choose drives, which
-    a config value alone would not."""
-    digest = hashlib.sha256()
-    folder = Path(catalogue_folder(config))
-    for path in sorted(folder.rglob("*.csv")):
-        digest.update(str(path.relative_to(folder)).encode())
-        digest.update(path.read_bytes())
-    return {**config["drives"], "catalogue_sha256": digest.hexdigest()}
+    """``drives`` with ``catalogue_sha256``, a digest of the catalogue's CSV files as they are
+    read (:func:`qsm.embodiment.drives.catalogue.catalogue_digest`): editing a value reruns the
+    rules that choose drives, which a config value alone would not; a re-save that keeps every
+    value does not."""
+    from qsm.embodiment.drives.catalogue import catalogue_digest
+
+    digest = catalogue_digest(catalogue_folder(config))
+    return {**config["drives"], "catalogue_sha256": digest}
 
 
 def _checked_loads(config: Section) -> dict[str, Any]:

@@ -18,6 +18,8 @@ from __future__ import annotations
 
 import csv
 import functools
+import hashlib
+import json
 from dataclasses import dataclass
 from importlib import resources
 from pathlib import Path
@@ -180,6 +182,19 @@ def _rows(path: Path):
             raise CatalogueError(
                 f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start}); save it as UTF-8"
             ) from None
+
+
+def catalogue_digest(folder: str | Path) -> str:
+    """SHA-256 (hex) of the CSV files under ``folder`` as they are read: each file's path in the
+    folder and the cells of its rows (:func:`_rows`). A re-save that changes only a byte-order
+    mark, the line ends, blank or ``#`` lines or the spaces around cells keeps the digest."""
+    folder = Path(folder)
+    digest = hashlib.sha256()
+    for path in sorted(folder.rglob("*.csv")):
+        digest.update(str(path.relative_to(folder).as_posix()).encode() + b"\0")
+        for _, cells in _rows(path):
+            digest.update(json.dumps(cells).encode() + b"\n")
+    return digest.hexdigest()
 
 
 #: The heaviest motor or gearbox (kg) a printed arm's catalogue can mean: more reads as grams.
