@@ -208,12 +208,14 @@ def test_the_scaled_design_still_holds_its_bosses():
 @pytest.mark.parametrize(
     ("own_holds", "other_holds", "other_volume", "expected"),
     [
-        (True, True, [600.0, 200.0, 20.0], "for design 3"),  # another, smaller printer
+        (True, True, [650.0, 200.0, 20.0], "for design 3"),  # another, smaller printer
         (True, True, [800.0, 220.0, 24.0], "at least 740 x 220 x 24 mm (conf"),  # its own
-        (True, False, [600.0, 200.0, 20.0], "at least 740 x 220 x 24 mm (conf"),  # other weak
-        (True, True, [600.0, 230.0, 20.0], "x 350 mm); or a printer of at least 600 x 230"),
-        (False, True, [600.0, 200.0, 20.0], "a printer of at least 600 x 200 x 20 mm"),
-        (False, False, [600.0, 200.0, 20.0], None),  # a printer for a weak design: none
+        (True, False, [650.0, 200.0, 20.0], "at least 740 x 220 x 24 mm (conf"),  # other weak
+        (True, True, [650.0, 230.0, 20.0], "x 350 mm); or a printer of at least 650 x 230"),
+        (False, True, [650.0, 200.0, 20.0], "a printer of at least 650 x 200 x 20 mm"),
+        (False, False, [650.0, 200.0, 20.0], None),  # a printer for a weak design: none
+        (True, True, [550.0, 200.0, 20.0], "fits the configured printer (550 x 200 x 20 mm"),
+        (False, True, [550.0, 200.0, 20.0], "export --lengths 0.3 0.1 0.3 0.15 0.36 0.12`"),
     ],
 )
 def test_the_printer_fix_is_one_that_holds_its_loads(
@@ -221,7 +223,8 @@ def test_the_printer_fix_is_one_that_holds_its_loads(
 ):
     """The fix: this design's own printer as realised, unless another design that holds its
     loads as realised needs no side larger (both where neither does); a weak design only gets
-    the other's, and none where that one is weak as realised too."""
+    the other's, and none where that one is weak as realised too. Another design that, realised,
+    fits the configured printer is named as one to export, not as a printer to buy."""
     advice = printing_advice(np.array(LARGE), CAD, PRINTER, Disk((-0.9, 0.1), 0.2), [1, 1, 1, 1.2])
     advice["smallest_over_designs"] = {
         "needed_volume_mm": [int(np.ceil(v)) for v in other_volume],
@@ -231,6 +234,7 @@ def test_the_printer_fix_is_one_that_holds_its_loads(
         "designs_holding": 9,
         "holds_loads": other_holds,
         "strength_utilisation": 0.8 if other_holds else 1.3,
+        "design_m": SMALL,
     }
     fix = printer_fix(advice, own_holds, PRINTER)
     assert fix is None if expected is None else expected in fix

@@ -148,7 +148,8 @@ def smallest_build_volume(
 
 
 def advice_sentence(advice: dict[str, Any] | None, volume_mm: ArrayLike) -> str:
-    """The advice in one sentence, every number from ``advice``."""
+    """The advice in one sentence, every number from ``advice``; a design that, realised, fits
+    ``volume_mm`` is named as one to export (:func:`_fits_as_realised`)."""
     have = " x ".join(f"{v:g}" for v in np.ravel(volume_mm))
     if advice is None:
         return (
@@ -159,6 +160,8 @@ def advice_sentence(advice: dict[str, Any] | None, volume_mm: ArrayLike) -> str:
     if isinstance(who, float) and who.is_integer():
         who = int(who)
     where = f" ({advice['source']})" if "source" in advice else ""
+    if "holds_loads" in advice and box_fits(advice["exact_volume_mm"], volume_mm):
+        return _fits_as_realised(advice, f"{who}{where}", need, have)
     sentence = (
         f"a printer of at least {need} mm (configured: {have} mm) for design {who}{where}, "
         f"the one of the {advice['designs_holding']} designs that hold their loads with the "
@@ -166,6 +169,18 @@ def advice_sentence(advice: dict[str, Any] | None, volume_mm: ArrayLike) -> str:
     )
     realised = ", its links as this run realises them" if "holds_loads" in advice else ""
     return sentence + realised
+
+
+def _fits_as_realised(advice: dict[str, Any], who: str, need: str, have: str) -> str:
+    """Design ``who`` of ``advice``, realised, fits the configured printer ``have``: the pool
+    was judged at the configured section, its realised links are smaller (sized sections)."""
+    lengths = " ".join(np.format_float_positional(x, trim="-") for x in advice["design_m"])
+    return (
+        f"design {who}, with its links as this run realises them, fits the configured printer "
+        f"({need} mm needed, {have} mm configured) and holds its loads (strength utilisation "
+        f"{advice['strength_utilisation']:.2f}), while the designs were judged printable at the "
+        f"configured section: build it with `qsm export --lengths {lengths}`"
+    )
 
 
 def outline_boxes_mm(design: ArrayLike, cad: CadSettings) -> dict[str, tuple[float, float, float]]:
