@@ -27,6 +27,7 @@ from qsm.physics.dynamics import inverse_dynamics, loop_state
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import end_effector
 from qsm.physics.mjcf import model_spec
+from qsm.prose import fixed
 from qsm.realization.accuracy.accuracy_budget import (
     MOTION_STEP_S,
     AccuracySettings,
@@ -105,7 +106,7 @@ def test_the_tolerance_decides_the_verdict_and_its_numbers(settings, points, tol
     budget = budget_at(realize(DESIGN, tight), tight, points)
     worst = budget["worst"]["error_budget_mm"]
     assert budget["meets_requirements"] is (worst <= tolerance_mm)
-    assert f"{worst:.2f} mm" in budget["verdict"]
+    assert f"{fixed(worst, 2)} mm" in budget["verdict"]  # 2 decimals, 4 significant digits
     assert f"tolerance {tolerance_mm:g} mm" in budget["verdict"]
     if budget["meets_requirements"]:
         assert budget["would_meet"] == []
