@@ -82,7 +82,7 @@ def test_the_realised_arm_meets_the_structures_share_of_the_tolerance(built):
     assert done.scale is not None and max(done.scale) > 1.0
     # the bored parts are a little lighter than the solid links the search used: within 5 %
     assert _structure(done, settings) <= target * 1.05
-    assert done.strength["holds_loads"] and done.has_drives
+    assert done.strength.holds_loads and done.has_drives
 
 
 def test_the_realised_sections_are_the_smallest_common_factor_that_meets_it(built):

@@ -18,6 +18,7 @@ from qsm import load_config
 from qsm.config.settings.realization import realization_of
 from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import joints as jt
+from qsm.embodiment.strength.record import BearingLoad
 from qsm.realization.kit.builders_kit import KitSettings, builders_kit, with_hub_holes
 from qsm.realization.kit.kit_assembly import kit_sequence
 from qsm.realization.kit.kit_sequence import Precedence, Step, Tool, order
@@ -118,10 +119,9 @@ def _sequence(done, record):
     parts = with_hub_holes(done.parts, record["hubs"])
     s = KitSettings()
     allow = {
-        k: s.printed.across_layers_MPa(float(v["allowable_MPa"]))
-        for k, v in done.strength["links"].items()
+        k: s.printed.across_layers_MPa(v.allowable_MPa) for k, v in done.strength.links.items()
     }
-    bearings = done.strength["bearings"]
+    bearings = done.strength.bearings
     return kit_sequence(record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow, bearings)
 
 
@@ -209,7 +209,7 @@ def test_a_head_the_next_layer_cannot_clear_gets_spacers():
     """Pin B's head stands 5.5 mm out of the upper arm; where the coupler passes over it, the
     joint between the upper arm and the coupler (D) takes enough 1.6 mm washers to lift the
     coupler past the head and 1 mm, and pin D's grip and bending arm grow by them."""
-    bearing = {"d_mm": 6.0, "B_mm": 6.0, "peak_force_N": 400.0}
+    bearing = BearingLoad("", 400.0, (0.0, 0.0), d_mm=6.0, B_mm=6.0)
     seat, other = jt.Plate("coupler", 37.5, 15.5, 40.0), jt.Plate("upper_arm", 32.5, 15.5, 40.0)
     one = jt.pin("D", bearing, seat, other, 2.0)
     washer = fs.washer_mm(one["spacer"].split()[-1])[2]
@@ -223,7 +223,7 @@ def test_a_head_the_next_layer_cannot_clear_gets_spacers():
 def test_shims_close_a_pin_s_axial_float():
     """The shoulder's length is the grip, the fill washers, the shims and what float is left,
     and that is below the shims' 0.1 mm step."""
-    bearing = {"d_mm": 6.0, "B_mm": 6.0, "peak_force_N": 400.0}
+    bearing = BearingLoad("", 400.0, (0.0, 0.0), d_mm=6.0, B_mm=6.0)
     seat, other = jt.Plate("crank", 37.5, 15.5, 40.0), jt.Plate("coupler", 37.5, 15.5, 40.0)
     pin = jt.pin("C", bearing, seat, other, 2.0)
     washer = fs.washer_mm(pin["spacer"].split()[-1])[2]
@@ -315,9 +315,9 @@ def test_the_kit_names_its_fits_and_checks_each_bearing_seat(kit):
     shoulders = [f for f in fits if f["shaft"] == "f9"]
     assert len(shoulders) == 6 and all(f["min_clearance_um"] > 0 for f in shoulders)
     assert sum("spigot" in f["what"] for f in fits) == 2
-    bearing = done.strength["bearings"]["B"]
-    thin = ft.joint_fits("B", bearing, ("lower_arm", 1.02 * bearing["D_mm"], 2.0), 2200.0, 0.35)
-    delta_e_over_d = -thin[0]["min_clearance_um"] * 1e-3 * 2200.0 / bearing["D_mm"]
+    bearing = done.strength.bearings["B"]
+    thin = ft.joint_fits("B", bearing, ("lower_arm", 1.02 * bearing.D_mm, 2.0), 2200.0, 0.35)
+    delta_e_over_d = -thin[0]["min_clearance_um"] * 1e-3 * 2200.0 / bearing.D_mm
     assert thin[0]["hoop_stress_MPa"] == pytest.approx(delta_e_over_d, rel=0.02)
     assert not thin[0]["holds"]
     (words,) = _seat_problems([thin[0]])
@@ -548,7 +548,7 @@ def test_the_kit_holds_its_holes_to_the_plates_allowable_across_their_layers(kit
     factor = KitSettings().printed.across_layers_strength_factor
     assert factor < 1.0  # else the test shows nothing
     for link, along in record["allowable_along_layers_MPa"].items():
-        assert along == float(done.strength["links"][link]["allowable_MPa"])
+        assert along == done.strength.links[link].allowable_MPa
         assert record["allowable_across_layers_MPa"][link] == pytest.approx(factor * along)
     for pin in made.record["pins"].values():
         across = record["allowable_across_layers_MPa"][pin["plates"][1]]

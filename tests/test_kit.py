@@ -7,6 +7,7 @@ assumptions, the BOM's quantities, and STEP and DXF files read back by their ker
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 import ezdxf
 import numpy as np
@@ -18,6 +19,7 @@ from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import joints as jt
 from qsm.embodiment.kit.interfaces import interface_of, read_interfaces
 from qsm.embodiment.stiffness.frame import beam_stiffness
+from qsm.embodiment.strength.record import BearingLoad
 from qsm.realization.kit import kit_layout as kl
 from qsm.realization.kit.kit_bom import fastener_rows, screw_lines
 from qsm.realization.kit.kit_files import write_dxf, write_step
@@ -37,7 +39,7 @@ def test_screw_lengths_are_the_shortest_preferred_that_span_grip_and_tail():
 
 
 def test_a_pin_is_checked_as_a_cantilever_from_its_printed_bore():
-    bearing = {"d_mm": 6.0, "B_mm": 6.0, "peak_force_N": 400.0}
+    bearing = BearingLoad("", 400.0, (0.0, 0.0), d_mm=6.0, B_mm=6.0)
     seat = jt.Plate("lower_arm", 20.0, 15.5, 20.0)
     other = jt.Plate("upper_arm", 20.0, 15.5, 20.0)
     pin = jt.pin("B", bearing, seat, other, 2.0)
@@ -51,7 +53,7 @@ def test_a_pin_is_checked_as_a_cantilever_from_its_printed_bore():
     assert pin["screw"] == "ISO 7379 6 x 45 - M5"  # 20 + 1.6 + 20 = 41.6 -> 45
     assert pin["fill_spacers"] == 2  # 3.4 mm of shoulder left: two 1.6 mm spacers
     assert pin["holds"]
-    weak = jt.pin("B", bearing | {"peak_force_N": 4000.0}, seat, other, 2.0)
+    weak = jt.pin("B", replace(bearing, peak_force_N=4000.0), seat, other, 2.0)
     assert not weak["holds"]  # 43 mm of printed bore needed, and 10x the moment
 
 

@@ -5,7 +5,7 @@ import json
 import re
 import subprocess
 import sys
-from dataclasses import replace
+from dataclasses import fields, replace
 from pathlib import Path
 
 import numpy as np
@@ -15,6 +15,7 @@ from workflow_helpers import assert_one_machine, copy_workflow, snakemake
 from qsm import load_config
 from qsm.config.settings.realization import realization_of
 from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.strength.record import BearingLoad, strength_json, strength_of
 from qsm.physics.kinematics import end_effector
 from qsm.realization.accuracy.accuracy_budget import AccuracySettings
 from qsm.realization.selection.machine import machine_record, realization_from_record
@@ -44,6 +45,7 @@ def test_the_record_rebuilds_the_realisation_it_was_written_from(tolerance_mm):
     assert again.accuracy.record() == done.accuracy.record()
     assert again.part_settings == done.part_settings
     assert again.tool_flange == done.tool_flange and again.fixed_point == done.fixed_point
+    assert again.strength == done.strength  # the typed record, every field
     for name, part in done.parts.items():
         assert again.parts[name].polygon.equals_exact(part.polygon, 0.0)
     if done.sections is None:
@@ -60,6 +62,22 @@ def test_a_tight_tolerance_records_the_floor_it_grew_the_sections_to():
     record = machine_record(done)
     assert record["sizing"]["floor"] is not None  # else the case shows nothing
     assert record["tolerance_choice"]["section_scale"] == record["sizing"]["floor"]
+
+
+def test_a_joint_without_a_bearing_is_written_without_the_catalogue_s_figures():
+    """A joint none of the bearing table fits is written with its load alone, and read back
+    as it was; a fitted one keeps every figure, a missing static safety as null."""
+    done = realize(DESIGN, _settings(1e3))
+    bare = BearingLoad("", 250.0, (30.0, 40.0))
+    record = replace(done.strength, bearings={**done.strength.bearings, "C": bare})
+    data = json.loads(dumps(strength_json(record)))
+    assert data["bearings"]["C"] == {
+        "designation": "",
+        "peak_force_N": 250.0,
+        "at_theta_deg": [30.0, 40.0],
+    }
+    assert set(data["bearings"]["B"]) == {f.name for f in fields(BearingLoad)}
+    assert strength_of(data) == record
 
 
 def test_a_record_of_another_version_is_refused():

@@ -61,8 +61,8 @@ def test_the_realisation_carries_its_tool_flange():
     done = realize(DESIGN, settings)
     tool = done.tool_kg
     assert tool > 0.1 and done.tool_flange["holds"]
-    assert done.strength["tool_flange_kg"] == tool
-    assert done.strength["payload_kg"] == settings.motion.payload_kg
+    assert done.strength.tool_flange_kg == tool
+    assert done.strength.payload_kg == settings.motion.payload_kg
     scale = None if done.scale is None else np.asarray(done.scale)[None]
     drives = replace(settings.drives, min_stiffness_Nm_rad=done.accuracy.min_stiffness_Nm_rad)
     drives = replace(drives, task_duty=None)

@@ -23,6 +23,7 @@ from qsm.embodiment.stiffness.frame import (
 )
 from qsm.embodiment.strength.loads import Inertials
 from qsm.embodiment.strength.printed import PrintedMaterial
+from qsm.embodiment.strength.record import BearingLoad
 from qsm.realization.accuracy.accuracy_budget import ArmModel, creep_drift_m
 
 DESIGN = np.array([0.55, 0.22, 0.5, 0.16, 0.42, 0.12])  # m
@@ -143,7 +144,7 @@ def test_findleys_law():
 
 def test_a_pins_printed_bearing_length_grows_as_the_layers_allow_less():
     """F / (sigma d): the printed length that carries a pin's force, across the layers."""
-    bearing = {"d_mm": 8.0, "B_mm": 7.0, "peak_force_N": 900.0}
+    bearing = BearingLoad("", 900.0, (0.0, 0.0), d_mm=8.0, B_mm=7.0)
     seat = jt.Plate("upper_arm", 20.0, 15.5, 20.0)
     plain = jt.pin("B", bearing, seat, jt.Plate("lower_arm", 20.0, 15.5, 20.0), 2.0)
     across = jt.pin("B", bearing, seat, jt.Plate("lower_arm", 20.0, 15.5, 20.0, 15.5 * 0.84), 2.0)

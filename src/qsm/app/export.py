@@ -49,6 +49,7 @@ from qsm.config.settings import actuation, physics, realization
 from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.parts.link_parts import part_meshes
 from qsm.embodiment.parts.printing import link_printability
+from qsm.embodiment.strength.record import strength_json
 from qsm.optimization.verify import verify_design
 from qsm.physics.cad import CadError, CadSettings, mass_properties
 from qsm.physics.duty import duty_cycle
@@ -114,7 +115,7 @@ def export_design(
     except CadError as exc:
         raise ValueError(f"config 'cad': the link section does not fit this design: {exc}") from exc
     accuracy = _accuracy(done, config)
-    scale, strength, parts = done.scale, done.strength, done.parts
+    scale, parts = done.scale, done.parts
     verified = verify_design(d, fit, duty, cad, payload, None if scale is None else np.array(scale))
     performance = {k: verified[k] for k in TRUE_KEYS}
     task = task_record(config["task"]["points"])
@@ -131,7 +132,7 @@ def export_design(
         },
         "true_performance": performance,
         "printability": printability,
-        "strength": strength,
+        "strength": strength_json(done.strength),
         "parts": {name: {"holes": p.holes} for name, p in parts.items()},
         "drives": drives,
         "tool_flange_kg": done.tool_kg,

@@ -22,9 +22,12 @@ d^2)``, and the hoop stress at the bore ``p k``, within the plate's allowable.
 from __future__ import annotations
 
 from dataclasses import asdict, dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from qsm.embodiment.kit.fasteners import table
+
+if TYPE_CHECKING:
+    from qsm.embodiment.strength.record import BearingLoad
 
 #: The hole classes and shaft classes :func:`limits_um` knows.
 HOLES = ("H7", "N7", "P7")
@@ -114,20 +117,20 @@ def seat_stress_MPa(seat: Fit, boss_d_mm: float, e_MPa: float, nu: float) -> flo
 
 
 def joint_fits(
-    joint: str, bearing: dict[str, Any], seat: tuple[str, float, float], e_MPa: float, nu: float
+    joint: str, bearing: BearingLoad, seat: tuple[str, float, float], e_MPa: float, nu: float
 ) -> list[dict[str, Any]]:
     """Joint ``joint``'s fits (module docs): its ``bearing``'s (``d_mm``, ``D_mm``) outer ring
     in its printed ``seat`` (link, boss diameter mm, allowable MPa), with the seat's hoop
     stress and whether the ring stays held at the least interference, and its shoulder in
     the ring and in the other plate; none without a bearing."""
-    if not bearing.get("D_mm"):
+    if not bearing.D_mm:
         return []
     link, boss, allowable = seat
     where = f"bearing {joint}'s outer ring in the {link.replace('_', ' ')}'s bore"
-    ring = kit_fit("ring seat", where, bearing["D_mm"])
+    ring = kit_fit("ring seat", where, bearing.D_mm)
     stress = seat_stress_MPa(ring, boss, e_MPa, nu)
     held = ring.max_clearance_um < 0
-    d = float(bearing["d_mm"])
+    d = float(bearing.d_mm)
     return [
         ring.record()
         | {"joint": joint, "hoop_stress_MPa": stress, "allowable_MPa": allowable,

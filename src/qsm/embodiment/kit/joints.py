@@ -41,10 +41,13 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
 from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit.interfaces import DriveInterface
+
+if TYPE_CHECKING:
+    from qsm.embodiment.strength.record import BearingLoad
 
 #: Yield strength (MPa) of the hubs' and adapters' steel: C45+N, EN 10083-2 (d <= 16 mm).
 HUB_YIELD_MPA = 340.0
@@ -101,7 +104,7 @@ class Plate:
 
 def pin(
     joint: str,
-    bearing: dict[str, Any],
+    bearing: BearingLoad,
     seat: Plate,
     other: Plate,
     required_sf: float,
@@ -112,7 +115,7 @@ def pin(
     washers and the bore of ``other``, and its check; the shoulder's length beyond the grip is
     filled with spacers, and the float they leave with DIN 988 shim rings to below
     :data:`SHIM_MM`."""
-    d, force = float(bearing["d_mm"]), float(bearing["peak_force_N"])
+    d, force = float(bearing.d_mm), bearing.peak_force_N
     washer = _spacer(d)
     gap = spacers * washer[2]
     grip = seat.thickness_mm + gap + other.thickness_mm
@@ -122,7 +125,7 @@ def pin(
     float_mm = screw.length_mm - grip - fill * washer[2] if screw else 0.0
     shims = math.floor(float_mm / SHIM_MM + 1e-9) * SHIM_MM
     bore_mm = force / (other.bearing_allowable_MPa * d)  # printed length that carries F
-    arm = float(bearing["B_mm"]) / 2 + gap + bore_mm / 2
+    arm = float(bearing.B_mm) / 2 + gap + bore_mm / 2
     bending = 32 * force * arm / (math.pi * d**3)
     shear = 4 * force / (math.pi * d**2)
     von_mises = math.hypot(bending, math.sqrt(3) * shear)

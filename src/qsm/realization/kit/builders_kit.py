@@ -14,7 +14,7 @@ from __future__ import annotations
 
 import math
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any, NamedTuple
 
 import numpy as np
@@ -28,6 +28,7 @@ from qsm.embodiment.kit import joints as jt
 from qsm.embodiment.kit.interfaces import DriveInterface, interface_of
 from qsm.embodiment.parts.link_parts import LinkPart
 from qsm.embodiment.strength.printed import PrintedMaterial
+from qsm.embodiment.strength.record import BearingLoad
 from qsm.physics.kinematics import pose
 from qsm.realization.kit import kit_bom as kb
 from qsm.realization.kit import kit_hardware as kh
@@ -81,15 +82,15 @@ def _plates(
 ) -> dict[str, dict[str, jt.Plate]]:
     """Each link's plate at each of its joints (thickness, allowables in the plane and across
     the layers, boss), mm and MPa."""
-    links = done.strength["links"]
+    links = done.strength.links
     return {
         name: {
             b.joint: jt.Plate(
                 name,
                 1e3 * part.section.thickness_m,
-                float(links[name]["allowable_MPa"]),
+                links[name].allowable_MPa,
                 1e3 * b.boss_radius_m,
-                printed.across_layers_MPa(float(links[name]["allowable_MPa"])),
+                printed.across_layers_MPa(links[name].allowable_MPa),
             )
             for b in part.bores
         }
@@ -285,20 +286,20 @@ def spacer_counts(
     return out
 
 
-def _bearing(done: Realization, joint: str) -> dict[str, Any]:
+def _bearing(done: Realization, joint: str) -> BearingLoad:
     """The bearing of ``joint`` (bore ``d_mm``, width ``B_mm``, ``peak_force_N``); where none
     of the catalogue fits, the bore the parts were drawn with (width 0)."""
-    record = dict(done.strength["bearings"][joint])
-    if record.get("d_mm") is None:
+    bearing = done.strength.bearings[joint]
+    if bearing.d_mm is None:
         bores = [b for p in done.parts.values() for b in p.bores if b.joint == joint]
         small = min(b.diameter_m for b in bores if b.diameter_m > 0)
-        record |= {"d_mm": 1e3 * small, "B_mm": 0.0}
-    return record
+        bearing = replace(bearing, d_mm=1e3 * small, B_mm=0.0)
+    return bearing
 
 
 def _safety(done: Realization) -> float:
     """The links' required safety factor, which every part of the kit keeps."""
-    return max(float(v["required_safety_factor"]) for v in done.strength["links"].values())
+    return done.strength.required_safety_factor
 
 
 def _pins(
@@ -424,7 +425,7 @@ def _cheeks(
     tool in the plane by at most half the base's share of ``tolerance_mm``; the thinnest plate
     that holds, takes its fixing screws and keeps its tilt's error at the tool within half the
     tilt's share (the thickest when none does)."""
-    force = float(done.strength["bearings"]["A"]["peak_force_N"])
+    force = done.strength.bearings["A"].peak_force_N
     allow = (bs.BASE_SHARE * tolerance_mm / 2, bs.TILT_SHARE * tolerance_mm / 2)
     sf = _safety(done)
     tool_z = stack["upper_arm"] - jt.ADAPTER_MM - 1e3 * done.tool_flange.get("offset_m", 0.0)
@@ -481,7 +482,7 @@ def _hubs(
     """The hubs (:func:`qsm.embodiment.kit.joints.hub`), each boss reaching through its cheek
     to the drive's face; a motor without a drive has no hub that holds."""
     bearing = _bearing(done, "A")
-    force, spigot = float(bearing["peak_force_N"]), float(bearing["d_mm"])
+    force, spigot = bearing.peak_force_N, float(bearing.d_mm)
     boss = {
         1: stack["lower_arm"] - jt.FLANGE_MM + cheeks[0]["pocket"]["web_mm"],
         2: stack["cheek_2"] - stack["crank_end"] - jt.FLANGE_MM + cheeks[1]["pocket"]["web_mm"],
@@ -604,7 +605,7 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     realisation chose and carried (``done.tool_flange``). Its ``parts`` are those with the hubs'
     screw holes."""
     plates, drives = _plates(done, parts, settings.printed), _drives(done, settings)
-    screws = _hub_screws(plates, drives, float(_bearing(done, "A")["d_mm"]))
+    screws = _hub_screws(plates, drives, float(_bearing(done, "A").d_mm))
     pins = _pins(done, plates, None)
     pins = _pins(done, plates, spacer_counts(done, parts, pins, screws, settings))
     arms = {"B": 1e3 * float(done.design[0]), "C": 1e3 * float(done.design[1])}  # l1, l2
@@ -664,8 +665,7 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
 def _printed_record(done: Realization, printed: PrintedMaterial) -> dict[str, Any]:
     """The printed material as the kit uses it: its orientation and factors, and each link's
     allowable (MPa) along its layers and across them."""
-    links = done.strength["links"]
-    along = {name: float(r["allowable_MPa"]) for name, r in links.items()}
+    along = {name: r.allowable_MPa for name, r in done.strength.links.items()}
     across = {name: printed.across_layers_MPa(a) for name, a in along.items()}
     return printed.record() | {
         "allowable_along_layers_MPa": along,
@@ -688,7 +688,7 @@ def _fits(
     for j, (seat, _) in PIN_PLATES.items():
         plate = plates[seat][j]
         boss = (seat, 2 * plate.boss_mm, plate.allowable_MPa)
-        out += ft.joint_fits(j, done.strength["bearings"][j], boss, e, nu)
+        out += ft.joint_fits(j, done.strength.bearings[j], boss, e, nu)
     for hub, drive in zip(hubs, drives, strict=True):
         shaft = drive["interface"].shaft_d_mm if drive["interface"].output == "shaft" else 0.0
         out += ft.hub_fits(hub["motor"], hub["link"], hub["spigot_d_mm"], shaft)
@@ -716,19 +716,18 @@ def _with_sequence(
     """``record`` with its hardware's solids (:mod:`qsm.realization.kit.kit_hardware`), its
     assembly sequence (:mod:`qsm.realization.kit.kit_assembly`), the steps as a person reads
     them, each part's step, and the sequence's check and problem."""
-    kit_hardware = kh.hardware(record, done.design, done.strength["bearings"])
+    kit_hardware = kh.hardware(record, done.design, done.strength.bearings)
     record["layout"]["hardware"] = kit_hardware.solids
     record["layout"]["moves_with"] |= kit_hardware.moves_with
     moving = mp.moving_parts(record["layout"], done.design, kit_hardware.step)
     record["moving_parts"] = props_to_json(moving)  # for the dynamics after the kit
     # a washer's clamp presses the plate across its layers
     allow = {
-        k: s.printed.across_layers_MPa(float(v["allowable_MPa"]))
-        for k, v in done.strength["links"].items()
+        k: s.printed.across_layers_MPa(v.allowable_MPa) for k, v in done.strength.links.items()
     }
     found = kit_sequence(
         record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow,
-        done.strength["bearings"], kit_hardware.step,
+        done.strength.bearings, kit_hardware.step,
     )  # fmt: skip
     sequence = record_of(found, kit_hardware.step)
     record["assembly_sequence"] = sequence

@@ -22,6 +22,7 @@ printed plate bears under the washer where a screw clamps one.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import replace
 from typing import Any
 
@@ -29,6 +30,7 @@ import numpy as np
 
 from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import joints as jt
+from qsm.embodiment.strength.record import BearingLoad
 from qsm.physics.kinematics import pose
 from qsm.realization.kit import kit_layout as kl
 from qsm.realization.kit.kit_sequence import (
@@ -446,11 +448,11 @@ def pin_step(
                 (), needs, _z(-up), tool, tuple(reach))  # fmt: skip
 
 
-def press_steps(record: dict[str, Any], bearings: dict[str, Any]) -> list[Step]:
+def press_steps(record: dict[str, Any], bearings: Mapping[str, BearingLoad]) -> list[Step]:
     """On the bench: each pin joint's bearing pressed into its seat, and a hub's heat-set
     inserts pressed into its link with a soldering iron."""
     out = [
-        Step(f"bearing {j}", f"Press the {b['designation']} bearing into the "
+        Step(f"bearing {j}", f"Press the {b.designation} bearing into the "
              f"{PIN_PLATES[j][0].replace('_', ' ')}'s seat at {j}, flush with the face toward "
              f"the {PIN_PLATES[j][1].replace('_', ' ')}.", (), (), (0.0, 0.0, 0.0),
              Tool("press", "arbor press, on the outer ring"))
@@ -508,7 +510,12 @@ def arm_steps(record: dict[str, Any], design, angles, placed, allow: float) -> l
 
 
 def assembly_steps(
-    record: dict[str, Any], design, angles, placed, allow: dict, bearings: dict
+    record: dict[str, Any],
+    design,
+    angles,
+    placed,
+    allow: dict,
+    bearings: Mapping[str, BearingLoad],
 ) -> list[Step]:
     """Every step of the kit in a natural order (the sort keeps it where it may), ``allow``
     each link's allowable stress (MPa) under a washer, ``bearings`` the joints' bearings."""
@@ -540,7 +547,7 @@ def kit_sequence(
     theta1_deg,
     t2_min,
     allow: dict,
-    bearings: dict,
+    bearings: Mapping[str, BearingLoad],
     hardware_step: dict[str, str] | None = None,
 ):
     """The assembly sequence (:func:`qsm.realization.kit.kit_sequence.sequence`) of the kit

@@ -16,6 +16,7 @@ is the cylinder of its across-corners size; the sockets are left out.
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
@@ -23,6 +24,7 @@ import numpy as np
 
 from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import joints as jt
+from qsm.embodiment.strength.record import BearingLoad
 from qsm.physics.kinematics import pose
 from qsm.realization.kit import kit_layout as kl
 from qsm.realization.kit.kit_assembly import (
@@ -97,7 +99,7 @@ def _stacked(
     }
 
 
-def pin_hardware(record: dict[str, Any], j: str, at: tuple, bearing: dict[str, Any]) -> dict:
+def pin_hardware(record: dict[str, Any], j: str, at: tuple, bearing: BearingLoad) -> dict:
     """Pin joint ``j``'s hardware at ``at`` (mm): the bearing flush in its seat toward the other
     plate, the spacers between the plates, the screw (its head on the other plate, its
     shoulder through both, its thread beyond the seat) or the made pin, and beyond the seat
@@ -107,10 +109,10 @@ def pin_hardware(record: dict[str, Any], j: str, at: tuple, bearing: dict[str, A
     d, t_seat = pin["shoulder_d_mm"], record["layout"]["plates"][seat]["thickness_mm"]
     inner_face = nut_z - down * t_seat  # the seat's face toward the other plate
     out = {}
-    if bearing.get("D_mm"):
-        b = float(bearing["B_mm"])
-        name = f"{bearing['designation']} bearing, joint {j}"
-        out[name] = _part([(bearing["D_mm"], *_span(inner_face, b, down))], at, seat, d)
+    if bearing.D_mm:
+        b = float(bearing.B_mm)
+        name = f"{bearing.designation} bearing, joint {j}"
+        out[name] = _part([(bearing.D_mm, *_span(inner_face, b, down))], at, seat, d)
         out[name]["step"] = f"bearing {j}"
     spacer = pin["spacer"].split()[-1]
     w = fs.washer_mm(spacer)
@@ -288,7 +290,9 @@ class Hardware:
     step: dict[str, str]
 
 
-def hardware(record: dict[str, Any], design: np.ndarray, bearings: dict[str, Any]) -> Hardware:
+def hardware(
+    record: dict[str, Any], design: np.ndarray, bearings: Mapping[str, BearingLoad]
+) -> Hardware:
     """Every solid of the kit's hardware at the layout's pose."""
     angles = np.radians(record["layout"]["pose_deg"])
     p = pose(design, *angles)

@@ -20,6 +20,7 @@ from qsm.embodiment.parts.printing import (
     smallest_build_volume,
 )
 from qsm.embodiment.strength.advice import strength_advice
+from qsm.embodiment.strength.record import strength_json
 from qsm.physics.clearance import disk_clearance_m
 from qsm.physics.kinematics import DESIGN_COLUMNS
 from qsm.physics.mirror import task_record
@@ -152,8 +153,8 @@ def _smallest_realised(
     smallest.update(
         needed_volume_mm=round_up_mm(need),
         exact_volume_mm=need.tolist(),
-        holds_loads=bool(other.strength["holds_loads"]),
-        strength_utilisation=float(other.strength["utilisation"]),
+        holds_loads=other.strength.holds_loads,
+        strength_utilisation=other.strength.utilisation,
     )
     return smallest
 
@@ -184,9 +185,9 @@ def machine_top(
     record["printable"] = all(link["fits"] for link in fit.values())
     record["printer_box_mm"] = {name: list(link["dims_mm"]) for name, link in fit.items()}
     record["printer_volume_mm"] = [float(v) for v in volume_mm]
-    record["holds_loads"] = bool(done.strength["holds_loads"])
+    record["holds_loads"] = done.strength.holds_loads
     record["has_drives"] = done.has_drives
-    record["strength"], record["drives"] = done.strength, done.drives
+    record["strength"], record["drives"] = strength_json(done.strength), done.drives
     record["tool_flange"], record["tool_flange_kg"] = done.tool_flange, done.tool_kg
     record["fixed_point"] = fixed_point_record(done.fixed_point)
     record["torque_limits_Nm"] = list(done.torque_limits_Nm)

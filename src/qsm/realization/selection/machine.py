@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from qsm.embodiment.parts.link_parts import link_parts
+from qsm.embodiment.strength.record import strength_json, strength_of
 from qsm.embodiment.strength.sizing import SizedSections, SizingSettings
 from qsm.realization.accuracy.accuracy_sizing import AccuracyChoice
 from qsm.realization.selection.pipeline import (
@@ -107,7 +108,7 @@ def machine_record(done: Realization) -> dict[str, Any]:
         "sizing_iterations": None if sections is None else int(sections.iterations[0]),
         "bearing_rows": [int(r) for r in done.bearing_rows],
         "tolerance_choice": _accuracy_record(done.accuracy),
-        "strength": done.strength,
+        "strength": strength_json(done.strength),
         "drives": done.drives,
         "tool_flange": done.tool_flange,
         "fixed_point": fixed_point_record(done.fixed_point),
@@ -147,7 +148,7 @@ def realization_from_record(data: Mapping[str, Any], settings: RealizationSettin
     return Realization(
         design=d,
         scale=scale,
-        strength=dict(data["strength"]),
+        strength=strength_of(data["strength"]),
         drives=dict(data["drives"]),
         bearing_rows=rows,
         part_settings=part_settings,

@@ -25,8 +25,8 @@ from qsm.embodiment.parts.link_parts import LinkPart, PartSettings, link_parts
 from qsm.embodiment.parts.part_mass import part_mass_properties
 from qsm.embodiment.strength.link_checks import StrengthCheck
 from qsm.embodiment.strength.loads import Inertials
+from qsm.embodiment.strength.record import StrengthRecord, strength_record
 from qsm.embodiment.strength.sizing import SizedSections, SizingSettings
-from qsm.embodiment.strength.verdict import strength_record
 from qsm.physics.cad import CadSettings, MassProperties
 from qsm.physics.duty import Duty
 from qsm.physics.inverse_kinematics import joint_path
@@ -108,7 +108,7 @@ class Realization:
 
     design: NDArray[np.float64]
     scale: tuple[float, ...] | None
-    strength: dict[str, Any]
+    strength: StrengthRecord
     drives: dict[str, Any]
     bearing_rows: list[int]
     part_settings: PartSettings
@@ -169,7 +169,7 @@ def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
         if change <= loop.tolerance * payload:
             break
     converged = change <= loop.tolerance * payload
-    strength = {**done.strength, "payload_kg": payload, "tool_flange_kg": carried[-1]}
+    strength = replace(done.strength, payload_kg=payload, tool_flange_kg=carried[-1])
     point = FixedPoint(tuple(carried), converged)
     limits = _torque_limits(done, carrying(settings, carried[-1]))
     return replace(
@@ -219,7 +219,7 @@ def realize_once(design: ArrayLike, settings: RealizationSettings) -> Realizatio
     realised = np.ones(4) if scale is None else np.asarray(scale)
     accuracy = as_realised(accuracy, d, realised, report, check, settings.accuracy, settings.motion)
     part_settings = replace(settings.parts, scale=scale)
-    names = {joint: b["designation"] for joint, b in strength["bearings"].items()}
+    names = {joint: b.designation for joint, b in strength.bearings.items()}
     rows = bearing_rows(names, part_settings.table)
     return Realization(
         design=d,
