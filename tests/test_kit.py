@@ -6,6 +6,7 @@ assumptions, the BOM's quantities, and STEP and DXF files read back by their ker
 
 from __future__ import annotations
 
+import json
 import math
 from dataclasses import replace
 
@@ -59,13 +60,16 @@ def test_a_pin_is_checked_as_a_cantilever_from_its_printed_bore():
 
 def test_the_tool_flange_is_the_smallest_pattern_that_carries_the_load():
     light = jt.tool_flange(50.0, 0.05, 40.0, 20.0, 2.0)
-    assert light["pattern"] == "ISO 9409-1-31.5-4-M5"
+    assert light.pattern == "ISO 9409-1-31.5-4-M5"
     # the most loaded of 4 bolts on r = 15.75 mm: 2 F e / (n r) + F / n
-    assert light["bolt_force_N"] == pytest.approx(2 * 50 * 50 / (4 * 15.75) + 50 / 4)
+    assert light.bolt_force_N == pytest.approx(2 * 50 * 50 / (4 * 15.75) + 50 / 4)
     # 60 kN at 0.2 m is too much for the 31.5 pattern's M5 bolts (14.2 mm^2 x 640 MPa / 2)
     heavy = jt.tool_flange(2000.0, 0.2, 60.0, 20.0, 2.0)
-    assert heavy["pattern"] != light["pattern"] and heavy["holds"]
-    assert not jt.tool_flange(2000.0, 0.2, 15.0, 20.0, 2.0)["holds"]  # no face fits the boss
+    assert heavy.pattern != light.pattern and heavy.holds
+    bare = jt.tool_flange(2000.0, 0.2, 15.0, 20.0, 2.0)  # no face fits the boss
+    assert not bare.holds and bare.record()["tried"] == list(bare.tried)
+    for flange in (light, bare):  # the record reads back as the flange
+        assert jt.ToolFlange.of(json.loads(json.dumps(flange.record()))) == flange
 
 
 def _cantilever_top(load: bs.CheekLoad, h: float, b: float, t: float) -> tuple[float, float]:

@@ -60,7 +60,7 @@ def test_the_realisation_carries_its_tool_flange():
     settings = _settings()
     done = realize(DESIGN, settings)
     tool = done.tool_kg
-    assert tool > 0.1 and done.tool_flange["holds"]
+    assert tool > 0.1 and done.tool_flange.holds
     assert done.strength.tool_flange_kg == tool
     assert done.strength.payload_kg == settings.motion.payload_kg
     scale = None if done.scale is None else np.asarray(done.scale)[None]
@@ -92,7 +92,7 @@ def test_the_loop_stops_at_its_fixed_point():
     assert point.converged and 2 <= point.iterations <= 4
     payload = _settings().motion.payload_kg  # the loop's tolerance is a share of it
     assert point.tool_kg[-1] == pytest.approx(
-        settled.tool_flange["moving_mass_kg"], abs=1e-12 * payload
+        settled.tool_flange.moving_mass_kg, abs=1e-12 * payload
     )
     once = realize(DESIGN, _settings(tolerance=1e-12, max_iterations=1))
     assert once.fixed_point.iterations == 1 and not once.fixed_point.converged

@@ -40,6 +40,7 @@ factor (:func:`tool_flange`).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any
 
@@ -334,9 +335,72 @@ def flange_mass_kg(face_d_mm: float, screw: fs.Fastener) -> float:
     return volume_mm3 * 1e-9 * STEEL_KG_M3
 
 
+#: What :func:`tool_flange` chooses by.
+FLANGE_RULE = (
+    "the smallest ISO 9409-1 pattern whose most loaded bolt, 2 F e / (n r) + F / n, and whose "
+    "centre screw, F e / (d2 / 2) + F, stay within yield / the safety factor, and whose face "
+    "fits the boss at E"
+)
+
+
+#: A chosen flange's figures in its record, in order.
+_FLANGE_KEYS = (
+    *("moving_mass_kg", "pattern", "pitch_circle_mm", "face_d_mm", "recess_d_mm", "bolts"),
+    *("thread", "adapter_mm", "centre_screw", "payload_force_N", "offset_m", "bolt_force_N"),
+    *("centre_screw_force_N", "safety_factor", "required_safety_factor"),
+)
+
+
+@dataclass(frozen=True)
+class ToolFlange:
+    """The tool flange at E (:func:`tool_flange`) for ``payload_force_N`` (N): its ISO 9409-1
+    ``pattern`` (None: none holds and fits; ``tried``, the patterns tried), and for one that
+    does its moving mass (kg), pitch circle, face and recess diameters (mm), bolts and thread,
+    the adapter disc's thickness (mm), the centre screw, the payload's offset from the face (m),
+    the most loaded bolt's and the centre screw's forces (N), and the safety factor against
+    yield and the required one."""
+
+    payload_force_N: float
+    pattern: str | None = None
+    tried: tuple[str, ...] = ()
+    moving_mass_kg: float = 0.0
+    pitch_circle_mm: float | None = None
+    face_d_mm: float | None = None
+    recess_d_mm: float | None = None
+    bolts: int | None = None
+    thread: str | None = None
+    adapter_mm: float | None = None
+    centre_screw: str | None = None
+    offset_m: float = 0.0
+    bolt_force_N: float | None = None
+    centre_screw_force_N: float | None = None
+    safety_factor: float | None = None
+    required_safety_factor: float | None = None
+
+    @property
+    def holds(self) -> bool:
+        """A pattern carries the force and fits the boss."""
+        return self.pattern is not None
+
+    def record(self) -> dict[str, Any]:
+        """As JSON-ready values: a chosen flange's figures and its rule, else the patterns
+        tried."""
+        if not self.holds:
+            tried = list(self.tried)
+            return {"pattern": None, "tried": tried, "payload_force_N": self.payload_force_N,
+                    "holds": False}  # fmt: skip
+        return {k: getattr(self, k) for k in _FLANGE_KEYS} | {"holds": True, "rule": FLANGE_RULE}
+
+    @classmethod
+    def of(cls, data: Mapping[str, Any]) -> ToolFlange:
+        """The flange :meth:`record` wrote."""
+        kept = {k: v for k, v in data.items() if k not in ("holds", "rule")}
+        return cls(**{**kept, "tried": tuple(data.get("tried", ()))})
+
+
 def tool_flange(
     force_N: float, offset_m: float, boss_mm: float, plate_mm: float, required_sf: float
-) -> dict[str, Any]:
+) -> ToolFlange:
     """The tool flange at E: a steel adapter disc (:data:`ADAPTER_MM` thick) held to the upper
     arm (``plate_mm`` thick) by one ISO 4762 M8 screw through the arm's tool hole into the disc,
     with the smallest ISO 9409-1 pattern (tapped) whose bolts carry ``force_N`` at ``offset_m``
@@ -354,26 +418,8 @@ def tool_flange(
             screw = fs.cap_screw(
                 "M8", plate_mm + fs.washer_mm("M8")[2], True, "tool flange", ADAPTER_MM
             )
-            return {
-                "moving_mass_kg": flange_mass_kg(d2, screw),
-                "pattern": tried[-1],
-                "pitch_circle_mm": d1,
-                "face_d_mm": d2,
-                "recess_d_mm": d3,
-                "bolts": n,
-                "thread": thread,
-                "adapter_mm": ADAPTER_MM,
-                "centre_screw": screw.name,
-                "payload_force_N": force_N,
-                "offset_m": offset_m,
-                "bolt_force_N": bolt,
-                "centre_screw_force_N": centre,
-                "safety_factor": sf,
-                "required_safety_factor": required_sf,
-                "holds": True,
-                "rule": "the smallest ISO 9409-1 pattern whose most loaded bolt, "
-                "2 F e / (n r) + F / n, and whose centre screw, F e / (d2 / 2) + F, "
-                "stay within yield / the safety factor, and whose face fits the boss "
-                "at E",
-            }
-    return {"pattern": None, "tried": tried, "payload_force_N": force_N, "holds": False}
+            return ToolFlange(
+                force_N, tried[-1], (), flange_mass_kg(d2, screw), d1, d2, d3, n, thread,
+                ADAPTER_MM, screw.name, offset_m, bolt, centre, sf, required_sf,
+            )  # fmt: skip
+    return ToolFlange(force_N, None, tuple(tried))

@@ -428,7 +428,7 @@ def _cheeks(
     force = done.strength.bearings["A"].peak_force_N
     allow = (bs.BASE_SHARE * tolerance_mm / 2, bs.TILT_SHARE * tolerance_mm / 2)
     sf = _safety(done)
-    tool_z = stack["upper_arm"] - jt.ADAPTER_MM - 1e3 * done.tool_flange.get("offset_m", 0.0)
+    tool_z = stack["upper_arm"] - jt.ADAPTER_MM - 1e3 * done.tool_flange.offset_m
     h = max(drop_mm, *(d["interface"].body_d_mm / 2 for d in drives)) + bs.CLEARANCE_MM
     out = []
     for k, drive in enumerate(drives, 1):
@@ -618,7 +618,7 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     for hub, drive in zip(hubs, drives, strict=True):
         if "set_screw" in hub:
             hub["set_screw_on_shaft_mm"] = set_screw_reach_mm(hub, drive, stack, cheeks)
-    flange = done.tool_flange
+    flange = done.tool_flange.record()
     table = bs.table_screws(
         [c["load"] for c in cheeks],
         cheeks[0]["height_mm"],

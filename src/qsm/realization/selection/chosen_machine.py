@@ -188,7 +188,7 @@ def machine_top(
     record["holds_loads"] = done.strength.holds_loads
     record["has_drives"] = done.has_drives
     record["strength"], record["drives"] = strength_json(done.strength), done.drives
-    record["tool_flange"], record["tool_flange_kg"] = done.tool_flange, done.tool_kg
+    record["tool_flange"], record["tool_flange_kg"] = done.tool_flange.record(), done.tool_kg
     record["fixed_point"] = fixed_point_record(done.fixed_point)
     record["torque_limits_Nm"] = list(done.torque_limits_Nm)
     record["candidate"] = candidate

@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from qsm.embodiment.kit.joints import ToolFlange
 from qsm.embodiment.parts.link_parts import link_parts
 from qsm.embodiment.strength.record import strength_json, strength_of
 from qsm.embodiment.strength.sizing import SizedSections, SizingSettings
@@ -110,7 +111,7 @@ def machine_record(done: Realization) -> dict[str, Any]:
         "tolerance_choice": _accuracy_record(done.accuracy),
         "strength": strength_json(done.strength),
         "drives": done.drives,
-        "tool_flange": done.tool_flange,
+        "tool_flange": done.tool_flange.record(),
         "fixed_point": fixed_point_record(done.fixed_point),
         "torque_limits_Nm": list(done.torque_limits_Nm),
     }
@@ -156,7 +157,7 @@ def realization_from_record(data: Mapping[str, Any], settings: RealizationSettin
         accuracy=_accuracy_of(data["tolerance_choice"]),
         strength_check=check,
         sections=sections,
-        tool_flange=dict(data["tool_flange"]),
+        tool_flange=ToolFlange.of(data["tool_flange"]),
         fixed_point=FixedPoint(tuple(tool_kg), bool(data["fixed_point"]["converged"])),
         torque_limits_Nm=tuple(float(t) for t in data["torque_limits_Nm"]),
     )

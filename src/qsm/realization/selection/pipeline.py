@@ -20,7 +20,7 @@ from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.embodiment.drives.torque_limits import torque_limits_Nm
-from qsm.embodiment.kit.joints import tool_flange
+from qsm.embodiment.kit.joints import ToolFlange, tool_flange
 from qsm.embodiment.parts.link_parts import LinkPart, PartSettings, link_parts
 from qsm.embodiment.parts.part_mass import part_mass_properties
 from qsm.embodiment.strength.link_checks import StrengthCheck
@@ -116,7 +116,7 @@ class Realization:
     accuracy: AccuracyChoice
     strength_check: StrengthCheck
     sections: SizedSections | None
-    tool_flange: dict[str, Any] = field(default_factory=dict)
+    tool_flange: ToolFlange | None = None
     fixed_point: FixedPoint = FixedPoint((0.0,), True)
     torque_limits_Nm: tuple[float, float] = (0.0, 0.0)
 
@@ -160,12 +160,12 @@ def realize(design: ArrayLike, settings: RealizationSettings) -> Realization:
     flange = _tool_flange(d, settings, payload, math.inf, settings.strength.cad.thickness_m)
     carried: list[float] = []
     for _ in range(loop.max_iterations):
-        carried.append(float(flange.get("moving_mass_kg", 0.0)))
+        carried.append(flange.moving_mass_kg)
         done = realize_once(d, carrying(settings, carried[-1]))
         upper = done.parts["upper_arm"]
         boss = next(b.boss_radius_m for b in upper.bores if b.joint == "E")
         flange = _tool_flange(d, settings, payload + carried[-1], boss, upper.section.thickness_m)
-        change = abs(float(flange.get("moving_mass_kg", 0.0)) - carried[-1])
+        change = abs(flange.moving_mass_kg - carried[-1])
         if change <= loop.tolerance * payload:
             break
     converged = change <= loop.tolerance * payload
@@ -193,7 +193,7 @@ def _tool_flange(
     mass_kg: float,
     boss_m: float,
     thickness_m: float,
-) -> dict[str, Any]:
+) -> ToolFlange:
     """The tool flange (:func:`qsm.embodiment.kit.joints.tool_flange`) that carries ``mass_kg``
     over the duty at E on a boss of radius ``boss_m`` (m) of the upper arm ``thickness_m`` (m)
     thick, at the links' safety factor."""
