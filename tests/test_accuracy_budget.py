@@ -21,6 +21,12 @@ from qsm.embodiment.drives.compliance import (
     DEFAULT_STIFFNESS_NM_RAD,
     gear_compliance,
 )
+from qsm.embodiment.drives.report import (
+    CatalogueDrive,
+    DriveReport,
+    DriveRequirement,
+    MotorReport,
+)
 from qsm.embodiment.stiffness.error_terms import payload_force_N, sag_m, torque_reverses
 from qsm.embodiment.stiffness.frame import tool_compliance
 from qsm.physics.dynamics import inverse_dynamics, loop_state
@@ -175,13 +181,12 @@ def test_tracking_error_of_the_first_point_is_its_worse_hold():
 def test_a_drive_without_a_stiffness_keeps_the_others():
     from qsm.realization.accuracy.accuracy_budget import RIGID_FACTOR, drive_terms
 
-    report = {
-        "motors": {
-            "motor1": {"drive": {"torsional_stiffness_Nm_rad": 2.0e3}},
-            "motor2": {"drive": {}},
-        }
-    }
-    k = drive_terms(report)[0]
+    def motor(stiffness: float) -> MotorReport:
+        drive = CatalogueDrive("m", "g", "M", "G", 10.0, 1.0, 0.0, 0.0, stiffness, "", "")
+        return MotorReport(True, -0.5, DriveRequirement(1.0, 1.0, 1.0, 1.0), drive, {})
+
+    motors = {"motor1": motor(2.0e3), "motor2": motor(math.inf)}  # no stiffness known
+    k = drive_terms(DriveReport(True, "lightest", motors))[0]
     np.testing.assert_allclose(k, [2.0e3, RIGID_FACTOR * 2.0e3])
 
 

@@ -62,9 +62,9 @@ def test_the_selection_keeps_to_the_allowed_drives():
 def test_a_least_stiffness_keeps_a_motor_to_stiffer_gearboxes():
     stiffest = float(DriveCheck().stiffness_Nm_rad.max())
     report = DriveCheck(min_stiffness_Nm_rad=(0.0, stiffest)).report(DESIGN)
-    assert report["motors"]["motor2"]["drive"]["torsional_stiffness_Nm_rad"] >= stiffest
-    lightest = DriveCheck().report(DESIGN)["motors"]["motor2"]["drive"]
-    assert lightest["torsional_stiffness_Nm_rad"] < stiffest  # else the test shows nothing
+    assert report.motors["motor2"].drive.torsional_stiffness_Nm_rad >= stiffest
+    lightest = DriveCheck().report(DESIGN).motors["motor2"].drive
+    assert lightest.torsional_stiffness_Nm_rad < stiffest  # else the test shows nothing
 
 
 @pytest.fixture(scope="module")
@@ -150,9 +150,9 @@ def test_a_task_that_does_not_ask_for_growth_keeps_the_lightest_drives_and_secti
     assert done.scale is None and done.accuracy.meets is None
     assert done.accuracy.min_stiffness_Nm_rad == (0.0, 0.0)
     plain = DriveCheck().report(DESIGN)
-    for motor, chosen in done.drives["motors"].items():  # the same drives; the task met as well
-        assert chosen["drive"] == plain["motors"][motor]["drive"]
-    assert done.drives["task_motion"]["defined"] and "task_motion" not in plain
+    for motor, chosen in done.drives.motors.items():  # the same drives; the task met as well
+        assert chosen.drive == plain.motors[motor].drive
+    assert done.drives.task_motion.defined and plain.task_motion is None
     assert done.accuracy.record()["meets_target"] is None
 
 
@@ -178,7 +178,7 @@ def test_a_search_that_misses_names_the_limits_it_stopped_at():
             continue
         demand = (stiffer[0], 0.0) if motor == 1 else (0.0, stiffer[0])
         report = replace(drives, min_stiffness_Nm_rad=demand).report(DESIGN)
-        assert not report["motors"][f"motor{motor}"]["has_drive"]
+        assert not report.motors[f"motor{motor}"]["has_drive"]
 
 
 def test_the_printer_is_named_when_it_holds_a_link():

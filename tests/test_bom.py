@@ -74,11 +74,18 @@ def test_missing_bearing_and_drive_values() -> None:
 
 
 def test_a_motor_without_a_drive_is_built_with_its_nearest_drive_marked():
+    from qsm.embodiment.drives.report import (
+        CatalogueDrive,
+        DriveReport,
+        DriveRequirement,
+        MotorReport,
+    )
     from qsm.realization.selection.assembly import drive_rows
 
-    nearest = {"motor": "M", "gearbox": "G", "ratio": 50.0, "mass_kg": 1.2}
-    report = {"motors": {"motor1": {"has_drive": False, "best_drive": nearest}}}
-    rows = drive_rows(report)
+    nearest = CatalogueDrive("M", "G", "m", "g", 50.0, 1.2, 0.0, 1.0, 1e4, "", "")
+    need = DriveRequirement(1.0, 1.0, 1.0, 1.0)
+    motor = MotorReport(False, 0.5, need, nearest, {}, failing={"motor_rms": 0.5})
+    rows = drive_rows(DriveReport(True, "lightest", {"motor1": motor}))
     assert rows["motor 1"]["designation"] == "M" and rows["motor 1"]["mass_kg"] == 1.2
     assert rows["motor 1"]["notes"].startswith("NONE of the catalogue meets its duty")
     assert rows["gearbox 1"]["designation"] == "G"

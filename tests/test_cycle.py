@@ -109,8 +109,8 @@ def arm():
     check = DriveCheck()
     report = check.report(DESIGN)
     drives = [
-        OutputEnvelope.of(check.catalogue, m["drive"]["motor_key"], m["drive"]["gearbox_key"])
-        for m in report["motors"].values()
+        OutputEnvelope.of(check.catalogue, m.drive.motor_key, m.drive.gearbox_key)
+        for m in report.motors.values()
     ]
     inertials = Inertials(*batch_mass_properties(DESIGN, DEFAULT_CAD))
     return Arm(DESIGN, inertials, 5.0, drives)
@@ -178,9 +178,9 @@ def test_the_thermal_use_counts_gear_losses_by_direction(arm):
     check = DriveCheck()
     drives = check.catalogue.drives
     rows = [  # the fixture's drives
-        int(np.flatnonzero((drives["motor"] == m["drive"]["motor_key"]).to_numpy()
-                           & (drives["gearbox"] == m["drive"]["gearbox_key"]).to_numpy())[0])
-        for m in check.report(DESIGN)["motors"].values()
+        int(np.flatnonzero((drives["motor"] == m.drive.motor_key).to_numpy()
+                           & (drives["gearbox"] == m.drive.gearbox_key).to_numpy())[0])
+        for m in check.report(DESIGN).motors.values()
     ]  # fmt: skip
     arrays = check.arrays.take(np.array(rows))
     use = thermal_use(cycle, arm, arrays)

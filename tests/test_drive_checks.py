@@ -12,6 +12,7 @@ from test_drives import write_catalogue
 from qsm.dataset.columns import DRIVE_COLUMNS
 from qsm.embodiment.drives.catalogue import read_catalogue
 from qsm.embodiment.drives.drive_checks import DriveCheck
+from qsm.embodiment.drives.report import CatalogueDrive, report_json
 from qsm.embodiment.drives.selection import offer, select_drives
 from qsm.embodiment.strength.loads import Inertials, joint_loads
 from qsm.physics.cad import mass_properties
@@ -115,7 +116,7 @@ def test_g14_and_the_dataset_columns_on_a_real_design(three):
     torque = tau[0, :, 0] + j1 * check.duty.ddtheta[:, 0]
     assert row["drive1_peak_torque_Nm"] == pytest.approx(np.abs(torque).max())
     assert no_j["drive1_peak_torque_Nm"] == pytest.approx(np.abs(tau[0, :, 0]).max())
-    report = check.report(DESIGN)
+    report = report_json(check.report(DESIGN))  # the record the outputs read
     text = " ".join(drive_sentences(report))
     assert "NO DRIVE" in text and "the strongest drive" in text
     # summary.md's bullets: one per motor without a drive, with what the strongest offers
@@ -161,15 +162,13 @@ def test_a_realised_design_s_drives_hold_the_task_as_well_as_the_duty():
     report = check.report(DESIGN)
     also, need = check.task_violations(DESIGN[None])
     drives = plain.catalogue.drives
-    chosen, before = (r["motors"]["motor1"]["drive"] for r in (report, plain.report(DESIGN)))
+    chosen, before = (r.motors["motor1"].drive for r in (report, plain.report(DESIGN)))
 
-    def row(drive: dict) -> int:
-        match = (drives["motor"] == drive["motor_key"]) & (
-            drives["gearbox"] == drive["gearbox_key"]
-        )
+    def row(drive: CatalogueDrive) -> int:
+        match = (drives["motor"] == drive.motor_key) & (drives["gearbox"] == drive.gearbox_key)
         return int(np.flatnonzero(match.to_numpy())[0])
 
     assert also[0][row(chosen)] <= 0 < also[0][row(before)]
-    assert chosen["mass_kg"] > before["mass_kg"]  # the lightest that meets both is heavier
+    assert chosen.mass_kg > before.mass_kg  # the lightest that meets both is heavier
     assert need["rms_torque_Nm"][0] <= offer(plain.catalogue)[row(chosen)]["cont_torque_Nm"]
     assert need["rms_torque_Nm"][0] > offer(plain.catalogue)[row(before)]["cont_torque_Nm"]

@@ -1,5 +1,7 @@
 """Drive catalogue and selection (qsm.embodiment.drives), checked against hand computation."""
 
+import json
+from dataclasses import replace
 from pathlib import Path
 
 import mujoco
@@ -11,6 +13,7 @@ from qsm.embodiment.drives.catalogue import (
     default_catalogue_folder,
     read_catalogue,
 )
+from qsm.embodiment.drives.report import motor_json, motor_of
 from qsm.embodiment.drives.selection import offer, select_drives
 from qsm.embodiment.drives.utilization import CHECKS, utilization
 from qsm.report.drive_text import shortfall
@@ -92,7 +95,7 @@ def test_selection_on_three_drives(three):
     light = select_drives(three, tau, omega, w, rule="lightest")
     assert light.choice.tolist() == [1]
     assert light.violation[0] == pytest.approx(0.3 - 1)
-    assert light.report(0)["margins"]["motor_rms"] == pytest.approx(1 - 0.6)
+    assert light.report(0).margins["motor_rms"] == pytest.approx(1 - 0.6)
     stiff = select_drives(three, tau, omega, w, rule="smallest_inertia")
     assert stiff.choice.tolist() == [2]
     # many designs at once: 8 N m at 5 rad/s has only (B, G10); 30 N m has none
@@ -106,17 +109,21 @@ def test_selection_on_three_drives(three):
 def test_no_drive_reports_failing_limit_and_strongest(three):
     sel = select_drives(three, np.full(3, 30.0), np.zeros(3), np.ones(3))
     rep = sel.report(0)
-    assert not rep["has_drive"]
+    assert not rep.has_drive
     # (A, G10) worst check: motor RMS 30 / 8 / 0.2 = 18.75; (A, G50): motor RMS 30 / 25 / 0.2 = 6;
     # best (B, G10): motor peak 30 / 8 / 1.5 = 2.5, motor RMS 30 / 8 / 2 = 1.875, gearbox
     # 30 / 20 = 1.5 and 30 / 10 = 3
-    assert rep["best_drive"]["motor_key"] == "CU_B"
+    assert rep.drive.motor_key == "CU_B"  # the nearest drive
+    assert motor_json(rep)["best_drive"]["motor_key"] == "CU_B" and "drive" not in motor_json(rep)
     assert sel.violation[0] == pytest.approx(3 - 1)
     failing = {"motor_peak": 1.5, "motor_rms": 0.875, "gear_peak": 0.5, "gear_rms": 2.0}
-    assert rep["failing"] == pytest.approx(failing)
+    assert rep.failing == pytest.approx(failing)
     # strongest at standstill: (A, G50) min(2.4 50 0.5, 60) = 60 N m
-    assert rep["strongest_drive"]["peak_torque_Nm"] == pytest.approx(60.0)
-    assert rep["strongest_drive"]["gearbox_key"] == "CU_G50"
+    assert rep.strongest_offer.peak_torque_Nm == pytest.approx(60.0)
+    assert rep.strongest.gearbox_key == "CU_G50"
+    written = json.loads(json.dumps(motor_json(rep)))
+    assert written["strongest_drive"]["peak_torque_Nm"] == pytest.approx(60.0)
+    assert motor_of(written) == rep  # the record reads back as it was
 
 
 def test_torque_speed_table_envelope(tmp_path):
@@ -196,7 +203,7 @@ def test_shipped_catalogue_spans_1_to_300_Nm_and_has_the_papers_drive():
     assert (cat.motors["source"] != "").all() and (cat.gearboxes["source"] != "").all()
     # a duty the paper's drive meets: 2 N m at 1 rad/s
     sel = select_drives(cat, np.full(5, 2.0), np.full(5, 1.0), np.ones(5))
-    assert sel.choice[0] >= 0 and set(sel.report(0)["margins"]) == set(CHECKS)
+    assert sel.choice[0] >= 0 and set(sel.report(0).margins) == set(CHECKS)
 
 
 def _hinge_models(n_ratio: float, armature: float, j_rotor: float):
@@ -240,12 +247,12 @@ def test_a_drive_that_meets_the_duty_but_not_the_task_or_the_stiffness_says_whic
     tau, omega, w = np.full(3, 3.0), np.full(3, 0.5), np.ones(3)
     task = select_drives(three, tau, omega, w, also=np.full(3, 0.25))
     rep = task.report(0)
-    assert not rep["has_drive"] and rep["failing"] == {"task_motion": pytest.approx(0.25)}
-    assert shortfall(rep) == "exceeds its task motion limit by 25 %"
+    assert not rep.has_drive and rep.failing == {"task_motion": pytest.approx(0.25)}
+    assert shortfall(motor_json(rep)) == "exceeds its task motion limit by 25 %"
     none = select_drives(three, tau, omega, w, allowed=np.zeros(3, bool)).report(0)
-    assert none["stiff_enough"] is False
-    assert "as stiff as the tolerance asks" in shortfall(none)
-    motors = {"motor1": none | {"drives": "lower arm"}}
+    assert none.stiff_enough is False
+    assert "as stiff as the tolerance asks" in shortfall(motor_json(none))
+    motors = {"motor1": motor_json(replace(none, label="lower arm"))}
     problems = drive_problems(motors)
     assert len(problems) == 1 and "as stiff as the tolerance asks" in problems[0]
 

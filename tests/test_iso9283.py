@@ -180,13 +180,13 @@ def test_the_random_terms_are_the_catalogues_numbers(realized, settings):
     iso = IsoSettings(30, 1, 4096.0, (2000.0, 1000.0))
     terms, sources = random_terms(realized.drives, settings.drives.catalogue, payload, iso)
     cat = read_catalogue(default_catalogue_folder())
-    for j, motor in enumerate(realized.drives["motors"].values()):
-        drive = motor.get("drive") or motor["best_drive"]
-        row = cat.motors.loc[drive["motor_key"]]
-        n = drive["ratio"]
+    for j, motor in enumerate(realized.drives.motors.values()):
+        drive = motor.drive
+        row = cat.motors.loc[drive.motor_key]
+        n = drive.ratio
         assert terms.friction_rad[j] == pytest.approx(row.I_nl * row.k_t * n / iso.kp_Nm_rad[j])
         assert terms.encoder_rad[j] == pytest.approx(2 * math.pi / (4096 * n))
-        assert terms.backlash_rad[j] == pytest.approx(math.radians(drive["backlash_arcmin"] / 60))
+        assert terms.backlash_rad[j] == pytest.approx(math.radians(drive.backlash_arcmin / 60))
     assert terms.settling_mm == 0.011
     assert all("assumed: iso9283.encoder_counts" in s for s in sources["encoder"])
 

@@ -22,8 +22,8 @@ def arm() -> Arm:
     check = DriveCheck()
     report = check.report(DESIGN)
     drives = [
-        OutputEnvelope.of(check.catalogue, m["drive"]["motor_key"], m["drive"]["gearbox_key"])
-        for m in report["motors"].values()
+        OutputEnvelope.of(check.catalogue, m.drive.motor_key, m.drive.gearbox_key)
+        for m in report.motors.values()
     ]
     return Arm(DESIGN, Inertials(*batch_mass_properties(DESIGN, DEFAULT_CAD)), 5.0, drives)
 

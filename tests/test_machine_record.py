@@ -45,7 +45,8 @@ def test_the_record_rebuilds_the_realisation_it_was_written_from(tolerance_mm):
     assert again.accuracy.record() == done.accuracy.record()
     assert again.part_settings == done.part_settings
     assert again.tool_flange == done.tool_flange and again.fixed_point == done.fixed_point
-    assert again.strength == done.strength  # the typed record, every field
+    assert again.strength == done.strength  # the typed records, every field
+    assert again.drives == done.drives
     for name, part in done.parts.items():
         assert again.parts[name].polygon.equals_exact(part.polygon, 0.0)
     if done.sections is None:

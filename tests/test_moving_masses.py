@@ -12,7 +12,6 @@ import pytest
 from qsm import load_config
 from qsm.config.settings.realization import realization_of
 from qsm.embodiment.drives.envelope import OutputEnvelope
-from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.drives.torque_limits import checked_peaks_Nm, limited
 from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import joints as jt
@@ -69,9 +68,9 @@ def test_the_realisation_carries_its_tool_flange():
 
     def peak(extra_kg):
         report = carrying(replace(settings, drives=drives), extra_kg).drives.report(DESIGN, scale)
-        return report["motors"]["motor1"]["required"]["peak_torque_Nm"]
+        return report.motors["motor1"].required.peak_torque_Nm
 
-    required = done.drives["motors"]["motor1"]["required"]["peak_torque_Nm"]
+    required = done.drives.motors["motor1"].required.peak_torque_Nm
     assert peak(tool) == pytest.approx(required, rel=1e-12)
     assert peak(0.0) < required - 0.5 * tool * 9.81 * DESIGN[0] * 0.1  # it weighs on motor 1
     # the budget's payload force is that of the payload and the flange
@@ -111,15 +110,15 @@ def test_each_drive_gets_a_torque_limit_above_its_checked_torque():
     check = carrying(settings, done.tool_kg).drives
     check = replace(check, task_duty=task_motion_duty(_angles(), settings.motion))
     scales = None if done.scale is None else np.asarray(done.scale)[None]
-    drives = [drive_of(done.drives["motors"][f"motor{k}"]) for k in (1, 2)]
-    envs = [OutputEnvelope.of(check.catalogue, d["motor_key"], d["gearbox_key"]) for d in drives]
+    drives = [done.drives.motors[f"motor{k}"].drive for k in (1, 2)]
+    envs = [OutputEnvelope.of(check.catalogue, d.motor_key, d.gearbox_key) for d in drives]
     rotors = [e.reflected_inertia for e in envs]
     duty_only = checked_peaks_Nm(replace(check, task_duty=None), DESIGN, scales, rotors)
     peaks = checked_peaks_Nm(check, DESIGN, scales, rotors)
     for k, (limit, env) in enumerate(zip(done.torque_limits_Nm, envs, strict=True), start=1):
-        required = done.drives["motors"][f"motor{k}"]["required"]["peak_torque_Nm"]
+        required = done.drives.motors[f"motor{k}"].required.peak_torque_Nm
         assert duty_only[k - 1] == pytest.approx(required, rel=1e-9)  # the drive check's figure
-        task = done.drives["task_motion"]["peak_torque_Nm"][k - 1]  # without the rotor
+        task = done.drives.task_motion.peak_torque_Nm[k - 1]  # without the rotor
         assert peaks[k - 1] >= max(required, task) - 1e-9
         standstill = float(env.limit(1.0, 0.0))
         assert limit == pytest.approx(min(1.2 * peaks[k - 1], standstill), rel=1e-12)

@@ -36,8 +36,8 @@ def case():
     printed links (a first mode near 11 Hz); its time-optimal cycle with no dwell."""
     check = DriveCheck()
     drives = [
-        OutputEnvelope.of(check.catalogue, m["drive"]["motor_key"], m["drive"]["gearbox_key"])
-        for m in check.report(DESIGN)["motors"].values()
+        OutputEnvelope.of(check.catalogue, m.drive.motor_key, m.drive.gearbox_key)
+        for m in check.report(DESIGN).motors.values()
     ]
     inertials = Inertials(*batch_mass_properties(DESIGN, DEFAULT_CAD))
     arm = Arm(DESIGN, inertials, PAYLOAD_KG, drives)

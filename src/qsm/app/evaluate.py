@@ -126,6 +126,7 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     ``tau2_Nm``), whether its links fit the configured printer, each link's strength and each
     joint's bearing, and each motor's drive. JSON-friendly (NaN as None)."""
     from qsm.config.settings.dataset import dataset_of
+    from qsm.embodiment.drives.report import report_json
     from qsm.embodiment.strength.record import strength_json, strength_record
     from qsm.optimization.verify import verify_design
 
@@ -152,5 +153,5 @@ def evaluate_lengths(lengths: Sequence[float], config: Mapping[str, Any]) -> dic
     out["printable"] = bool(all_links_fit(d, cad, volume))
     if out["loop_closes"]:
         out["strength"] = strength_json(strength_record(d, check))
-        out["drives"] = stage2.drives.report(d, scale)
+        out["drives"] = report_json(stage2.drives.report(d, scale))
     return out

@@ -46,7 +46,7 @@ from qsm.app.locate import (
 )
 from qsm.config.reading import load_config, validate_config
 from qsm.config.settings import actuation, physics, realization
-from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.report import DriveReport, report_json
 from qsm.embodiment.parts.link_parts import part_meshes
 from qsm.embodiment.parts.printing import link_printability
 from qsm.embodiment.strength.record import strength_json
@@ -121,7 +121,7 @@ def export_design(
     task = task_record(config["task"]["points"])
     printability = _write_models(done, config, bool(task["mirrored"]), folder)
     links = printability["links"]
-    drives = done.drives
+    drives = report_json(done.drives)
     record: dict[str, Any] = {
         "design": _lengths(d),
         "source": dict(source or {"kind": "design"}),
@@ -219,7 +219,7 @@ def _write_urdf(
     cad: CadSettings,
     payload: float,
     props: Mapping[str, Any],
-    drives: Mapping[str, Any],
+    drives: DriveReport,
     config: Mapping[str, Any],
     path: Path,
 ) -> None:
@@ -322,7 +322,7 @@ def export(
     return {"folder": str(folder), **record}
 
 
-def _drive_efforts(drives: Mapping[str, Any], config: Mapping[str, Any]) -> list[float]:
+def _drive_efforts(drives: DriveReport, config: Mapping[str, Any]) -> list[float]:
     """Each motor's standstill peak torque at the joint (N m) of its drive (or the nearest) in a
     :meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`; 0 where the loop is undefined."""
     from qsm.embodiment.drives.envelope import OutputEnvelope
@@ -330,11 +330,10 @@ def _drive_efforts(drives: Mapping[str, Any], config: Mapping[str, Any]) -> list
     cat = actuation.catalogue(config["drives"])
     out = []
     for j in ("motor1", "motor2"):
-        m = drives["motors"].get(j)
+        m = drives.motors.get(j)
         if m is None:
             out.append(0.0)
             continue
-        d = drive_of(m)
-        env = OutputEnvelope.of(cat, d["motor_key"], d["gearbox_key"])
+        env = OutputEnvelope.of(cat, m.drive.motor_key, m.drive.gearbox_key)
         out.append(float(env.limit(1.0, 0.0)))
     return out

@@ -20,6 +20,7 @@ drive-mass objective.
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any
@@ -32,6 +33,7 @@ from qsm.embodiment.drives.catalogue import Catalogue, load_catalogue
 from qsm.embodiment.drives.compliance import gear_compliance
 from qsm.embodiment.drives.drive_columns import DRIVE_COLUMNS, MOTORS
 from qsm.embodiment.drives.drive_table import drive_columns
+from qsm.embodiment.drives.report import DriveReport, TaskMotionNeed
 from qsm.embodiment.drives.selection import Selection, drive_violations, select_drives
 from qsm.embodiment.drives.utilization import DriveArrays
 from qsm.embodiment.strength.link_checks import StrengthCheck
@@ -222,29 +224,37 @@ class DriveCheck:
         }
         return also, need
 
-    def report(self, design: ArrayLike, scales: ArrayLike | None = None) -> dict[str, Any]:
-        """JSON-ready account of one design's drives: per motor, the drive (or the nearest and
-        what fails, and the strongest drive's offer), margins and requirements
-        (:meth:`Selection.report`), whether each motor has a drive, and what the task's motion
-        asks (:meth:`task_violations`, which the drives meet as well); ``scales`` (1, 4) as
+    def report(self, design: ArrayLike, scales: ArrayLike | None = None) -> DriveReport:
+        """One design's drives: per motor the drive it is built with, its margins and what its
+        duty requires (:meth:`Selection.report`), and what the task's motion asks
+        (:meth:`task_violations`, which the drives meet as well); ``scales`` (1, 4) as
         :meth:`torques`."""
         d = np.atleast_2d(as_design(design))
         tau, good = self.torques(d, scales)
         if not good[0]:
-            return {"has_drives": False, "defined": False, "rule": self.rule, "motors": {}}
+            return DriveReport(defined=False, rule=self.rule)
         also, task = self.task_violations(d, scales)
         motors = {
-            f"motor{j}": {"drives": MOTORS[j], **sel.report(0)}
+            f"motor{j}": replace(sel.report(0), label=MOTORS[j])
             for j, sel in zip(MOTORS, self.select(tau, also), strict=True)
         }
-        return {
-            "has_drives": all(m["has_drive"] for m in motors.values()),
-            "defined": True,
-            "rule": self.rule,
-            "reflected_inertia": self.reflected_inertia,
-            "motors": motors,
-            **({"task_motion": task} if task else {}),
-        }
+        return DriveReport(
+            defined=True,
+            rule=self.rule,
+            motors=motors,
+            reflected_inertia=self.reflected_inertia,
+            task_motion=_need(task),
+        )
+
+
+def _need(task: Mapping[str, Any]) -> TaskMotionNeed | None:
+    """:meth:`DriveCheck.task_violations`' requirement as a record (None: no task duty)."""
+    if not task:
+        return None
+    if not task["defined"]:
+        return TaskMotionNeed(False)
+    peak, rms = tuple(task["peak_torque_Nm"]), tuple(task["rms_torque_Nm"])
+    return TaskMotionNeed(True, peak, rms, task["duration_s"])
 
 
 def violation_of(table: pd.DataFrame) -> NDArray[np.float64]:

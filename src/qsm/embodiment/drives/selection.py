@@ -9,13 +9,19 @@ the duty, continuous in the duty otherwise.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Any
 
 import numpy as np
 
 from qsm.embodiment.drives.catalogue import Catalogue
 from qsm.embodiment.drives.compliance import gear_compliance
+from qsm.embodiment.drives.report import (
+    CatalogueDrive,
+    DriveOffer,
+    DriveRequirement,
+    MotorReport,
+)
 from qsm.embodiment.drives.utilization import CHECKS, DriveArrays, duty_arrays, utilization
 
 RULES = {"lightest": "mass", "smallest_inertia": "reflected_inertia"}
@@ -60,47 +66,51 @@ class Selection:
     task_excess: np.ndarray | None = None
     stiff_enough: bool = True
 
-    def report(self, d: int = 0) -> dict:
-        """JSON-ready account of duty ``d``: the drive, its margins (1 - utilisation) and, when
-        no drive meets the duty, the failing limits of the best drive (excess = utilisation - 1)
-        and what the strongest drive offers."""
+    def report(self, d: int = 0) -> MotorReport:
+        """Duty ``d``'s account: the drive it is built with (the chosen, else the nearest), its
+        margins (1 - utilisation) and, when no drive meets the duty, the failing limits of the
+        nearest (excess = utilisation - 1) and what the strongest drive offers."""
         u = self.utilization[d]
-        out = {
-            "has_drive": bool(self.choice[d] >= 0),
-            "violation": float(self.violation[d]),
-            "required": {
-                "peak_torque_Nm": float(self.peak_torque[d]),
-                "rms_torque_Nm": float(self.rms_torque[d]),
-                "peak_speed_rad_s": float(self.peak_speed[d]),
-                "peak_power_W": float(self.peak_power[d]),
-            },
-            "drive" if self.choice[d] >= 0 else "best_drive": self._describe(int(self.best[d])),
-            "margins": {k: float(1 - v) for k, v in zip(CHECKS, u, strict=True)},
-        }
-        if self.choice[d] < 0:
-            out["failing"] = {k: float(v - 1) for k, v in zip(CHECKS, u, strict=True) if v > 1}
-            if self.task_excess is not None and self.task_excess[d] > 0:
-                out["failing"]["task_motion"] = float(self.task_excess[d])
-            out["stiff_enough"] = self.stiff_enough
-            out["strongest_drive"] = (
-                self._describe(self.strongest) | offer(self.catalogue)[self.strongest]
-            )
-        return out
+        required = DriveRequirement(
+            float(self.peak_torque[d]),
+            float(self.rms_torque[d]),
+            float(self.peak_speed[d]),
+            float(self.peak_power[d]),
+        )
+        base = MotorReport(
+            has_drive=bool(self.choice[d] >= 0),
+            violation=float(self.violation[d]),
+            required=required,
+            drive=self._describe(int(self.best[d])),
+            margins={k: float(1 - v) for k, v in zip(CHECKS, u, strict=True)},
+        )
+        if base.has_drive:
+            return base
+        failing = {k: float(v - 1) for k, v in zip(CHECKS, u, strict=True) if v > 1}
+        if self.task_excess is not None and self.task_excess[d] > 0:
+            failing["task_motion"] = float(self.task_excess[d])
+        return replace(
+            base,
+            failing=failing,
+            stiff_enough=self.stiff_enough,
+            strongest=self._describe(self.strongest),
+            strongest_offer=DriveOffer(**offer(self.catalogue)[self.strongest]),
+        )
 
-    def _describe(self, i: int) -> dict:
+    def _describe(self, i: int) -> CatalogueDrive:
         row = self.catalogue.drives.iloc[i]
         m = self.catalogue.motors.loc[row["motor"]]
         g = self.catalogue.gearboxes.loc[row["gearbox"]]
-        return {
-            "motor": f"{m['manufacturer']} {m['ID']}",
-            "gearbox": f"{g['manufacturer']} {g['ID']}",
-            "motor_key": row["motor"],
-            "gearbox_key": row["gearbox"],
-            "ratio": float(row["ratio"]),
-            "mass_kg": float(row["mass"]),
-            "reflected_inertia_kgm2": float(row["reflected_inertia"]),
+        return CatalogueDrive(
+            motor=f"{m['manufacturer']} {m['ID']}",
+            gearbox=f"{g['manufacturer']} {g['ID']}",
+            motor_key=row["motor"],
+            gearbox_key=row["gearbox"],
+            ratio=float(row["ratio"]),
+            mass_kg=float(row["mass"]),
+            reflected_inertia_kgm2=float(row["reflected_inertia"]),
             **gear_compliance(g),
-        }
+        )
 
 
 def offer(cat: Catalogue | DriveArrays) -> list[dict]:

@@ -13,16 +13,14 @@ motion that needs more fails its check.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import replace
-from typing import Any
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.drives.drive_checks import DriveCheck
 from qsm.embodiment.drives.envelope import OutputEnvelope
-from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.report import DriveReport
 
 
 def checked_peaks_Nm(
@@ -45,7 +43,7 @@ def checked_peaks_Nm(
 
 
 def torque_limits_Nm(
-    report: Mapping[str, Any],
+    report: DriveReport,
     check: DriveCheck,
     design: ArrayLike,
     scales: ArrayLike | None,
@@ -54,11 +52,11 @@ def torque_limits_Nm(
     """Each motor's torque limit (N m at the joint): ``margin`` times its :func:`checked_peaks_Nm`
     with the drive of the drive ``report`` (the chosen, else the nearest), at most that drive's
     torque at standstill; 0 for a motor with no drive in the report."""
-    drives = [drive_of(report.get("motors", {}).get(f"motor{k}", {})) for k in (1, 2)]
-    if not all(drives):
+    motors = [report.motors.get(f"motor{k}") for k in (1, 2)]
+    if not all(motors):
         return 0.0, 0.0
     envelopes = [
-        OutputEnvelope.of(check.catalogue, d["motor_key"], d["gearbox_key"]) for d in drives
+        OutputEnvelope.of(check.catalogue, m.drive.motor_key, m.drive.gearbox_key) for m in motors
     ]
     peaks = checked_peaks_Nm(check, design, scales, [e.reflected_inertia for e in envelopes])
     limits = [

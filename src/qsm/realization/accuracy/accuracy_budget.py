@@ -29,7 +29,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.drives.compliance import ARCMIN_RAD
-from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.report import DriveReport
 from qsm.embodiment.stiffness.error_terms import (
     GRAVITY_M_S2,
     lost_motion_m,
@@ -111,20 +111,19 @@ class ArmModel(NamedTuple):
     printed: PrintedMaterial | None = None
 
 
-def drive_terms(drives: dict[str, Any]) -> tuple[NDArray, NDArray, NDArray, NDArray, dict]:
+def drive_terms(drives: DriveReport) -> tuple[NDArray, NDArray, NDArray, NDArray, dict]:
     """Each motor's gearbox stiffness (N m/rad), backlash (rad), reflected inertia (kg m^2),
-    drive mass (kg) and their sources, from a drive report (the chosen drive, else the nearest
-    one)."""
+    drive mass (kg) and their sources, from a drive report (the drive each motor is built
+    with: the chosen, else the nearest)."""
     k, play, ref, mass, notes = [], [], [], [], {}
-    for name, motor in drives.get("motors", {}).items():
-        d = drive_of(motor)
-        k.append(float(d.get("torsional_stiffness_Nm_rad", math.inf)))
-        play.append(float(d.get("backlash_arcmin", 0.0)) * ARCMIN_RAD)
-        ref.append(float(d.get("reflected_inertia_kgm2", 0.0)))
-        mass.append(float(d.get("mass_kg", 0.0)))
-        notes[name] = {
-            key: d.get(key) for key in ("gearbox", "backlash_arcmin", "torsional_stiffness_Nm_rad")
-        } | {key: d.get(key) for key in ("backlash_from", "stiffness_from")}
+    for name, motor in drives.motors.items():
+        d = motor.drive
+        k.append(d.torsional_stiffness_Nm_rad)
+        play.append(d.backlash_arcmin * ARCMIN_RAD)
+        ref.append(d.reflected_inertia_kgm2)
+        mass.append(d.mass_kg)
+        keys = ("gearbox", "backlash_arcmin", "torsional_stiffness_Nm_rad")
+        notes[name] = {key: getattr(d, key) for key in (*keys, "backlash_from", "stiffness_from")}
     if len(k) != 2:  # no drive report (an undefined design): rigid drives without play
         return np.full(2, math.inf), np.zeros(2), np.zeros(2), np.zeros(2), {}
     return _finite_when_any(np.array(k)), np.array(play), np.array(ref), np.array(mass), notes

@@ -27,6 +27,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from qsm.embodiment.drives.drive_checks import DriveCheck
+from qsm.embodiment.drives.report import DriveReport
 from qsm.embodiment.parts.printing import box_fits, link_boxes_mm
 from qsm.embodiment.stiffness.error_terms import torque_reverses
 from qsm.embodiment.stiffness.frame import FrameSections
@@ -238,11 +239,11 @@ def accuracy_choice(
     stiffest = [0.0, 0.0]
     for least in product(levels, levels):
         report = replace(drives, min_stiffness_Nm_rad=least).report(design, base[None])
-        if not report["has_drives"]:
+        if not report.has_drives:
             continue
         stiffest = np.maximum(stiffest, least).tolist()
 
-        def error(f: float, report: dict = report) -> float:
+        def error(f: float, report: DriveReport = report) -> float:
             scale = np.minimum(f * base, upper)
             return structure_mm(
                 design, scale, report, strength, motion, angles, drives.reflected_inertia,
@@ -260,7 +261,7 @@ def accuracy_choice(
             return AccuracyChoice(base, least, error(f), target, True)
         choice = AccuracyChoice(np.minimum(f * base, upper), least, error(f), target, True)
         mass = batch_mass_properties(design, strength.cad, choice.scale)[0].sum()
-        mass += sum(m["drive"]["mass_kg"] for m in report["motors"].values())
+        mass += sum(m.drive.mass_kg for m in report.motors.values())
         if lightest is None or mass < lightest[0]:
             lightest = (mass, choice)
     if lightest is not None:

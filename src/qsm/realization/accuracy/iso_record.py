@@ -14,7 +14,7 @@ import numpy as np
 
 from qsm.embodiment.drives.catalogue import Catalogue
 from qsm.embodiment.drives.compliance import ARCMIN_RAD
-from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.report import DriveReport, MotorReport
 from qsm.realization.accuracy.iso9283 import RANDOM_TERMS, PoseCharacteristics, RandomTerms
 
 
@@ -38,18 +38,18 @@ def _number(row: Mapping[str, Any], key: str) -> float:
 
 
 def _motor_terms(
-    motor: Mapping[str, Any], catalogue: Catalogue, kp: float, counts: float, opens: bool
+    motor: MotorReport, catalogue: Catalogue, kp: float, counts: float, opens: bool
 ) -> tuple[tuple[float, float, float], dict[str, str]]:
     """One motor's backlash (where its play ``opens``), encoder quantum and friction
     deflection (rad at the joint) and where each comes from."""
-    d = drive_of(motor)
-    row = catalogue.motors.loc[d["motor_key"]].to_dict()
-    ratio = float(d["ratio"])
+    d = motor.drive
+    row = catalogue.motors.loc[d.motor_key].to_dict()
+    ratio = d.ratio
     own = _number(row, "encoder_counts")
     n = own if np.isfinite(own) and own > 0 else counts
     friction_Nm = _number(row, "I_nl") * _number(row, "k_t") * ratio
     known = np.isfinite(friction_Nm)
-    play = float(d.get("backlash_arcmin", 0.0))
+    play = d.backlash_arcmin
     values = (play * ARCMIN_RAD if opens else 0.0, 2 * math.pi / (n * ratio),
               friction_Nm / kp if known else 0.0)  # fmt: skip
     sources = {
@@ -59,7 +59,7 @@ def _motor_terms(
             else f"0: the joint's torque keeps one sign along the task and at the five points, so "
             f"gravity holds its {play:g} arcmin of play closed"
         )
-        + f" ({d.get('backlash_from', 'catalogue')})",
+        + f" ({d.backlash_from})",
         "encoder": f"{n:g} counts per motor turn over {ratio:g}:1, "
         + ("motors.csv's encoder_counts" if n == own else "assumed: iso9283.encoder_counts"),
         "friction": (
@@ -73,7 +73,7 @@ def _motor_terms(
 
 
 def random_terms(
-    drives: Mapping[str, Any], catalogue: Catalogue, payload: Mapping[str, Any],
+    drives: DriveReport, catalogue: Catalogue, payload: Mapping[str, Any],
     settings: IsoSettings, opens: Sequence[bool] = (True, True),
 ) -> tuple[RandomTerms, dict[str, list[str]]]:  # fmt: skip
     """The random terms of the arm's chosen drives (``drives``: the drive report), its
@@ -81,7 +81,7 @@ def random_terms(
     hold), and what each was taken from, per motor; a gearbox's backlash only where its play
     ``opens`` (:func:`qsm.realization.accuracy.iso9283.play_opens`)."""
     values, sources = [], {k: [] for k in RANDOM_TERMS}
-    motors = zip(drives["motors"].values(), settings.kp_Nm_rad, opens, strict=True)
+    motors = zip(drives.motors.values(), settings.kp_Nm_rad, opens, strict=True)
     for motor, kp, open_ in motors:
         v, s = _motor_terms(motor, catalogue, float(kp), settings.encoder_counts, bool(open_))
         values.append(v)

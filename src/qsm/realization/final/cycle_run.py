@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from qsm.embodiment.drives.catalogue import Catalogue
 from qsm.embodiment.drives.envelope import OutputEnvelope
-from qsm.embodiment.drives.selection import drive_of, offer
+from qsm.embodiment.drives.selection import offer
 from qsm.embodiment.drives.torque_limits import limited
 from qsm.embodiment.drives.utilization import DriveArrays
 from qsm.embodiment.strength.loads import Inertials
@@ -212,12 +212,12 @@ def run_cycle(
     record, the checked cycle (None, and the record says why, where no
     cycle can be planned) and the arm it was planned for."""
     catalogue = settings.drives.catalogue
-    keys = [drive_of(m) for m in done.drives["motors"].values()]
+    keys = [m.drive for m in done.drives.motors.values()]
     drives = [  # within each drive's torque limit, which the controller keeps
-        limited(OutputEnvelope.of(catalogue, k["motor_key"], k["gearbox_key"]), limit)
+        limited(OutputEnvelope.of(catalogue, k.motor_key, k.gearbox_key), limit)
         for k, limit in zip(keys, done.torque_limits_Nm, strict=True)
     ]
-    rows = np.array([_drive_row(catalogue, k["motor_key"], k["gearbox_key"]) for k in keys])
+    rows = np.array([_drive_row(catalogue, k.motor_key, k.gearbox_key) for k in keys])
     continuous = np.array([offer(catalogue)[i]["cont_torque_Nm"] for i in rows])
     ratings = (continuous, settings.drives.arrays.take(rows))
     arm = Arm(done.design, Inertials.of(props), test.payload_kg, drives)
@@ -231,7 +231,7 @@ def run_cycle(
     except ValueError as exc:  # a point out of reach, or drives that cannot hold the arm
         return unplanned_record(task, str(exc)), None, arm
     raster = raster_time_s(angles, np.radians(raster_speed_deg_s))
-    motors = [catalogue.motors.loc[k["motor_key"]].to_dict() for k in keys]
+    motors = [catalogue.motors.loc[k.motor_key].to_dict() for k in keys]
     record = cycle_record(checked, arm, task.visits, angles, raster, ratings, motors)
     return record, checked, arm
 

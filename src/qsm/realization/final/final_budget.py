@@ -10,7 +10,6 @@ from typing import Any
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
-from qsm.embodiment.drives.selection import drive_of
 from qsm.physics.cad import MassProperties
 from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import LINK_NAMES
@@ -91,7 +90,7 @@ def iso_figures(
     torque reverses along the task, the budget's); ``simulated: false`` and the reason
     without a drive, after a failed payload test or where the arm does not reach the disk's
     centre."""
-    if not all(drive_of(m) for m in done.drives.get("motors", {}).values()):
+    if not done.drives.defined:
         return {"simulated": False, "reason": "a motor has no drive record"}
     if not payload.get("passed"):
         return {"simulated": False, "reason": (

@@ -20,7 +20,6 @@ from typing import Any, NamedTuple
 import numpy as np
 import shapely
 
-from qsm.embodiment.drives.selection import drive_of
 from qsm.embodiment.kit import base as bs
 from qsm.embodiment.kit import fasteners as fs
 from qsm.embodiment.kit import fits as ft
@@ -103,25 +102,20 @@ def _drives(done: Realization, settings: KitSettings) -> list[dict[str, Any]]:
     realisation's: the controller keeps to it, and the kit is sized for it)."""
     out = []
     for k in (1, 2):
-        motor = done.drives.get("motors", {}).get(f"motor{k}", {})  # none: no drive check ran
+        motor = done.drives.motors.get(f"motor{k}")  # none: no drive check ran
         limit = done.torque_limits_Nm[k - 1]
-        drive = drive_of(motor)  # the chosen, else the nearest: the drive every output names
-        key = drive.get("gearbox_key", f"motor {k}: no drive")
-        iface = interface_of(key, limit, settings.catalogue)
+        drive = None if motor is None else motor.drive  # the chosen, else the nearest
+        key = f"motor {k}: no drive" if drive is None else drive.gearbox_key
         out.append(
             {
-                "interface": iface,
-                "mass_kg": float(drive.get("mass_kg", 0.0)),
+                "interface": interface_of(key, limit, settings.catalogue),
+                "mass_kg": 0.0 if drive is None else drive.mass_kg,
                 "torque_limit_Nm": limit,
-                "name": _drive_name(drive),
-                "has_drive": bool(drive.get("chosen")),
+                "name": "no drive" if drive is None else f"{drive.motor} + {drive.gearbox}",
+                "has_drive": motor is not None and motor.has_drive,
             }
         )
     return out
-
-
-def _drive_name(drive: dict[str, Any]) -> str:
-    return f"{drive['motor']} + {drive['gearbox']}" if drive else "no drive"
 
 
 def _grid(s: KitSettings) -> tuple[np.ndarray, np.ndarray]:

@@ -11,7 +11,7 @@ import numpy as np
 import shapely
 from numpy.typing import ArrayLike
 
-from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.report import DriveReport
 from qsm.embodiment.parts.bearings import BearingTable
 from qsm.embodiment.parts.bom import bill_of_materials, write_bom
 from qsm.embodiment.parts.link_parts import LinkPart, PartSettings, link_parts
@@ -54,28 +54,27 @@ def final_parts(
     return parts
 
 
-def drive_rows(report: Mapping[str, Any]) -> dict[str, dict[str, Any]]:
+def drive_rows(report: DriveReport | None) -> dict[str, dict[str, Any]]:
     """BOM values of the motor and gearbox rows from a drives report
     (:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`): the drive each motor is
     built with (:func:`~qsm.embodiment.drives.selection.drive_of`; the nearest, marked, where
     none meets its duty). A gearbox named after its motor (an actuator's own stage) is built in:
     quantity 0."""
     rows: dict[str, dict[str, Any]] = {}
-    for k, motor in enumerate(report.get("motors", {}).values(), start=1):
-        drive = drive_of(motor)
-        if not drive:
-            continue
-        mark = "" if drive["chosen"] else "NONE of the catalogue meets its duty: the nearest; "
+    motors = {} if report is None else report.motors
+    for k, motor in enumerate(motors.values(), start=1):
+        drive = motor.drive
+        mark = "" if motor.has_drive else "NONE of the catalogue meets its duty: the nearest; "
         rows[f"motor {k}"] = {
-            "designation": drive["motor"],
-            "mass_kg": drive["mass_kg"],
-            "notes": f"{mark}with {drive['gearbox']}; mass of motor and gearbox together",
+            "designation": drive.motor,
+            "mass_kg": drive.mass_kg,
+            "notes": f"{mark}with {drive.gearbox}; mass of motor and gearbox together",
         }
-        built_in = drive["gearbox"].startswith(drive["motor"])  # e.g. the AK80-6's own stage
+        built_in = drive.gearbox.startswith(drive.motor)  # e.g. the AK80-6's own stage
         rows[f"gearbox {k}"] = {
-            "designation": drive["gearbox"],
-            "notes": f"ratio {drive['ratio']:.2f}:1"
-            + (f"; built into {drive['motor']}: not a part to buy" if built_in else ""),
+            "designation": drive.gearbox,
+            "notes": f"ratio {drive.ratio:.2f}:1"
+            + (f"; built into {drive.motor}: not a part to buy" if built_in else ""),
         } | ({"quantity": 0} if built_in else {})
     return rows
 
@@ -87,7 +86,7 @@ def write_parts(
     material: str,
     optimized: Mapping[str, bool],
     directory: str | Path,
-    drives: Mapping[str, Any] | None = None,
+    drives: DriveReport | None = None,
     kit: Sequence[Mapping[str, Any]] | None = None,
 ) -> dict[str, Any]:
     """Write the BOM (``bom.csv`` / ``bom.md``, with the motors and gearboxes of the ``drives``
@@ -102,7 +101,7 @@ def write_parts(
         settings.table,
         material,
         optimized,
-        drive_rows(drives or {}),
+        drive_rows(drives),
         kit,
     )
     csv, md = write_bom(bom, out)

@@ -13,6 +13,7 @@ import numpy as np
 import pandas as pd
 from numpy.typing import NDArray
 
+from qsm.embodiment.drives.report import report_json
 from qsm.embodiment.parts.printing import (
     link_printability,
     round_up_mm,
@@ -187,7 +188,7 @@ def machine_top(
     record["printer_volume_mm"] = [float(v) for v in volume_mm]
     record["holds_loads"] = done.strength.holds_loads
     record["has_drives"] = done.has_drives
-    record["strength"], record["drives"] = strength_json(done.strength), done.drives
+    record["strength"], record["drives"] = strength_json(done.strength), report_json(done.drives)
     record["tool_flange"], record["tool_flange_kg"] = done.tool_flange.record(), done.tool_kg
     record["fixed_point"] = fixed_point_record(done.fixed_point)
     record["torque_limits_Nm"] = list(done.torque_limits_Nm)

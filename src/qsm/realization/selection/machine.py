@@ -22,6 +22,7 @@ from typing import Any
 
 import numpy as np
 
+from qsm.embodiment.drives.report import report_json, report_of
 from qsm.embodiment.kit.joints import ToolFlange
 from qsm.embodiment.parts.link_parts import link_parts
 from qsm.embodiment.strength.record import strength_json, strength_of
@@ -110,7 +111,7 @@ def machine_record(done: Realization) -> dict[str, Any]:
         "bearing_rows": [int(r) for r in done.bearing_rows],
         "tolerance_choice": _accuracy_record(done.accuracy),
         "strength": strength_json(done.strength),
-        "drives": done.drives,
+        "drives": report_json(done.drives),
         "tool_flange": done.tool_flange.record(),
         "fixed_point": fixed_point_record(done.fixed_point),
         "torque_limits_Nm": list(done.torque_limits_Nm),
@@ -150,7 +151,7 @@ def realization_from_record(data: Mapping[str, Any], settings: RealizationSettin
         design=d,
         scale=scale,
         strength=strength_of(data["strength"]),
-        drives=dict(data["drives"]),
+        drives=report_of(data["drives"]),
         bearing_rows=rows,
         part_settings=part_settings,
         parts=link_parts(d, rows, part_settings),

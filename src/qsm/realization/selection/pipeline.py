@@ -19,6 +19,7 @@ import numpy as np
 from numpy.typing import ArrayLike, NDArray
 
 from qsm.embodiment.drives.drive_checks import DriveCheck
+from qsm.embodiment.drives.report import DriveReport
 from qsm.embodiment.drives.torque_limits import torque_limits_Nm
 from qsm.embodiment.kit.joints import ToolFlange, tool_flange
 from qsm.embodiment.parts.link_parts import LinkPart, PartSettings, link_parts
@@ -109,7 +110,7 @@ class Realization:
     design: NDArray[np.float64]
     scale: tuple[float, ...] | None
     strength: StrengthRecord
-    drives: dict[str, Any]
+    drives: DriveReport
     bearing_rows: list[int]
     part_settings: PartSettings
     parts: dict[str, LinkPart]
@@ -123,7 +124,7 @@ class Realization:
     @property
     def has_drives(self) -> bool:
         """Each motor has a drive of the catalogue that meets its duty."""
-        return bool(self.drives["has_drives"])
+        return self.drives.has_drives
 
     @property
     def tool_kg(self) -> float:
