@@ -38,6 +38,8 @@ def test_the_record_rebuilds_the_realisation_it_was_written_from(tolerance_mm):
     settings = _settings(tolerance_mm)
     done = realize(DESIGN, settings)
     again = realization_from_record(json.loads(dumps(machine_record(done))), settings)
+    # the default's fixed section, grown for a tight tolerance: not "sized by strength"
+    assert done.strength.section == ("fixed" if done.scale is None else "grown")
     assert np.array_equal(again.design, done.design)
     assert again.scale == done.scale
     assert again.strength_check == done.strength_check
@@ -79,6 +81,16 @@ def test_a_joint_without_a_bearing_is_written_without_the_catalogue_s_figures():
     }
     assert set(data["bearings"]["B"]) == {f.name for f in fields(BearingLoad)}
     assert strength_of(data) == record
+
+
+@pytest.mark.parametrize(("tolerance_mm", "section"), [(1e3, "sized"), (1.0, "sized and grown")])
+def test_sections_sized_by_strength_say_when_the_tolerance_grew_them(tolerance_mm, section):
+    config = load_config()
+    config["cad"]["section"] = "sized"
+    points = tuple(map(tuple, POINTS.tolist()))
+    accuracy = AccuracySettings(tolerance_mm, points_m=points, max_section_scale=2.0)
+    done = realize(DESIGN, replace(realization_of(config), accuracy=accuracy))
+    assert done.strength.section == section
 
 
 def test_a_record_of_another_version_is_refused():

@@ -35,6 +35,15 @@ def _ratio(counts: Mapping[str, Any]) -> float:
     return counts["hold_loads"] / counts["with_dynamics"] if counts["with_dynamics"] else 0.0
 
 
+#: How the links' sections came about (the strength record's ``section``), in words.
+SECTION_ORIGINS = {
+    "fixed": "configured",
+    "sized": "sized by strength",
+    "grown": "the configured section grown for the tolerance",
+    "sized and grown": "sized by strength, at least as large as the tolerance asks",
+}
+
+
 def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom: str) -> list[str]:
     """The design to build: lengths (mm), link masses, bearings, drawing, parts and BOM."""
     names = ("l1", "l2", "l3", "l4", "EE_x", "EE_y")
@@ -44,7 +53,7 @@ def _build_section(selected: Mapping[str, Any], topology: Mapping[str, Any], bom
     parts = topology["parts"]
     masses = ", ".join(f"{k} {v:.3f}" for k, v in parts["masses_kg"].items())
     sections = ", ".join(f"{k} {w:.1f} x {t:.1f}" for k, (w, t) in parts["section_mm"].items())
-    how = "sized by strength" if selected["strength"].get("section") == "sized" else "configured"
+    how = SECTION_ORIGINS.get(selected["strength"].get("section"), "configured")
     bearings = "; ".join(
         f"{j} {b['designation'] or 'NONE FITS'} ({b['peak_force_N']:.0f} N peak at theta "
         f"{b['at_theta_deg'][0]:.0f} / {b['at_theta_deg'][1]:.0f} deg"

@@ -65,8 +65,9 @@ class BearingLoad:
 class StrengthRecord:
     """A design's strength: its links and bearings, the bearings' required static safety, the
     largest utilisation, the weakest link and check, whether every link and bearing holds, the
-    material, the payload (kg) it was checked with, the section (``fixed`` or ``sized``) and
-    its sizing's iterations, and the tool flange's mass (kg) beside the payload (None: no
+    material, the payload (kg) it was checked with, how the sections came about (``fixed``,
+    ``sized``; the realisation adds ``grown`` and ``sized and grown`` for the tolerance) and
+    the sizing's iterations, and the tool flange's mass (kg) beside the payload (None: no
     flange was carried)."""
 
     links: Mapping[str, LinkStrength]

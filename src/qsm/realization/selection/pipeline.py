@@ -214,7 +214,7 @@ def realize_once(design: ArrayLike, settings: RealizationSettings) -> Realizatio
     settings = replace(settings, drives=replace(settings.drives, task_duty=_task_duty(d, settings)))
     check, sized, accuracy = _for_accuracy(d, settings)
     scale = None if sized is None else tuple(float(f) for f in sized.scale[0])
-    strength = strength_record(d, check, sized)
+    strength = replace(strength_record(d, check, sized), section=_section(settings.strength, check))
     drives = replace(settings.drives, min_stiffness_Nm_rad=accuracy.min_stiffness_Nm_rad)
     report = drives.report(d, None if sized is None else sized.scale)
     realised = np.ones(4) if scale is None else np.asarray(scale)
@@ -234,6 +234,17 @@ def realize_once(design: ArrayLike, settings: RealizationSettings) -> Realizatio
         strength_check=check,
         sections=sized,
     )
+
+
+def _section(configured: StrengthCheck, check: StrengthCheck) -> str:
+    """How the links' sections came about: ``fixed`` (the configured section), ``sized`` (by
+    strength), ``grown`` (the configured section grown for the tolerance) or ``sized and
+    grown`` (by strength, at least as large as the tolerance asked)."""
+    if check.sizing is None:
+        return "fixed"
+    if check.sizing.floor is None:
+        return "sized"
+    return "grown" if configured.sizing is None else "sized and grown"
 
 
 def _task_duty(d: NDArray[np.float64], settings: RealizationSettings) -> Duty | None:
