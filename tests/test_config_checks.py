@@ -225,6 +225,29 @@ def test_a_bad_interface_row_fails_at_config_time(tmp_path, old, new, cause):
     assert "interfaces.csv" in str(info.value) and cause in str(info.value)
 
 
+def test_an_interface_table_in_a_subfolder_is_found_and_checked(tmp_path):
+    """interfaces.csv is found wherever the other tables are: in a subfolder its rows are read
+    and checked; a key given in two interface files is refused, naming the second."""
+    from qsm.embodiment.drives.catalogue import default_catalogue_folder
+    from qsm.embodiment.kit.interfaces import read_interfaces
+
+    folder = tmp_path / "cat"
+    (folder / "kit").mkdir(parents=True)
+    for f in default_catalogue_folder().glob("*.csv"):
+        target = folder / "kit" / f.name if f.name == "interfaces.csv" else folder / f.name
+        target.write_text(f.read_text())
+    shipped = read_interfaces(default_catalogue_folder())
+    assert read_interfaces(folder) == shipped and shipped  # found one level down
+    moved = folder / "kit" / "interfaces.csv"
+    moved.write_text(moved.read_text().replace(",6,M4,71,", ",6,M7,71,", 1))
+    with pytest.raises(ConfigError, match=r"kit/interfaces\.csv, line \d+, column 'flange_thread'"):
+        validate_config({"drives": {"catalogue": str(folder)}})
+    moved.write_text((default_catalogue_folder() / "interfaces.csv").read_text())
+    (folder / "more_interfaces.csv").write_text(moved.read_text())
+    with pytest.raises(ConfigError, match="has a row above already"):
+        validate_config({"drives": {"catalogue": str(folder)}})
+
+
 def test_the_smallest_dataset_splits_into_two_designs_each_side():
     """scikit-learn's split of the smallest count gives two designs to test and two to train
     on, and one fewer does not (the rule behind sampling.n_mechanisms' minimum)."""

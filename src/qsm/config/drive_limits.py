@@ -27,18 +27,25 @@ def check_drives(config: dict[str, Any]) -> None:
     """The drive catalogue reads: every file, row and column valid, ``interfaces.csv`` too (the
     error names them)."""
     from qsm.embodiment.drives.catalogue import load_catalogue
-    from qsm.embodiment.kit.interfaces import read_interfaces
+    from qsm.embodiment.kit.interfaces import interface_files, read_interface_file, read_interfaces
 
     folder = catalogue_folder(config)
     try:
         gearboxes = load_catalogue(folder).gearboxes.index
-        unknown = [key for key in read_interfaces(folder) if key not in gearboxes]
+        read_interfaces(folder)  # every file, row and column; a key given twice
+        unknown = [
+            (path, line, key)
+            for path in interface_files(folder)
+            for key, (line, _) in read_interface_file(path).items()
+            if key not in gearboxes
+        ]
     except (ValueError, FileNotFoundError) as exc:
         raise ConfigError(f"config key 'drives.catalogue': {exc}") from None
     if unknown:
+        path, line, key = unknown[0]
         raise ConfigError(
-            f"config key 'drives.catalogue': {folder}/interfaces.csv: key {unknown[0]!r} is no "
-            "gearbox of the catalogue's gearboxes (a row for it would never be used)"
+            f"config key 'drives.catalogue': {path}, line {line}: key {key!r} is no gearbox "
+            "of the catalogue's gearboxes (a row for it would never be used)"
         )
 
 

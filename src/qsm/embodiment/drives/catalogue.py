@@ -122,10 +122,10 @@ def read_catalogue(folder: str | Path) -> Catalogue:
         )
     if not folder.is_dir():
         raise FileNotFoundError(f"drive catalogue folder {folder} does not exist")
-    motors = _read_table(_files(folder, "motors"), MOTOR_COLUMNS, _MOTOR_DEFAULTS)
-    gearboxes = _read_table(_files(folder, "gearboxes"), GEARBOX_COLUMNS, _GEARBOX_DEFAULTS)
-    pairs = _read_compatibility(_files(folder, "compatibility"), motors, gearboxes)
-    table = _read_torque_speed(_files(folder, "torque_speed", required=False), motors)
+    motors = _read_table(table_files(folder, "motors"), MOTOR_COLUMNS, _MOTOR_DEFAULTS)
+    gearboxes = _read_table(table_files(folder, "gearboxes"), GEARBOX_COLUMNS, _GEARBOX_DEFAULTS)
+    pairs = _read_compatibility(table_files(folder, "compatibility"), motors, gearboxes)
+    table = _read_torque_speed(table_files(folder, "torque_speed", required=False), motors)
     _check_described(motors, table, folder)
     m = motors.loc[pairs[:, 0]]
     g = gearboxes.loc[pairs[:, 1]]
@@ -158,7 +158,9 @@ def _check_described(
             )
 
 
-def _files(folder: Path, kind: str, required: bool = True) -> list[Path]:
+def table_files(folder: Path, kind: str, required: bool = True) -> list[Path]:
+    """The catalogue's ``kind`` tables under ``folder``, in subfolders too: ``kind.csv`` and
+    ``*_kind.csv``; FileNotFoundError where a ``required`` kind has none."""
     found = sorted(
         {*folder.rglob(f"{kind}.csv"), *folder.rglob(f"*_{kind}.csv")}, key=lambda p: str(p)
     )

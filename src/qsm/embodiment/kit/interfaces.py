@@ -1,10 +1,11 @@
 """The drives' mechanical interfaces: how each bolts to the base and how its output turns a hub.
 
-Optional catalogue file ``interfaces.csv`` beside the drive catalogue (one row per gearbox key,
-:data:`COLUMNS`): the output (``shaft``: diameter and DIN 6885 key; ``flange``: pilot, bolt
-circle, bolt count and thread), the mounting face (pilot, bolt circle or square, bolt count and
-thread) and the body (diameter or square side, length). ``status`` says whether a row is the
-maker's (``published``) or assumed, and ``source`` names the document or the basis.
+Optional catalogue files ``interfaces.csv`` and ``*_interfaces.csv`` in the drive catalogue's
+folder or its subfolders (one row per gearbox key, :data:`COLUMNS`): the output (``shaft``:
+diameter and DIN 6885 key; ``flange``: pilot, bolt circle, bolt count and thread), the mounting
+face (pilot, bolt circle or square, bolt count and thread) and the body (diameter or square
+side, length). ``status`` says whether a row is the maker's (``published``) or assumed, and
+``source`` names the document or the basis.
 
 Where a catalogue has no row for a gearbox, or a row lacks values, :func:`interface_of`
 assumes them from the peak torque and the body (:func:`completed`) and says what it assumed.
@@ -18,7 +19,7 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from qsm.embodiment.drives.catalogue import catalogue_folder
+from qsm.embodiment.drives.catalogue import catalogue_folder, table_files
 from qsm.embodiment.kit import fasteners as fs
 
 COLUMNS: tuple[str, ...] = (
@@ -92,13 +93,27 @@ def _number(text: str, where: str) -> float:
     return value
 
 
+def interface_files(folder: str | Path | None = None) -> list[Path]:
+    """The ``interfaces.csv`` and ``*_interfaces.csv`` files under the drive catalogue
+    ``folder`` (None: the default catalogue), in subfolders too, as the other tables are found."""
+    return table_files(catalogue_folder(folder), "interfaces", required=False)
+
+
 def read_interfaces(folder: str | Path | None = None) -> dict[str, DriveInterface]:
-    """The rows of ``interfaces.csv`` in the drive catalogue ``folder`` (None: the default
-    catalogue), by gearbox key; {} where the file is absent. A UTF-8 byte-order mark is read
-    through; an error names the file, the line and the column."""
-    path = catalogue_folder(folder) / "interfaces.csv"
-    if not path.exists():
-        return {}
+    """The rows of the catalogue's interface files (:func:`interface_files`) by gearbox key; {}
+    where there are none. A key given twice, in one file or two, is refused."""
+    out: dict[str, DriveInterface] = {}
+    for path in interface_files(folder):
+        for key, (line, row) in read_interface_file(path).items():
+            if key in out:
+                raise ValueError(f"{path}, line {line}: key {key!r} has a row above already")
+            out[key] = row
+    return out
+
+
+def read_interface_file(path: Path) -> dict[str, tuple[int, DriveInterface]]:
+    """One interface file's rows by gearbox key, each with its line. A UTF-8 byte-order mark is
+    read through; an error names the file, the line and the column."""
     try:
         with open(path, newline="", encoding="utf-8-sig") as fh:
             lines = [(k, x) for k, x in enumerate(fh, 1) if x.strip() and not x.startswith("#")]
@@ -107,14 +122,14 @@ def read_interfaces(folder: str | Path | None = None) -> dict[str, DriveInterfac
             f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start}); save it as UTF-8"
         ) from None
     rows = csv.DictReader(line for _, line in lines)
-    out: dict[str, DriveInterface] = {}
+    out: dict[str, tuple[int, DriveInterface]] = {}
     for row, (k, _) in zip(rows, lines[1:], strict=False):
         missing = [c for c in COLUMNS if c not in row]
         if missing:
             raise ValueError(f"{path}: column {missing[0]!r} missing")
         if row["key"] in out:
             raise ValueError(f"{path}, line {k}: key {row['key']!r} has a row above already")
-        out[row["key"]] = DriveInterface(**_values(row, f"{path}, line {k}"))
+        out[row["key"]] = (k, DriveInterface(**_values(row, f"{path}, line {k}")))
     return out
 
 
