@@ -29,7 +29,7 @@ from typing import Any
 import pandas as pd
 import yaml
 
-from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.report import drive_of
 from qsm.realization.accuracy.accuracy_budget import TERMS
 
 ROOT = Path(__file__).resolve().parents[1]

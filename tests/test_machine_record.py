@@ -14,7 +14,7 @@ from workflow_helpers import assert_one_machine, copy_workflow, snakemake
 
 from qsm import load_config
 from qsm.config.settings.realization import realization_of
-from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.report import drive_of
 from qsm.embodiment.strength.record import BearingLoad, strength_json, strength_of
 from qsm.physics.kinematics import end_effector
 from qsm.realization.accuracy.accuracy_budget import AccuracySettings

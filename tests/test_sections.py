@@ -161,8 +161,10 @@ def test_a_key_it_does_not_read_leaves_its_share_alone(path, value):
 def test_the_catalogue_hash_follows_its_files(tmp_path):
     """Editing a value of a catalogue file changes ``drives.catalogue_sha256``; the same values
     give the same hash wherever the folder is, and however the file is saved (a byte-order mark,
-    CRLF line ends, a comment, blank lines, spaces around the cells)."""
+    CRLF line ends, a comment, blank lines, spaces around the cells, in the interface file too);
+    a CSV file that is no table of the catalogue does not count."""
     from qsm.embodiment.drives.catalogue import catalogue_folder
+    from qsm.embodiment.kit.interfaces import read_interfaces
 
     for folder in (tmp_path / "a", tmp_path / "b"):
         folder.mkdir()
@@ -179,8 +181,15 @@ def test_the_catalogue_hash_follows_its_files(tmp_path):
     with motors.open("w", newline="", encoding="utf-8-sig") as f:  # a byte-order mark, CRLF
         f.write("# saved again\r\n\r\n")
         csv.writer(f).writerows([[f" {c} " for c in row] for row in rows])
+    interfaces = tmp_path / "b" / "interfaces.csv"
+    with interfaces.open(newline="", encoding="utf-8") as f:
+        cells = list(csv.reader(f))
+    with interfaces.open("w", newline="", encoding="utf-8") as f:
+        csv.writer(f).writerows([[f"{c} " for c in row] for row in cells])
+    (tmp_path / "b" / "notes.csv").write_bytes("Geh\u00e4use\n".encode("latin-1"))  # no table
     again = drives_section(_changed("drives.catalogue", str(tmp_path / "b")))
     assert again["catalogue_sha256"] == sha[0]  # the same values, saved another way
+    assert read_interfaces(tmp_path / "b") == read_interfaces(tmp_path / "a")  # read the same
     header = next(k for k, row in enumerate(rows) if row and not row[0].startswith("#"))
     column = rows[header].index("mass")
     rows[header + 1][column] = repr(float(rows[header + 1][column]) + 0.01)

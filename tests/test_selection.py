@@ -6,7 +6,7 @@ import pandas as pd
 import pytest
 
 from qsm.dataset.columns import DRIVE_COLUMNS, STRENGTH_COLUMNS
-from qsm.embodiment.parts.printing import box_excess_mm, smallest_build_volume
+from qsm.embodiment.parts.printing import advice_sentence, box_excess_mm, smallest_build_volume
 from qsm.optimization.ranking import rule_scores
 from qsm.physics.cad import CadSettings
 from qsm.physics.kinematics import DESIGN_COLUMNS
@@ -215,7 +215,7 @@ def test_the_scaled_design_still_holds_its_bosses():
         (False, True, [650.0, 200.0, 20.0], "a printer of at least 650 x 200 x 20 mm"),
         (False, False, [650.0, 200.0, 20.0], None),  # a printer for a weak design: none
         (True, True, [550.0, 200.0, 20.0], "fits the configured printer (550 x 200 x 20 mm"),
-        (False, True, [550.0, 200.0, 20.0], "export --lengths 0.3 0.1 0.3 0.15 0.36 0.12`"),
+        (False, True, [550.0, 200.0, 20.0], "export --lengths 0.3 0.1 0.3 0.15 0.36 0.12 --config"),
     ],
 )
 def test_the_printer_fix_is_one_that_holds_its_loads(
@@ -238,6 +238,36 @@ def test_the_printer_fix_is_one_that_holds_its_loads(
     }
     fix = printer_fix(advice, own_holds, PRINTER)
     assert fix is None if expected is None else expected in fix
+
+
+@pytest.mark.parametrize(
+    ("has_drives", "meets", "expected"),
+    [
+        (True, True, "build it with `qsm export --lengths 0.3 0.1 0.3 0.15 0.36 0.12 --config`"),
+        (False, True, "but a motor has no drive of the catalogue that meets its duty: no printer"),
+        (True, False, "but its structure misses the tolerance (4.10 mm, 3.50 mm allowed): no"),
+    ],
+)
+def test_a_design_that_fits_as_realised_is_to_build_only_where_it_passes(
+    has_drives, meets, expected
+):
+    """Another design that, realised, fits the configured printer is named to export only
+    where it also has drives and meets the tolerance as realised; else the advice says what
+    fails, with its numbers."""
+    advice = {
+        "needed_volume_mm": [550, 200, 20],
+        "exact_volume_mm": [550.0, 200.0, 20.0],
+        "row": 3,
+        "designs_holding": 9,
+        "holds_loads": True,
+        "strength_utilisation": 0.8,
+        "has_drives": has_drives,
+        "meets_tolerance": meets,
+        "structure_mm": 2.0 if meets else 4.1,
+        "target_mm": 3.5,
+        "design_m": SMALL,
+    }
+    assert expected in advice_sentence(advice, PRINTER)
 
 
 def test_a_printable_design_within_the_tolerance_comes_first():

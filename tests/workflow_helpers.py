@@ -85,7 +85,7 @@ def assert_one_machine(work: Path) -> None:
     import pandas as pd
     import pytest
 
-    from qsm.embodiment.drives.selection import drive_of
+    from qsm.embodiment.drives.report import drive_of
 
     res = work / "results"
     real = res / "realization"

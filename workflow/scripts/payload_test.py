@@ -6,7 +6,7 @@ import numpy as np
 
 from qsm.config.settings import actuation, physics, simulation
 from qsm.embodiment.drives.envelope import OutputEnvelope
-from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.report import drive_of
 from qsm.embodiment.drives.torque_limits import limited
 from qsm.physics.task_points import design_task
 from qsm.realization.kit.moving_parts import as_built

@@ -17,7 +17,7 @@ from typing import Any
 import numpy as np
 import pandas as pd
 
-from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.report import drive_of
 from qsm.physics.workspace import Reach
 from qsm.prose import fixed
 from qsm.realization.accuracy.accuracy_budget import term_phrases

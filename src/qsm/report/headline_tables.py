@@ -7,7 +7,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any
 
-from qsm.embodiment.drives.selection import drive_of
+from qsm.embodiment.drives.report import drive_of
 from qsm.report.drive_text import drive_sentences
 
 

@@ -169,7 +169,7 @@ def table_files(folder: Path, kind: str, required: bool = True) -> list[Path]:
     return found
 
 
-def _rows(path: Path):
+def table_rows(path: Path):
     """Yield (line number, cells) of a CSV file, skipping blank and ``#`` lines; text that is
     not UTF-8 raises :class:`CatalogueError` naming the file."""
     with path.open(newline="", encoding="utf-8-sig") as f:
@@ -187,14 +187,17 @@ def _rows(path: Path):
 
 
 def catalogue_digest(folder: str | Path) -> str:
-    """SHA-256 (hex) of the CSV files under ``folder`` as they are read: each file's path in the
-    folder and the cells of its rows (:func:`_rows`). A re-save that changes only a byte-order
-    mark, the line ends, blank or ``#`` lines or the spaces around cells keeps the digest."""
+    """SHA-256 (hex) of the catalogue's tables under ``folder`` (:func:`table_files`: motors,
+    gearboxes, compatibility, torque-speed and interface files) as they are read: each file's
+    path in the folder and the cells of its rows (:func:`table_rows`). A re-save that changes
+    only a byte-order mark, the line ends, blank or ``#`` lines or the spaces around cells keeps
+    the digest; a CSV file no reader reads does not enter it."""
     folder = Path(folder)
     digest = hashlib.sha256()
-    for path in sorted(folder.rglob("*.csv")):
+    kinds = ("motors", "gearboxes", "compatibility", "torque_speed", "interfaces")
+    for path in sorted({p for kind in kinds for p in table_files(folder, kind, required=False)}):
         digest.update(str(path.relative_to(folder).as_posix()).encode() + b"\0")
-        for _, cells in _rows(path):
+        for _, cells in table_rows(path):
             digest.update(json.dumps(cells).encode() + b"\n")
     return digest.hexdigest()
 
@@ -225,7 +228,7 @@ def _read_table(
     records: list[dict] = []
     origin: dict[str, str] = {}
     for path in paths:
-        rows = _rows(path)
+        rows = table_rows(path)
         header_line, header = next(rows, (1, []))
         missing = [c for c in columns if c not in header]
         if missing:
@@ -297,7 +300,7 @@ def _read_compatibility(
     gb_keys = list(gearboxes.index)
     pairs: dict[tuple[str, str], None] = {}
     for path in paths:
-        for line, cells in _rows(path):
+        for line, cells in table_rows(path):
             if cells[0] not in motors.index:
                 raise CatalogueError(
                     f"{path}, line {line}, column 1: unknown motor key {cells[0]!r}"
@@ -346,7 +349,7 @@ def _read_torque_speed(
 
 
 def _read_points(path: Path) -> list[tuple[int, str, float, float]]:
-    rows = _rows(path)
+    rows = table_rows(path)
     header_line, header = next(rows, (1, []))
     missing = [c for c in TORQUE_SPEED_COLUMNS if c not in header]
     if missing:

@@ -118,6 +118,17 @@ def motor_json(motor: MotorReport) -> dict[str, Any]:
     return out
 
 
+def drive_of(motor: Mapping[str, Any]) -> dict[str, Any]:
+    """The drive one motor is built with, from its entry as JSON (:func:`motor_json`, as in
+    ``selected.json``'s ``drives.motors``): its ``drive`` (chosen) or ``best_drive`` (the
+    nearest), with ``chosen`` marking which; ``{}`` where the entry has neither. The outputs
+    that read the JSON take the drive from here; a :class:`MotorReport` holds it as ``drive``."""
+    drive = motor.get("drive") or motor.get("best_drive")
+    if not drive:
+        return {}
+    return dict(drive) | {"chosen": bool(motor.get("has_drive")) and "drive" in motor}
+
+
 def report_json(report: DriveReport) -> dict[str, Any]:
     """``report`` as JSON-ready values."""
     out: dict[str, Any] = {

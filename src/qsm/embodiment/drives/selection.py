@@ -8,9 +8,7 @@ the duty, continuous in the duty otherwise.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass, replace
-from typing import Any
 
 import numpy as np
 
@@ -25,17 +23,6 @@ from qsm.embodiment.drives.report import (
 from qsm.embodiment.drives.utilization import CHECKS, DriveArrays, duty_arrays, utilization
 
 RULES = {"lightest": "mass", "smallest_inertia": "reflected_inertia"}
-
-
-def drive_of(motor: Mapping[str, Any]) -> dict[str, Any]:
-    """The drive one motor is built with, from its entry of a drive report
-    (:meth:`Selection.report`): the chosen drive, else the nearest one (least violation), with
-    ``chosen`` marking which; ``{}`` where no drive check ran (an undefined design). Every output
-    that names, sizes or simulates a motor's drive takes it from here."""
-    drive = motor.get("drive") or motor.get("best_drive")
-    if not drive:
-        return {}
-    return dict(drive) | {"chosen": bool(motor.get("has_drive")) and "drive" in motor}
 
 
 @dataclass(frozen=True)

@@ -13,13 +13,12 @@ assumes them from the peak torque and the body (:func:`completed`) and says what
 
 from __future__ import annotations
 
-import csv
 import math
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from qsm.embodiment.drives.catalogue import catalogue_folder, table_files
+from qsm.embodiment.drives.catalogue import catalogue_folder, table_files, table_rows
 from qsm.embodiment.kit import fasteners as fs
 
 COLUMNS: tuple[str, ...] = (
@@ -112,21 +111,18 @@ def read_interfaces(folder: str | Path | None = None) -> dict[str, DriveInterfac
 
 
 def read_interface_file(path: Path) -> dict[str, tuple[int, DriveInterface]]:
-    """One interface file's rows by gearbox key, each with its line. A UTF-8 byte-order mark is
-    read through; an error names the file, the line and the column."""
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:
-            lines = [(k, x) for k, x in enumerate(fh, 1) if x.strip() and not x.startswith("#")]
-    except UnicodeDecodeError as exc:
-        raise ValueError(
-            f"{path}: not UTF-8 text ({exc.reason} at byte {exc.start}); save it as UTF-8"
-        ) from None
-    rows = csv.DictReader(line for _, line in lines)
+    """One interface file's rows by gearbox key, each with its line, read as the catalogue's
+    tables are (:func:`qsm.embodiment.drives.catalogue.table_rows`: a byte-order mark read
+    through, blank and ``#`` lines skipped, cells stripped); an error names the file, the line
+    and the column."""
+    rows = table_rows(path)
+    _, header = next(rows, (1, []))
+    missing = [c for c in COLUMNS if c not in header]
+    if missing:
+        raise ValueError(f"{path}: column {missing[0]!r} missing")
     out: dict[str, tuple[int, DriveInterface]] = {}
-    for row, (k, _) in zip(rows, lines[1:], strict=False):
-        missing = [c for c in COLUMNS if c not in row]
-        if missing:
-            raise ValueError(f"{path}: column {missing[0]!r} missing")
+    for k, cells in rows:
+        row = dict(zip(header, cells + [""] * (len(header) - len(cells)), strict=False))
         if row["key"] in out:
             raise ValueError(f"{path}, line {k}: key {row['key']!r} has a row above already")
         out[row["key"]] = (k, DriveInterface(**_values(row, f"{path}, line {k}")))

@@ -419,7 +419,10 @@ def tool_flange(
                 "M8", plate_mm + fs.washer_mm("M8")[2], True, "tool flange", ADAPTER_MM
             )
             return ToolFlange(
-                force_N, tried[-1], (), flange_mass_kg(d2, screw), d1, d2, d3, n, thread,
-                ADAPTER_MM, screw.name, offset_m, bolt, centre, sf, required_sf,
+                payload_force_N=force_N, pattern=tried[-1],
+                moving_mass_kg=flange_mass_kg(d2, screw), pitch_circle_mm=d1, face_d_mm=d2,
+                recess_d_mm=d3, bolts=n, thread=thread, adapter_mm=ADAPTER_MM,
+                centre_screw=screw.name, offset_m=offset_m, bolt_force_N=bolt,
+                centre_screw_force_N=centre, safety_factor=sf, required_safety_factor=required_sf,
             )  # fmt: skip
     return ToolFlange(force_N, None, tuple(tried))

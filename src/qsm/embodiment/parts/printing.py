@@ -160,7 +160,7 @@ def advice_sentence(advice: dict[str, Any] | None, volume_mm: ArrayLike) -> str:
     if isinstance(who, float) and who.is_integer():
         who = int(who)
     where = f" ({advice['source']})" if "source" in advice else ""
-    if "holds_loads" in advice and box_fits(advice["exact_volume_mm"], volume_mm):
+    if advice.get("holds_loads") and box_fits(advice["exact_volume_mm"], volume_mm):
         return _fits_as_realised(advice, f"{who}{where}", need, have)
     sentence = (
         f"a printer of at least {need} mm (configured: {have} mm) for design {who}{where}, "
@@ -172,14 +172,29 @@ def advice_sentence(advice: dict[str, Any] | None, volume_mm: ArrayLike) -> str:
 
 
 def _fits_as_realised(advice: dict[str, Any], who: str, need: str, have: str) -> str:
-    """Design ``who`` of ``advice``, realised, fits the configured printer ``have``: the pool
-    was judged at the configured section, its realised links are smaller (sized sections)."""
-    lengths = " ".join(np.format_float_positional(x, trim="-") for x in advice["design_m"])
-    return (
+    """Design ``who`` of ``advice``, realised, fits the configured printer ``have`` (the pool
+    was judged at the configured section; its realised, sized links are smaller): the command
+    that builds it where it has drives and meets the tolerance as realised, else what fails."""
+    fits = (
         f"design {who}, with its links as this run realises them, fits the configured printer "
         f"({need} mm needed, {have} mm configured) and holds its loads (strength utilisation "
-        f"{advice['strength_utilisation']:.2f}), while the designs were judged printable at the "
-        f"configured section: build it with `qsm export --lengths {lengths}`"
+        f"{advice['strength_utilisation']:.2f})"
+    )
+    fails = []
+    if advice.get("has_drives") is False:
+        fails.append("a motor has no drive of the catalogue that meets its duty")
+    if advice.get("meets_tolerance") is False:
+        got, allowed = advice.get("structure_mm"), advice.get("target_mm")
+        fails.append(
+            "its structure misses the tolerance"
+            + (f" ({got:.2f} mm, {allowed:.2f} mm allowed)" if got and allowed else "")
+        )
+    if fails:
+        return f"{fits}, but {' and '.join(fails)}: no printer makes it ready"
+    lengths = " ".join(np.format_float_positional(x, trim="-") for x in advice["design_m"])
+    return (
+        f"{fits}, while the designs were judged printable at the configured section: build it "
+        f"with `qsm export --lengths {lengths} --config` and this run's config files"
     )
 
 

@@ -108,7 +108,7 @@ def floor_factors(plate_factor: float) -> NDArray[np.float64]:
 def structure_mm(
     design: NDArray[np.float64],
     scale: NDArray[np.float64],
-    drives: dict[str, Any],
+    drives: DriveReport,
     strength: StrengthCheck,
     motion: PayloadSettings,
     angles: NDArray[np.float64],
@@ -274,7 +274,7 @@ def as_realised(
     choice: AccuracyChoice,
     design: NDArray[np.float64],
     scale: NDArray[np.float64],
-    drives: dict[str, Any],
+    drives: DriveReport,
     strength: StrengthCheck,
     accuracy: AccuracySettings,
     motion: PayloadSettings,

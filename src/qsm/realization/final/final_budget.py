@@ -91,7 +91,7 @@ def iso_figures(
     without a drive, after a failed payload test or where the arm does not reach the disk's
     centre."""
     if not done.drives.defined:
-        return {"simulated": False, "reason": "a motor has no drive record"}
+        return {"simulated": False, "reason": "the design's loop is undefined: no drive checked"}
     if not payload.get("passed"):
         return {"simulated": False, "reason": (
             f"the payload test failed (max tracking error "

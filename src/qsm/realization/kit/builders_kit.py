@@ -97,6 +97,13 @@ def _plates(
     }
 
 
+def _flange(done: Realization) -> jt.ToolFlange:
+    """The tool flange the realisation chose; ``ValueError`` where it carries none."""
+    if done.tool_flange is None:
+        raise ValueError("the kit needs the realisation's tool flange; this one carries none")
+    return done.tool_flange
+
+
 def _drives(done: Realization, settings: KitSettings) -> list[dict[str, Any]]:
     """Per motor: its drive's interface, mass (kg) and torque limit (N m at the joint, the
     realisation's: the controller keeps to it, and the kit is sized for it)."""
@@ -422,7 +429,7 @@ def _cheeks(
     force = done.strength.bearings["A"].peak_force_N
     allow = (bs.BASE_SHARE * tolerance_mm / 2, bs.TILT_SHARE * tolerance_mm / 2)
     sf = _safety(done)
-    tool_z = stack["upper_arm"] - jt.ADAPTER_MM - 1e3 * done.tool_flange.offset_m
+    tool_z = stack["upper_arm"] - jt.ADAPTER_MM - 1e3 * _flange(done).offset_m
     h = max(drop_mm, *(d["interface"].body_d_mm / 2 for d in drives)) + bs.CLEARANCE_MM
     out = []
     for k, drive in enumerate(drives, 1):
@@ -597,7 +604,7 @@ def _problems(
 def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSettings) -> Kit:
     """The kit of ``done`` with its final ``parts`` (module docs) and the tool flange the
     realisation chose and carried (``done.tool_flange``). Its ``parts`` are those with the hubs'
-    screw holes."""
+    screw holes. ``ValueError`` for a realisation without its flange (:func:`realize_once`)."""
     plates, drives = _plates(done, parts, settings.printed), _drives(done, settings)
     screws = _hub_screws(plates, drives, float(_bearing(done, "A").d_mm))
     pins = _pins(done, plates, None)
@@ -612,7 +619,7 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
     for hub, drive in zip(hubs, drives, strict=True):
         if "set_screw" in hub:
             hub["set_screw_on_shaft_mm"] = set_screw_reach_mm(hub, drive, stack, cheeks)
-    flange = done.tool_flange.record()
+    flange = _flange(done).record()
     table = bs.table_screws(
         [c["load"] for c in cheeks],
         cheeks[0]["height_mm"],

@@ -56,10 +56,9 @@ def final_parts(
 
 def drive_rows(report: DriveReport | None) -> dict[str, dict[str, Any]]:
     """BOM values of the motor and gearbox rows from a drives report
-    (:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`): the drive each motor is
-    built with (:func:`~qsm.embodiment.drives.selection.drive_of`; the nearest, marked, where
-    none meets its duty). A gearbox named after its motor (an actuator's own stage) is built in:
-    quantity 0."""
+    (:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`; None: none): the drive each
+    motor is built with (the nearest, marked, where none meets its duty). A gearbox named after
+    its motor (an actuator's own stage) is built in: quantity 0."""
     rows: dict[str, dict[str, Any]] = {}
     motors = {} if report is None else report.motors
     for k, motor in enumerate(motors.values(), start=1):

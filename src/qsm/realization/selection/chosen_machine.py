@@ -142,8 +142,9 @@ def _smallest_realised(
     """The design of ``pool`` that holds its loads with the smallest printer at the configured
     section (:func:`smallest_build_volume`; a printer for a design that fails its strength fixes
     nothing), realised as this run realises ``done``: its ``needed_volume_mm`` (whole mm up) and
-    ``exact_volume_mm`` those of its links as realised, with ``holds_loads`` and
-    ``strength_utilisation`` as realised; None when no design holds its loads."""
+    ``exact_volume_mm`` those of its links as realised, with ``holds_loads``,
+    ``strength_utilisation``, ``has_drives`` and the tolerance's ``meets_tolerance``,
+    ``structure_mm`` and ``target_mm`` (mm) as realised; None when no design holds its loads."""
     cad = settings.parts.cad
     smallest = smallest_build_volume(pool, pool["holds_loads"].astype(bool), cad)
     if smallest is None:
@@ -151,11 +152,16 @@ def _smallest_realised(
     d = np.asarray(smallest["design_m"], dtype=float)
     other = done if np.array_equal(d, done.design) else realize(d, settings)
     need = section_needed_mm(other.design, cad, other.scale)
+    tolerance = other.accuracy.record()
     smallest.update(
         needed_volume_mm=round_up_mm(need),
         exact_volume_mm=need.tolist(),
         holds_loads=other.strength.holds_loads,
         strength_utilisation=other.strength.utilisation,
+        has_drives=other.has_drives,
+        meets_tolerance=tolerance["meets_target"],
+        structure_mm=tolerance["structure_mm"],
+        target_mm=tolerance["target_mm"],
     )
     return smallest
 
@@ -189,7 +195,8 @@ def machine_top(
     record["holds_loads"] = done.strength.holds_loads
     record["has_drives"] = done.has_drives
     record["strength"], record["drives"] = strength_json(done.strength), report_json(done.drives)
-    record["tool_flange"], record["tool_flange_kg"] = done.tool_flange.record(), done.tool_kg
+    flange = {} if done.tool_flange is None else done.tool_flange.record()
+    record["tool_flange"], record["tool_flange_kg"] = flange, done.tool_kg
     record["fixed_point"] = fixed_point_record(done.fixed_point)
     record["torque_limits_Nm"] = list(done.torque_limits_Nm)
     record["candidate"] = candidate

@@ -112,7 +112,7 @@ def machine_record(done: Realization) -> dict[str, Any]:
         "tolerance_choice": _accuracy_record(done.accuracy),
         "strength": strength_json(done.strength),
         "drives": report_json(done.drives),
-        "tool_flange": done.tool_flange.record(),
+        "tool_flange": {} if done.tool_flange is None else done.tool_flange.record(),
         "fixed_point": fixed_point_record(done.fixed_point),
         "torque_limits_Nm": list(done.torque_limits_Nm),
     }
@@ -158,7 +158,7 @@ def realization_from_record(data: Mapping[str, Any], settings: RealizationSettin
         accuracy=_accuracy_of(data["tolerance_choice"]),
         strength_check=check,
         sections=sections,
-        tool_flange=ToolFlange.of(data["tool_flange"]),
+        tool_flange=ToolFlange.of(data["tool_flange"]) if data["tool_flange"] else None,
         fixed_point=FixedPoint(tuple(tool_kg), bool(data["fixed_point"]["converged"])),
         torque_limits_Nm=tuple(float(t) for t in data["torque_limits_Nm"]),
     )

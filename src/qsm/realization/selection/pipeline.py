@@ -2,7 +2,7 @@
 notebook: its link check and sections, bearings, bored parts and drives.
 
 :func:`realize` runs the checks of :class:`RealizationSettings` on one design (6 lengths, m) and
-returns a :class:`Realization`: the strength record (:func:`qsm.embodiment.strength.verdict
+returns a :class:`Realization`: the strength record (:func:`qsm.embodiment.strength.record
 .strength_record`), the drive report (:meth:`qsm.embodiment.drives.drive_checks.DriveCheck.report`),
 each link's section scale, the bearing rows and the solid bored parts. The rules
 ``select_design`` and ``topology_optimize`` and :func:`qsm.app.export.export_design` each take
