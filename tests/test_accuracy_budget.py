@@ -134,7 +134,7 @@ def test_a_first_mode_requirement_above_the_arms_is_reported(settings, points):
 def test_torque_reversals_agree_with_mujocos_inverse_dynamics(realized, settings, points):
     """The Newton-Euler torques along the task's motion change sign where MuJoCo's do."""
     model = arm_model(realized, settings)
-    angles = joint_path(DESIGN, points, settings.motion.theta1_range_deg)
+    angles = joint_path(DESIGN, points, settings.motion.operating_range.theta1_deg)
     ne = task_motion_torques(model, angles, settings.motion)
     way = angles[[*range(len(angles)), 0]] if settings.motion.return_to_start else angles
     _, th, dth, ddth = reference_trajectory(

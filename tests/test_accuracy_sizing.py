@@ -89,7 +89,7 @@ def test_the_realised_sections_are_the_smallest_common_factor_that_meets_it(buil
     settings, done = built
     carried = carrying(settings, done.tool_kg)  # the tool flange at E, as the sizing had it
     choice = done.accuracy
-    angles = joint_path(DESIGN, POINTS, settings.motion.theta1_range_deg)
+    angles = joint_path(DESIGN, POINTS, settings.motion.operating_range.theta1_deg)
     drives = replace(carried.drives, min_stiffness_Nm_rad=choice.min_stiffness_Nm_rad)
     report = drives.report(DESIGN)
     less = choice.scale / 1.02  # 2 % smaller sections, the same gearboxes
@@ -106,7 +106,7 @@ def test_the_cut_plates_ask_for_larger_sections(built):
     settings, solid = built
     cut = realize(DESIGN, _settings(5.0, plate_factor=0.8))
     carried = carrying(settings, cut.tool_kg)
-    angles = joint_path(DESIGN, POINTS, settings.motion.theta1_range_deg)
+    angles = joint_path(DESIGN, POINTS, settings.motion.operating_range.theta1_deg)
     scale = np.asarray(cut.accuracy.scale)
     error = structure_mm(
         DESIGN, scale, cut.drives, carried.strength, carried.motion, angles, True, 0.8,
@@ -213,7 +213,7 @@ def test_creep_asks_for_larger_sections(built):
     assert np.all(np.asarray(crept.accuracy.scale) >= np.asarray(fresh.accuracy.scale) - 1e-9)
     assert max(crept.accuracy.scale) > max(fresh.accuracy.scale)
     carried = carrying(settings, crept.tool_kg)
-    angles = joint_path(DESIGN, POINTS, settings.motion.theta1_range_deg)
+    angles = joint_path(DESIGN, POINTS, settings.motion.operating_range.theta1_deg)
     scale = np.asarray(crept.accuracy.scale)
     args = (DESIGN, scale, crept.drives, carried.strength, carried.motion, angles, True, 1.0)
     month = PrintedMaterial(service_time_h=720.0)

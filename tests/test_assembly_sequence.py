@@ -122,7 +122,7 @@ def _sequence(done, record):
         k: s.printed.across_layers_MPa(v.allowable_MPa) for k, v in done.strength.links.items()
     }
     bearings = done.strength.bearings
-    return kit_sequence(record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow, bearings)
+    return kit_sequence(record, done.design, parts, *s.operating_range.degrees, allow, bearings)
 
 
 def test_the_kit_has_a_sequence_with_a_tool_for_every_screw(kit):
@@ -159,7 +159,7 @@ def test_every_key_path_is_free_of_the_parts_placed_before_its_step(kit):
     found = _sequence(done, record)
     parts = with_hub_holes(done.parts, record["hubs"])
     s = KitSettings()
-    angles = poses(done.design, record["layout"]["pose_deg"], s.theta1_deg, s.theta2_min_deg)
+    angles = poses(done.design, record["layout"]["pose_deg"], *s.operating_range.degrees)
     placed = [placed_solids(record, done.design, parts, a) for a in angles]
     before: list[str] = []
     checked = 0
@@ -335,13 +335,15 @@ def test_the_gap_to_a_link_s_true_outline_agrees_with_the_placed_plates(kit):
     from qsm.realization.kit.kit_layout import link_frames
 
     done, s = kit[0], KitSettings()
-    t1s = np.radians(np.linspace(*s.theta1_deg, 61))[::6]
+    t1s = np.radians(np.linspace(*s.operating_range.theta1_deg, 61))[::6]
     for joint, link in (("B", "coupler"), ("C", "upper_arm"), ("A", "upper_arm")):
         outline = shapely.Polygon(done.parts[link].polygon.exterior.coords)
         brute = np.inf
         for t1 in t1s:
             for frac in np.linspace(0.0, 1.0, 61)[::6]:
-                t2 = np.radians(s.theta2_min_deg) + frac * (t1 - np.radians(s.theta2_min_deg))
+                t2 = np.radians(s.operating_range.theta2_min_deg) + frac * (
+                    t1 - np.radians(s.operating_range.theta2_min_deg)
+                )
                 p = pose(done.design, t1, t2)
                 if not bool(p.closes):
                     continue
@@ -394,9 +396,11 @@ def test_the_assembly_step_read_back_has_no_overlap_at_six_poses(kit, read_back)
     assert set(ref.overlaps(solids, moves, (start, start))) == tapped
     moving -= {(b, a) for a, b in tapped}  # the output screws turn with the flange inside
     poses = 0
-    for t1 in np.radians(np.linspace(*s.theta1_deg, 3)):
+    for t1 in np.radians(np.linspace(*s.operating_range.theta1_deg, 3)):
         for frac in (0.15, 0.85):
-            t2 = np.radians(s.theta2_min_deg) + frac * (t1 - np.radians(s.theta2_min_deg))
+            t2 = np.radians(s.operating_range.theta2_min_deg) + frac * (
+                t1 - np.radians(s.operating_range.theta2_min_deg)
+            )
             if bool(pose(done.design, t1, t2).closes):
                 poses += 1
                 frames = (start, link_frames(done.design, t1, t2))
@@ -423,7 +427,7 @@ def test_every_screw_in_the_step_file_is_reached_by_its_key_in_the_sequence_s_or
     done, record = kit[0], kit[1].record
     layout, steps, s = record["layout"], record["assembly_sequence"]["steps"], KitSettings()
     start = link_frames(done.design, *np.radians(layout["pose_deg"]))
-    angles = poses(done.design, layout["pose_deg"], s.theta1_deg, s.theta2_min_deg)
+    angles = poses(done.design, layout["pose_deg"], *s.operating_range.degrees)
     blocked, checked = ref.blocked_screws(
         read_back,
         layout["moves_with"],

@@ -12,7 +12,7 @@ from qsm.config.reading import load_config
 from qsm.embodiment.strength.material import Material, StrengthSettings
 from qsm.physics.cad import CadSettings
 from qsm.physics.duty import DutySettings
-from qsm.physics.workspace import Resolution
+from qsm.physics.workspace import OperatingRange, Resolution
 from qsm.realization.motion.payload import PayloadSettings
 from qsm.realization.topology.fe import TopologySettings
 from qsm.surrogate.model import SurrogateSettings
@@ -51,7 +51,7 @@ def test_operating_range_defaults_equal_the_schema():
     duty = DutySettings()
     assert (duty.theta1_min_deg, duty.theta1_max_deg, duty.theta2_min_deg) == (lo, hi, theta2)
     payload = PayloadSettings()
-    assert (tuple(payload.theta1_range_deg), payload.theta2_min_deg) == ((lo, hi), theta2)
+    assert payload.operating_range.degrees == ((lo, hi), theta2)
 
 
 def test_the_settings_layer_gives_the_default_dataclasses_on_the_default_config():
@@ -64,8 +64,11 @@ def test_the_settings_layer_gives_the_default_dataclasses_on_the_default_config(
     assert physics.duty(c["dynamics"]["duty"], c["operating_range"]) == DutySettings()
     assert plates.topology(c["topology"], c["material"], c["strength"]) == TopologySettings()
     assert surrogate.surrogate(c["surrogate"]) == SurrogateSettings()
-    test = simulation.payload_test(c["payload_test"], c["task"]["payload_kg"], c["operating_range"])
-    assert test == PayloadSettings()
+    op = physics.operating_range(c["operating_range"])
+    assert op == OperatingRange()
+    assert (
+        simulation.payload_test(c["payload_test"], c["task"]["payload_kg"], op) == PayloadSettings()
+    )
     fit = physics.fit(c["operating_range"], c["task"]["points"], c["scale"], c["workspace"])
     assert fit.resolution == Resolution() and fit.op == physics.operating_range(
         c["operating_range"]

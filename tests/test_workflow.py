@@ -587,7 +587,7 @@ def test_sized_sections_are_drawn_and_built_as_checked(run, tmp_path):
     real = work / "results/realization"
     selected = json.loads((real / "selected.json").read_text())
     strength = selected["strength"]
-    assert strength["section"] == "sized"
+    assert strength["section"] in ("sized", "sized and grown")  # grown where the tolerance asked
     checked = {k: (r["width_mm"], r["thickness_mm"]) for k, r in strength["links"].items()}
     assert any(not np.allclose(c, (40.0, 20.0), atol=0.5) for c in checked.values()), checked
     topo = json.loads((real / "topology.json").read_text())

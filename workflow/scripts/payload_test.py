@@ -35,7 +35,8 @@ with logged(snakemake.log[0]) as log:
     payload_kg = r["task"]["payload_kg"]
     tool_kg = selected["tool_flange_kg"]  # the realised tool flange, at E beside the payload
     carried = payload_kg + tool_kg
-    test_settings = simulation.payload_test(p.payload_test, carried, r["operating_range"])
+    op = links.load_case_of(r).operating_range
+    test_settings = simulation.payload_test(p.payload_test, carried, op)
     catalogue = actuation.catalogue(r["drives"])
     drives = []
     limits = selected["torque_limits_Nm"]  # each drive's, which its controller keeps

@@ -10,7 +10,7 @@ from qsm.workflow.logs import logged
 with logged(snakemake.log[0]) as log:
     c = cycle_inputs(dict(snakemake.input.items()), dict(snakemake.params.items()))
     centre = min_enclosing_circle(c.settings.task_points_m).centre
-    route = standard_route(c.done.design, centre, c.test.theta1_range_deg, c.test.theta2_min_deg)
+    route = standard_route(c.done.design, centre, *c.test.operating_range.degrees)
     cycles = (
         []
         if route is None

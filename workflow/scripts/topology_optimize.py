@@ -26,7 +26,7 @@ with logged(snakemake.log[0]) as log:
     volume = tuple(r["printing"]["build_volume_mm"])
     drawing = {"svg": out.drawing, "png": out.drawing_png}
     material = case.material.name
-    kit = realization.kit(r["operating_range"], r["drives"], settings.accuracy)
+    kit = realization.kit(case.operating_range, r["drives"], settings.accuracy)
     carried = case.payload_kg + done.tool_kg  # the payload and the tool flange at E
     built = build_links(done, carried, case.cycle(), topo, material, folder, volume, drawing, kit)
     draw_links(done.design, built.parts, f"{folder}/drawing")  # as built, openings included

@@ -111,9 +111,9 @@ def cycle_inputs(files: Mapping[str, str], params: Mapping[str, Any]) -> CycleIn
     points = [list(xy) for xy in settings.task_points_m]
     done = realization_from_record(_read(files["machine"]), settings)
     settings = carrying(settings, done.tool_kg)  # the tool flange at E, as realised
-    (lo, hi), theta2_min = case.operating_range_deg
-    op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
-    test = simulation.payload_test(p["payload_test"], settings.motion.payload_kg, op)
+    test = simulation.payload_test(
+        p["payload_test"], settings.motion.payload_kg, case.operating_range
+    )
     base = _read(files["kit"])["base"]["tool_error_mm"]
     parts = (_read(files["topology"]), props)
     budget = measured_budget(done, parts, _read(files["payload"]), settings, points, None, base)

@@ -9,6 +9,7 @@ from qsm.embodiment.strength.material import Material
 from qsm.embodiment.strength.sizing import SizingSettings
 from qsm.physics.cad import CadSettings
 from qsm.physics.duty import Duty, DutySettings, duty_cycle
+from qsm.physics.workspace import OperatingRange
 
 
 @dataclass(frozen=True)
@@ -35,7 +36,7 @@ class LoadCase:
         return replace(self, duty=duty)
 
     @property
-    def operating_range_deg(self) -> tuple[tuple[float, float], float]:
-        """The motor ranges (deg): (theta1 min, max) and theta2's minimum."""
+    def operating_range(self) -> OperatingRange:
+        """The motors' ranges the duty samples."""
         d = self.duty
-        return (d.theta1_min_deg, d.theta1_max_deg), d.theta2_min_deg
+        return OperatingRange((d.theta1_min_deg, d.theta1_max_deg), d.theta2_min_deg)

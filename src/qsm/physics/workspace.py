@@ -19,7 +19,7 @@ Designs are sliced many at a time (:func:`slice_stack`, array kernels in
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -45,16 +45,32 @@ SLICE_BATCH = 64
 
 @dataclass(frozen=True)
 class OperatingRange:
-    """Motor ranges: theta1 in [theta1_min, theta1_max], theta2 in [theta2_min, theta1] (rad)."""
+    """The motors' ranges, as configured (deg): theta1 in ``theta1_deg`` (min, max), theta2
+    from ``theta2_min_deg`` up to theta1; the same in radians as ``theta1_min``, ``theta1_max``
+    and ``theta2_min``. Every setting that needs the range holds one of these."""
 
-    theta1_min: float
-    theta1_max: float
-    theta2_min: float
+    theta1_deg: tuple[float, float] = tuple(default("operating_range.theta1_deg"))
+    theta2_min_deg: float = default("operating_range.theta2_min_deg")
+    theta1_min: float = field(init=False, repr=False, compare=False)
+    theta1_max: float = field(init=False, repr=False, compare=False)
+    theta2_min: float = field(init=False, repr=False, compare=False)
+
+    def __post_init__(self) -> None:
+        lo, hi = np.radians(np.asarray(self.theta1_deg, dtype=float))
+        object.__setattr__(self, "theta1_min", float(lo))
+        object.__setattr__(self, "theta1_max", float(hi))
+        object.__setattr__(self, "theta2_min", float(np.radians(self.theta2_min_deg)))
+
+    @property
+    def degrees(self) -> tuple[tuple[float, float], float]:
+        """(theta1's (min, max), theta2's minimum), deg: the inverse kinematics' arguments."""
+        return self.theta1_deg, self.theta2_min_deg
 
     @classmethod
     def from_degrees(cls, theta1_deg: ArrayLike, theta2_min_deg: float) -> OperatingRange:
-        lo, hi = np.radians(np.asarray(theta1_deg, dtype=float))
-        return cls(float(lo), float(hi), float(np.radians(theta2_min_deg)))
+        """The range of theta1's (min, max) and theta2's minimum, in degrees."""
+        lo, hi = (float(t) for t in np.asarray(theta1_deg, dtype=float))
+        return cls((lo, hi), float(theta2_min_deg))
 
     @property
     def delta_max(self) -> float:

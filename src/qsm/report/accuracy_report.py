@@ -131,9 +131,9 @@ def _sag_grid(
     gx, gy = np.meshgrid(xs, ys)
     grid = np.column_stack([gx.ravel(), gy.ravel()])
     motion = settings.motion
-    angles = batch_joint_angles(done.design, grid, motion.theta1_range_deg, motion.theta2_min_deg)[
-        0
-    ].reshape(n, n, 2)
+    angles = batch_joint_angles(done.design, grid, *motion.operating_range.degrees)[0].reshape(
+        n, n, 2
+    )
     angles[np.hypot(gx - cx, gy - cy) > r] = np.nan
     ok = np.isfinite(angles[..., 0])
     sag = np.full((n, n), np.nan)

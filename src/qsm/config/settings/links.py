@@ -90,13 +90,11 @@ def sag_check(
     """The tool's sag at the task ``points`` (m) under ``case`` (g15 against ``tolerance_mm``;
     the schema's default when None, for the dataset's column alone)."""
     extra = {} if tolerance_mm is None else {"tolerance_mm": float(tolerance_mm)}
-    theta1, theta2_min = case.operating_range_deg
     return SagCheck(
         points=tuple((float(x), float(y)) for x, y in points),
         cad=case.cad,
         material=case.material,
         payload_kg=case.payload_kg,
-        theta1_range_deg=theta1,
-        theta2_min_deg=theta2_min,
+        operating_range=case.operating_range,
         **extra,
     )

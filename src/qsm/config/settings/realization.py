@@ -12,6 +12,7 @@ from qsm.config.settings.simulation import task_motion
 from qsm.embodiment.load_case import LoadCase
 from qsm.embodiment.strength.printed import PrintedMaterial
 from qsm.physics.task_points import design_task
+from qsm.physics.workspace import OperatingRange
 from qsm.realization.accuracy.accuracy_budget import AccuracySettings
 from qsm.realization.accuracy.iso_record import IsoSettings
 from qsm.realization.kit.builders_kit import KitSettings
@@ -76,8 +77,6 @@ def realization_of(config: Section) -> RealizationSettings:
     the accuracy budget reports; the ``kit`` section's loop that adds the tool flange's mass."""
     case = load_case_of(config)
     points = design_task(config["task"]["points"])[1]
-    (lo, hi), theta2_min = case.operating_range_deg
-    op = {"theta1_deg": [lo, hi], "theta2_min_deg": theta2_min}
     return RealizationSettings(
         strength=strength_check(case, config["strength"]),
         drives=drive_check(config["drives"], case),
@@ -85,19 +84,18 @@ def realization_of(config: Section) -> RealizationSettings:
         accuracy=accuracy(
             accuracy_section(config), case, points, config["printing"]["build_volume_mm"]
         ),
-        motion=task_motion(config["payload_test"], case.payload_kg, op),
+        motion=task_motion(config["payload_test"], case.payload_kg, case.operating_range),
         task_points_m=tuple((float(x), float(y)) for x, y in points),
         kit_sizing=kit_sizing(config["kit"]),
     )
 
 
-def kit(operating_range: Section, drives: Section, accuracy: AccuracySettings) -> KitSettings:
-    """The builder's kit's settings: the motors' ``operating_range``, the ``drives`` section's
+def kit(op: OperatingRange, drives: Section, accuracy: AccuracySettings) -> KitSettings:
+    """The builder's kit's settings: the motors' operating range ``op``, the ``drives`` section's
     catalogue (where ``interfaces.csv`` is read), and the task's tolerance and the printed
     material of ``accuracy`` (the tool flange is the realisation's: :func:`kit_sizing`)."""
     return KitSettings(
-        tuple(operating_range["theta1_deg"]),
-        operating_range["theta2_min_deg"],
+        op,
         drives["catalogue"],
         accuracy.tolerance_mm,
         accuracy.printed,

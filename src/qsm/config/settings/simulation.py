@@ -10,15 +10,14 @@ from qsm.config.settings.actuation import drive_check
 from qsm.config.settings.links import load_case_of, strength_check
 from qsm.embodiment.drives.catalogue import Catalogue
 from qsm.embodiment.strength.link_checks import StrengthCheck
+from qsm.physics.workspace import OperatingRange
 from qsm.realization.motion.payload import PayloadSettings
 
 Section = Mapping[str, Any]
 
 
-def payload_test(
-    section: Section, payload_kg: float, operating_range_section: Section
-) -> PayloadSettings:
-    """``payload_test`` with ``task.payload_kg`` and ``operating_range``."""
+def payload_test(section: Section, payload_kg: float, op: OperatingRange) -> PayloadSettings:
+    """``payload_test`` with ``task.payload_kg`` and the motors' operating range ``op``."""
     return PayloadSettings(
         payload_kg=payload_kg,
         torque_limits_Nm=(
@@ -32,14 +31,11 @@ def payload_test(
         ki_Nm_rad_s=tuple(section["ki_Nm_rad_s"]),
         tracking_tolerance_deg=section["tracking_tolerance_deg"],
         plant_mass_error=section["plant_mass_error"],
-        theta1_range_deg=tuple(operating_range_section["theta1_deg"]),
-        theta2_min_deg=operating_range_section["theta2_min_deg"],
+        operating_range=op,
     )
 
 
-def task_motion(
-    section: Section, payload_kg: float, operating_range_section: Section
-) -> PayloadSettings:
+def task_motion(section: Section, payload_kg: float, op: OperatingRange) -> PayloadSettings:
     """The task's motion: the :data:`qsm.physics.task_points.MOTION_KEYS` of ``payload_test``
     (the others' defaults, which it does not read), with ``task.payload_kg`` and
     ``operating_range``."""
@@ -48,8 +44,7 @@ def task_motion(
         segment_duration_s=section["segment_duration_s"],
         dwell_s=section["dwell_s"],
         return_to_start=section["return_to_start"],
-        theta1_range_deg=tuple(operating_range_section["theta1_deg"]),
-        theta2_min_deg=operating_range_section["theta2_min_deg"],
+        operating_range=op,
     )
 
 
@@ -70,5 +65,5 @@ def cycles_of(config: Section) -> CycleSettings:
     return CycleSettings(
         strength=strength_check(case, config["strength"]),
         catalogue=drive_check(config["drives"], case).catalogue,
-        test=payload_test(config["payload_test"], case.payload_kg, config["operating_range"]),
+        test=payload_test(config["payload_test"], case.payload_kg, case.operating_range),
     )

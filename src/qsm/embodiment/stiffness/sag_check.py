@@ -8,7 +8,7 @@ the optimised plates and the payload test's tracking, and decides its verdict.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import ArrayLike, NDArray
@@ -19,6 +19,7 @@ from qsm.embodiment.strength.material import DEFAULT_MATERIAL, Material
 from qsm.physics.batch_ik import batch_joint_angles
 from qsm.physics.cad import DEFAULT_CAD, CadSettings
 from qsm.physics.kinematics import as_design
+from qsm.physics.workspace import OperatingRange
 from qsm.schema.defaults import default
 
 #: g15 of a design that cannot reach a task point in the operating range (mm over tolerance).
@@ -38,14 +39,13 @@ class SagCheck:
     cad: CadSettings = DEFAULT_CAD
     material: Material = DEFAULT_MATERIAL
     payload_kg: float = default("task.payload_kg")
-    theta1_range_deg: tuple[float, float] = default("operating_range.theta1_deg")
-    theta2_min_deg: float = default("operating_range.theta2_min_deg")
+    operating_range: OperatingRange = field(default_factory=OperatingRange)
 
     def sag_mm(self, designs: ArrayLike, scales: ArrayLike | None = None) -> NDArray[np.float64]:
         """The largest sag (N,) mm over the points of designs (N, 6) m (``scales`` (N, 4): each
         link's section factor); inf where a point is out of reach."""
         d = np.atleast_2d(as_design(designs)).astype(float)
-        angles = batch_joint_angles(d, self.points, self.theta1_range_deg, self.theta2_min_deg)
+        angles = batch_joint_angles(d, self.points, *self.operating_range.degrees)
         reach = np.isfinite(angles).all(axis=(-1, -2))
         f = np.ones((len(d), 4)) if scales is None else np.asarray(scales, dtype=float)
         sections = FrameSections(

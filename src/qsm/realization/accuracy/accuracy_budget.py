@@ -401,7 +401,7 @@ def accuracy_record(
     (None before the test has run)."""
     peak_N = max(loads.values())
     points = np.asarray(points_m, dtype=float).reshape(-1, 2)
-    angles = joint_path(model.design, points, payload.theta1_range_deg, payload.theta2_min_deg)
+    angles = joint_path(model.design, points, *payload.operating_range.degrees)
     reverses = torque_reverses(task_motion_torques(model, angles, payload))
     terms = point_terms(model, angles, payload.payload_kg, peak_N, reverses)
     track = None if tracking_mm is None else np.asarray(tracking_mm, dtype=float)[: len(points)]

@@ -226,7 +226,7 @@ def accuracy_choice(
     target = STRUCTURE_SHARE * accuracy.tolerance_mm
     points = np.asarray(accuracy.points_m, dtype=float).reshape(-1, 2)
     try:
-        angles = joint_path(design, points, motion.theta1_range_deg, motion.theta2_min_deg)
+        angles = joint_path(design, points, *motion.operating_range.degrees)
     except ValueError:  # a point out of reach
         return AccuracyChoice(base, (0.0, 0.0), math.inf, target, False)
     upper = growth_limit(
@@ -286,7 +286,7 @@ def as_realised(
     if choice.meets is None or not math.isfinite(choice.structure_mm):
         return choice
     points = np.asarray(accuracy.points_m, dtype=float).reshape(-1, 2)
-    angles = joint_path(design, points, motion.theta1_range_deg, motion.theta2_min_deg)
+    angles = joint_path(design, points, *motion.operating_range.degrees)
     error = structure_mm(
         design,
         scale,

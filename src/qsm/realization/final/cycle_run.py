@@ -223,7 +223,7 @@ def run_cycle(
     arm = Arm(done.design, Inertials.of(props), test.payload_kg, drives)
     points = np.asarray(task.points, dtype=float)
     try:
-        angles = joint_path(done.design, points, test.theta1_range_deg, test.theta2_min_deg)
+        angles = joint_path(done.design, points, *test.operating_range.degrees)
         checked = checked_cycle(
             done, props, arm, (points, angles), test, (task.dwell_s, task.returns), ratings[1],
             max_load_N, jerk_times_s, settling,

@@ -100,7 +100,7 @@ def iso_figures(
         )}  # fmt: skip
     topology, props = parts
     model = arm_model(done, settings, props, plate_factors(topology))
-    op = (settings.motion.theta1_range_deg, settings.motion.theta2_min_deg)
+    op = settings.motion.operating_range.degrees
     centre = min_enclosing_circle(settings.task_points_m).centre
     try:
         plane = largest_plane(done.design, centre, *op)

@@ -29,6 +29,7 @@ from qsm.embodiment.parts.link_parts import LinkPart
 from qsm.embodiment.strength.printed import PrintedMaterial
 from qsm.embodiment.strength.record import BearingLoad
 from qsm.physics.kinematics import pose
+from qsm.physics.workspace import OperatingRange
 from qsm.realization.kit import kit_bom as kb
 from qsm.realization.kit import kit_hardware as kh
 from qsm.realization.kit import kit_layout as kl
@@ -54,14 +55,13 @@ HUB_LINKS = tuple(HUB_LINK_OF.values())
 
 @dataclass(frozen=True)
 class KitSettings:
-    """The motors' operating range (``theta1_deg`` (lo, hi), ``theta2_min_deg``; the links' sweep
-    sizes the base), the drive catalogue's folder (None: the shipped one), where ``interfaces.csv``
+    """The motors' ``operating_range`` (the links' sweep sizes the base), the drive catalogue's
+    folder (None: the shipped one), where ``interfaces.csv``
     is read, the task's placing tolerance (mm; the base takes
     :data:`~qsm.embodiment.kit.base.BASE_SHARE` of it) and the printed material, whose
     across-layer factor derates the bearing pressures in the printed holes."""
 
-    theta1_deg: tuple[float, float] = default("operating_range.theta1_deg")
-    theta2_min_deg: float = default("operating_range.theta2_min_deg")
+    operating_range: OperatingRange = field(default_factory=OperatingRange)
     catalogue: str | None = None
     tolerance_mm: float = default("task.tolerance_mm")
     printed: PrintedMaterial = field(default_factory=PrintedMaterial)
@@ -127,9 +127,10 @@ def _drives(done: Realization, settings: KitSettings) -> list[dict[str, Any]]:
 
 def _grid(s: KitSettings) -> tuple[np.ndarray, np.ndarray]:
     """The motors' angles (rad, (61, 61)) over the operating range."""
-    t1 = np.radians(np.linspace(*s.theta1_deg, 61))[:, None]
+    t1 = np.radians(np.linspace(*s.operating_range.theta1_deg, 61))[:, None]
     frac = np.linspace(0.0, 1.0, 61)[None, :]
-    t2 = np.radians(s.theta2_min_deg) + frac * (t1 - np.radians(s.theta2_min_deg))
+    low = np.radians(s.operating_range.theta2_min_deg)
+    t2 = low + frac * (t1 - low)
     return np.broadcast_to(t1, t2.shape), t2
 
 
@@ -627,7 +628,7 @@ def builders_kit(done: Realization, parts: dict[str, LinkPart], settings: KitSet
         _safety(done),
     )
     holed = with_hub_holes(parts, hubs)
-    angles = kl.working_pose(done.design, settings.theta1_deg, settings.theta2_min_deg)
+    angles = kl.working_pose(done.design, *settings.operating_range.degrees)
     geometry = kl.kit_geometry(done.design, holed, stack, cheeks, drives, hubs, flange, angles)
     lines = kb.fastener_lines(pins, hubs, cheeks, drives, flange, table)
     clear = clearances(done, parts, pins, settings)
@@ -727,7 +728,7 @@ def _with_sequence(
         k: s.printed.across_layers_MPa(v.allowable_MPa) for k, v in done.strength.links.items()
     }
     found = kit_sequence(
-        record, done.design, parts, s.theta1_deg, s.theta2_min_deg, allow,
+        record, done.design, parts, *s.operating_range.degrees, allow,
         done.strength.bearings, kit_hardware.step,
     )  # fmt: skip
     sequence = record_of(found, kit_hardware.step)

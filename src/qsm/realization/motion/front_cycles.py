@@ -72,7 +72,7 @@ def _cycle_time(
         return np.nan, note
     arm = _arm(row, check, catalogue, test.payload_kg)
     try:
-        angles = joint_path(arm.design, task.points, test.theta1_range_deg, test.theta2_min_deg)
+        angles = joint_path(arm.design, task.points, *test.operating_range.degrees)
         cycle = plan_cycle(arm, angles, task.dwell_s, TIMESTEP_S, task.returns, FRONT_FRACTIONS)
     except ValueError as exc:  # out of reach, or the drives cannot hold the arm
         return np.nan, str(exc)

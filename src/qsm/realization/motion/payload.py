@@ -36,7 +36,7 @@ from __future__ import annotations
 import itertools
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any, NamedTuple
 
 import mujoco
@@ -51,6 +51,7 @@ from qsm.physics.inverse_kinematics import joint_path
 from qsm.physics.kinematics import as_design, pose
 from qsm.physics.mjcf import model_spec
 from qsm.physics.task_points import visited_points
+from qsm.physics.workspace import OperatingRange
 from qsm.prose import fixed
 from qsm.schema.defaults import default
 
@@ -75,7 +76,8 @@ class PayloadSettings:
     plant_mass_error: the simulated links and payload are this fraction heavier than the model
         that gives the feed-forward torques (mass and inertia), default 0.15, so the test checks
         the controller against a model error, not only the integrator.
-    theta1_range_deg, theta2_min_deg: operating range for the IK, default (45, 180), -37.5.
+    operating_range: the motors' ranges for the IK, default theta1 (45, 180) deg, theta2 from
+        -37.5 deg.
     """
 
     payload_kg: float = default("task.payload_kg")
@@ -88,8 +90,7 @@ class PayloadSettings:
     ki_Nm_rad_s: tuple[float, float] = default("payload_test.ki_Nm_rad_s")
     tracking_tolerance_deg: float = default("payload_test.tracking_tolerance_deg")
     plant_mass_error: float = default("payload_test.plant_mass_error")
-    theta1_range_deg: tuple[float, float] = default("operating_range.theta1_deg")
-    theta2_min_deg: float = default("operating_range.theta2_min_deg")
+    operating_range: OperatingRange = field(default_factory=OperatingRange)
 
     def __post_init__(self) -> None:
         if self.segment_duration_s <= 0 or self.dwell_s < 0:
@@ -363,7 +364,7 @@ def _route(
     them every ``dt`` s: the test's own (the points it visits, :func:`raster_reference`), or
     ``reference`` through ``points`` as given, which must be sampled every ``dt``."""
     pts = _visited(points, s.return_to_start) if reference is None else np.reshape(points, (-1, 2))
-    way = joint_path(d, pts, s.theta1_range_deg, s.theta2_min_deg)
+    way = joint_path(d, pts, *s.operating_range.degrees)
     ref = raster_reference(way, s, dt) if reference is None else reference
     if not np.allclose(np.diff(ref.t), dt, rtol=1e-9, atol=0):
         raise ValueError(f"the reference is not sampled at the model's time step {dt} s")

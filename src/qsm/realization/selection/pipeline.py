@@ -254,7 +254,7 @@ def _task_duty(d: NDArray[np.float64], settings: RealizationSettings) -> Duty | 
     if not settings.task_points_m:
         return None
     try:
-        angles = joint_path(d, settings.task_points_m, m.theta1_range_deg, m.theta2_min_deg)
+        angles = joint_path(d, settings.task_points_m, *m.operating_range.degrees)
     except ValueError:
         return None
     return task_motion_duty(angles, m)
