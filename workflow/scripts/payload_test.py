@@ -35,7 +35,7 @@ with logged(snakemake.log[0]) as log:
     payload_kg = r["task"]["payload_kg"]
     tool_kg = selected["tool_flange_kg"]  # the realised tool flange, at E beside the payload
     carried = payload_kg + tool_kg
-    op = links.load_case_of(r).operating_range
+    op = physics.operating_range(r["operating_range"])
     test_settings = simulation.payload_test(p.payload_test, carried, op)
     catalogue = actuation.catalogue(r["drives"])
     drives = []
