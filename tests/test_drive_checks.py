@@ -170,5 +170,5 @@ def test_a_realised_design_s_drives_hold_the_task_as_well_as_the_duty():
 
     assert also[0][row(chosen)] <= 0 < also[0][row(before)]
     assert chosen.mass_kg > before.mass_kg  # the lightest that meets both is heavier
-    assert need["rms_torque_Nm"][0] <= offer(plain.catalogue)[row(chosen)]["cont_torque_Nm"]
-    assert need["rms_torque_Nm"][0] > offer(plain.catalogue)[row(before)]["cont_torque_Nm"]
+    assert need.rms_torque_Nm[0] <= offer(plain.catalogue)[row(chosen)]["cont_torque_Nm"]
+    assert need.rms_torque_Nm[0] > offer(plain.catalogue)[row(before)]["cont_torque_Nm"]

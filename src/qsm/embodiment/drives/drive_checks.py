@@ -20,10 +20,8 @@ drive-mass objective.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
 from dataclasses import dataclass, field, replace
 from functools import cached_property
-from typing import Any
 
 import numpy as np
 import pandas as pd
@@ -199,29 +197,29 @@ class DriveCheck:
 
     def task_violations(
         self, design: ArrayLike, scales: ArrayLike | None = None
-    ) -> tuple[list[NDArray] | None, dict[str, Any]]:
+    ) -> tuple[list[NDArray] | None, TaskMotionNeed | None]:
         """Per motor, each drive's violation (C,) of :attr:`task_duty` by one design (None: no
         task duty; infinite for every drive where the design's loop does not close along it, so
         that no drive meets it), and the task motion's required peak and RMS torques (N m,
         without the drives' inertia) for the report."""
         du = self.task_duty
         if du is None:
-            return None, {}
+            return None, None
         tau, good = replace(self, duty=du, task_duty=None).torques(design, scales)
         if not good[0]:
-            return [np.full(self.arrays.ratio.size, np.inf)] * 2, {"defined": False}
+            return [np.full(self.arrays.ratio.size, np.inf)] * 2, TaskMotionNeed(False)
         also = [
             drive_violations(self.arrays, tau[0, :, j], du.dtheta[:, j], du.weight_s,
                              du.ddtheta[:, j] if self.reflected_inertia else None)
             for j in range(2)
         ]  # fmt: skip
         w = du.weight_s / du.weight_s.sum()
-        need = {
-            "defined": True,
-            "peak_torque_Nm": np.abs(tau[0]).max(axis=0).tolist(),
-            "rms_torque_Nm": np.sqrt((w[:, None] * tau[0] ** 2).sum(axis=0)).tolist(),
-            "duration_s": float(du.weight_s.sum()),
-        }
+        need = TaskMotionNeed(
+            True,
+            tuple(np.abs(tau[0]).max(axis=0).tolist()),
+            tuple(np.sqrt((w[:, None] * tau[0] ** 2).sum(axis=0)).tolist()),
+            float(du.weight_s.sum()),
+        )
         return also, need
 
     def report(self, design: ArrayLike, scales: ArrayLike | None = None) -> DriveReport:
@@ -243,18 +241,8 @@ class DriveCheck:
             rule=self.rule,
             motors=motors,
             reflected_inertia=self.reflected_inertia,
-            task_motion=_need(task),
+            task_motion=task,
         )
-
-
-def _need(task: Mapping[str, Any]) -> TaskMotionNeed | None:
-    """:meth:`DriveCheck.task_violations`' requirement as a record (None: no task duty)."""
-    if not task:
-        return None
-    if not task["defined"]:
-        return TaskMotionNeed(False)
-    peak, rms = tuple(task["peak_torque_Nm"]), tuple(task["rms_torque_Nm"])
-    return TaskMotionNeed(True, peak, rms, task["duration_s"])
 
 
 def violation_of(table: pd.DataFrame) -> NDArray[np.float64]:

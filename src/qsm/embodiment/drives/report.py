@@ -141,10 +141,13 @@ def report_json(report: DriveReport) -> dict[str, Any]:
     out["motors"] = {name: motor_json(m) for name, m in report.motors.items()}
     need = report.task_motion
     if need is not None:
-        out["task_motion"] = {k: v for k, v in asdict(need).items() if v is not None}
-        for key in ("peak_torque_Nm", "rms_torque_Nm"):
-            if key in out["task_motion"]:
-                out["task_motion"][key] = list(out["task_motion"][key])
+        out["task_motion"] = {"defined": need.defined}
+        if need.defined:
+            out["task_motion"] |= {
+                "peak_torque_Nm": list(need.peak_torque_Nm or ()),
+                "rms_torque_Nm": list(need.rms_torque_Nm or ()),
+                "duration_s": need.duration_s,
+            }
     return out
 
 
@@ -173,11 +176,11 @@ def report_of(data: Mapping[str, Any]) -> DriveReport:
     """The :class:`DriveReport` that :func:`report_json` wrote."""
     need = data.get("task_motion")
     if need is not None:
-        need = TaskMotionNeed(
-            bool(need["defined"]),
-            *(tuple(need[k]) if k in need else None for k in ("peak_torque_Nm", "rms_torque_Nm")),
-            need.get("duration_s"),
-        )
+        need = (
+            TaskMotionNeed(True, tuple(need["peak_torque_Nm"]), tuple(need["rms_torque_Nm"]),
+                           need["duration_s"])
+            if need["defined"] else TaskMotionNeed(False)
+        )  # fmt: skip
     return DriveReport(
         defined=bool(data["defined"]),
         rule=str(data["rule"]),
