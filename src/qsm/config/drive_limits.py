@@ -27,17 +27,14 @@ def check_drives(config: dict[str, Any]) -> None:
     """The drive catalogue reads: every file, row and column valid, ``interfaces.csv`` too (the
     error names them)."""
     from qsm.embodiment.drives.catalogue import load_catalogue
-    from qsm.embodiment.kit.interfaces import interface_files, read_interface_file, read_interfaces
+    from qsm.embodiment.kit.interfaces import interface_rows
 
     folder = catalogue_folder(config)
     try:
         gearboxes = load_catalogue(folder).gearboxes.index
-        read_interfaces(folder)  # every file, row and column; a key given twice
+        rows = interface_rows(folder)  # every file, row and column; a key given twice
         unknown = [
-            (path, line, key)
-            for path in interface_files(folder)
-            for key, (line, _) in read_interface_file(path).items()
-            if key not in gearboxes
+            (path, line, key) for key, (path, line, _) in rows.items() if key not in gearboxes
         ]
     except (ValueError, FileNotFoundError) as exc:
         raise ConfigError(f"config key 'drives.catalogue': {exc}") from None

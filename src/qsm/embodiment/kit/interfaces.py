@@ -101,12 +101,17 @@ def interface_files(folder: str | Path | None = None) -> list[Path]:
 def read_interfaces(folder: str | Path | None = None) -> dict[str, DriveInterface]:
     """The rows of the catalogue's interface files (:func:`interface_files`) by gearbox key; {}
     where there are none. A key given twice, in one file or two, is refused."""
-    out: dict[str, DriveInterface] = {}
+    return {key: row for key, (_, _, row) in interface_rows(folder).items()}
+
+
+def interface_rows(folder: str | Path | None = None) -> dict[str, tuple[Path, int, DriveInterface]]:
+    """:func:`read_interfaces` with each row's file and line."""
+    out: dict[str, tuple[Path, int, DriveInterface]] = {}
     for path in interface_files(folder):
         for key, (line, row) in read_interface_file(path).items():
             if key in out:
                 raise ValueError(f"{path}, line {line}: key {key!r} has a row above already")
-            out[key] = row
+            out[key] = (path, line, row)
     return out
 
 

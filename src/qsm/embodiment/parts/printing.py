@@ -187,7 +187,7 @@ def _fits_as_realised(advice: dict[str, Any], who: str, need: str, have: str) ->
         got, allowed = advice.get("structure_mm"), advice.get("target_mm")
         fails.append(
             "its structure misses the tolerance"
-            + (f" ({got:.2f} mm, {allowed:.2f} mm allowed)" if got and allowed else "")
+            + (f" ({got:.2f} mm, {allowed:.2f} mm allowed)" if None not in (got, allowed) else "")
         )
     if fails:
         return f"{fits}, but {' and '.join(fails)}: no printer makes it ready"
